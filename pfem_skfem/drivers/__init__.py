@@ -1,0 +1,1 @@
+"""Drivers: load/displacement control and the PFEM time loop."""

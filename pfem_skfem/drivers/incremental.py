@@ -1,0 +1,72 @@
+"""Load and displacement control for static problems: a sequence of (3.45) increments."""
+from dataclasses import dataclass, field
+import sys
+import time
+
+import numpy as np
+
+from ..problems.static import static_increment
+
+
+@dataclass
+class IncrementalHistory:
+    """Result of an incremental static analysis.
+
+    factors : (n+1,) load or displacement factor after each increment (0 first);
+    u : (n_u,) total displacements at the end;  sigma : (n_points, 4) final stresses;
+    reactions : (n+1, n_u) reactions after each increment;
+    plastic_multiplier : (n_points,) integrated multipliers of the last increment;
+    iterations, solve_times : solver reports per increment.
+    """
+
+    factors: np.ndarray
+    u: np.ndarray
+    sigma: np.ndarray
+    reactions: np.ndarray
+    plastic_multiplier: np.ndarray
+    iterations: list = field(default_factory=list)
+    solve_times: list = field(default_factory=list)
+
+
+def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
+                         n_increments, f=None, sigma0=None, scaling=None,
+                         progress=False, label="", **solver_settings):
+    """Impose ``displacement`` on the ``prescribed`` dofs in equal increments.
+
+    Each increment solves (3.45) from the stresses of the previous one.
+
+    Parameters
+    ----------
+    displacement : (len(prescribed),) total prescribed displacements.
+    n_increments : number of equal increments (>= 1).
+    f : constant external forces (default zero).  sigma0 : initial stresses.
+    progress : print one line per increment to stderr.
+    """
+    if int(n_increments) != n_increments or n_increments < 1:
+        raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
+    n_s, n_u = B.shape
+    sigma = np.zeros((n_s // 4, 4)) if sigma0 is None else np.array(sigma0, dtype=float)
+    f = np.zeros(n_u) if f is None else np.asarray(f, dtype=float)
+    step = np.asarray(displacement, dtype=float) / n_increments
+    u = np.zeros(n_u)
+    factors, reactions = [0.0], [np.zeros(n_u)]
+    iterations, times = [], []
+    multiplier = np.zeros(n_s // 4)
+    t0 = time.perf_counter()
+    for i in range(1, int(n_increments) + 1):
+        res = static_increment(B, C, f, sigma, criterion, fixed=fixed, prescribed=prescribed,
+                               du_prescribed=step, scaling=scaling, **solver_settings)
+        sigma, u = res.sigma, u + res.du
+        multiplier = res.plastic_multiplier
+        factors.append(i / n_increments)
+        reactions.append(res.reactions)
+        iterations.append(res.info.iterations)
+        times.append(res.info.solve_time)
+        if progress:
+            print(f"\r  {label} increment {i}/{n_increments}  iterations {res.info.iterations}"
+                  f"  elapsed {time.perf_counter() - t0:5.1f} s", end="", file=sys.stderr,
+                  flush=True)
+    if progress:
+        print(file=sys.stderr)
+    return IncrementalHistory(np.array(factors), u, sigma, np.array(reactions), multiplier,
+                              iterations, times)

@@ -1,0 +1,203 @@
+"""Materials: isotropic elasticity (3.9)-(3.10) and yield criteria as second-order cones (App A).
+
+Stresses are tension positive and ordered (sx, sy, sz, sxy) as in (3.23). On the
+numpy side a stress field is an array of shape (n_points, 4); on the cvxpy side an
+expression of the same shape. Every yield criterion writes its cone as
+``rho = D sigma + d`` with ``rho_1 >= ||(rho_2, ..., rho_m)||`` (A.10)-(A.12),
+(A.18)-(A.20), and the same code evaluates it on arrays and builds the cvxpy
+constraint, so post-processing and the optimisation problem cannot disagree.
+"""
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+
+
+def _check_positive(name, value):
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be positive and finite, got {value!r}")
+
+
+def _check_angle(name, degrees, upper=90.0):
+    if not np.isfinite(degrees) or not 0.0 <= degrees < upper:
+        raise ValueError(f"{name} must lie in [0, {upper:g}) degrees, got {degrees!r}")
+
+
+@dataclass(frozen=True)
+class Elastic:
+    """Isotropic linear elasticity with Young's modulus E and Poisson's ratio nu."""
+
+    E: float
+    nu: float
+
+    def __post_init__(self):
+        _check_positive("E (Young's modulus)", self.E)
+        if not np.isfinite(self.nu) or not -1.0 < self.nu < 0.5:
+            raise ValueError(f"nu (Poisson's ratio) must lie in (-1, 0.5), got {self.nu!r}")
+
+    @property
+    def shear_modulus(self):
+        return self.E / (2 * (1 + self.nu))
+
+    @property
+    def lame_lambda(self):
+        return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
+
+    def compliance(self):
+        """4x4 compliance of (3.10) for (sx, sy, sz, sxy): strains (ex, ey, ez, 2exy) = C sigma."""
+        E, nu = self.E, self.nu
+        return np.array([[1, -nu, -nu, 0],
+                         [-nu, 1, -nu, 0],
+                         [-nu, -nu, 1, 0],
+                         [0, 0, 0, 2 * (1 + nu)]]) / E
+
+
+class YieldCriterion:
+    """A convex yield set F(sigma) <= 0 written as a second-order cone.
+
+    Subclasses implement ``cone_vector(sx, sy, sz, sxy)`` returning
+    ``(rho_1, [rho_2, ..., rho_m])``; the set is ``rho_1 >= ||rho_2..m||``.
+    """
+
+    name = "yield criterion"
+
+    def cone_vector(self, sx, sy, sz, sxy):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    # -- cvxpy -------------------------------------------------------------
+    def constraint(self, S):
+        """One vectorised SOC constraint over all rows (stress points) of S (n, 4)."""
+        t, X = self.cone_vector(S[:, 0], S[:, 1], S[:, 2], S[:, 3])
+        return cp.SOC(t, cp.vstack(X), axis=0)
+
+    # -- numpy -------------------------------------------------------------
+    def _parts(self, sigma):
+        sigma = np.atleast_2d(np.asarray(sigma, dtype=float))
+        t, X = self.cone_vector(*sigma.T)
+        return np.asarray(t, dtype=float), np.sqrt(sum(np.asarray(x) ** 2 for x in X))
+
+    def F(self, sigma):
+        """Yield function ||rho_2..m|| - rho_1 (units of stress); <= 0 is admissible."""
+        t, norm = self._parts(sigma)
+        return norm - t
+
+    def yield_ratio(self, sigma):
+        """||rho_2..m|| / rho_1: 1 on the yield surface, < 1 inside, inf beyond the apex."""
+        t, norm = self._parts(sigma)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(t > 0, norm / np.where(t > 0, t, 1.0), np.inf)
+        return np.where((t <= 0) & (norm == 0) & (t == 0), 1.0, ratio)
+
+    def strength_scale(self):
+        """A stress magnitude of the criterion, used to non-dimensionalise problems."""
+        raise NotImplementedError
+
+    def scaled(self, stress):
+        """The same criterion for stresses measured in units of ``stress``."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class MohrCoulomb(YieldCriterion):
+    """Plane-strain Mohr-Coulomb (A.9)-(A.12), tension positive.
+
+    .. math::
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} + (\\sigma_x+\\sigma_y)\\sin\\phi
+        - 2c\\cos\\phi \\le 0
+
+    Cone vector rho = D sigma + d = (2c cos(phi) - (sx + sy) sin(phi), sx - sy, 2 sxy).
+
+    Parameters
+    ----------
+    c : cohesion (>= 0), phi : friction angle in degrees, in [0, 90).
+    """
+
+    c: float
+    phi: float = 0.0
+
+    name = "Mohr-Coulomb"
+
+    def __post_init__(self):
+        if not np.isfinite(self.c) or self.c < 0:
+            raise ValueError(f"c (cohesion) must be >= 0, got {self.c!r}")
+        _check_angle("phi (friction angle)", self.phi)
+        if self.c == 0 and self.phi == 0:
+            raise ValueError("c and phi are both zero: the yield set has no interior")
+
+    def cone_vector(self, sx, sy, sz, sxy):
+        s, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
+        return 2 * self.c * co - (sx + sy) * s, [sx - sy, 2 * sxy]
+
+    def strength_scale(self):
+        return self.c if self.c > 0 else 1.0
+
+    def scaled(self, stress):
+        return MohrCoulomb(c=self.c / stress, phi=self.phi)
+
+
+class Tresca(MohrCoulomb):
+    """Plane-strain Tresca: Mohr-Coulomb with phi = 0, c = Su; sqrt((sx-sy)^2 + 4 sxy^2) <= 2 Su."""
+
+    name = "Tresca"
+
+    def __init__(self, su):
+        super().__init__(c=su, phi=0.0)
+
+    def __repr__(self):
+        return f"Tresca(su={self.c!r})"
+
+
+@dataclass(frozen=True)
+class DruckerPrager(YieldCriterion):
+    """Drucker-Prager (A.13)-(A.20): alpha I1 + sqrt(J2) - k <= 0.
+
+    .. math::
+        \\alpha I_1 + \\sqrt{J_2} \\le k, \\quad
+        J_2 = \\tfrac16[(\\sigma_x-\\sigma_y)^2 + (\\sigma_y-\\sigma_z)^2
+        + (\\sigma_z-\\sigma_x)^2] + \\tau_{xy}^2
+
+    Cone vector rho = (k - alpha I1, (sx-sy)/sqrt6, (sy-sz)/sqrt6, (sz-sx)/sqrt6, sxy),
+    the matrix D of (A.20) rebuilt from (A.13)-(A.16). Use the constructors
+    :meth:`plane_strain` (A.17), matched to plane-strain Mohr-Coulomb, or
+    :meth:`compression_cone`, the 3D form through the compressive meridians.
+    """
+
+    alpha: float
+    k: float
+
+    name = "Drucker-Prager"
+
+    def __post_init__(self):
+        if not np.isfinite(self.alpha) or self.alpha < 0:
+            raise ValueError(f"alpha must be >= 0, got {self.alpha!r}")
+        if not np.isfinite(self.k) or self.k < 0:
+            raise ValueError(f"k must be >= 0, got {self.k!r}")
+        if self.alpha == 0 and self.k == 0:
+            raise ValueError("alpha and k are both zero: the yield set has no interior")
+
+    @classmethod
+    def plane_strain(cls, c, phi):
+        """(A.17): alpha = tan(phi)/sqrt(9 + 12 tan^2 phi), k = 3c/sqrt(9 + 12 tan^2 phi)."""
+        MohrCoulomb(c, phi)  # validates c and phi
+        t = np.tan(np.radians(phi))
+        root = np.sqrt(9 + 12 * t ** 2)
+        return cls(alpha=t / root, k=3 * c / root)
+
+    @classmethod
+    def compression_cone(cls, c, phi):
+        """3D cone through the compressive meridians of Mohr-Coulomb."""
+        MohrCoulomb(c, phi)
+        s = np.sin(np.radians(phi))
+        den = np.sqrt(3) * (3 - s)
+        return cls(alpha=2 * s / den, k=6 * c * np.cos(np.radians(phi)) / den)
+
+    def cone_vector(self, sx, sy, sz, sxy):
+        r6 = np.sqrt(6.0)
+        return (self.k - self.alpha * (sx + sy + sz),
+                [(sx - sy) / r6, (sy - sz) / r6, (sz - sx) / r6, sxy])
+
+    def strength_scale(self):
+        return self.k if self.k > 0 else 1.0
+
+    def scaled(self, stress):
+        return DruckerPrager(alpha=self.alpha, k=self.k / stress)

@@ -1,0 +1,191 @@
+"""Discrete operators of the static problem (3.41)-(3.43), assembled by scikit-fem.
+
+Ordering. Displacement dofs are scikit-fem's (``basis_u``). The stress vector is
+ordered point-major as in (3.28): entry ``4 p + k`` is component k in
+(sx, sy, sz, sxy) at stress point p, so a stress field reshapes to (n_points, 4).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, BilinearForm, FacetBasis, LinearForm, MeshTri
+from skfem.helpers import dot
+
+from .elements import STRESS_INTORDER, displacement_element, stress_element
+
+
+@dataclass
+class Discretisation:
+    """A mesh with the P2 displacement basis and the Gauss-point stress basis."""
+
+    mesh: MeshTri
+    basis_u: Basis
+    basis_s: Basis
+
+    @property
+    def n_u(self):
+        """Number of displacement dofs."""
+        return self.basis_u.N
+
+    @property
+    def n_points(self):
+        """Number of stress points (3 per element)."""
+        return self.basis_s.N
+
+    @property
+    def points(self):
+        """Coordinates of the stress points, shape (n_points, 2)."""
+        return self.basis_s.doflocs.T
+
+    @property
+    def weights(self):
+        """Integration weight of each stress point (a third of its element's area)."""
+        return stress_mass(self).diagonal()
+
+    @property
+    def point_element(self):
+        """Element that owns each stress point."""
+        owner = np.empty(self.n_points, dtype=int)
+        owner[self.basis_s.element_dofs] = np.arange(self.mesh.nelements)[None, :]
+        return owner
+
+    @property
+    def area(self):
+        return float(self.weights.sum())
+
+
+def check_mesh(mesh):
+    """Raise ValueError for an empty or degenerate triangle mesh."""
+    if mesh.t.shape[1] == 0 or mesh.p.shape[1] < 3:
+        raise ValueError("mesh is empty: it needs at least one triangle")
+    if not np.all(np.isfinite(mesh.p)):
+        raise ValueError("mesh has non-finite node coordinates")
+    x, y = mesh.p[0, mesh.t], mesh.p[1, mesh.t]
+    twice_area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
+    scale = max(np.ptp(mesh.p[0]), np.ptp(mesh.p[1])) ** 2
+    if np.any(np.abs(twice_area) <= 1e-12 * scale):
+        n = int(np.sum(np.abs(twice_area) <= 1e-12 * scale))
+        raise ValueError(f"mesh is degenerate: {n} triangle(s) have zero area")
+
+
+def discretise(mesh):
+    """Bases of the thesis element (Fig 3.1) on a triangle mesh.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri (straight-sided) or skfem.MeshTri2 (curved, P2 geometry).
+    """
+    check_mesh(mesh)
+    basis_u = Basis(mesh, displacement_element(), intorder=STRESS_INTORDER)
+    basis_s = basis_u.with_element(stress_element())
+    return Discretisation(mesh, basis_u, basis_s)
+
+
+# -- forms -------------------------------------------------------------------
+@BilinearForm
+def _mass(u, v, w):
+    return u * v
+
+
+def _strain_row(k):
+    """Bilinear form q * eps_k(u): eps = (du_x/dx, du_y/dy, 0, du_x/dy + du_y/dx) (3.24)."""
+
+    @BilinearForm
+    def form(u, q, w):
+        g = u.grad
+        return q * (g[0][0], g[1][1], 0 * g[0][0], g[0][1] + g[1][0])[k]
+
+    return form
+
+
+def stress_mass(disc):
+    """Mass matrix of the scalar stress basis; diagonal because its nodes are the Gauss points."""
+    return _mass.assemble(disc.basis_s).tocsr()
+
+
+def assemble_B(disc):
+    """B = int N_sigma^T B_u dV (3.41), shape (4 n_points, n_u), rows point-major."""
+    rows = [_strain_row(k).assemble(disc.basis_u, disc.basis_s) for k in range(4)]
+    n = disc.n_points
+    order = (np.arange(4)[None, :] * n + np.arange(n)[:, None]).ravel()  # 4p+k <- k n + p
+    return sp.vstack(rows).tocsr()[order]
+
+
+def assemble_C(disc, elastic):
+    """C = int N_sigma^T C N_sigma dV (3.43): one 4x4 block w_p * C per stress point."""
+    return sp.kron(stress_mass(disc), elastic.compliance(), format="csr")
+
+
+def body_force_vector(disc, b):
+    """int N_u^T b dV (first term of (3.42)) for a constant body force b = (bx, by)."""
+    b = np.asarray(b, dtype=float)
+
+    @LinearForm
+    def load(v, w):
+        return b[0] * v[0] + b[1] * v[1]
+
+    return load.assemble(disc.basis_u)
+
+
+def traction_vector(disc, facets, t):
+    """int N_u^T t dS (second term of (3.42)) for a traction t on the given facets.
+
+    ``t`` is a constant (tx, ty) or a callable of the coordinates x (2, ...) returning it.
+    """
+    fb = FacetBasis(disc.mesh, disc.basis_u.elem, facets=np.asarray(facets),
+                    intorder=4)
+
+    @LinearForm
+    def load(v, w):
+        tt = t(w.x) if callable(t) else np.asarray(t, dtype=float)
+        return tt[0] * v[0] + tt[1] * v[1]
+
+    return load.assemble(fb)
+
+
+def consistent_mass(disc, rho):
+    """Consistent mass matrix int rho N_u^T N_u dV of the P2 displacement basis."""
+    _check_rho(rho)
+
+    @BilinearForm
+    def mass(u, v, w):
+        return rho * dot(u, v)
+
+    return mass.assemble(Basis(disc.mesh, disc.basis_u.elem, intorder=4)).tocsr()
+
+
+def _check_rho(rho):
+    if not np.isfinite(rho) or rho <= 0:
+        raise ValueError(f"rho (density) must be positive, got {rho!r}")
+
+
+def stiffness_matrix(disc, elastic):
+    """Standard P2 plane-strain stiffness (scikit-fem's linear_elasticity); a reference only."""
+    from skfem.models.elasticity import linear_elasticity
+    return linear_elasticity(elastic.lame_lambda, elastic.shear_modulus).assemble(
+        Basis(disc.mesh, disc.basis_u.elem, intorder=4)).tocsr()
+
+
+# -- boundary dofs ------------------------------------------------------------
+def boundary_facets(disc, where):
+    """Boundary facets whose midpoints x (2, n) satisfy ``where(x)``."""
+    mesh = disc.mesh
+    facets = mesh.boundary_facets()
+    mid = mesh.p[:, mesh.facets[:, facets]].mean(axis=1)
+    return facets[np.asarray(where(mid), dtype=bool)]
+
+
+def boundary_dofs(disc, where, component):
+    """Displacement dofs of one component (0 = x, 1 = y) on the facets selected by ``where``.
+
+    Includes the corner and the midside nodes of those facets.
+    """
+    if component not in (0, 1):
+        raise ValueError(f"component must be 0 (x) or 1 (y), got {component!r}")
+    facets = boundary_facets(disc, where)
+    return np.unique(disc.basis_u.get_dofs(facets).all(f"u^{component + 1}"))
+
+
+def dof_coordinates(disc):
+    """Coordinates (2, n_u) of every displacement dof."""
+    return disc.basis_u.doflocs

@@ -1,0 +1,172 @@
+"""Static problems: the incremental elastoplastic SOCP (3.45) and limit analysis.
+
+Both are stated in cvxpy almost as printed, in scaled variables (see
+:class:`~pfem_skfem.problems.conic.Scaling`): stresses in units of the material
+strength, lengths in units of an element size. Displacement increments come back
+as the duals of the equilibrium constraints.
+
+Sign convention, settled by the KKT conditions (3.47) and the tests: with the
+Lagrangian J = -1/2 ds^T C ds + du^T (B^T s - f) of (3.46), cvxpy's dual y of the
+equality in a maximisation is -du.
+"""
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+
+from .conic import Scaling, SolveInfo, solve
+
+
+@dataclass
+class StaticIncrement:
+    """Solution of one increment of (3.45).
+
+    sigma : (n_points, 4) stresses at t_{n+1};
+    du : (n_u,) displacement increments (prescribed values on prescribed dofs);
+    reactions : (n_u,) B^T sigma - f, the support reactions (zero on free dofs);
+    plastic_multiplier : (n_points,) integrated plastic multipliers (area x strain;
+        divide by the stress-point weights for a value per unit volume);
+    info : solver report.
+    """
+
+    sigma: np.ndarray
+    du: np.ndarray
+    reactions: np.ndarray
+    plastic_multiplier: np.ndarray
+    info: SolveInfo
+
+
+def _split_dofs(n_u, fixed, prescribed):
+    fixed = np.unique(np.asarray(fixed, dtype=int))
+    prescribed = np.unique(np.asarray(prescribed, dtype=int))
+    if fixed.size and (fixed.min() < 0 or fixed.max() >= n_u):
+        raise ValueError("fixed dofs out of range")
+    if prescribed.size and (prescribed.min() < 0 or prescribed.max() >= n_u):
+        raise ValueError("prescribed dofs out of range")
+    if np.intersect1d(fixed, prescribed).size:
+        raise ValueError("a dof is both fixed and prescribed")
+    free = np.setdiff1d(np.arange(n_u), np.concatenate([fixed, prescribed]))
+    return free, prescribed
+
+
+def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
+                     du_prescribed=(), scaling=None, **solver_settings):
+    """Solve the incremental elastoplastic static problem (3.45).
+
+    .. math::
+        \\max_{\\sigma}\\; -\\tfrac12 \\Delta\\sigma^T C \\Delta\\sigma
+          + \\Delta\\bar u_P^T (B_P^T \\sigma - f_P)
+        \\quad \\text{s.t.}\\quad B_F^T \\sigma = f_F,\\quad F(\\sigma_j) \\le 0
+
+    with Delta sigma = sigma - sigma_n, F the free dofs and P the dofs with a
+    prescribed increment (the last objective term is the work of their
+    reactions; it vanishes for load control). With ``C=None`` the material is
+    rigid-plastic and the problem is the displacement-controlled limit analysis
+    (maximise the power of the reactions on the prescribed velocity).
+
+    Parameters
+    ----------
+    B : (4 n_points, n_u) sparse, (3.41).  C : (4 n_points,)^2 sparse (3.43) or None.
+    f : (n_u,) external forces at t_{n+1} (3.42).  sigma_n : (n_points, 4) stresses at t_n.
+    criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
+    fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
+    scaling : :class:`Scaling`; by default the criterion's strength and medians of B, C.
+
+    Returns
+    -------
+    StaticIncrement
+    """
+    n_s, n_u = B.shape
+    n = n_s // 4
+    sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
+    f = np.asarray(f, dtype=float)
+    du_P = np.asarray(du_prescribed, dtype=float)
+    free, P = _split_dofs(n_u, fixed, prescribed)
+    if du_P.shape != P.shape:
+        raise ValueError("du_prescribed must give one value per prescribed dof")
+    if C is None and not np.any(du_P):
+        raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion; "
+                         "use limit_analysis for load control")
+    sc = scaling or Scaling.from_operators(B, C, criterion.strength_scale())
+    # reference displacement: yield strain x element size, or the prescribed motion
+    u_ref = sc.stress * sc.compliance / sc.length if C is not None else np.abs(du_P).max()
+
+    Bh = (B / sc.length).tocsc()
+    B_F, B_P = Bh[:, free], Bh[:, P]
+    f_h = f / (sc.stress * sc.length)
+    u_P = du_P / u_ref
+    s_n = sigma_n.ravel() / sc.stress
+
+    S = cp.Variable((n, 4))                      # sigma_{n+1} / sigma_ref, one row per point
+    s = cp.vec(S, order="C")                     # point-major as (3.28)
+    work_P = u_P @ (B_P.T @ s - f_h[P]) if P.size else 0
+    if C is not None:
+        Ch = (C / sc.compliance).tocsr()
+        complementary = 0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s
+        objective = cp.Maximize(-complementary + work_P)     # -1/2 ds^T C ds + work
+    else:
+        objective = cp.Maximize(work_P)
+    equilibrium = B_F.T @ s == f_h[free]          # B^T sigma_{n+1} - f = 0 on free dofs
+    yield_cone = criterion.scaled(sc.stress).constraint(S)   # F(sigma_j) <= 0
+    problem = cp.Problem(objective, [equilibrium, yield_cone])
+    info = solve(problem, what="static increment (3.45)", **solver_settings)
+
+    sigma = S.value * sc.stress
+    du = np.zeros(n_u)
+    du[free] = -equilibrium.dual_value * u_ref
+    du[P] = du_P
+    reactions = B.T @ sigma.ravel() - f
+    reactions[free] = 0.0
+    multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * sc.length * u_ref
+    return StaticIncrement(sigma, du, reactions, multiplier, info)
+
+
+@dataclass
+class LimitLoad:
+    """Solution of a load-controlled limit analysis.
+
+    load_factor : collapse multiplier alpha of the live load;
+    sigma : (n_points, 4) a statically admissible stress field at collapse;
+    velocity : (n_u,) collapse mechanism, normalised so that f_live . velocity = 1;
+    info : solver report.
+    """
+
+    load_factor: float
+    sigma: np.ndarray
+    velocity: np.ndarray
+    info: SolveInfo
+
+
+def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
+                   **solver_settings):
+    """Rigid-plastic limit analysis: the largest multiplier of the live load.
+
+    .. math::
+        \\max_{\\alpha, \\sigma}\\; \\alpha \\quad \\text{s.t.}\\quad
+        B_F^T \\sigma = \\alpha f_F + f^0_F,\\quad F(\\sigma_j) \\le 0
+
+    This is (3.45) with the compliance dropped (rigid-plastic) and the load
+    scaled by alpha; the dual of equilibrium is the collapse mechanism.
+    """
+    n_s, n_u = B.shape
+    n = n_s // 4
+    free, _ = _split_dofs(n_u, fixed, ())
+    f_live = np.asarray(f_live, dtype=float)
+    f_dead = np.zeros(n_u) if f_dead is None else np.asarray(f_dead, dtype=float)
+    if not np.any(f_live[free]):
+        raise ValueError("the live load has no component on a free dof")
+    sc = scaling or Scaling.from_operators(B, None, criterion.strength_scale())
+    force = sc.stress * sc.length
+    Bh = (B / sc.length).tocsc()[:, free]
+
+    alpha = cp.Variable()
+    S = cp.Variable((n, 4))
+    s = cp.vec(S, order="C")
+    equilibrium = Bh.T @ s == alpha * f_live[free] / force + f_dead[free] / force
+    yield_cone = criterion.scaled(sc.stress).constraint(S)
+    problem = cp.Problem(cp.Maximize(alpha), [equilibrium, yield_cone])
+    info = solve(problem, what="limit analysis", **solver_settings)
+
+    velocity = np.zeros(n_u)
+    velocity[free] = -equilibrium.dual_value / force
+    return LimitLoad(float(alpha.value), S.value * sc.stress, velocity, info)
