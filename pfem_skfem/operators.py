@@ -112,8 +112,13 @@ def assemble_B(disc):
 
 
 def assemble_C(disc, elastic):
-    """C = int N_sigma^T C N_sigma dV (3.43): one 4x4 block w_p * C per stress point."""
-    return sp.kron(stress_mass(disc), elastic.compliance(), format="csr")
+    """C = int N_sigma^T C N_sigma dV (3.43): one 4x4 block w_p * C per stress point.
+
+    The scalar stress mass is diagonal (its nodes are the quadrature points), so
+    C = kron(M_sigma, C_4x4) with only the diagonal of M_sigma kept (its off-diagonal
+    entries are rounding noise).
+    """
+    return sp.kron(sp.diags(stress_mass(disc).diagonal()), elastic.compliance(), format="csr")
 
 
 def body_force_vector(disc, b):

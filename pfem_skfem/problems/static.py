@@ -87,7 +87,9 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     if C is None and not np.any(du_P):
         raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion; "
                          "use limit_analysis for load control")
-    sc = scaling or Scaling.from_operators(B, C, criterion.strength_scale())
+    # stresses in units of the strength, or of the stresses reached so far if larger
+    sc = scaling or Scaling.from_operators(
+        B, C, max(criterion.strength_scale(), float(np.sqrt(np.mean(sigma_n ** 2)))))
     # reference displacement: yield strain x element size, or the prescribed motion
     u_ref = sc.stress * sc.compliance / sc.length if C is not None else np.abs(du_P).max()
 
