@@ -6,6 +6,7 @@ problem functions convert back to physical units.
 """
 from dataclasses import dataclass, field
 import time
+import warnings
 
 import cvxpy as cp
 import numpy as np
@@ -21,6 +22,7 @@ class SolverError(RuntimeError):
     def __init__(self, message, status):
         super().__init__(message)
         self.status = status
+        self.sigma = None  # the near-solution's stresses, when a problem attaches them
 
 
 @dataclass
@@ -49,7 +51,10 @@ def solve(problem, *, what="problem", verbose=False, accept_inaccurate=False, **
     opts = {**CLARABEL_DEFAULTS, **settings}
     t0 = time.perf_counter()
     try:
-        problem.solve(solver=cp.CLARABEL, verbose=verbose, **opts)
+        with warnings.catch_warnings():
+            # the status is checked below and reported as a SolverError
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
+            problem.solve(solver=cp.CLARABEL, verbose=verbose, **opts)
     except cp.error.SolverError as err:
         raise SolverError(f"{what}: Clarabel failed ({err})", "solver_error") from err
     wall = time.perf_counter() - t0

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import Scaling, SolveInfo, solve
+from .conic import Scaling, SolveInfo, SolverError, solve
+from .contact import contact_terms
 
 
 @dataclass
@@ -22,6 +23,7 @@ class StaticIncrement:
     """Solution of one increment of (3.45).
 
     sigma : (n_points, 4) stresses at t_{n+1};
+    p, q : (nc,) normal and tangential contact forces (empty without contacts);
     du : (n_u,) displacement increments (prescribed values on prescribed dofs);
     reactions : (n_u,) B^T sigma - f, the support reactions (zero on free dofs);
     plastic_multiplier : (n_points,) integrated plastic multipliers (area x strain;
@@ -34,6 +36,8 @@ class StaticIncrement:
     reactions: np.ndarray
     plastic_multiplier: np.ndarray
     info: SolveInfo
+    p: np.ndarray = None
+    q: np.ndarray = None
 
 
 def _split_dofs(n_u, fixed, prescribed):
@@ -50,7 +54,7 @@ def _split_dofs(n_u, fixed, prescribed):
 
 
 def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
-                     du_prescribed=(), scaling=None, **solver_settings):
+                     du_prescribed=(), contacts=None, scaling=None, **solver_settings):
     """Solve the incremental elastoplastic static problem (3.45).
 
     .. math::
@@ -63,6 +67,10 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     reactions; it vanishes for load control). With ``C=None`` the material is
     rigid-plastic and the problem is the displacement-controlled limit analysis
     (maximise the power of the reactions on the prescribed velocity).
+
+    With ``contacts`` (a :class:`~pfem_skfem.problems.contact.ContactSet`) the
+    rigid frictional boundaries of (5.12) join: equilibrium gains the contact
+    forces G (p, q), the objective the term - sum g0_j p_j, and |q_j| <= mu_j p_j.
 
     Parameters
     ----------
@@ -84,14 +92,38 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     free, P = _split_dofs(n_u, fixed, prescribed)
     if du_P.shape != P.shape:
         raise ValueError("du_prescribed must give one value per prescribed dof")
-    if C is None and not np.any(du_P):
-        raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion; "
-                         "use limit_analysis for load control")
+    closing = 0.0 if contacts is None else max(0.0, -float(np.min(contacts.gap)))
+    if C is None and not np.any(du_P) and closing == 0:
+        raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion "
+                         "(of dofs or of a rigid body); use limit_analysis for load control")
     # stresses in units of the strength, or of the stresses reached so far if larger
     sc = scaling or Scaling.from_operators(
         B, C, max(criterion.strength_scale(), float(np.sqrt(np.mean(sigma_n ** 2)))))
+    try:
+        return _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
+                                 closing, sc, solver_settings)
+    except SolverError as err:
+        # Frictional materials can carry stresses far above their cohesion, and the
+        # solver's absolute tolerances then stop it short ('AlmostSolved'). Rescale
+        # by the stress level of that near-solution and solve once more.
+        if scaling is not None or err.status != cp.OPTIMAL_INACCURATE or err.sigma is None:
+            raise
+        level = float(np.sqrt(np.mean(err.sigma ** 2)))
+        if not np.isfinite(level) or level <= sc.stress:
+            raise
+        sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
+        return _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
+                                 closing, sc, solver_settings)
+
+
+def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing, sc,
+                      solver_settings):
+    """(3.45) in the scaled variables of ``sc``; see :func:`static_increment`."""
+    n_s, n_u = B.shape
+    n = n_s // 4
     # reference displacement: yield strain x element size, or the prescribed motion
-    u_ref = sc.stress * sc.compliance / sc.length if C is not None else np.abs(du_P).max()
+    u_ref = (sc.stress * sc.compliance / sc.length if C is not None
+             else max(np.abs(du_P).max(initial=0.0), closing))
 
     Bh = (B / sc.length).tocsc()
     B_F, B_P = Bh[:, free], Bh[:, P]
@@ -101,26 +133,44 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
 
     S = cp.Variable((n, 4))                      # sigma_{n+1} / sigma_ref, one row per point
     s = cp.vec(S, order="C")                     # point-major as (3.28)
-    work_P = u_P @ (B_P.T @ s - f_h[P]) if P.size else 0
+    if contacts is not None:
+        ct = contact_terms(contacts, n_u, length_scale=u_ref)
+        g = ct.force()                            # G (p, q): contact forces on the solid
+        internal = B_F.T @ s - g[free]
+        work_P = u_P @ (B_P.T @ s - f_h[P] - g[P]) if P.size else 0
+        contact_objective, contact_cones = ct.objective, ct.constraints
+    else:
+        internal = B_F.T @ s
+        work_P = u_P @ (B_P.T @ s - f_h[P]) if P.size else 0
+        contact_objective, contact_cones = 0, []
     if C is not None:
         Ch = (C / sc.compliance).tocsr()
         complementary = 0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s
-        objective = cp.Maximize(-complementary + work_P)     # -1/2 ds^T C ds + work
+        objective = cp.Maximize(-complementary + work_P + contact_objective)
     else:
-        objective = cp.Maximize(work_P)
-    equilibrium = B_F.T @ s == f_h[free]          # B^T sigma_{n+1} - f = 0 on free dofs
+        objective = cp.Maximize(work_P + contact_objective)
+    equilibrium = internal == f_h[free]           # B^T sigma_{n+1} (+ E^T rho) - f = 0
     yield_cone = criterion.scaled(sc.stress).constraint(S)   # F(sigma_j) <= 0
-    problem = cp.Problem(objective, [equilibrium, yield_cone])
-    info = solve(problem, what="static increment (3.45)", **solver_settings)
+    problem = cp.Problem(objective, [equilibrium, yield_cone] + contact_cones)
+    try:
+        info = solve(problem, what="static increment (3.45)", **solver_settings)
+    except SolverError as err:
+        err.sigma = None if S.value is None else S.value * sc.stress
+        raise
 
     sigma = S.value * sc.stress
     du = np.zeros(n_u)
     du[free] = -equilibrium.dual_value * u_ref
     du[P] = du_P
+    force = sc.stress * sc.length
+    p = q = np.zeros(0)
     reactions = B.T @ sigma.ravel() - f
+    if contacts is not None:
+        p, q = ct.p.value * force, ct.q.value * force
+        reactions -= ct.G @ np.concatenate([p, q])
     reactions[free] = 0.0
     multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * sc.length * u_ref
-    return StaticIncrement(sigma, du, reactions, multiplier, info)
+    return StaticIncrement(sigma, du, reactions, multiplier, info, p, q)
 
 
 @dataclass

@@ -1,0 +1,119 @@
+"""Rigid frictional boundaries (5.10)-(5.12) in the static problem."""
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from pfem_skfem.materials import Elastic, Tresca
+from pfem_skfem.operators import (assemble_B, assemble_C, body_force_vector, boundary_dofs,
+                                  discretise)
+from pfem_skfem.problems.conic import SolverError
+from pfem_skfem.problems.contact import (RigidCircle, RigidSegment, potential_contacts,
+                                         resultants)
+from pfem_skfem.problems.static import static_increment
+
+RHO_G = 20.0           # unit weight [kN/m3]
+
+
+def block_on_plane(mu):
+    """Unit elastic block standing on a rigid plane y = 0, under its own weight."""
+    disc = discretise(MeshTri.init_symmetric().refined(2))
+    plane = RigidSegment((-1.0, 0.0), (2.0, 0.0), mu=mu)
+    contacts = potential_contacts(disc, [plane], search_distance=1e-6)
+    B, C = assemble_B(disc), assemble_C(disc, Elastic(1e4, 0.3))
+    f = body_force_vector(disc, (0.0, -RHO_G))
+    return disc, contacts, B, C, f
+
+
+def test_smooth_plane_carries_the_weight_with_no_tangential_force():
+    disc, contacts, B, C, f = block_on_plane(mu=0.0)
+    # one x-dof fixed to remove the free horizontal translation of a smooth block
+    corner = boundary_dofs(disc, lambda x: (x[0] < 1e-9) & (x[1] < 0.5), 0)[:1]
+    res = static_increment(B, C, f, np.zeros((disc.n_points, 4)), Tresca(1e3),
+                           fixed=corner, contacts=contacts)
+    R = resultants(contacts, res.p, res.q)[0]
+    assert R[1] == pytest.approx(-RHO_G * 1.0, rel=1e-6)      # weight of the unit block
+    assert np.abs(res.q).max() < 1e-9 * RHO_G
+    assert abs(R[0]) < 1e-8 * RHO_G
+    assert np.all(res.p >= -1e-9 * RHO_G)
+    # no penetration: the new gap g0 + n . du is non-negative
+    gap = contacts.gap + np.einsum("jd,jd->j", contacts.normal, res.du[contacts.dofs])
+    assert gap.min() > -1e-9
+
+
+@pytest.mark.parametrize("push", [0.02, 0.05, 0.5])
+def test_block_pushed_along_a_rough_plane_sticks_then_slides_at_mu_N(push):
+    mu = 0.3
+    disc, contacts, B, C, f = block_on_plane(mu=mu)
+    left = boundary_dofs(disc, lambda x: x[0] < 1e-9, 0)
+    W = RHO_G * 1.0
+    res = static_increment(B, C, f, np.zeros((disc.n_points, 4)), Tresca(1e3), fixed=[],
+                           prescribed=left, du_prescribed=push * 1e-3 * np.ones(left.size),
+                           contacts=contacts)
+    H = res.reactions[left].sum()                               # force needed to push
+    R = resultants(contacts, res.p, res.q)[0]
+    assert R[1] == pytest.approx(-W, rel=1e-6)
+    assert np.all(np.abs(res.q) <= mu * res.p + 1e-9 * W)        # Coulomb cone
+    assert H <= mu * W * (1 + 1e-6)                              # never above mu N
+    slip = res.du[contacts.dofs[:, 0]]
+    if push >= 0.5:                                              # slides: H = mu N
+        assert H == pytest.approx(mu * W, rel=1e-5)
+        assert slip.min() > 0
+    else:                                                        # sticks: H < mu N
+        assert H < 0.99 * mu * W
+        # away from the corners (where partial slip is physical) nothing slips
+        inner = (contacts.x[:, 0] > 0.1) & (contacts.x[:, 0] < 0.8)
+        assert np.abs(slip[inner]).max() < 1e-3 * push * 1e-3
+    # (5.11): where a node slides, the associated rule lifts it by mu |slip|
+    sliding = np.abs(res.q) > (1 - 1e-3) * mu * res.p
+    lift = res.du[contacts.dofs[:, 1]]
+    assert sliding.any()
+    assert np.allclose(lift[sliding], mu * np.abs(slip[sliding]), rtol=1e-4,
+                       atol=1e-6 * np.abs(slip).max())
+
+
+def test_rigid_plastic_punch_through_contact_is_bounded_by_the_soil_strength():
+    """A rigid plate pushed into a Tresca block by its motion: Prandtl load bounds it."""
+    disc = discretise(MeshTri.init_symmetric().refined(3))
+    su = 10.0
+    # smooth plate above the block along the whole top: pure compression, p = 2 Su
+    plate = RigidSegment((2.0, 1.0), (-1.0, 1.0), mu=0.0)    # solid below: walk in -x
+    contacts = potential_contacts(disc, [plate], 1e-6, motions=[(0.0, -0.01)])
+    bottom = boundary_dofs(disc, lambda x: x[1] < 1e-9, 1)
+    left = boundary_dofs(disc, lambda x: x[0] < 1e-9, 0)
+    res = static_increment(assemble_B(disc), None, np.zeros(disc.n_u),
+                           np.zeros((disc.n_points, 4)), Tresca(su),
+                           fixed=np.union1d(bottom, left), contacts=contacts)
+    R = resultants(contacts, res.p, res.q)[0]
+    assert R[1] == pytest.approx(2 * su * 1.0, rel=1e-6)   # uniaxial plane-strain collapse
+
+
+def test_bad_contact_input():
+    with pytest.raises(ValueError, match="mu"):
+        RigidSegment((0, 0), (1, 0), mu=-0.1)
+    with pytest.raises(ValueError, match="radius"):
+        RigidCircle((0, 0), 0.0)
+    disc = discretise(MeshTri())
+    with pytest.raises(ValueError, match="no boundary node"):
+        potential_contacts(disc, [RigidSegment((0, -5), (1, -5))], search_distance=0.1)
+    with pytest.raises(ValueError, match="search_distance"):
+        potential_contacts(disc, [RigidSegment((0, 0), (1, 0))], search_distance=0.0)
+
+
+def test_circle_gap_and_normal():
+    c = RigidCircle((1.0, 2.0), 0.5)
+    g, n = c.gap([[1.0, 3.0], [2.0, 2.0]])
+    assert np.allclose(g, [0.5, 0.5]) and np.allclose(n, [[0, 1], [1, 0]])
+    seg = RigidSegment((0, 0), (1, 0))
+    g, n = seg.gap([[0.5, 0.2], [2.0, 0.0]])
+    assert np.allclose(g, [0.2, 0.0]) and np.allclose(n, [[0, 1], [0, 1]])
+
+
+def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
+    """A horizontal load above mu N has no static equilibrium: the solver says infeasible."""
+    disc, contacts, B, C, f = block_on_plane(mu=0.2)
+    from pfem_skfem.operators import boundary_facets, traction_vector
+    f = f + traction_vector(disc, boundary_facets(disc, lambda x: x[0] < 1e-9),
+                            (0.3 * RHO_G, 0.0))
+    with pytest.raises(SolverError, match="infeasible"):
+        static_increment(B, C, f, np.zeros((disc.n_points, 4)), Tresca(1e3), fixed=[],
+                         contacts=contacts)
