@@ -90,3 +90,54 @@ def graded_rectangle_with_elements(width, depth, focus, n_elements, *, ratio=12.
             break
         h_max *= np.sqrt(n / n_elements)
     return best
+
+
+def to_curved(mesh, center, radius, *, tol=1e-9):
+    """P2-geometry mesh (skfem ``MeshTri2``) whose facets on a circle are curved onto it.
+
+    Facets with both end points on the circle of ``radius`` about ``center`` get
+    their midside node moved radially onto the circle, so the quadratic elements
+    follow the circle exactly at their nodes (a pipe, a cylinder).
+    """
+    from dataclasses import replace
+
+    from skfem import MeshTri2
+
+    _check_length("radius", radius)
+    m2 = MeshTri2.from_mesh(mesh)
+    c = np.asarray(center, dtype=float)[:, None]
+    on = np.abs(np.linalg.norm(mesh.p - c, axis=0) - radius) < tol * max(1.0, radius)
+    facets = np.flatnonzero(on[mesh.facets].all(axis=0))
+    dofs = m2.dofs.get_facet_dofs(facets).flatten()
+    doflocs = m2.doflocs.copy()
+    d = doflocs[:, dofs] - c
+    doflocs[:, dofs] = c + radius * d / np.linalg.norm(d, axis=0)
+    return replace(m2, doflocs=doflocs)
+
+
+def pipe_half_domain(width, height, depth, radius, *, h_min, h_max, growth=0.25,
+                     n_arc=None, min_angle=30.0):
+    """Half soil column [0, width] x [-height, 0] around a pipe of ``radius`` centred on
+    the symmetry axis x = 0 at ``depth`` below the surface; refined at the pipe.
+
+    Returns a curved ``MeshTri2`` (midside nodes on the pipe lie on the circle).
+    """
+    for name, value in (("width", width), ("height", height), ("depth", depth),
+                        ("radius", radius), ("h_min", h_min), ("h_max", h_max)):
+        _check_length(name, value)
+    if not (radius < depth < height - radius) or radius >= width:
+        raise ValueError("the pipe must lie inside the column")
+    yc = -depth
+    n_arc = n_arc or max(8, int(np.ceil(np.pi * radius / h_min)))
+    theta = np.linspace(np.pi / 2, -np.pi / 2, n_arc + 1)       # top -> bottom, x >= 0
+    arc = np.stack([radius * np.cos(theta), yc + radius * np.sin(theta)], axis=1)
+    arc[:, 0] = np.where(np.abs(arc[:, 0]) < 1e-12, 0.0, arc[:, 0])
+    outline = np.vstack([[(0.0, 0.0)], arc, [(0.0, -height), (width, -height), (width, 0.0)]])
+
+    def size(x, y):
+        dist = max(np.hypot(x, y - yc) - radius, 0.0)
+        return min(h_max, h_min + growth * dist)
+
+    # Triangle wants counter-clockwise order: reverse the clockwise outline above
+    mesh = triangulate_polygon(outline[::-1], size, min_angle=min_angle)
+    return to_curved(mesh, (0.0, yc), radius, tol=1e-7)

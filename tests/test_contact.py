@@ -117,3 +117,25 @@ def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
     with pytest.raises(SolverError, match="infeasible"):
         static_increment(B, C, f, np.zeros((disc.n_points, 4)), Tresca(1e3), fixed=[],
                          contacts=contacts)
+
+
+def test_buried_pipe_quick_lies_between_the_bounds_and_nothing_penetrates(tmp_path):
+    import importlib.util
+    import json
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "verification" / "buried_pipe.py"
+    spec = importlib.util.spec_from_file_location("buried_pipe", path)
+    bp = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bp)
+    model = bp.pipe_model(700)
+    F, res, contacts = bp.pipe_resistance(model, su=50.0, rho=2.0, g=9.8)
+    gap = contacts.gap + np.einsum("jd,jd->j", contacts.normal, res.du[contacts.dofs])
+    assert gap.min() > -1e-9 * model["r"]                      # no penetration
+    assert np.all(res.p >= -1e-9 * F) and np.abs(res.q).max() < 1e-9 * F   # smooth
+    # weightless flow-around bounds 9.14-9.20; a coarse mixed mesh is a few % above
+    buoyancy = 2.0 * 9.8 * np.pi * 0.5 ** 2 / 2
+    nc = (F - buoyancy) / (0.5 * 50.0)
+    assert 9.14 <= nc <= 9.40
+    out = tmp_path / "pipe.json"
+    assert bp.main(["--quick", "--no-figures", "--json", str(out)]) == 0
+    assert json.loads(out.read_text())["case"] == "buried_pipe"

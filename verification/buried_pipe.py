@@ -1,0 +1,177 @@
+"""Deeply buried smooth pipe pushed through undrained clay (thesis 5.4.2, Fig 5.4-5.5).
+
+A rigid pipe of radius r in a rigid-plastic Tresca soil (Su, unit weight rho g) is
+moved by a prescribed displacement; half of the domain (a 10 m x 15 m column, the
+pipe centred on the symmetry axis) is modelled. The pipe is a rigid circle with a
+smooth contact (5.12): the soil may slide along it and separate from it, never
+penetrate it. The resistance is normalised as Nc = F / (r Su) with F the force on
+the half pipe, i.e. F_full / (D Su).
+
+The soil's weight adds a buoyancy rho g pi r^2 / 2 to the force on the half pipe
+(the pipe displaces its own volume of soil upwards; for Tresca the weight does
+nothing else once the soil stays in contact). The weightless flow-around
+references are therefore compared with Nc = (F - rho g pi r^2 / 2) / (r Su); the
+raw F / (r Su) is reported too.
+
+References
+----------
+* 9.14: Randolph & Houlsby (1984), smooth pile, lower bound.
+* 9.20: the smooth upper bound quoted by the thesis ([114, 149]; Martin & Randolph
+  2006 close the gap at 9.20).
+* 9.29: the thesis with 2,812 elements (theta1 = theta2 = 1).
+
+The problem solved here is the quasi-static rigid-plastic step: (3.45) without C,
+with the contact cones of (5.12) and the pipe's motion entering through the gaps.
+With theta1 = theta2 = 1 and a pipe starting from rest, the dynamic step (4.23)
+differs from it only by the inertia of the soil over one step.
+"""
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pfem_skfem.materials import Tresca
+from pfem_skfem.meshes import pipe_half_domain
+from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
+from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
+from pfem_skfem.problems.static import static_increment
+from pfem_skfem.report import Report, base_parser, positive, progress
+
+LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
+
+
+def pipe_model(n_elements, *, width=10.0, height=15.0, depth=7.5, r=0.5, ratio=30.0,
+               growth=0.25):
+    """Curved P2 mesh of the half column with about ``n_elements`` elements, and its supports."""
+    h_max = np.sqrt(2.3 * width * height / n_elements) * 1.5
+    best = None
+    for _ in range(8):                                  # secant on the 1/h^2 law
+        mesh = pipe_half_domain(width, height, depth, r, h_min=h_max / ratio, h_max=h_max,
+                                growth=growth)
+        n = mesh.t.shape[1]
+        if best is None or abs(n - n_elements) < abs(best.t.shape[1] - n_elements):
+            best = mesh
+        if abs(n - n_elements) <= 0.05 * n_elements:
+            break
+        h_max *= np.sqrt(n / n_elements)
+    disc = discretise(best)
+    eps = 1e-9 * width
+    axis = lambda x: x[0] < eps                                  # noqa: E731 symmetry
+    side = lambda x: x[0] > width - eps                          # noqa: E731
+    base = lambda x: x[1] < -height + eps                        # noqa: E731
+    fixed = np.unique(np.concatenate([
+        boundary_dofs(disc, axis, 0), boundary_dofs(disc, side, 0),
+        boundary_dofs(disc, base, 0), boundary_dofs(disc, base, 1)]))
+    return dict(disc=disc, B=assemble_B(disc), fixed=fixed, n_elements=best.t.shape[1],
+                center=(0.0, -depth), r=r)
+
+
+def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None):
+    """Force on the half pipe moved down by ``step`` (rigid-plastic, quasi-static)."""
+    disc, r = model["disc"], model["r"]
+    step = step or 0.01 * r
+    pipe = RigidCircle(model["center"], r, mu=mu)
+    contacts = potential_contacts(disc, [pipe], search_distance=0.02 * r,
+                                  motions=[(0.0, -step)])
+    f = body_force_vector(disc, (0.0, -rho * g))
+    res = static_increment(model["B"], None, f, np.zeros((disc.n_points, 4)), Tresca(su),
+                           fixed=model["fixed"], contacts=contacts)
+    force_on_pipe = resultants(contacts, res.p, res.q)[0]
+    return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0])
+    p.add_argument("--r", type=positive("r"), default=0.5, help="pipe radius [m]")
+    p.add_argument("--su", type=positive("su"), default=50.0, help="undrained strength [kPa]")
+    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--mu", type=float, default=0.0, help="pipe-soil friction (0: smooth)")
+    p.add_argument("--width", type=positive("width"), default=10.0, help="half width [m]")
+    p.add_argument("--height", type=positive("height"), default=15.0, help="column [m]")
+    p.add_argument("--depth", type=positive("depth"), default=7.5,
+                   help="depth of the pipe centre [m]")
+    p.add_argument("--elements", type=int, nargs="+", default=[700, 1400, 2812],
+                   help="approximate element counts (a mesh-convergence table)")
+    return p
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    if args.quick and args.elements == build_parser().get_default("elements"):
+        args.elements = [700]
+    if args.mu < 0:
+        raise SystemExit("--mu must be >= 0")
+    report = Report("buried_pipe", {k: v for k, v in vars(args).items()
+                                    if k not in ("json", "outdir", "no_figures", "progress")})
+    buoyancy = args.rho * args.g * np.pi * args.r ** 2 / 2 / (args.r * args.su)
+    rows, last = [], None
+    for n in sorted(args.elements):
+        t0 = time.perf_counter()
+        model = pipe_model(n, width=args.width, height=args.height, depth=args.depth, r=args.r)
+        F, res, contacts = pipe_resistance(model, su=args.su, rho=args.rho, g=args.g,
+                                           mu=args.mu)
+        nc_raw = F / (args.r * args.su)
+        rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
+        progress(f"{model['n_elements']:6d} elements: F/(r Su) = {nc_raw:.4f}, net of buoyancy "
+                 f"{nc_raw - buoyancy:.4f}  ({rows[-1][3]:.1f} s)")
+        last = (model, res, contacts)
+    print(f"{'elements':>8s} {'F/(r Su)':>10s} {'Nc (net)':>10s} {'vs 9.20':>8s}")
+    for n_el, raw, net, _ in rows:
+        print(f"{n_el:8d} {raw:10.4f} {net:10.4f} {net / UPPER - 1:+8.2%}")
+    nc = rows[-1][2]
+    if args.mu == 0:
+        report.add_interval("Nc", nc, LOWER_RH, 9.40,
+                            "smooth flow-around: 9.14 (Randolph & Houlsby 1984) - 9.20 "
+                            "(upper bound); thesis 9.29; accepted up to 9.40",
+                            reference=UPPER)
+        report.add("Nc_vs_thesis", nc, THESIS, "thesis 5.4.2 (2,812 elements)",
+                   0.03 if args.quick else 0.015)
+    # the contact forces never pull (p >= 0) and the buoyancy is the weight's only effect
+    model, res, contacts = last
+    report.add_interval("min_contact_pressure", res.p.min() / (args.su * args.r), -1e-6,
+                        np.inf, "contact law (5.5): p >= 0")
+    report.extra = {"convergence": [dict(elements=a, nc_raw=b, nc_net=c, seconds=d)
+                                    for a, b, c, d in rows], "buoyancy_term": buoyancy}
+    if not args.no_figures:
+        figures(args, rows, last)
+    return report.finish(args)
+
+
+def figures(args, rows, last):
+    """Mesh convergence and the failure mode (Fig 5.5: mechanism speed, plastic zone)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.tri import Triangulation
+    out = Path(args.outdir) / "buried_pipe"
+    out.mkdir(parents=True, exist_ok=True)
+    model, res, contacts = last
+    disc = model["disc"]
+    m = disc.mesh
+    ux, uy = disc.basis_u.nodal_dofs                   # x and y dofs of each vertex
+    xy = disc.basis_u.doflocs[:, ux]
+    speed = np.hypot(res.du[ux], res.du[uy]) / (0.01 * args.r)
+    fig, ax = plt.subplots(1, 2, figsize=(11, 5))
+    tri = Triangulation(xy[0], xy[1], m.t.T)
+    tp = ax[0].tripcolor(tri, speed, shading="gouraud", cmap="magma")
+    ax[0].set_xlim(0, 2.5)
+    ax[0].set_ylim(-args.depth - 1.5, -args.depth + 1.5)
+    ax[0].set_aspect("equal")
+    ax[0].set_title("Fig 5.5: mechanism speed / pipe speed")
+    fig.colorbar(tp, ax=ax[0])
+    n_el = [r[0] for r in rows]
+    ax[1].plot(n_el, [r[2] for r in rows], "o-", label="ours (net of buoyancy)")
+    ax[1].axhspan(LOWER_RH, UPPER, color="g", alpha=0.2, label="9.14-9.20 bounds")
+    ax[1].axhline(THESIS, color="r", ls="--", label="thesis 9.29")
+    ax[1].set_xlabel("elements")
+    ax[1].set_ylabel("Nc = F / (r Su)")
+    ax[1].legend()
+    fig.tight_layout()
+    fig.savefig(out / "buried_pipe.png", dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
