@@ -1,0 +1,80 @@
+"""Contact dynamics of a rigid particle (5.1)-(5.9) and the sliding box (5.4.1)."""
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfem_skfem.problems.particle import rigid_particle_step
+
+G = 9.8
+
+
+@pytest.mark.parametrize("theta", [0.5, 0.75, 1.0])
+def test_free_fall_far_from_the_plane(theta):
+    """No contact within reach: du = v dt + theta g dt^2 (the theta-method of (5.3))."""
+    dt, v0 = 0.05, np.array([0.3, 1.0])
+    s = rigid_particle_step(2.0, v0, (0.0, -2.0 * G), dt, theta, [10.0], [[0.0, 1.0]], 0.3)
+    expected = v0 * dt + theta * np.array([0.0, -G]) * dt ** 2
+    assert np.allclose(s.du, expected, rtol=1e-7, atol=1e-9 * dt ** 2)
+    assert s.p[0] == pytest.approx(0.0, abs=1e-8 * 2.0 * G)
+    assert np.allclose(s.v, v0 + np.array([0.0, -G]) * dt, rtol=1e-6)
+
+
+def test_resting_box_stays_at_rest_and_carries_its_weight():
+    s = rigid_particle_step(3.0, [0.0, 0.0], (0.0, -3.0 * G), 0.1, 1.0, [0.0], [[0.0, 1.0]],
+                            0.5)
+    assert np.abs(s.du).max() < 1e-9
+    assert s.p[0] == pytest.approx(3.0 * G, rel=1e-6)
+    assert abs(s.q[0]) < 1e-6 * 3.0 * G
+
+
+def test_sliding_step_obeys_coulomb_and_lifts_by_mu_slip():
+    """(5.11): sliding dilates the contact by mu |slip|; |q| = mu p opposes the slip."""
+    mu = 0.2
+    s = rigid_particle_step(1.0, [2.0, 0.0], (0.0, -G), 0.05, 1.0, [0.0], [[0.0, 1.0]], mu)
+    assert s.du[0] > 0
+    tangential_force = s.q[0] * np.array([-1.0, 0.0])          # q along n^ = (-n2, n1)
+    assert tangential_force[0] < 0                              # opposes the slip
+    assert abs(s.q[0]) == pytest.approx(mu * s.p[0], rel=1e-5)
+    assert s.du[1] == pytest.approx(mu * s.du[0], rel=1e-5)
+
+
+def test_smooth_plane_no_tangential_force_no_dilation():
+    s = rigid_particle_step(1.0, [2.0, 0.0], (0.0, -G), 0.05, 1.0, [0.0], [[0.0, 1.0]], 0.0)
+    assert abs(s.q[0]) < 1e-8 and abs(s.du[1]) < 1e-9
+    assert s.du[0] == pytest.approx(2.0 * 0.05, rel=1e-7)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    (dict(dt=0.0), "dt"), (dict(dt=-1.0), "dt"), (dict(theta=0.0), "theta"),
+    (dict(theta=1.5), "theta"), (dict(m=0.0), "mass"), (dict(mu=-0.1), "mu"),
+])
+def test_bad_input(kwargs, word):
+    args = dict(m=1.0, v_n=[0, 0], f_ext=[0, -G], dt=0.1, theta=1.0, gaps=[0.0],
+                normals=[[0, 1]], mu=0.1)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=word):
+        rigid_particle_step(**args)
+
+
+def load(name):
+    path = Path(__file__).resolve().parents[1] / "verification" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_sliding_box_travel_and_vanishing_dilation(tmp_path):
+    sb = load("sliding_box")
+    out = tmp_path / "box.json"
+    assert sb.main(["--quick", "--no-figures", "--json", str(out)]) == 0
+    q = {d["name"]: d for d in json.loads(out.read_text())["quantities"]}
+    assert q["travel_distance"]["rel_error"] < 1e-3    # theta = 1/2 is exact for constant deceleration
+    # theta = 1: first-order travel error v0 dt / 2 and a dilation of order one in dt
+    path1, _ = sb.slide(0.98, 0.1, G, 20, 1.0, 1.0)
+    path2, _ = sb.slide(0.98, 0.1, G, 40, 1.0, 1.0)
+    assert 0.49 - path1[-1, 0] == pytest.approx(0.98 * 0.05 / 2, rel=0.02)
+    assert path2[:, 1].max() < 0.6 * path1[:, 1].max()
