@@ -262,7 +262,8 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
 class TrussHistory:
     """States of a truss after each increment (index 0 is the initial state).
 
-    x : (n+1, n_nodes, 2) node coordinates;  sigma : (n+1, n_bars) axial stresses;
+    x : (n+1, n_nodes, 2) node coordinates (all initial with update_geometry=False);
+    sigma : (n+1, n_bars) axial stresses;
     area : (n+1, n_bars) areas;  reactions : (n+1, n_dof) reactions as solved (bar
     forces on the configuration at the start of the increment);
     reactions_updated : (n+1, n_dof) the same bar forces A sigma on the updated
@@ -327,6 +328,7 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     volume = area * length0
     sigma = np.zeros(len(bars))
     n_dof = 2 * x.shape[0]
+    free, _ = _split_dofs(n_dof, fixed, prescribed)
     xs, sigmas, areas = [x.copy()], [sigma.copy()], [area.copy()]
     reactions, updated = [np.zeros(n_dof)], [np.zeros(n_dof)]
     iterations, times = [], []
@@ -343,7 +345,6 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
             if incompressible:
                 area = volume / bar_geometry(x, bars)[0]
         r_upd = internal_forces(x, bars, sigma * area) - (0 if f is None else f)
-        free, _ = _split_dofs(n_dof, fixed, prescribed)
         r_upd[free] = 0.0
         xs.append(x.copy()), sigmas.append(sigma.copy()), areas.append(area.copy())
         reactions.append(res.reactions), updated.append(r_upd)
