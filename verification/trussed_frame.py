@@ -12,7 +12,8 @@ large-deformation solution of Bonet & Wood (Fig 6.6).
 Geometry: reconstructed
 -----------------------
 Neither the thesis nor any source found here gives the node coordinates (the
-FLagSHyP input file of the book was not available), so the frame is rebuilt from
+FLagSHyP input file of the book was not available; the third-party rebuilds found
+use other panel sizes and several hundred bars), so the frame is rebuilt from
 the three facts printed: 120 mm x 120 mm, the load 24 mm from the column, 238 bars.
 Both members are strips of square panels of side w, one diagonal per panel: a chain
 of n square panels has 4 n + 1 bars. The load point must be a node, so w divides
@@ -341,11 +342,13 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
             continue
         i = int(np.argmin(np.abs(u - target)))
         draw(ax, hist.x[i], c, 0.7, f"SOCP, {target:g} mm")
+        ax.add_collection(LineCollection(x_ref[i][bars][::3], colors="k", linewidths=0.3,
+                                         linestyles=":"))
         ax.plot(*x_ref[i][frame["load"]], "x", color="k", ms=6)
     ax.set_aspect("equal")
     ax.autoscale()
     ax.legend(loc="lower right", fontsize=8)
-    ax.set_title("Fig 6.5: deformed shapes (x: exact solver's load point)")
+    ax.set_title("Fig 6.5: deformed shapes (dotted, x: exact solver)")
     ax = axes[2]
     ax.plot(u, F, "-", label="mathematical programming (B.12), updated geometry")
     ax.plot(u_ref[::max(1, len(u) // 40)], F_ref[::max(1, len(u) // 40)], "o", ms=4,
