@@ -253,3 +253,22 @@ def test_without_geometry_update_the_rod_is_wrong():
         errors[update] = np.abs(F - Fex).max() / np.abs(Fex).max()
     assert errors[True] < 0.15
     assert errors[False] > 1.0
+
+
+def test_load_beyond_the_plastic_limit_is_infeasible():
+    """Load control above sigma_s (A_mid + 2 A_side cos 45) has no admissible stress field:
+    the solver status is reported, below it the problem solves."""
+    from pfem_skfem.problems.conic import SolverError
+    x = np.array([[-1, 1], [0, 1], [1, 1], [0, 0]], float)
+    bars = [[0, 3], [1, 3], [2, 3]]
+    limit = 250.0 * (1.0 + 2 * np.cos(np.pi / 4))
+    for factor, ok in ((0.99, True), (1.01, False)):
+        f = np.zeros(8)
+        f[7] = -factor * limit
+        args = (x, bars, 1.0, E, np.zeros(3))
+        kw = dict(fixed=[0, 1, 2, 3, 4, 5], f=f, sigma_s=250.0)
+        if ok:
+            assert np.all(np.abs(truss_increment(*args, **kw).sigma) <= 250.0 * (1 + 1e-7))
+        else:
+            with pytest.raises(SolverError, match="infeasible"):
+                truss_increment(*args, **kw)
