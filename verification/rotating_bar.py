@@ -1,0 +1,143 @@
+"""A rigidly rotated bar: the spurious strain of small-deformation increments (thesis 6.2).
+
+A bar of length L0, initially horizontal, is rotated anticlockwise about its first
+node by theta in N equal increments. Each increment is a small-deformation
+analysis (the truss problem (B.12), elastic) on the configuration left by the
+previous one: the second node is moved to its exact position on the circle, the
+first is pinned. A rigid rotation should create no strain, but the small-strain
+operator (B.9) sees the projection of each rotation step on the bar,
+
+    delta eps = cos(theta / N) - 1                                   (6.1)
+
+so that after N increments (thesis (6.2)-(6.3))
+
+    eps_N = N (cos(theta / N) - 1) = -theta^2 / (2 N) + theta^4 / (24 N^3) - ...
+
+References
+----------
+* Leading order: eps = -theta^2 / (2N) (6.3): the error falls as 1/N.
+* The exact value of the scheme, N (cos(theta/N) - 1), which the SOCP must
+  reproduce to solver precision (the stress is E eps).
+
+Quantities: ``strain_N<max>`` against -theta^2/(2N) (relative tolerance
+theta^2/(12 N^2), the next term of the series, plus 1e-6); ``strain_scheme_N<max>``
+against N (cos(theta/N) - 1) to 1e-6; ``order`` the slope of log|eps| against
+log N fitted over all N >= 4, against 1.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from pfem_skfem.problems.bar import truss_displacement_control
+from pfem_skfem.report import Report, base_parser, positive, progress
+
+QUICK = dict(steps=[4, 8, 16, 32])
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0])
+    p.add_argument("--theta", type=float, default=90.0,
+                   help="total rotation theta (degrees)")
+    p.add_argument("--L0", type=positive("--L0"), default=1.0, help="bar length")
+    p.add_argument("--E", type=positive("--E"), default=210e3,
+                   help="Young's modulus (only scales the stress)")
+    p.add_argument("--A", type=positive("--A"), default=1.0, help="cross-sectional area")
+    p.add_argument("--steps", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
+                   help="numbers of increments N")
+    return p
+
+
+def rotated_strain(n_increments, theta, L0=1.0, E=210e3, A=1.0):
+    """Strain of the bar after a rigid rotation theta (radians) in N increments (B.12).
+
+    Returns (strain, x) with x the (N+1, 2, 2) node positions.
+    """
+    x0 = np.array([[0.0, 0.0], [L0, 0.0]])
+
+    def path(k):  # total displacement of node 2 on the circle after increment k
+        a = theta * k / n_increments
+        return np.array([L0 * np.cos(a) - L0, L0 * np.sin(a)])
+
+    hist = truss_displacement_control(x0, [[0, 1]], A, E, fixed=[0, 1], prescribed=[2, 3],
+                                      n_increments=n_increments, path=path)
+    return hist.sigma[-1, 0] / E, hist.x
+
+
+def fit_order(n, err):
+    """Slope p of log|err| = -p log N + c (least squares)."""
+    return -np.polyfit(np.log(n), np.log(np.abs(err)), 1)[0]
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.quick and args.steps == parser.get_default("steps"):
+        args.steps = QUICK["steps"]
+    if any(n < 1 for n in args.steps):
+        parser.error("--steps must be positive integers")
+    theta = np.radians(args.theta)
+    if not 0 < abs(theta) <= np.pi:
+        parser.error("--theta must lie in (0, 180] degrees")
+    steps = np.array(sorted(set(args.steps)))
+    report = Report("rotating_bar", {k: v for k, v in vars(args).items()
+                                     if k not in ("json", "outdir", "no_figures", "progress")})
+    strains = []
+    print(f"{'N':>6s} {'eps (SOCP)':>14s} {'N(cos(t/N)-1)':>14s} {'-t^2/(2N)':>14s} "
+          f"{'N*eps':>10s}")
+    for n in steps:
+        eps, _ = rotated_strain(int(n), theta, args.L0, args.E, args.A)
+        strains.append(eps)
+        scheme, leading = n * (np.cos(theta / n) - 1), -theta ** 2 / (2 * n)
+        print(f"{n:6d} {eps:14.6e} {scheme:14.6e} {leading:14.6e} {n * eps:10.5f}")
+        if args.progress:
+            progress(f"N = {n}: strain {eps:.6e}")
+    strains = np.array(strains)
+    n_max = int(steps[-1])
+    leading = -theta ** 2 / (2 * n_max)
+    report.add(f"strain_N{n_max}", strains[-1], leading, "(6.3) -theta^2/(2N)",
+               theta ** 2 / (12 * n_max ** 2) + 1e-6)
+    report.add(f"strain_scheme_N{n_max}", strains[-1], n_max * (np.cos(theta / n_max) - 1),
+               "(6.1)-(6.3) N (cos(theta/N) - 1)", 1e-6)
+    fit = steps >= 4
+    if fit.sum() < 2:
+        parser.error("--steps needs at least two values >= 4 to fit the order")
+    report.add("order", fit_order(steps[fit], strains[fit]), 1.0, "(6.3) strain ~ 1/N", 0.02)
+    report.extra = {"N": steps.tolist(), "strain": strains.tolist(),
+                    "leading_order": (-theta ** 2 / (2 * steps)).tolist()}
+    if not args.no_figures:
+        figures(args, theta, steps, strains)
+    return report.finish(args)
+
+
+def figures(args, theta, steps, strains):
+    """The spurious strain against N (log-log) and the bar's path for the coarsest N."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    out = Path(args.outdir) / "rotating_bar"
+    out.mkdir(parents=True, exist_ok=True)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    nn = np.geomspace(steps[0], steps[-1], 100)
+    a1.loglog(steps, -strains, "o", label="SOCP (B.12), updated geometry")
+    a1.loglog(nn, theta ** 2 / (2 * nn), "-", label=r"$\theta^2/(2N)$ (6.3)")
+    a1.set_xlabel("increments N")
+    a1.set_ylabel(r"spurious strain $-\varepsilon$")
+    a1.legend()
+    a1.grid(True, which="both", alpha=0.3)
+    n0 = int(min(n for n in steps if n >= 4))
+    _, x = rotated_strain(n0, theta, args.L0, args.E, args.A)
+    t = np.linspace(0, theta, 100)
+    a2.plot(args.L0 * np.cos(t), args.L0 * np.sin(t), "k:", lw=0.8, label="exact path")
+    for k in range(x.shape[0]):
+        a2.plot(x[k, :, 0], x[k, :, 1], "-o", ms=3, color=plt.cm.viridis(k / (x.shape[0] - 1)))
+    a2.set_aspect("equal")
+    a2.set_title(f"N = {n0} increments (Fig 6.1)")
+    a2.legend()
+    fig.tight_layout()
+    fig.savefig(out / "rotating_bar.png", dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
