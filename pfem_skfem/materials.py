@@ -201,3 +201,59 @@ class DruckerPrager(YieldCriterion):
 
     def scaled(self, stress):
         return DruckerPrager(alpha=self.alpha, k=self.k / stress)
+
+
+class TrescaField(YieldCriterion):
+    """Tresca-type cone with its own radius at every stress point.
+
+    .. math::
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j
+
+    The flow potential of Mohr-Coulomb with zero dilation: used by the
+    non-associated scheme of Krabbenhoft, Karim, Lyamin & Sloan (2012) (the
+    thesis' [80]) with ``k_j`` from :func:`mohr_coulomb_radius`.
+    """
+
+    name = "Tresca field"
+
+    def __init__(self, k):
+        k = np.asarray(k, dtype=float)
+        if k.ndim != 1 or k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
+            raise ValueError("k (cone radii) must be a non-empty array of positive values")
+        self.k = k
+
+    def cone_vector(self, sx, sy, sz, sxy):
+        return self.k, [sx - sy, 2 * sxy]
+
+    def strength_scale(self):
+        return float(np.median(self.k)) / 2
+
+    def scaled(self, stress):
+        return TrescaField(self.k / stress)
+
+
+def mohr_coulomb_radius(c, phi, sigma_m, floor):
+    """Radius 2c cos(phi) - 2 sin(phi) sigma_m of the plane-strain Mohr-Coulomb circle.
+
+    ``sigma_m`` = (sx + sy) / 2 (tension positive) at each stress point; the radius
+    is held at least ``floor`` > 0 where the mean stress is tensile, so that the
+    cone keeps an interior.
+    """
+    MohrCoulomb(c if c > 0 else 1.0, phi)   # validates phi
+    if not np.isfinite(floor) or floor <= 0:
+        raise ValueError(f"floor must be positive, got {floor!r}")
+    s, co = np.sin(np.radians(phi)), np.cos(np.radians(phi))
+    return np.maximum(2 * c * co - 2 * s * np.asarray(sigma_m, dtype=float), floor)
+
+
+def davis(c, phi, psi):
+    """Davis' reduced strength for non-associated flow: (c*, phi*) in degrees.
+
+    beta = cos(psi) cos(phi) / (1 - sin(psi) sin(phi)); c* = beta c,
+    tan(phi*) = beta tan(phi). With psi = 0, tan(phi*) = sin(phi).
+    """
+    MohrCoulomb(c if c > 0 else 1.0, phi)
+    _check_angle("psi (dilation angle)", psi, upper=phi + 1e-12 if phi > 0 else 1e-12)
+    ph, ps = np.radians(phi), np.radians(psi)
+    beta = np.cos(ps) * np.cos(ph) / (1 - np.sin(ps) * np.sin(ph))
+    return beta * c, float(np.degrees(np.arctan(beta * np.tan(ph))))

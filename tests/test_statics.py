@@ -266,3 +266,26 @@ def test_strip_footing_quick(tmp_path):
     assert q["Nc"]["rel_error"] < 0.05
     assert q["Nc_MC_phi20"]["rel_error"] < 0.075
     assert abs(q["Nc"]["value"] - q["Nc_limit_analysis"]["value"]) < 0.01 * q["Nc"]["value"]
+
+
+def test_tresca_field_is_mohr_coulomb_at_the_lagged_mean_stress():
+    """At sigma_m of the lagged stress the Tresca field and Mohr-Coulomb coincide."""
+    from pfem_skfem.materials import TrescaField, mohr_coulomb_radius
+    rng = np.random.default_rng(3)
+    sigma = rng.normal(-5, 2, (30, 4))
+    mc = MohrCoulomb(1.0, 30.0)
+    k = mohr_coulomb_radius(1.0, 30.0, 0.5 * (sigma[:, 0] + sigma[:, 1]), floor=1e-3)
+    field = TrescaField(k)
+    assert np.allclose(field.F(sigma), mc.F(sigma), atol=1e-12)
+    # where the lagged mean stress is tensile the radius is held at the floor
+    assert np.all(mohr_coulomb_radius(1.0, 30.0, [10.0], floor=0.05) == 0.05)
+
+
+def test_davis_reduction_for_zero_dilation():
+    from pfem_skfem.materials import davis
+    c_star, phi_star = davis(10.0, 30.0, 0.0)
+    assert np.tan(np.radians(phi_star)) == pytest.approx(np.sin(np.radians(30.0)))
+    assert c_star == pytest.approx(10.0 * np.cos(np.radians(30.0)))
+    assert davis(10.0, 30.0, 30.0) == pytest.approx((10.0, 30.0))   # associated: unchanged
+    with pytest.raises(ValueError, match="psi"):
+        davis(10.0, 30.0, 35.0)
