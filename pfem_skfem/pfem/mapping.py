@@ -199,7 +199,7 @@ def interpolate(basis, values, x, *, k=8):
         raise ValueError(f"values must have {basis.N} rows (the basis' dofs), got {values.shape}")
     cells, _, _ = locate(basis.mesh, x, k=k)
     local = basis.mapping.invF(x.T[:, :, None], tind=cells)
-    phi = np.array([basis.elem.gbasis(basis.mapping, local, j, tind=cells)[0].value
+    phi = np.array([np.asarray(basis.elem.gbasis(basis.mapping, local, j, tind=cells)[0])
                     for j in range(basis.Nbfun)])
     phi = phi[..., 0]                              # (Nbfun, [comp,] n)
     dofs = values[basis.element_dofs[:, cells]]    # (Nbfun, n, ...)
