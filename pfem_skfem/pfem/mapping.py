@@ -49,8 +49,8 @@ def _segment_distance(x, a, b):
 def locate(mesh, x, *, k=8, tol=1e-10):
     """Element of ``mesh`` containing each point (vectorised point location).
 
-    Candidates are the elements with the k nearest centroids (a KD-tree), widened
-    to 8 k for the points not found; a point in none of them is outside the mesh
+    Candidates are the element with the nearest centroid (a KD-tree), then, for the
+    points not in it, the k and then 8 k nearest; a point in none of them is outside the mesh
     and gets the candidate element nearest to it.
 
     Parameters
@@ -73,8 +73,8 @@ def locate(mesh, x, *, k=8, tol=1e-10):
     lam = np.zeros((n, 3))
     inside = np.zeros(n, dtype=bool)
     todo = np.arange(n)
-    for kk in (min(k, m), min(8 * k, m)):
-        _, cand = tree.query(x[todo], k=kk)
+    for kk in sorted({1, min(k, m), min(8 * k, m)}):
+        _, cand = tree.query(x[todo], k=kk, workers=-1)
         cand = cand.reshape(len(todo), kk)
         bary = _barycentric(v_all[cand], inv_all[cand], x[todo])
         ok = bary.min(axis=2) >= -tol
@@ -220,10 +220,17 @@ def map_nodal(old_basis, values, new_basis, *, k=8):
     (new_basis.N, ...) array of the new dofs.
     """
     values = np.asarray(values, dtype=float)
-    vector = isinstance(new_basis.elem, ElementVector)
-    out = np.zeros((new_basis.N,) + values.shape[1:])
-    if not vector:
+    if not isinstance(new_basis.elem, ElementVector):
         return interpolate(old_basis, values, new_basis.doflocs.T, k=k)
-    for comp, idx in enumerate(new_basis.split_indices()):
-        out[idx] = interpolate(old_basis, values, new_basis.doflocs[:, idx].T, k=k)[comp]
+    if not isinstance(old_basis.elem, ElementVector):
+        raise ValueError("old_basis must be a vector basis like new_basis")
+    # one scalar interpolation for all components: vector dofs split into scalar ones
+    old_split, new_split = old_basis.split_indices(), new_basis.split_indices()
+    scalar_old = old_basis.with_element(old_basis.elem.elem)
+    scalar_new = new_basis.with_element(new_basis.elem.elem)
+    stacked = np.stack([values[idx] for idx in old_split], axis=1)     # (N_scalar, dim, ...)
+    mapped = interpolate(scalar_old, stacked, scalar_new.doflocs.T, k=k)
+    out = np.zeros((new_basis.N,) + values.shape[1:])
+    for comp, idx in enumerate(new_split):
+        out[idx] = mapped[:, comp]
     return out
