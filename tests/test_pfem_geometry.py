@@ -303,3 +303,10 @@ def test_verification_alpha_shape_quick(tmp_path):
     assert q["lowest alpha, 2 bodies"]["value"] <= 0.9
     assert q["highest alpha, 2 bodies"]["value"] >= 1.3
     assert q["bodies at alpha=1.5"]["value"] == 1
+
+
+def test_nodal_spacing_of_a_lattice_is_its_edge_length():
+    from scipy.spatial import Delaunay
+    from pfem_skfem.pfem.particles import nodal_spacing
+    x, _ = hex_lattice(3, 0.1)
+    np.testing.assert_allclose(nodal_spacing(x, Delaunay(x).simplices), 0.1, rtol=1e-12)

@@ -103,3 +103,24 @@ class Particles:
         return Particles(self.x[keep], self.h[keep], self.v[keep],
                          None if self.a is None else self.a[keep],
                          self.free_surface[keep], self.contact[keep])
+
+
+def nodal_spacing(points, triangles):
+    """Characteristic spacing of each vertex: the mean length of the mesh edges at it.
+
+    Gives the h of a non-uniform cloud from the mesh its particles came from
+    (Section 2.3.1: a large h where the mesh is coarse). Vertices in no triangle get nan.
+
+    Parameters
+    ----------
+    points : (n, 2); triangles : (m, 3) vertex indices.
+    """
+    points = check_positions(points)
+    t = np.asarray(triangles, dtype=int)
+    edges = np.unique(np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1),
+                      axis=0)
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    total = np.bincount(edges.ravel(), np.repeat(length, 2), minlength=len(points))
+    count = np.bincount(edges.ravel(), minlength=len(points))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return total / count
