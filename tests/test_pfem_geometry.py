@@ -310,3 +310,17 @@ def test_nodal_spacing_of_a_lattice_is_its_edge_length():
     from pfem_skfem.pfem.particles import nodal_spacing
     x, _ = hex_lattice(3, 0.1)
     np.testing.assert_allclose(nodal_spacing(x, Delaunay(x).simplices), 0.1, rtol=1e-12)
+
+
+def test_thin_cloud_removes_crowding_particles_only():
+    from pfem_skfem.pfem.particles import thin_cloud
+    x, _ = hex_lattice(3, 0.1)
+    crowd = np.vstack([x, x[:5] + [0.01, 0.0]])          # 5 particles 0.1 h from others
+    keep = thin_cloud(crowd, 0.1, fraction=0.3)
+    assert keep.sum() == len(x)
+    from scipy.spatial import cKDTree
+    assert cKDTree(crowd[keep]).query(crowd[keep], k=2)[0][:, 1].min() >= 0.3 * 0.1 - 1e-12
+    protect = np.zeros(len(crowd), bool)
+    protect[-5:] = True                                  # the newcomers are protected
+    keep = thin_cloud(crowd, 0.1, fraction=0.3, protect=protect)
+    assert keep[-5:].all() and not keep[:5].any()

@@ -7,9 +7,9 @@ One PFEM step (Section 2.2), each arrow a function::
 """
 from .alpha_shape import AlphaShape, adaptive_alpha, alpha_shape
 from .mapping import ida, interpolate, locate, map_nodal, map_stress, uem
-from .particles import Particles, nodal_spacing
+from .particles import Particles, nodal_spacing, thin_cloud
 from .remesh import ParticleMesh, alpha_mesh, mesh_quality, quality_remesh
 
 __all__ = ["AlphaShape", "adaptive_alpha", "alpha_shape", "ida", "interpolate", "locate",
-           "map_nodal", "map_stress", "uem", "Particles", "nodal_spacing", "ParticleMesh",
+           "map_nodal", "map_stress", "uem", "Particles", "nodal_spacing", "thin_cloud", "ParticleMesh",
            "alpha_mesh", "mesh_quality", "quality_remesh"]

@@ -124,3 +124,43 @@ def nodal_spacing(points, triangles):
     count = np.bincount(edges.ravel(), minlength=len(points))
     with np.errstate(invalid="ignore", divide="ignore"):
         return total / count
+
+
+def thin_cloud(points, h, *, fraction=0.3, protect=None):
+    """Keep-mask that removes particles crowding another one (closer than fraction * h).
+
+    Triangle can only add nodes; when particles bunch up (or added nodes became
+    particles) the mesh would refine around each close pair. Removing one particle of
+    each close pair holds the spacing near h. Of a close pair (i, j), i < j, j is
+    removed unless it is protected (e.g. free-surface or contact particles, whose
+    removal would change the domain), in which case i is, unless both are protected.
+
+    Parameters
+    ----------
+    points : (n, 2); h : float or (n,); fraction : distance, in units of the pair's
+    smaller h, below which two particles crowd each other; protect : (n,) bool.
+
+    Returns
+    -------
+    (n,) bool, True for the particles to keep.
+    """
+    from scipy.spatial import cKDTree
+
+    points = check_positions(points)
+    n = len(points)
+    h = check_spacing(h, n)
+    if not 0 <= fraction < 1:
+        raise ValueError(f"fraction must lie in [0, 1), got {fraction!r}")
+    protect = np.zeros(n, dtype=bool) if protect is None else np.asarray(protect, dtype=bool)
+    keep = np.ones(n, dtype=bool)
+    if fraction == 0:
+        return keep
+    pairs = cKDTree(points).query_pairs(fraction * h.max(), output_type="ndarray")
+    if len(pairs) == 0:
+        return keep
+    i, j = pairs.T
+    close = np.linalg.norm(points[i] - points[j], axis=1) < fraction * np.minimum(h[i], h[j])
+    i, j = i[close], j[close]
+    drop = np.where(protect[j], i, j)
+    keep[drop[~(protect[i] & protect[j])]] = False
+    return keep
