@@ -126,7 +126,7 @@ def nodal_spacing(points, triangles):
         return total / count
 
 
-def thin_cloud(points, h, *, fraction=0.3, protect=None):
+def thin_cloud(points, h, *, fraction=0.5, protect=None):
     """Keep-mask that removes particles crowding another one (closer than fraction * h).
 
     Triangle can only add nodes; when particles bunch up (or added nodes became
