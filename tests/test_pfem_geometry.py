@@ -53,6 +53,9 @@ def test_polygon_with_hole_recovered_exactly(alpha):
     assert outer == pytest.approx(OUTER * h * h, rel=1e-12)
     assert hole == pytest.approx(-HOLE * h * h, rel=1e-12)
     assert s.free_surface.sum() == 36 + 12          # the points of the two hexagon perimeters
+    for loop, signed in zip(s.loops(), s.loop_area):  # walking each loop gives its signed area
+        px, py = s.points[loop].T
+        assert 0.5 * np.sum(px * np.roll(py, -1) - np.roll(px, -1) * py) == pytest.approx(signed)
     assert len(s.hole_seeds) == 1 and np.hypot(*s.hole_seeds[0]) < 2 * h
 
 
