@@ -327,3 +327,16 @@ def test_thin_cloud_removes_crowding_particles_only():
     protect[-5:] = True                                  # the newcomers are protected
     keep = thin_cloud(crowd, 0.1, fraction=0.3, protect=protect)
     assert keep[-5:].all() and not keep[:5].any()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(10, 120), st.floats(1.0, 3.0))
+def test_uem_exact_for_linear_fields_between_random_remeshes(seed, n, alpha):
+    """Alpha mesh of a random cloud -> its Triangle remesh: UEM maps a linear field exactly."""
+    x = np.random.default_rng(seed).uniform(0, 1, (n, 2))
+    s = alpha_shape(x, 1 / np.sqrt(n), alpha)
+    if len(s.triangles) == 0:
+        return
+    old, new = discretise(alpha_mesh(s).mesh), discretise(quality_remesh(s, size=0.7).mesh)
+    mapped = map_stress(old, _linear_stress(old.points), new, "uem")
+    np.testing.assert_allclose(mapped, _linear_stress(new.points), rtol=1e-9, atol=1e-9)
