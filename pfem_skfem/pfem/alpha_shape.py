@@ -83,8 +83,9 @@ class AlphaShape:
 
     @property
     def n_holes(self):
-        """Number of inner boundary loops (voids enclosed by a body)."""
-        return int(np.sum(self.loop_area < 0))
+        """Number of inner boundary loops (voids enclosed by a body); slits of zero area are not."""
+        scale = np.ptp(self.points, axis=0).max() ** 2
+        return int(np.sum(self.loop_area < -DEGENERATE * scale))
 
     def loops(self):
         """Boundary loops as lists of particle indices, in the order of ``loop_area``."""
