@@ -1,0 +1,236 @@
+"""Mapping the state from the old mesh to the new one (thesis Section 2.5, Fig 2.5-2.6).
+
+Stresses live at the stress points (the Gauss points of the six-node triangle,
+:class:`~pfem_skfem.elements.ElementTriStress`); two schemes move them:
+
+* Unique Element Method (UEM, Fig 2.6), the thesis' choice: find the old element
+  that contains the new stress point and evaluate that element's linear stress
+  field there, ``sigma(x) = sum_j (2 lambda_j(x) - 1/3) sigma_j`` (3.29). A point
+  outside the old mesh takes the nearest old element, extrapolated.
+* Inverse Distance Algorithm (IDA, Fig 2.5), (2.1)-(2.2): a weighted mean of the k
+  nearest old stress points, weights ``w_i = d_i^-c``, c = 3.5 recommended.
+
+Nodal fields (velocities, accelerations: any function of a scikit-fem basis) are
+interpolated with the old P2 basis at the new nodes (Section 2.5, last paragraph).
+
+Meshes are straight-sided (``MeshTri``), so barycentric coordinates are the
+element's area coordinates.
+"""
+import numpy as np
+from scipy.spatial import cKDTree
+from skfem import ElementVector
+
+from ..operators import Discretisation
+
+SCHEMES = ("uem", "ida")
+
+
+def _affine(mesh):
+    """Vertices (m, 3, 2) and the inverse Jacobians (m, 2, 2) of the elements."""
+    p, t = mesh.p.T, mesh.t[:3].T
+    v = p[t]
+    jac = np.stack([v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]], axis=2)   # columns b-a, c-a
+    return v, np.linalg.inv(jac)
+
+
+def _barycentric(v, inv, x):
+    """Area coordinates (n, k, 3) of points x (n, 2) in candidate elements given by v, inv (n, k, ...)."""
+    xi = np.einsum("nkij,nkj->nki", inv, x[:, None, :] - v[:, :, 0])
+    return np.concatenate([1 - xi.sum(axis=2, keepdims=True), xi], axis=2)
+
+
+def _segment_distance(x, a, b):
+    """Distance from points x (n, k, 2) to segments a-b (n, k, 2)."""
+    d = b - a
+    s = np.clip(np.sum((x - a) * d, axis=-1) / np.maximum(np.sum(d * d, axis=-1), 1e-300), 0, 1)
+    return np.linalg.norm(x - a - s[..., None] * d, axis=-1)
+
+
+def locate(mesh, x, *, k=8, tol=1e-10):
+    """Element of ``mesh`` containing each point (vectorised point location).
+
+    Candidates are the element with the nearest centroid (a KD-tree), then, for the
+    points not in it, the k and then 8 k nearest; a point in none of them is outside the mesh
+    and gets the candidate element nearest to it.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri; x : (n, 2) points.
+
+    Returns
+    -------
+    element : (n,) element index; inside : (n,) bool; lam : (n, 3) area coordinates of
+    the point in its element (outside [0, 1] for an extrapolated point).
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
+        raise ValueError("points must be a finite (n, 2) array")
+    v_all, inv_all = _affine(mesh)
+    m = len(v_all)
+    tree = cKDTree(v_all.mean(axis=1))
+    n = len(x)
+    element = np.full(n, -1)
+    lam = np.zeros((n, 3))
+    inside = np.zeros(n, dtype=bool)
+    todo = np.arange(n)
+    for kk in sorted({1, min(k, m), min(8 * k, m)}):
+        _, cand = tree.query(x[todo], k=kk, workers=-1)
+        cand = cand.reshape(len(todo), kk)
+        bary = _barycentric(v_all[cand], inv_all[cand], x[todo])
+        ok = bary.min(axis=2) >= -tol
+        hit = ok.any(axis=1)
+        first = ok.argmax(axis=1)
+        rows = np.flatnonzero(hit)
+        element[todo[rows]] = cand[rows, first[rows]]
+        lam[todo[rows]] = bary[rows, first[rows]]
+        inside[todo[rows]] = True
+        todo, cand, bary = todo[~hit], cand[~hit], bary[~hit]
+        if len(todo) == 0 or kk == m:
+            break
+    if len(todo):
+        # outside the mesh: the nearest candidate element, measured to its edges
+        vv = v_all[cand]
+        xx = np.broadcast_to(x[todo][:, None, :], vv.shape[:2] + (2,))
+        dist = np.min([_segment_distance(xx, vv[:, :, i], vv[:, :, (i + 1) % 3])
+                       for i in range(3)], axis=0)
+        best = dist.argmin(axis=1)
+        element[todo] = cand[np.arange(len(todo)), best]
+        lam[todo] = bary[np.arange(len(todo)), best]
+    return element, inside, lam
+
+
+def _stress_layout(old):
+    if not isinstance(old, Discretisation):
+        raise ValueError(f"old must be a Discretisation, got {type(old).__name__}")
+    return old.mesh, old.basis_s.element_dofs, old.points
+
+
+def _new_points(new):
+    return new.points if isinstance(new, Discretisation) else np.asarray(new, dtype=float)
+
+
+def _check_sigma(sigma, n):
+    sigma = np.asarray(sigma, dtype=float)
+    if sigma.shape[0] != n:
+        raise ValueError(f"sigma must have {n} rows (one per old stress point), "
+                         f"got shape {sigma.shape}")
+    return sigma
+
+
+def uem(old, sigma, new, *, k=8):
+    """Unique Element Method (Fig 2.6): the old element's linear stress at the new points.
+
+    sigma(x) = sum_j N_j(x) sigma_j with N_j = 2 lambda_j - 1/3 (3.29), lambda the
+    area coordinates of x in the old element that contains it (or the nearest old
+    element, extrapolating, for a point outside the old mesh).
+
+    Parameters
+    ----------
+    old : Discretisation of the old mesh; sigma : (n_points_old, ...) values at its
+        stress points (e.g. (n, 4) stresses); new : Discretisation or (n_new, 2) points.
+
+    Returns
+    -------
+    (n_new, ...) array.
+    """
+    mesh, element_points, _ = _stress_layout(old)
+    sigma = _check_sigma(sigma, element_points.max() + 1)
+    x = _new_points(new)
+    element, _, lam = locate(mesh, x, k=k)
+    shape = 2 * lam - 1 / 3                       # (n_new, 3): N_j at x
+    values = sigma[element_points[:, element].T]  # (n_new, 3, ...)
+    return np.einsum("nj,nj...->n...", shape, values)
+
+
+def ida(old, sigma, new, *, c=3.5, k=6):
+    """Inverse Distance Algorithm (2.1)-(2.2): sigma(x) = sum w_i sigma_i / sum w_j, w_i = d_i^-c.
+
+    Parameters
+    ----------
+    old : Discretisation of the old mesh (or (n, 2) old stress points);
+    sigma : (n_points_old, ...) values at them; new : Discretisation or (n_new, 2) points;
+    c : the exponent (2-4, 3.5 recommended [34, 50]); k : number of nearest old points.
+
+    A new point that coincides with an old one takes its value.
+    """
+    if not np.isfinite(c) or c <= 0:
+        raise ValueError(f"c (IDA exponent) must be positive, got {c!r}")
+    pts = old.points if isinstance(old, Discretisation) else np.asarray(old, dtype=float)
+    sigma = _check_sigma(sigma, len(pts))
+    if int(k) < 1:
+        raise ValueError(f"k (number of neighbours) must be at least 1, got {k!r}")
+    k = min(int(k), len(pts))
+    x = _new_points(new)
+    d, i = cKDTree(pts).query(x, k=k)
+    d, i = d.reshape(len(x), k), i.reshape(len(x), k)
+    with np.errstate(divide="ignore"):
+        w = d ** -c
+    hit = d[:, 0] == 0
+    w[hit] = 0.0
+    w[hit, 0] = 1.0                               # a coincident old point wins
+    w /= w.sum(axis=1, keepdims=True)
+    return np.einsum("nk,nk...->n...", w, sigma[i])
+
+
+def map_stress(old, sigma, new, method="uem", **options):
+    """Stresses at the new stress points by ``method`` 'uem' (Fig 2.6) or 'ida' (2.1)-(2.2)."""
+    method = str(method).lower()
+    if method == "uem":
+        return uem(old, sigma, new, **options)
+    if method == "ida":
+        return ida(old, sigma, new, **options)
+    raise ValueError(f"method must be one of {SCHEMES}, got {method!r}")
+
+
+def interpolate(basis, values, x, *, k=8):
+    """Values of a finite-element function of ``basis`` at points x (n, 2).
+
+    The function is evaluated in the element containing each point; a point outside
+    the mesh uses the nearest element's polynomial (extrapolation).
+
+    Returns
+    -------
+    (n,) for a scalar basis, (2, n) for a vector basis (``ElementVector``); with
+    ``values`` of shape (N, m), a trailing axis m.
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    values = np.asarray(values, dtype=float)
+    if values.shape[0] != basis.N:
+        raise ValueError(f"values must have {basis.N} rows (the basis' dofs), got {values.shape}")
+    cells, _, _ = locate(basis.mesh, x, k=k)
+    local = basis.mapping.invF(x.T[:, :, None], tind=cells)
+    phi = np.array([np.asarray(basis.elem.gbasis(basis.mapping, local, j, tind=cells)[0])
+                    for j in range(basis.Nbfun)])
+    phi = phi[..., 0]                              # (Nbfun, [comp,] n)
+    dofs = values[basis.element_dofs[:, cells]]    # (Nbfun, n, ...)
+    if phi.ndim == 2:
+        return np.einsum("jn,jn...->n...", phi, dofs)
+    return np.einsum("jcn,jn...->cn...", phi, dofs)
+
+
+def map_nodal(old_basis, values, new_basis, *, k=8):
+    """A nodal field (velocities, accelerations) of the old basis, interpolated to the new one.
+
+    Each new degree of freedom takes the old function's value (its component, for a
+    vector basis) at the dof's location; exact for fields the old basis represents
+    (a quadratic field on P2).
+
+    Returns
+    -------
+    (new_basis.N, ...) array of the new dofs.
+    """
+    values = np.asarray(values, dtype=float)
+    if not isinstance(new_basis.elem, ElementVector):
+        return interpolate(old_basis, values, new_basis.doflocs.T, k=k)
+    if not isinstance(old_basis.elem, ElementVector):
+        raise ValueError("old_basis must be a vector basis like new_basis")
+    # one scalar interpolation for all components: vector dofs split into scalar ones
+    old_split, new_split = old_basis.split_indices(), new_basis.split_indices()
+    scalar_old = old_basis.with_element(old_basis.elem.elem)
+    scalar_new = new_basis.with_element(new_basis.elem.elem)
+    stacked = np.stack([values[idx] for idx in old_split], axis=1)     # (N_scalar, dim, ...)
+    mapped = interpolate(scalar_old, stacked, scalar_new.doflocs.T, k=k)
+    out = np.zeros((new_basis.N,) + values.shape[1:])
+    for comp, idx in enumerate(new_split):
+        out[idx] = mapped[:, comp]
+    return out

@@ -1,0 +1,342 @@
+"""PFEM geometry (thesis Ch 2): alpha-shape detection, remeshing, state mapping."""
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+from skfem import Basis, ElementTriP2
+
+from pfem_skfem.meshes import triangulate_polygon
+from pfem_skfem.operators import discretise
+from pfem_skfem.pfem.alpha_shape import (DEGENERATE, adaptive_alpha, alpha_shape,
+                                         triangle_areas)
+from pfem_skfem.pfem.mapping import interpolate, locate, map_nodal, map_stress
+from pfem_skfem.pfem.particles import Particles
+from pfem_skfem.pfem.remesh import alpha_mesh, mesh_quality, quality_remesh
+
+ROOT = Path(__file__).resolve().parents[1]
+SQ3 = np.sqrt(3.0)
+
+
+# -- clouds with known alpha-shapes -------------------------------------------------
+def hex_lattice(rings, h, centre=(0.0, 0.0)):
+    """Triangular-lattice points of spacing h within ``rings`` hexagonal rings; and their ring."""
+    q, r = np.meshgrid(np.arange(-rings, rings + 1), np.arange(-rings, rings + 1))
+    q, r = q.ravel(), r.ravel()
+    ring = np.max(np.abs([q, r, -q - r]), axis=0)
+    q, r, ring = q[ring <= rings], r[ring <= rings], ring[ring <= rings]
+    x = np.c_[h * (q + 0.5 * r) + centre[0], h * SQ3 / 2 * r + centre[1]]
+    return x, ring
+
+
+def hexagon_with_hole(h=0.1):
+    """Regular hexagon of side 6h, sampled on a triangular lattice, with a hexagonal hole of side 2h."""
+    x, ring = hex_lattice(6, h)
+    return x[ring >= 2]
+
+
+# exact areas: hexagon of side s has area 3 sqrt(3)/2 s^2; equilateral triangle of edge h, sqrt(3)/4 h^2
+OUTER, HOLE, CORNER = 54 * SQ3, 6 * SQ3, SQ3 / 4      # in units of h^2
+
+
+@pytest.mark.parametrize("alpha", [0.6, 0.8, 0.99])
+def test_polygon_with_hole_recovered_exactly(alpha):
+    """Lattice triangles have R = h/sqrt(3); the hole's smallest triangle has R = h: alpha in (0.578, 1)."""
+    h = 0.1
+    s = alpha_shape(hexagon_with_hole(h), h, alpha)
+    assert s.n_bodies == 1 and s.n_holes == 1
+    assert s.area == pytest.approx((OUTER - HOLE) * h * h, rel=1e-12)
+    assert not s.free.any()
+    outer, hole = sorted(s.loop_area, reverse=True)
+    assert outer == pytest.approx(OUTER * h * h, rel=1e-12)
+    assert hole == pytest.approx(-HOLE * h * h, rel=1e-12)
+    assert s.free_surface.sum() == 36 + 12          # the points of the two hexagon perimeters
+    for loop, signed in zip(s.loops(), s.loop_area):  # walking each loop gives its signed area
+        px, py = s.points[loop].T
+        assert 0.5 * np.sum(px * np.roll(py, -1) - np.roll(px, -1) * py) == pytest.approx(signed)
+    assert len(s.hole_seeds) == 1 and np.hypot(*s.hole_seeds[0]) < 2 * h
+
+
+@pytest.mark.parametrize("alpha, area, holes", [
+    (0.5, 0.0, 0),                                   # below h/sqrt(3): nothing survives
+    (1.2, OUTER - HOLE + 6 * CORNER, 1),             # the 6 corner triangles of the hole (R = h) fill
+    (1.8, OUTER, 0),                                 # the last ones (R = sqrt(3) h) fill the hole
+])
+def test_polygon_with_hole_as_alpha_grows(alpha, area, holes):
+    h = 0.1
+    s = alpha_shape(hexagon_with_hole(h), h, alpha)
+    assert s.area == pytest.approx(area * h * h, rel=1e-12, abs=1e-15)
+    assert s.n_holes == holes
+
+
+def test_nonuniform_spacing_uses_each_particles_h():
+    """A fine (h) and a coarse (2h) hexagon: recovered together only with per-particle h."""
+    h = 0.1
+    fine, _ = hex_lattice(3, h)
+    coarse, _ = hex_lattice(3, 2 * h, centre=(3.0, 0.0))
+    x = np.vstack([fine, coarse])
+    hh = np.r_[np.full(len(fine), h), np.full(len(coarse), 2 * h)]
+    s = alpha_shape(x, hh, 0.8)
+    assert s.n_bodies == 2
+    assert s.area == pytest.approx(27 / 2 * SQ3 * (h * h + 4 * h * h), rel=1e-12)
+    uniform = alpha_shape(x, h, 0.8)                 # the coarse body has R = 1.15 h > 0.8 h
+    assert uniform.n_bodies == 1 and uniform.free.sum() == len(coarse)
+
+
+def test_scale_invariance():
+    x = hexagon_with_hole(0.1) + np.random.default_rng(3).normal(0, 0.01, (120, 2))
+    a, b = alpha_shape(x, 0.1, 1.2), alpha_shape(7 * x + 5, 0.7, 1.2)
+    np.testing.assert_array_equal(a.kept, b.kept)
+
+
+def test_bodies_touching_at_a_vertex_and_an_island_in_a_hole():
+    # two triangles sharing only vertex 0: two bodies, two outer loops
+    x = np.array([[0, 0], [1, 0], [0.5, 0.8], [-1, 0], [-0.5, -0.8]], float)
+    s = alpha_shape(x, 1.0, 1.0)
+    assert s.n_bodies == 2 and s.n_holes == 0 and len(s.loops()) == 2
+    assert sorted(len(loop) for loop in s.loops()) == [3, 3]
+    # an island (a small hexagon) inside the hole of a ring
+    h = 0.1
+    ring_x, ring = hex_lattice(8, h)
+    island, _ = hex_lattice(1, h)
+    x = np.vstack([ring_x[ring >= 5], island])
+    s = alpha_shape(x, h, 0.8)
+    assert s.n_bodies == 2 and s.n_holes == 1
+    assert s.area == pytest.approx((3 * SQ3 / 2) * (64 - 25 + 1) * h * h, rel=1e-12)
+    assert np.sum(s.loop_area) == pytest.approx(s.area, rel=1e-12)
+
+
+def test_alpha_mesh_and_quality_remesh_keep_the_domain():
+    h = 0.1
+    x = hexagon_with_hole(h)
+    s = alpha_shape(x, h, 1.9)                       # hole filled, then the remesh splits nothing
+    a = alpha_mesh(s)
+    assert discretise(a.mesh).area == pytest.approx(s.area, rel=1e-12)
+    np.testing.assert_allclose(a.mesh.p.T, x[a.particle])
+    s = alpha_shape(x, h, 0.9)
+    q = quality_remesh(s, size=0.8, min_angle=28)    # size < h: Triangle must add nodes
+    assert q.added.sum() > 0
+    assert discretise(q.mesh).area == pytest.approx(s.area, rel=1e-12)
+    kept = q.particle[q.particle >= 0]
+    assert sorted(kept) == sorted(np.flatnonzero(~s.free))
+    np.testing.assert_allclose(q.mesh.p.T[q.particle >= 0], x[kept], atol=1e-14)
+    quality = mesh_quality(q.mesh)
+    assert quality["min_area"] > 0 and quality["min_angle"] >= 28 - 1e-9
+    assert quality["max_area"] <= SQ3 / 4 * (0.8 * h) ** 2 * (1 + 1e-12)
+
+
+# -- mapping --------------------------------------------------------------------------
+def _square_meshes():
+    old = discretise(triangulate_polygon([(0, 0), (1, 0), (1, 1), (0, 1)], 0.2))
+    # a different mesh, partly outside the old one (extrapolation)
+    new = discretise(triangulate_polygon([(-0.1, -0.05), (1.1, 0), (1.05, 1.1), (0, 1)], 0.13))
+    return old, new
+
+
+def _linear_stress(x):
+    a = np.array([[1.0, 2.0, -3.0], [4.0, 0.5, 6.0], [-7.0, 8.0, 0.0], [1.0, -1.0, 0.5]])
+    return a[:, 0] + x[:, :1] * a[:, 1] + x[:, 1:] * a[:, 2]
+
+
+def test_uem_reproduces_a_linear_stress_field_on_a_new_mesh():
+    old, new = _square_meshes()
+    _, inside, _ = locate(old.mesh, new.points)
+    assert 0 < inside.sum() < new.n_points           # both inside and extrapolated points
+    mapped = map_stress(old, _linear_stress(old.points), new, method="uem")
+    np.testing.assert_allclose(mapped, _linear_stress(new.points), atol=1e-12)
+
+
+def test_uem_maps_any_stress_onto_itself():
+    old, _ = _square_meshes()
+    sigma = np.random.default_rng(0).normal(size=(old.n_points, 4))
+    np.testing.assert_allclose(map_stress(old, sigma, old.points, "uem"), sigma, atol=1e-12)
+
+
+def test_ida_reproduces_a_constant_and_is_bounded():
+    old, new = _square_meshes()
+    const = np.tile([1.0, -2.0, 3.0, 0.25], (old.n_points, 1))
+    np.testing.assert_allclose(map_stress(old, const, new, "ida"),
+                               np.tile(const[0], (new.n_points, 1)), atol=1e-13)
+    s = np.random.default_rng(1).normal(size=old.n_points)
+    m = map_stress(old, s, new, "ida", c=2.0, k=4)   # a weighted mean: within the data range
+    assert s.min() <= m.min() and m.max() <= s.max()
+    np.testing.assert_allclose(map_stress(old, s, old.points, "ida"), s)   # coincident points
+
+
+def test_p2_velocity_mapping_reproduces_a_quadratic_field():
+    old, new = _square_meshes()
+
+    def field(x, y):
+        return np.array([1 + 2 * x - 3 * y + x * x - 2 * x * y + 0.5 * y * y, -1 + x * y + y * y])
+
+    def nodal(basis):
+        u = np.zeros(basis.N)
+        for c, idx in enumerate(basis.split_indices()):
+            u[idx] = field(*basis.doflocs[:, idx])[c]
+        return u
+
+    np.testing.assert_allclose(map_nodal(old.basis_u, nodal(old.basis_u), new.basis_u),
+                               nodal(new.basis_u), atol=1e-12)
+    scalar = Basis(old.mesh, ElementTriP2())
+    x = np.random.default_rng(2).uniform(-0.1, 1.1, (40, 2))
+    np.testing.assert_allclose(interpolate(scalar, field(*scalar.doflocs)[1], x),
+                               field(*x.T)[1], atol=1e-12)
+
+
+def test_locate_returns_the_containing_element():
+    old, _ = _square_meshes()
+    x = np.random.default_rng(4).uniform(0, 1, (300, 2))
+    element, inside, lam = locate(old.mesh, x)
+    assert inside.all() and lam.min() >= -1e-10
+    v = old.mesh.p[:, old.mesh.t[:, element]]        # (2, 3, n)
+    np.testing.assert_allclose(np.einsum("cjn,nj->nc", v, lam), x, atol=1e-13)
+
+
+# -- robustness: hypothesis -------------------------------------------------------------
+@st.composite
+def clouds(draw):
+    kind = draw(st.sampled_from(["random", "duplicates", "collinear", "few", "thin", "lattice"]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    n = draw(st.integers(1, 6)) if kind == "few" else draw(st.integers(3, 80))
+    if kind == "collinear":
+        t = rng.uniform(0, 5, n)
+        x = np.c_[t, 0.5 * t + 1]
+        if draw(st.booleans()):                      # plus one point off the line
+            x = np.vstack([x, [2.0, -1.0]])
+    elif kind == "thin":
+        x = np.c_[rng.uniform(0, 5, n), rng.uniform(0, 10.0 ** draw(st.integers(-14, -2)), n)]
+    elif kind == "lattice":
+        x = rng.integers(0, 6, (n, 2)).astype(float)  # many duplicates and cocircular points
+    else:
+        x = rng.uniform(0, 4, (n, 2))
+    if kind == "duplicates":
+        x = np.vstack([x, x[rng.integers(0, len(x), len(x) // 2 + 1)]])
+    h = rng.uniform(0.3, 1.0, len(x)) if draw(st.booleans()) else 0.6
+    alpha = draw(st.floats(0.3, 50.0))
+    return x, h, alpha
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(clouds())
+def test_random_clouds_never_fail_and_give_valid_meshes(cloud):
+    x, h, alpha = cloud
+    s = alpha_shape(x, h, alpha)
+    in_mesh = np.zeros(len(x), dtype=bool)
+    in_mesh[s.triangles.ravel()] = True
+    assert np.array_equal(in_mesh, ~s.free)          # every particle: in the mesh or free
+    if len(s.triangles) == 0:
+        assert s.area == 0 and s.free.all()
+        with pytest.raises(ValueError, match="empty"):
+            alpha_mesh(s)
+        return
+    area2 = 2 * triangle_areas(x, s.triangles)
+    edge2 = np.max([np.sum((x[s.triangles[:, k]] - x[s.triangles[:, k - 1]]) ** 2, axis=1)
+                    for k in range(3)], axis=0)
+    assert np.all(area2 > DEGENERATE * edge2)        # counter-clockwise, not degenerate
+    assert np.sum(s.loop_area) == pytest.approx(s.area, rel=1e-9, abs=1e-12)
+    assert np.all(s.free_surface <= ~s.free)
+    a = alpha_mesh(s)
+    assert mesh_quality(a.mesh)["min_area"] > 0
+    assert sorted(a.particle) == sorted(np.flatnonzero(~s.free))
+    q = quality_remesh(s, min_angle=20)
+    assert mesh_quality(q.mesh)["min_area"] > 0
+    assert triangle_areas(q.mesh.p.T, q.mesh.t.T).sum() == pytest.approx(s.area, rel=1e-9)
+    assert sorted(q.particle[q.particle >= 0]) == sorted(np.flatnonzero(~s.free))
+
+
+# -- mass and bad input -------------------------------------------------------------------
+def test_adaptive_alpha_is_the_thesis_rule():
+    assert adaptive_alpha(1.6, 10.0, 9.8) == pytest.approx(1.6 * 10.0 / 9.8)
+    assert adaptive_alpha(1.6, 10.0, 10.0) == 1.6
+    with pytest.raises(ValueError, match="m_n"):
+        adaptive_alpha(1.6, 10.0, 0.0)
+
+
+@pytest.mark.parametrize("points, h, alpha, message", [
+    (np.empty((0, 2)), 1.0, 1.4, "empty"),
+    ([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]], 1.0, 1.4, "non-finite"),
+    ([[0.0, 0.0], [1.0, np.inf], [1.0, 1.0]], 1.0, 1.4, "non-finite"),
+    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 1.0, 0.0, "alpha"),
+    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 1.0, -1.0, "alpha"),
+    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 1.0, np.nan, "alpha"),
+    ([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], 0.0, 1.4, "h"),
+    ([[0.0, 0.0, 0.0]], 1.0, 1.4, "shape"),
+])
+def test_alpha_shape_bad_input(points, h, alpha, message):
+    with pytest.raises(ValueError, match=message):
+        alpha_shape(points, h, alpha)
+
+
+def test_particles_validate_and_move():
+    with pytest.raises(ValueError, match="empty"):
+        Particles(np.empty((0, 2)), 1.0)
+    with pytest.raises(ValueError, match="non-finite"):
+        Particles([[0.0, np.nan]], 1.0)
+    with pytest.raises(ValueError, match="v"):
+        Particles([[0.0, 0.0]], 1.0, v=[[1.0, 2.0, 3.0]])
+    p = Particles([[0.0, 0.0], [1.0, 0.0]], 0.5, v=[[1.0, 0.0], [0.0, 1.0]])
+    q = p.moved([[0.1, 0.0], [0.0, 0.2]])
+    np.testing.assert_allclose(q.x, [[0.1, 0.0], [1.0, 0.2]])
+    assert q.h.tolist() == [0.5, 0.5] and p.x[0, 0] == 0.0
+    assert p.subset([1]).n == 1
+
+
+def test_mapping_bad_input():
+    old, new = _square_meshes()
+    sigma = np.zeros((old.n_points, 4))
+    with pytest.raises(ValueError, match="method"):
+        map_stress(old, sigma, new, method="nearest")
+    with pytest.raises(ValueError, match="c"):
+        map_stress(old, sigma, new, method="ida", c=0)
+    with pytest.raises(ValueError, match="rows"):
+        map_stress(old, sigma[:-1], new)
+
+
+# -- the verification script ----------------------------------------------------------
+def test_verification_alpha_shape_quick(tmp_path):
+    spec = importlib.util.spec_from_file_location("v_alpha", ROOT / "verification" / "alpha_shape.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    out = tmp_path / "r.json"
+    assert module.main(["--quick", "--json", str(out), "--no-figures"]) == 0
+    q = {x["name"]: x for x in json.loads(out.read_text())["quantities"]}
+    assert all(x["pass"] for x in q.values())
+    assert q["lowest alpha, 2 bodies"]["value"] <= 0.9
+    assert q["highest alpha, 2 bodies"]["value"] >= 1.3
+    assert q["bodies at alpha=1.5"]["value"] == 1
+
+
+def test_nodal_spacing_of_a_lattice_is_its_edge_length():
+    from scipy.spatial import Delaunay
+    from pfem_skfem.pfem.particles import nodal_spacing
+    x, _ = hex_lattice(3, 0.1)
+    np.testing.assert_allclose(nodal_spacing(x, Delaunay(x).simplices), 0.1, rtol=1e-12)
+
+
+def test_thin_cloud_removes_crowding_particles_only():
+    from pfem_skfem.pfem.particles import thin_cloud
+    x, _ = hex_lattice(3, 0.1)
+    crowd = np.vstack([x, x[:5] + [0.01, 0.0]])          # 5 particles 0.1 h from others
+    keep = thin_cloud(crowd, 0.1, fraction=0.3)
+    assert keep.sum() == len(x)
+    from scipy.spatial import cKDTree
+    assert cKDTree(crowd[keep]).query(crowd[keep], k=2)[0][:, 1].min() >= 0.3 * 0.1 - 1e-12
+    protect = np.zeros(len(crowd), bool)
+    protect[-5:] = True                                  # the newcomers are protected
+    keep = thin_cloud(crowd, 0.1, fraction=0.3, protect=protect)
+    assert keep[-5:].all() and not keep[:5].any()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(10, 120), st.floats(1.0, 3.0))
+def test_uem_exact_for_linear_fields_between_random_remeshes(seed, n, alpha):
+    """Alpha mesh of a random cloud -> its Triangle remesh: UEM maps a linear field exactly."""
+    x = np.random.default_rng(seed).uniform(0, 1, (n, 2))
+    s = alpha_shape(x, 1 / np.sqrt(n), alpha)
+    if len(s.triangles) == 0:
+        return
+    old, new = discretise(alpha_mesh(s).mesh), discretise(quality_remesh(s, size=0.7).mesh)
+    mapped = map_stress(old, _linear_stress(old.points), new, "uem")
+    np.testing.assert_allclose(mapped, _linear_stress(new.points), rtol=1e-9, atol=1e-9)

@@ -1,0 +1,160 @@
+"""Domain recognition by the alpha-shape method: thesis Fig 2.4 (Section 2.3.2).
+
+Zhang (2014), Section 2.3.2, on the cloud of Fig 2.4 (two groups of points):
+alpha = 1.3 gives a reasonable set of boundaries and "any value of alpha in the
+interval 0.9 <= alpha <= 1.3 produces this set of boundaries"; decreasing alpha
+below 0.9 leads first to internal voids (alpha = 0.5) and then to a disintegration
+of the external boundaries (alpha = 0.4); increasing it above 1.3 leads to a
+coalescence of the two sets (alpha = 1.5) and, for large alpha, to the convex hull
+of the cloud (alpha = 100).
+
+The thesis does not give the cloud. As in the PFEM, where the particles are the
+vertices of a mesh, ours are the vertices of two Triangle meshes: a regular
+polygon of radius R (a disc) and a rectangle, a gap g apart, meshed with target
+edge ``size * h``. The references are computed here: the exact area of the two
+polygons (what the "reasonable" boundaries enclose) and scipy's convex hull area.
+The checks are the thesis' qualitative intervals.
+
+Run: ``python verification/alpha_shape.py [--quick] [--json out.json]``.
+"""
+import sys
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+from pfem_skfem.meshes import triangulate_polygon
+from pfem_skfem.pfem.alpha_shape import alpha_shape
+from pfem_skfem.report import Report, base_parser, positive, progress
+
+SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"
+PANELS = (None, 1.3, 0.5, 0.4, 1.5, 100.0)          # the panels of Fig 2.4
+
+
+def polygon_area(v):
+    """Shoelace area of a polygon (n, 2)."""
+    x, y = v.T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def two_clusters(h=1.0, radius=6.0, gap=2.6, size=0.8):
+    """The cloud: vertices of Triangle meshes of a disc-like polygon and a rectangle.
+
+    Returns (points (n, 2), exact area of the two polygons).
+    """
+    n_sides = int(2 * np.pi * radius / h)
+    th = np.linspace(0, 2 * np.pi, n_sides, endpoint=False)
+    disc = np.c_[radius * np.cos(th), radius * np.sin(th)]
+    x0 = radius + gap
+    rect = np.array([(x0, -7 * h), (x0 + 9 * h, -7 * h), (x0 + 9 * h, 7 * h), (x0, 7 * h)])
+    pts = np.vstack([triangulate_polygon(disc, size * h).p.T,
+                     triangulate_polygon(rect, size * h).p.T])
+    return pts, polygon_area(disc) + polygon_area(rect)
+
+
+def sweep(points, h, alphas):
+    """Bodies, holes, area and free particles of the alpha-shape for each alpha."""
+    rows = []
+    for a in alphas:
+        s = alpha_shape(points, h, a)
+        rows.append({"alpha": float(a), "bodies": s.n_bodies, "holes": s.n_holes,
+                     "area": s.area, "free": int(s.free.sum())})
+    return rows
+
+
+def main(argv=None):
+    p = base_parser(__doc__.splitlines()[0])
+    p.add_argument("--h", type=positive("h"), default=1.0, help="characteristic spacing h")
+    p.add_argument("--radius", type=positive("radius"), default=6.0,
+                   help="radius of the disc cluster (units of h)")
+    p.add_argument("--gap", type=positive("gap"), default=2.6,
+                   help="gap between the clusters (units of h)")
+    p.add_argument("--size", type=positive("size"), default=0.8,
+                   help="target element edge of the meshes whose vertices form the cloud (units of h)")
+    args = p.parse_args(argv)
+    h = args.h
+    points, exact = two_clusters(h, args.radius * h, args.gap * h, args.size)
+    hull = ConvexHull(points).volume
+    step = 0.1 if args.quick else 0.02
+    alphas = np.round(np.concatenate([np.arange(0.3, 2.0 + 1e-9, step),
+                                      [0.4, 0.5, 0.9, 1.3, 1.5, 3.0, 5.0, 10.0, 100.0]]), 4)
+    alphas = np.unique(alphas)
+    rows = sweep(points, h, alphas)
+    if args.progress:
+        progress(f"{len(points)} particles, {len(alphas)} values of alpha")
+    by_alpha = {r["alpha"]: r for r in rows}
+
+    print(f"{'alpha':>7s} {'bodies':>7s} {'holes':>6s} {'area':>10s} {'free':>5s}")
+    for r in rows:
+        print(f"{r['alpha']:7.2f} {r['bodies']:7d} {r['holes']:6d} {r['area']:10.4f} {r['free']:5d}")
+
+    report = Report("alpha_shape (Fig 2.4)", {"h": h, "radius": args.radius, "gap": args.gap,
+                                              "size": args.size, "n_particles": len(points),
+                                              "quick": args.quick})
+    # the reasonable boundaries: two bodies, no void, enclosing exactly the two polygons
+    reasonable = [r for r in rows if r["bodies"] == 2 and r["holes"] == 0
+                  and abs(r["area"] - exact) <= 1e-9 * exact]
+    lo = min((r["alpha"] for r in reasonable), default=np.nan)
+    hi = max((r["alpha"] for r in reasonable), default=np.nan)
+    contiguous = all(r in reasonable for r in rows if lo <= r["alpha"] <= hi)
+    report.add_interval("lowest alpha, 2 bodies", lo, 0.0, 0.9, SOURCE + ": 0.9 <= alpha")
+    report.add_interval("highest alpha, 2 bodies", hi, 1.3, 1.5, SOURCE + ": alpha <= 1.3")
+    report.add("interval is contiguous", float(contiguous), 1.0, "same boundaries throughout", 0)
+    for a in (0.9, 1.3):
+        report.add(f"area at alpha={a}", by_alpha[a]["area"], exact,
+                   "exact area of the two polygons", 1e-9)
+    report.add_interval("holes at alpha=0.5 (voids)", by_alpha[0.5]["holes"], 1, np.inf,
+                        SOURCE + ": internal voids")
+    report.add_interval("bodies at alpha=0.5", by_alpha[0.5]["bodies"], 1, 2,
+                        SOURCE + ": outer boundaries intact")
+    report.add_interval("bodies at alpha=0.4", by_alpha[0.4]["bodies"], 3, np.inf,
+                        SOURCE + ": disintegration")
+    report.add("bodies at alpha=1.5", by_alpha[1.5]["bodies"], 1, SOURCE + ": coalescence", 0)
+    report.add("area at alpha=100", by_alpha[100.0]["area"], hull, "scipy ConvexHull", 1e-9)
+    report.extra["sweep"] = rows
+    report.extra["exact_area"] = exact
+    report.extra["hull_area"] = hull
+
+    if not args.no_figures:
+        figures(points, h, rows, args.outdir)
+    return report.finish(args)
+
+
+def figures(points, h, rows, outdir):
+    """Fig 2.4 panels and the sweep of bodies, holes and area against alpha."""
+    from pathlib import Path
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
+
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    fig, axes = plt.subplots(3, 2, figsize=(8, 9.5))
+    for ax, a in zip(axes.ravel(), PANELS):
+        if a is None:
+            plot_points(ax, points, title="cloud of points", point_size=2)
+        else:
+            s = alpha_shape(points, h, a)
+            plot_alpha_shape(ax, s, point_size=2,
+                             title=f"alpha = {a:g}: {s.n_bodies} bodies, {s.n_holes} holes")
+    fig.tight_layout()
+    fig.savefig(out / "alpha_shape_fig2_4.png", dpi=130)
+    plt.close(fig)
+
+    a = np.array([r["alpha"] for r in rows])
+    fig, ax = plt.subplots(1, 2, figsize=(9, 3.4))
+    ax[0].semilogy(a, [max(r["bodies"], 0.5) for r in rows], "o-", ms=3, label="bodies")
+    ax[0].semilogy(a, [max(r["holes"], 0.5) for r in rows], "s-", ms=3, label="holes")
+    ax[0].set_xlim(0.3, 2.0), ax[0].set_xlabel("alpha"), ax[0].legend()
+    ax[0].axvspan(0.9, 1.3, color="0.9")
+    ax[1].semilogx(a, [r["area"] for r in rows], "o-", ms=3)
+    ax[1].set_xlabel("alpha"), ax[1].set_ylabel("area")
+    fig.tight_layout()
+    fig.savefig(out / "alpha_shape_sweep.png", dpi=130)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
