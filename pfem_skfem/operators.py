@@ -60,12 +60,14 @@ def check_mesh(mesh):
         raise ValueError("mesh is empty: it needs at least one triangle")
     if not np.all(np.isfinite(mesh.p)):
         raise ValueError("mesh has non-finite node coordinates")
-    x, y = mesh.p[0, mesh.t], mesh.p[1, mesh.t]
-    twice_area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
-    scale = max(np.ptp(mesh.p[0]), np.ptp(mesh.p[1])) ** 2
-    if np.any(np.abs(twice_area) <= 1e-12 * scale):
-        n = int(np.sum(np.abs(twice_area) <= 1e-12 * scale))
-        raise ValueError(f"mesh is degenerate: {n} triangle(s) have zero area")
+    x, y = mesh.p[0, mesh.t[:3]], mesh.p[1, mesh.t[:3]]
+    twice_area = np.abs((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]))
+    # degenerate relative to the triangle's own size, so small elements are fine
+    longest2 = np.max([(x[i] - x[j]) ** 2 + (y[i] - y[j]) ** 2
+                       for i, j in ((0, 1), (1, 2), (2, 0))], axis=0)
+    bad = twice_area <= 1e-10 * longest2
+    if np.any(bad):
+        raise ValueError(f"mesh is degenerate: {int(bad.sum())} triangle(s) have zero area")
 
 
 def discretise(mesh):
