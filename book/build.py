@@ -177,7 +177,8 @@ def run_jupyter_book(toc_path, strict, incremental):
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
     env["JUPYTER_PATH"] = os.pathsep.join(filter(None, [pin_kernel(),
                                                         env.get("JUPYTER_PATH")]))
-    env.setdefault("MPLBACKEND", "Agg")
+    # the kernel shows figures inline unless MPLBACKEND (e.g. Agg, set for the tests) says otherwise
+    env.pop("MPLBACKEND", None)
     env["PYVISTA_OFF_SCREEN"] = "true"
     log("jupyter-book build (executing every page)")
     warnings = []
@@ -199,6 +200,9 @@ def check_html(toc):
         html = HTML / (str(Path(page).with_suffix("")) + ".html")
         if not html.is_file():
             problems.append(f"page {page} was not written ({html.relative_to(ROOT)})")
+            continue
+        n_images = len(re.findall(r"<img\b", html.read_text(errors="replace")))
+        log(f"{html.relative_to(HTML)}: {n_images} figure(s)")
     if not (HTML / "_static" / "mathjax" / "tex-chtml.js").is_file():
         problems.append("_static/mathjax/tex-chtml.js is missing from the HTML")
     n_math = 0
