@@ -142,8 +142,9 @@ def write_pvd(path, entries):
     Parameters
     ----------
     path : file name ending in ``.pvd``.
-    entries : iterable of (time, file) pairs; files are stored relative to the
-        directory of ``path`` so that the collection can be moved with its files.
+    entries : iterable of (time, file) pairs, each file as a path from the current
+        directory (e.g. as returned by :func:`write_vtu`); the PVD stores it
+        relative to its own directory, so the collection moves with its files.
 
     Returns
     -------
