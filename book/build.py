@@ -51,6 +51,7 @@ REMOTE_LOAD = re.compile(
 CDN = re.compile(r"\b(?:cdn[\w.-]*\.[a-z]+|unpkg\.com|jsdelivr\.net|cdnjs\.cloudflare\.com"
                  r"|ajax\.googleapis\.com|fonts\.googleapis\.com|code\.jquery\.com)\b",
                  re.IGNORECASE)
+EXECUTED = re.compile(r"(\S+): Executed notebook in ([\d.]+) seconds")
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 MATHJAX_SCRIPT = re.compile(r"<script\b[^>]*\bsrc=[\"'][^\"']*mathjax/", re.IGNORECASE)
 
@@ -181,7 +182,7 @@ def run_jupyter_book(toc_path, strict, incremental):
     env.pop("MPLBACKEND", None)
     env["PYVISTA_OFF_SCREEN"] = "true"
     log("jupyter-book build (executing every page)")
-    warnings = []
+    warnings, times = [], []
     with subprocess.Popen(cmd, env=env, cwd=ROOT, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                           text=True, bufsize=1) as proc:
@@ -190,6 +191,10 @@ def run_jupyter_book(toc_path, strict, incremental):
             plain = ANSI.sub("", line).rstrip()
             if re.search(r"\b(WARNING|ERROR|CRITICAL):", plain):   # Sphinx's format
                 warnings.append(plain)
+            if m := EXECUTED.search(plain):
+                times.append((Path(m[1]).name, float(m[2])))
+    for page, seconds in times:
+        log(f"executed {page} in {seconds:.1f} s")
     return proc.returncode, warnings
 
 
