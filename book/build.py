@@ -16,8 +16,10 @@ Steps:
 3. ``jupyter-book build`` with every page executed (``execute_notebooks: force``);
    an error in a cell fails the build. The repository root is put first on
    ``PYTHONPATH`` so that the pages run this checkout's package.
-4. Checks on the HTML: every listed page was written, the local MathJax is there,
-   and no page loads a script or style sheet from another host (a CDN).
+4. Checks on the HTML: every listed page was written (with its number of
+   figures printed), the local MathJax is there and each page loads at most one
+   MathJax script, and no page loads anything from another host or names a CDN.
+   The execution time of each page and the Sphinx warnings are printed.
 
 Exit code 0 only if all of this holds.
 """
@@ -71,12 +73,17 @@ def ensure_mathjax():
                          f"({MATHJAX}) for offline maths; install Node.js/npm")
     with tempfile.TemporaryDirectory() as tmp:
         log(f"npm pack {MATHJAX}")
-        out = subprocess.run([npm, "pack", MATHJAX, "--silent"], cwd=tmp, check=True,
+        out = subprocess.run([npm, "pack", MATHJAX, "--silent"], cwd=tmp,
                              capture_output=True, text=True, stdin=subprocess.DEVNULL)
+        if out.returncode != 0:
+            raise SystemExit(f"[book] error: `npm pack {MATHJAX}` failed "
+                             f"(exit code {out.returncode}):\n{out.stderr.strip()}")
         tarball = Path(tmp) / out.stdout.strip().splitlines()[-1]
         with tarfile.open(tarball) as tar:
             members = [m for m in tar.getmembers() if m.name.startswith("package/es5/")]
-            tar.extractall(tmp, members=members, filter="data")
+            # the safe "data" filter where this Python has it (3.11.4+)
+            safe = {"filter": "data"} if hasattr(tarfile, "data_filter") else {}
+            tar.extractall(tmp, members=members, **safe)
         staging = MATHJAX_DIR.with_name("mathjax.partial")
         shutil.rmtree(staging, ignore_errors=True)
         shutil.copytree(Path(tmp) / "package" / "es5", staging)
