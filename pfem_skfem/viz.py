@@ -1,0 +1,187 @@
+"""Figures: matplotlib helpers for triangle meshes and fields, and pyvista pictures.
+
+Meshes are the arrays of :mod:`pfem_skfem.io` (``points`` (n, 2), ``cells`` (m, 3)
+or (m, 6); for quadratic cells only the corners are drawn).
+
+pyvista renders off-screen through EGL. Without the system libraries (Debian
+``libegl1 libgl1-mesa-dri``) creating a plotter kills the Python process with a
+segmentation fault, so :func:`render_png` renders in a subprocess,
+``python -m pfem_skfem.viz <vtu> <png> --scalars NAME``, and reports failure as a
+warning and ``False`` instead.
+"""
+import argparse
+import os
+from pathlib import Path
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+
+
+def _triangulation(points, cells):
+    from matplotlib.tri import Triangulation
+
+    points = np.asarray(points, dtype=float)
+    cells = np.asarray(cells)
+    if points.ndim != 2 or points.shape[1] < 2:
+        raise ValueError(f"points must be an (n, 2) array, got shape {points.shape}")
+    if cells.ndim != 2 or cells.shape[1] not in (3, 6):
+        raise ValueError(f"cells must be an (m, 3) or (m, 6) array, got shape {cells.shape}")
+    return Triangulation(points[:, 0], points[:, 1], cells[:, :3])
+
+
+def plot_mesh(ax, points, cells, *, color="0.3", linewidth=0.5, **kwargs):
+    """Draw the edges of a triangle mesh on a matplotlib axis (equal aspect)."""
+    lines = ax.triplot(_triangulation(points, cells), color=color, linewidth=linewidth,
+                       **kwargs)
+    ax.set_aspect("equal")
+    return lines
+
+
+def plot_field(ax, points, cells, values, *, at="auto", cmap="viridis", label=None,
+               colorbar=True, edges=False, **kwargs):
+    """Colour a triangle mesh by a scalar field, one value per element or per node.
+
+    Parameters
+    ----------
+    ax : matplotlib axis.
+    points, cells : the mesh (see the module docstring).
+    values : (m,) values per element (flat colour) or (n,) values per node
+        (interpolated colour).
+    at : "elements", "points" or "auto" (by the length of ``values``).
+    label : colour-bar label.
+    edges : draw the mesh edges on top.
+
+    Returns
+    -------
+    The matplotlib mappable (for ``clim`` or another colour bar).
+    """
+    tri = _triangulation(points, cells)
+    values = np.asarray(values, dtype=float)
+    n_cells, n_points = len(tri.triangles), len(tri.x)
+    if at == "auto":
+        if n_cells == n_points:
+            raise ValueError("values fit both elements and points: pass at='elements' "
+                             "or at='points'")
+        at = "elements" if len(values) == n_cells else "points"
+    expected = {"elements": n_cells, "points": n_points}
+    if at not in expected:
+        raise ValueError(f"at must be 'elements', 'points' or 'auto', got {at!r}")
+    if values.shape != (expected[at],):
+        raise ValueError(f"values must have shape ({expected[at]},) for at={at!r}, "
+                         f"got {values.shape}")
+    if at == "elements":
+        mappable = ax.tripcolor(tri, facecolors=values, cmap=cmap, **kwargs)
+    else:
+        mappable = ax.tripcolor(tri, values, shading="gouraud", cmap=cmap, **kwargs)
+    if edges:
+        ax.triplot(tri, color="k", linewidth=0.2, alpha=0.5)
+    ax.set_aspect("equal")
+    if colorbar:
+        ax.figure.colorbar(mappable, ax=ax, label=label)
+    return mappable
+
+
+def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
+               show_edges=True, window_size=(1200, 800), timeout=300):
+    """Render a VTU file to a PNG with pyvista, off-screen, in a subprocess.
+
+    Parameters
+    ----------
+    vtu_path : mesh file (e.g. from :func:`pfem_skfem.io.write_vtu`).
+    png_path : picture to write.
+    scalars : name of the point or cell array to colour by (None: plain mesh).
+    cmap, clim : colour map and its (min, max).
+    show_edges : draw the element edges.
+    window_size : (width, height) in pixels.
+    timeout : seconds before the renderer is abandoned.
+
+    Returns
+    -------
+    bool
+        True if the PNG was written. False, with a warning that says why, if the
+        renderer failed (e.g. no libEGL, which makes pyvista segfault).
+    """
+    png_path = Path(png_path)
+    cmd = [sys.executable, "-m", "pfem_skfem.viz", str(vtu_path), str(png_path),
+           "--cmap", cmap, "--window-size", str(window_size[0]), str(window_size[1])]
+    if scalars is not None:
+        cmd += ["--scalars", scalars]
+    if clim is not None:
+        cmd += ["--clim", str(float(clim[0])), str(float(clim[1]))]
+    if not show_edges:
+        cmd += ["--no-edges"]
+    env = dict(os.environ, PYVISTA_OFF_SCREEN="true")
+    # the subprocess imports this copy of the package, installed or not
+    package_parent = str(Path(__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [package_parent,
+                                                      env.get("PYTHONPATH")]))
+    if png_path.exists():
+        png_path.unlink()
+    try:
+        proc = subprocess.run(cmd, env=env, capture_output=True, text=True,
+                              timeout=timeout, stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        warnings.warn(f"pyvista rendering of {vtu_path} timed out after {timeout} s",
+                      RuntimeWarning, stacklevel=2)
+        return False
+    if proc.returncode != 0 or not png_path.is_file():
+        tail = "\n".join(proc.stderr.strip().splitlines()[-5:])
+        why = (f"killed by signal {-proc.returncode} (missing libEGL? install Debian "
+               f"libegl1 libgl1-mesa-dri)" if proc.returncode < 0
+               else f"exit code {proc.returncode}")
+        warnings.warn(f"pyvista rendering of {vtu_path} failed, {why}:\n{tail}",
+                      RuntimeWarning, stacklevel=2)
+        return False
+    return True
+
+
+def _render(vtu_path, png_path, scalars=None, cmap="viridis", clim=None,
+            show_edges=True, window_size=(1200, 800)):
+    """Render in this process (may segfault without libEGL: use render_png)."""
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    grid = pv.read(vtu_path)
+    if scalars is not None and scalars not in grid.array_names:
+        raise ValueError(f"scalars {scalars!r} not in {vtu_path}; it has "
+                         f"{grid.array_names}")
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    plotter.add_mesh(grid, scalars=scalars, cmap=cmap, clim=clim,
+                     show_edges=show_edges, edge_color="gray", line_width=0.5,
+                     lighting=False,   # true colour-map colours on a flat mesh
+                     scalar_bar_args={"title": scalars or "", "color": "black"})
+    plotter.view_xy()
+    plotter.enable_parallel_projection()
+    plotter.reset_camera()
+    plotter.camera.zoom(1.2)   # reset_camera leaves a wide margin around flat meshes
+    Path(png_path).parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(png_path))
+    plotter.close()
+
+
+def main(argv=None):
+    """Command line of the renderer subprocess; returns the exit code."""
+    p = argparse.ArgumentParser(prog="python -m pfem_skfem.viz",
+                                description="Render a VTU file to a PNG off-screen.")
+    p.add_argument("vtu")
+    p.add_argument("png")
+    p.add_argument("--scalars", default=None)
+    p.add_argument("--cmap", default="viridis")
+    p.add_argument("--clim", type=float, nargs=2, default=None)
+    p.add_argument("--window-size", type=int, nargs=2, default=(1200, 800))
+    p.add_argument("--no-edges", action="store_true")
+    args = p.parse_args(argv)
+    try:
+        _render(args.vtu, args.png, args.scalars, args.cmap, args.clim,
+                not args.no_edges, tuple(args.window_size))
+    except (OSError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
