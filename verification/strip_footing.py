@@ -273,20 +273,16 @@ def figures(args, models, curves, limits, mc, su, elastic):
     ratio = Tresca(su).yield_ratio(hist.sigma)
     per_element = np.zeros(disc.mesh.nelements)
     np.maximum.at(per_element, disc.point_element, ratio)
-    try:
-        from pfem_skfem import io, viz
-        vtu = out / "plastic_zone.vtu"
-        io.write_vtu(vtu, disc.mesh, cell_data={"yield_ratio": per_element})
-        viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio")
-    except (ImportError, AttributeError):
-        fig, a = plt.subplots(figsize=(6, 4))
-        m = disc.mesh
-        tp = a.tripcolor(m.p[0], m.p[1], m.t.T, facecolors=per_element, cmap="viridis")
-        fig.colorbar(tp, label="yield ratio")
+    from pfem_skfem import io, viz
+    points, cells = io.mesh_arrays(disc.mesh)
+    vtu = out / "plastic_zone.vtu"
+    io.write_vtu(vtu, points, cells, cell_data={"yield_ratio": np.minimum(per_element, 1.0)})
+    if not viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio"):
+        fig, a = plt.subplots(figsize=(6, 4))     # no off-screen OpenGL: matplotlib instead
+        viz.plot_field(a, points, cells, np.minimum(per_element, 1.0), label="yield ratio")
         a.set_aspect("equal")
         fig.savefig(out / "plastic_zone.png", dpi=120)
         plt.close(fig)
-
 
 if __name__ == "__main__":
     sys.exit(main())
