@@ -73,6 +73,8 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         ``u_prescribed(t)`` (callable returning one value per prescribed dof).
     u0, v0, sigma0 : initial state (zero by default).
     monitor : callable (u, v, sigma) -> array of values recorded every step.
+    scaling : :class:`~pfem_skfem.problems.dynamic.DynamicScales` of the first step
+        (estimated by default); each later step is scaled by its predecessor's solution.
     progress : one updating line on stderr (step, time, solver iterations, time per step).
 
     Returns
@@ -105,6 +107,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         res = dynamic_increment(ops, f_n, f_next, sigma, v, criterion, fixed=fixed,
                                 prescribed=prescribed, du_prescribed=du_P, scaling=scaling,
                                 d_form=d_form, **solver_settings)
+        scaling = res.scales                     # this step's magnitudes scale the next one
         # energy book-keeping (module docstring)
         sigma_theta = (th.theta1 * res.sigma + (1 - th.theta1) * sigma).ravel()
         strain = ops.B @ res.du

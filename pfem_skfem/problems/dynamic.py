@@ -38,11 +38,12 @@ from dataclasses import dataclass
 
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sp
 
 from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
-from .conic import Scaling, SolveInfo, solve
+from .conic import SolveInfo, solve
 from .static import _split_dofs
 
 
@@ -99,7 +100,8 @@ class DynamicOperators:
 
     B (3.41), C (3.43; None for a rigid-plastic material), A and D (4.21),
     G with D = G^T G (block upper-triangular, for the cone form of the r^T D r term),
-    M the consistent mass int rho N_u^T N_u (for energies and the velocity term).
+    M the consistent mass int rho N_u^T N_u (for energies and the velocity term);
+    derived: K = B^T C^-1 B (the elastic stiffness), C_inverse, D_inverse.
     """
 
     B: object
@@ -109,6 +111,12 @@ class DynamicOperators:
     G: object
     M: object
     theta: ThetaMethod
+
+    def __post_init__(self):
+        # inverses used by the elastic predictor of estimate_scales (both block-diagonal)
+        self.D_inverse = block_inverse_elements(self.D)
+        self.C_inverse = None if self.C is None else block_inverse(self.C, 4)
+        self.K = None if self.C is None else (self.B.T @ self.C_inverse @ self.B).tocsr()
 
     @property
     def M_tilde(self):
@@ -143,7 +151,8 @@ class DynamicIncrement:
     v : (n_u,) velocities at t_{n+1} (4.7);  r : (n_r,) dynamic forces r' = r - rho~ v_n/dt;
     reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
     plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
-    info : solver report.
+    info : solver report;  scales : the solution's own magnitudes, a good
+        ``scaling`` for the next step.
     """
 
     sigma: np.ndarray
@@ -153,18 +162,83 @@ class DynamicIncrement:
     reactions: np.ndarray
     plastic_multiplier: np.ndarray
     info: SolveInfo
+    scales: "DynamicScales" = None
+
+
+@dataclass(frozen=True)
+class DynamicScales:
+    """Reference stress, displacement increment and dynamic force r' of one step of (4.23).
+
+    Forces are measured in stress x length (length = median |B| entry), the
+    objective in force x displacement, so the scaled dual of equilibrium is
+    du / displacement; r' is measured in ``dynamic_force``.
+    """
+
+    stress: float
+    displacement: float
+    dynamic_force: float
+
+    def __post_init__(self):
+        for name in ("stress", "displacement", "dynamic_force"):
+            value = getattr(self, name)
+            if not np.isfinite(value) or value <= 0:
+                raise ValueError(f"scaling {name} must be positive, got {value!r}")
+
+
+def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
+    """Scales from an elastic predictor of the step (used for a first step).
+
+    Solves the linear step (K + M~/dt^2) du = f' + M~ v_n/dt - B^T sigma_n on the
+    free dofs, K = B^T C^-1 B (zero for a rigid-plastic material: the mass alone),
+    and takes its magnitudes: displacement |du|, stress the strength (or the
+    larger of the predicted |sigma| and |f'| / length), dynamic force
+    |D^-1 A (du - dt v_n)| / dt^2.
+    """
+    from scipy.sparse.linalg import splu
+
+    th = ops.theta
+    lhs = ops.M_tilde / th.dt ** 2
+    if ops.K is not None:
+        lhs = lhs + ops.K
+    rhs = f + ops.M_tilde @ v_n / th.dt - ops.B.T @ np.ravel(sigma_n)
+    du = np.zeros(len(v_n))
+    du[free] = splu(lhs.tocsc()[free][:, free].tocsc()).solve(rhs[free])
+    u = max(np.abs(du).max(), np.abs(du_prescribed).max(initial=0.0))
+    r = np.abs(ops.D_inverse @ (ops.A @ (du - th.dt * v_n))).max() / th.dt ** 2
+    if criterion is not None:
+        stress = float(criterion.strength_scale())
+    else:
+        sigma = np.ravel(sigma_n) + ops.C_inverse @ (ops.B @ du)
+        # a body in rigid motion has no stress: then measure forces by the loads
+        stress = max(np.abs(sigma).max(), np.abs(f).max() / np.median(np.abs(ops.B.data)))
+    stress = stress if stress > 0 else 1.0
+    u = u if u > 0 else 1.0
+    return DynamicScales(stress=stress, displacement=u, dynamic_force=r if r > 0 else stress)
+
+
+def block_inverse_elements(D):
+    """Inverse of D (4.21), block-diagonal with one 12 x 12 block per element."""
+    return block_inverse(D, 12)
+
+
+def block_inverse(M, size):
+    """Inverse of a block-diagonal sparse matrix with consecutive square blocks of ``size``."""
+    n = M.shape[0] // size
+    coo = M.tocoo()
+    keep = np.abs(coo.data) > 1e-12 * np.abs(coo.data).max()    # quadrature round-off
+    coo = sp.coo_matrix((coo.data[keep], (coo.row[keep], coo.col[keep])), shape=M.shape)
+    if np.any(coo.row // size != coo.col // size):
+        raise ValueError("matrix is not block-diagonal")
+    blocks = np.zeros((n, size, size))
+    np.add.at(blocks, (coo.row // size, coo.row % size, coo.col % size), coo.data)
+    inv = np.linalg.inv(blocks)
+    rows = np.arange(n * size).reshape(n, size)
+    return sp.csr_matrix((inv.ravel(), (np.repeat(rows[:, :, None], size, axis=2).ravel(),
+                                        np.repeat(rows[:, None, :], size, axis=1).ravel())),
+                         shape=M.shape)
 
 
 D_FORMS = ("quad_form", "cone")
-
-
-def _stress_scale(criterion, sigma_n, forces, length):
-    if criterion is not None:
-        return float(criterion.strength_scale())
-    candidates = [np.abs(sigma_n).max(initial=0.0)] + \
-        [np.abs(f).max(initial=0.0) / length for f in forces]
-    scale = max(candidates)
-    return scale if scale > 0 else 1.0
 
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
@@ -191,8 +265,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     sigma_n : (n_points, 4) stresses at t_n.  v_n : (n_u,) velocities at t_n.
     criterion : yield criterion or None (elastic).
     fixed : dofs held at zero increment.  prescribed, du_prescribed : dofs and increments.
-    scaling : :class:`~pfem_skfem.problems.conic.Scaling` (stress, length); by default
-        the strength (or a stress of the data) and the median |B| entry.
+    scaling : :class:`DynamicScales` (stress, displacement); by default
+        :func:`estimate_scales`. Pass the previous step's ``scales`` when stepping.
     d_form : "quad_form" (r'^T D r' as a quadratic objective, cvxpy ``quad_form``) or
         "cone" (one rotated second-order cone per element through D = G^T G, App A).
 
@@ -216,26 +290,20 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         raise ValueError("du_prescribed must give one value per prescribed dof")
     f = th.equilibrium_rhs(f_n, f_next, B, sigma_n)           # f' of the module docstring
 
-    # -- scales: stress, length (|B|), area (|A|); force = stress x length
-    length = scaling.length if scaling else float(np.median(np.abs(B.data)))
-    inertia = ops.M_tilde @ v_n / th.dt
-    stress = scaling.stress if scaling else _stress_scale(criterion, sigma_n, (f, inertia),
-                                                           length)
+    # -- scales (module docstring): stress, displacement; length |B|, area |A|, d |D|, c |C|
+    length = float(np.median(np.abs(B.data)))
     area = float(np.median(np.abs(A.data)))
-    force = stress * length
-    r_ref = force / area                                     # A^T r' in units of force
     d_ref = float(np.median(D.diagonal()))
-    j_inertia = th.dt ** 2 * r_ref ** 2 * d_ref              # size of dt^2 r'^T D r'
-    if C is not None:
-        c_ref = scaling.compliance if scaling and scaling.compliance != 1.0 else \
-            float(np.median(C.diagonal()))
-        j_ref = stress ** 2 * c_ref                           # size of ds^T C ds
-    else:
-        j_ref = j_inertia
-    u_ref = j_ref / force                                    # du = u_ref x scaled dual
+    c_ref = float(np.median(C.diagonal())) if C is not None else None
+    sc = scaling or estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_P)
+    stress, u_ref, r_ref = sc.stress, sc.displacement, sc.dynamic_force
+    force = stress * length                                  # B^T sigma, f in force
+    j_ref = force * u_ref                                    # objective; du = u_ref x dual
+    kappa = th.dt ** 2 * r_ref ** 2 * d_ref / j_ref          # weight of dt^2 r'^T D r'
+    kappa_C = stress ** 2 * c_ref / j_ref if C is not None else 0.0   # weight of ds^T C ds
 
     Bh = (B / length).tocsc()
-    Ah = (A / area).tocsc()
+    Ah = (A * (r_ref / force)).tocsc()
     f_h = f / force
     s_n = sigma_n.ravel() / stress
     v_h = v_n * th.dt / u_ref
@@ -246,7 +314,6 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     q = cp.Variable(A.shape[0])                  # r' / r_ref, element-major (12 per element)
     constraints = []
     # -1/2 dt^2 r'^T D r' - dt v_n^T A^T r'   (in units of j_ref)
-    kappa = j_inertia / j_ref
     if d_form == "quad_form":
         inertia_term = 0.5 * kappa * cp.quad_form(q, cp.psd_wrap((D / d_ref).tocsr()))
     else:                                        # sum_e |G_e q_e|^2 <= 2 sum_e t_e (A.4)-(A.8)
@@ -258,7 +325,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     objective_terms = -inertia_term - (Ah @ v_h) @ q
     if C is not None:                            # -1/2 ds^T C ds, C scaled by c_ref
         Ch = (C / c_ref).tocsr()
-        objective_terms += -(0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
+        objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
     if P.size:                                   # work of the reactions on prescribed dofs
         objective_terms += u_P @ (Bh[:, P].T @ s + Ah[:, P].T @ q - f_h[P])
     equilibrium = Bh[:, free].T @ s + Ah[:, free].T @ q == f_h[free]   # B^T sigma + A^T r = f
@@ -280,4 +347,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * length * u_ref
     else:
         multiplier = np.zeros(n)
-    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info)
+    s_max, u_max, r_max = np.abs(sigma).max(), np.abs(du).max(), np.abs(r).max()
+    scales = DynamicScales(                     # keep the old scale where the field vanished
+        stress=sc.stress if criterion is not None or s_max < 1e-9 * sc.stress else s_max,
+        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
+        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
+    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
+                            scales)
