@@ -30,9 +30,13 @@ inertia in f, D (rho~ v_n/dt) = A v_n/dt, and the problem becomes
     max  -1/2 ds^T C ds - 1/2 dt^2 r'^T D r' - dt v_n^T A^T r'
     s.t. B^T sigma + A^T r' = f'     (f' = f - M~ v_n/dt: loads and sigma_n only)
 
-with the same multiplier du. Stresses are measured in a stress scale, B in a
-length scale, A in its typical entry, and the objective in force x displacement
-scale, so that the data are near order one (see :func:`dynamic_increment`).
+with the same multiplier du. Stresses, r' and du are measured in scales
+(:class:`DynamicScales`) taken from an elastic predictor of the step
+(:func:`estimate_scales`) or, when stepping, from the previous step's solution;
+B is measured in its median entry and the objective in force x displacement, so
+the scaled dual is du / displacement scale and the data are near order one.
+Measured: a body in free fall then falls g dt^2 (N(N-1)/2 + N theta2) in N steps
+to round-off with either material model (tests/test_dynamics.py).
 """
 from dataclasses import dataclass
 
@@ -290,9 +294,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         raise ValueError("du_prescribed must give one value per prescribed dof")
     f = th.equilibrium_rhs(f_n, f_next, B, sigma_n)           # f' of the module docstring
 
-    # -- scales (module docstring): stress, displacement; length |B|, area |A|, d |D|, c |C|
+    # -- scales (module docstring): stress, displacement, r'; medians of |B|, diag D, diag C
     length = float(np.median(np.abs(B.data)))
-    area = float(np.median(np.abs(A.data)))
     d_ref = float(np.median(D.diagonal()))
     c_ref = float(np.median(C.diagonal())) if C is not None else None
     sc = scaling or estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_P)
@@ -319,8 +322,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     else:                                        # sum_e |G_e q_e|^2 <= 2 sum_e t_e (A.4)-(A.8)
         W = cp.reshape((ops.G / np.sqrt(d_ref)) @ q, (A.shape[0] // 12, 12), order="C")
         t = cp.Variable(A.shape[0] // 12)
-        constraints.append(cp.SOC(2 * t + 1, cp.hstack([2 * W, cp.reshape(2 * t - 1, (-1, 1), order="C")]),
-                                  axis=1))
+        rest = cp.reshape(2 * t - 1, (-1, 1), order="C")
+        constraints.append(cp.SOC(2 * t + 1, cp.hstack([2 * W, rest]), axis=1))
         inertia_term = kappa * cp.sum(t)
     objective_terms = -inertia_term - (Ah @ v_h) @ q
     if C is not None:                            # -1/2 ds^T C ds, C scaled by c_ref
