@@ -145,6 +145,31 @@ def test_prescribed_motion_drags_a_stiff_body():
     assert np.isclose(hist.kinetic[-1], 0.5 * rho * 1.0 * (a * t) ** 2, rtol=1e-3)
 
 
+def test_rigid_plastic_shear_flow_ends_in_rigid_rotation():
+    """A free rigid-plastic block set shearing, v = (V (y - 1/2), 0), flows plastically until
+    its motion is rigid. Rigid-mode momenta are conserved (B R = 0 for a rigid field R), so
+    the motion ends as the rotation with the initial angular momentum: K_end / K_0 = 1/2
+    (I = rho/6, L = -rho V/12 for the unit square). With theta1 = theta2 = 1/2 the
+    kinetic energy lost is the plastic dissipation."""
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)))
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 0.5, 0.5), None)
+    x, y = disc.basis_u.doflocs
+    v0 = np.zeros(disc.n_u)
+    v0[0::2] = y[0::2] - 0.5
+    hist = integrate(ops, lambda t: np.zeros(disc.n_u), 20, criterion=Tresca(1.0), v0=v0)
+    K0 = hist.kinetic[0]
+    rotation = np.zeros(disc.n_u)
+    rotation[0::2], rotation[1::2] = -(y[0::2] - 0.5), x[1::2] - 0.5
+    translation_x = np.zeros(disc.n_u)
+    translation_x[0::2] = 1.0
+    for mode in (rotation, translation_x):
+        p0, p1 = mode @ ops.M @ v0, mode @ ops.M @ hist.v
+        assert abs(p1 - p0) <= 1e-8 * np.sqrt(2 * K0 * (mode @ ops.M @ mode))
+    assert np.diff(hist.kinetic).max() <= 1e-9 * K0
+    assert np.abs(hist.kinetic + hist.dissipation - K0).max() <= 1e-8 * K0
+    assert hist.kinetic[-1] / K0 == pytest.approx(0.5, rel=0.01)
+
+
 # -- verification scripts at --quick size -------------------------------------
 def test_cantilever_quick(tmp_path):
     """Standard-FE agreement, quasi-static tip, damping, energy conservation (Fig 4.3-4.4)."""

@@ -196,7 +196,8 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
     free dofs, K = B^T C^-1 B (zero for a rigid-plastic material: the mass alone),
     and takes its magnitudes: displacement |du|, stress the strength (or the
     larger of the predicted |sigma| and |f'| / length), dynamic force
-    |D^-1 A (du - dt v_n)| / dt^2.
+    |D^-1 A (du - dt v_n)| / dt^2, for a rigid-plastic body at least the force
+    density stress x |B| / |A| that balances stress gradients.
     """
     from scipy.sparse.linalg import splu
 
@@ -217,7 +218,11 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
         stress = max(np.abs(sigma).max(), np.abs(f).max() / np.median(np.abs(ops.B.data)))
     stress = stress if stress > 0 else 1.0
     u = u if u > 0 else 1.0
-    return DynamicScales(stress=stress, displacement=u, dynamic_force=r if r > 0 else stress)
+    # r' that balances stress gradients of the stress scale; a rigid-plastic body's
+    # plastic resistance is of this size, which its predictor (mass only) cannot see
+    r_stress = stress * np.median(np.abs(ops.B.data)) / np.median(np.abs(ops.A.data))
+    r = max(r, r_stress) if ops.C is None else max(r, 1e-6 * r_stress)
+    return DynamicScales(stress=stress, displacement=u, dynamic_force=r)
 
 
 def block_inverse_elements(D):
