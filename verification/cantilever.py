@@ -116,6 +116,8 @@ def parser():
     p.add_argument("--t-hold", type=positive("--t-hold"), default=6.0, help="hold time (s)")
     p.add_argument("--t-end", type=positive("--t-end"), default=14.0, help="end time (s)")
     p.add_argument("--dt", type=positive("--dt"), default=0.1, help="time step (s)")
+    p.add_argument("--steps", type=int, default=None,
+                   help="number of time steps (default: t_end / dt)")
     p.add_argument("--theta1", type=float, default=0.5, help="theta1, undamped run")
     p.add_argument("--theta2", type=float, default=0.5, help="theta2, undamped run")
     p.add_argument("--theta1-damped", type=float, default=1.0, help="theta1, damped run")
@@ -134,7 +136,9 @@ def main(argv=None):
         raise ValueError("--nx and --ny must be positive")
     elastic = Elastic(args.E, args.nu)
     disc, fixed, free, f_unit, tip = build(args)
-    n_steps = int(round(args.t_end / args.dt))
+    n_steps = args.steps or int(round(args.t_end / args.dt))
+    if n_steps < 1:
+        raise ValueError(f"--steps must be positive, got {n_steps!r}")
     t_unload = 2 * args.t_ramp + args.t_hold
 
     if args.g < 0:
