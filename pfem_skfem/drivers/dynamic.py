@@ -1,0 +1,137 @@
+"""Time stepping with the dynamic SOCP (4.23): one :func:`dynamic_increment` per step.
+
+Energy book-keeping. Multiplying the discrete momentum balance
+M (v_{n+1} - v_n)/dt = f_theta - B^T sigma_theta + R_theta by
+du = dt (theta2 v_{n+1} + (1 - theta2) v_n) gives
+
+    dK + dW_el = dW_ext - dD_p - (theta2 - 1/2) |dv|_M^2 - (theta1 - 1/2) |dsigma|_C^2
+
+with dW_ext = du^T f_theta (+ the work of the supports on prescribed dofs),
+dD_p = sigma_theta^T (B du - C dsigma) >= 0 the plastic dissipation, and the
+last two terms the numerical damping of the theta-method (zero for
+theta1 = theta2 = 1/2). The history records K, W_el, W_ext and D_p.
+"""
+from dataclasses import dataclass, field
+import sys
+import time
+
+import numpy as np
+
+from ..problems.dynamic import dynamic_increment
+
+
+@dataclass
+class DynamicHistory:
+    """Result of :func:`integrate`.
+
+    times : (n+1,);  u, v, sigma : final displacements, velocities, stresses;
+    monitor : (n+1, k) values of ``monitor(u, v, sigma)`` at every time;
+    kinetic, elastic : (n+1,) energies 1/2 v^T M v and 1/2 sigma^T C sigma;
+    work : (n+1,) cumulative work of the external forces and supports;
+    dissipation : (n+1,) cumulative plastic dissipation;
+    iterations, solve_times : solver reports per step.
+    """
+
+    times: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    sigma: np.ndarray
+    monitor: np.ndarray
+    kinetic: np.ndarray
+    elastic: np.ndarray
+    work: np.ndarray
+    dissipation: np.ndarray
+    iterations: list = field(default_factory=list)
+    solve_times: list = field(default_factory=list)
+
+    @property
+    def energy(self):
+        """Kinetic + elastic energy at every time."""
+        return self.kinetic + self.elastic
+
+
+def _energy(ops, v, sigma):
+    kinetic = 0.5 * float(v @ (ops.M @ v))
+    s = sigma.ravel()
+    elastic = 0.5 * float(s @ (ops.C @ s)) if ops.C is not None else 0.0
+    return kinetic, elastic
+
+
+def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
+              u_prescribed=None, t0=0.0, u0=None, v0=None, sigma0=None, monitor=None,
+              scaling=None, d_form="quad_form", progress=False, label="", **solver_settings):
+    """Integrate the dynamic problem over ``n_steps`` steps of ``ops.theta.dt``.
+
+    Parameters
+    ----------
+    ops : :class:`~pfem_skfem.problems.dynamic.DynamicOperators`.
+    load : callable t -> (n_u,) external force vector (3.42) at time t (gravity,
+        time-dependent tractions).
+    n_steps : number of time steps (>= 1).
+    criterion : yield criterion, or None for an elastic material.
+    fixed : dofs held at zero.  prescribed : dofs whose displacement is
+        ``u_prescribed(t)`` (callable returning one value per prescribed dof).
+    u0, v0, sigma0 : initial state (zero by default).
+    monitor : callable (u, v, sigma) -> array of values recorded every step.
+    scaling : :class:`~pfem_skfem.problems.dynamic.DynamicScales` of the first step
+        (estimated by default); each later step is scaled by its predecessor's solution.
+    progress : one updating line on stderr (step, time, solver iterations, time per step).
+
+    Returns
+    -------
+    DynamicHistory
+    """
+    if int(n_steps) != n_steps or n_steps < 1:
+        raise ValueError(f"n_steps must be a positive integer, got {n_steps!r}")
+    th = ops.theta
+    n_s, n_u = ops.B.shape
+    prescribed = np.asarray(prescribed, dtype=int)
+    if prescribed.size and u_prescribed is None:
+        raise ValueError("prescribed dofs need u_prescribed(t)")
+    u = np.zeros(n_u) if u0 is None else np.array(u0, dtype=float)
+    v = np.zeros(n_u) if v0 is None else np.array(v0, dtype=float)
+    sigma = np.zeros((n_s // 4, 4)) if sigma0 is None else np.array(sigma0, dtype=float)
+    monitor = monitor or (lambda u, v, s: np.zeros(0))
+
+    times, mon = [t0], [np.atleast_1d(monitor(u, v, sigma))]
+    k, e = _energy(ops, v, sigma)
+    kinetic, elastic, work, dissipation = [k], [e], [0.0], [0.0]
+    iterations, solve_times = [], []
+    f_n = np.asarray(load(t0), dtype=float)
+    wall = time.perf_counter()
+    for i in range(1, int(n_steps) + 1):
+        t_n, t_next = t0 + (i - 1) * th.dt, t0 + i * th.dt
+        f_next = np.asarray(load(t_next), dtype=float)
+        du_P = (np.asarray(u_prescribed(t_next)) - np.asarray(u_prescribed(t_n))
+                if prescribed.size else ())
+        res = dynamic_increment(ops, f_n, f_next, sigma, v, criterion, fixed=fixed,
+                                prescribed=prescribed, du_prescribed=du_P, scaling=scaling,
+                                d_form=d_form, **solver_settings)
+        scaling = res.scales                     # this step's magnitudes scale the next one
+        # energy book-keeping (module docstring)
+        sigma_theta = (th.theta1 * res.sigma + (1 - th.theta1) * sigma).ravel()
+        strain = ops.B @ res.du
+        if ops.C is not None:
+            strain = strain - ops.C @ (res.sigma - sigma).ravel()
+        dissipation.append(dissipation[-1] + float(sigma_theta @ strain))
+        work.append(work[-1] + float(res.du @ th.load(f_n, f_next))
+                    + th.theta1 * float(res.du @ res.reactions))
+        u, v, sigma, f_n = u + res.du, res.v, res.sigma, f_next
+        k, e = _energy(ops, v, sigma)
+        kinetic.append(k)
+        elastic.append(e)
+        times.append(t_next)
+        mon.append(np.atleast_1d(monitor(u, v, sigma)))
+        iterations.append(res.info.iterations)
+        solve_times.append(res.info.solve_time)
+        if progress:
+            elapsed = time.perf_counter() - wall
+            print(f"\r  {label} step {i}/{n_steps}  t = {t_next:.4g}  iterations "
+                  f"{res.info.iterations:2d}  {elapsed / i:.2f} s/step  elapsed {elapsed:6.1f} s",
+                  end="", file=sys.stderr, flush=True)
+    if progress:
+        print(file=sys.stderr)
+    return DynamicHistory(np.array(times), u, v, sigma, np.array(mon), np.array(kinetic),
+                          np.array(elastic), np.array(work), np.array(dissipation),
+                          iterations, solve_times)
+

@@ -1,0 +1,145 @@
+"""Operators of the dynamic problem (4.16)-(4.21), assembled by scikit-fem.
+
+The dynamic forces r (4.16)-(4.19) use the displacement shape functions
+(quadratic, six nodes) but are discontinuous between elements:
+``ElementVector(ElementDG(ElementTriP2()))``. Their dofs are element-major, 12
+per element (scikit-fem's ``element_dofs`` are contiguous), so
+
+* A = int N_r^T N_u dV, shape (n_r, n_u), couples r to the displacements (4.21);
+* D = int N_r^T rho~^-1 N_r dV (4.21, with N_r on both sides: the thesis text
+  prints N_sigma, an extraction error) is block-diagonal, one 12 x 12 block per
+  element, which is what makes the cone form of its quadratic term (App A) cheap.
+
+With rho~ constant in each element, A^T D^-1 A = int rho~ N_u^T N_u dV, the
+consistent mass matrix (4.26)-(4.27), because the discontinuous P2 space contains
+the continuous one.
+"""
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, BilinearForm, ElementDG, ElementTriP2, ElementVector, LinearForm
+from skfem.helpers import dot
+
+#: quadrature order exact for the product of two quadratics (A, D, mass)
+MASS_INTORDER = 4
+
+
+def r_element():
+    """Quadratic vector element, discontinuous between elements, for r (4.18)-(4.19)."""
+    return ElementVector(ElementDG(ElementTriP2()))
+
+
+def r_basis(disc):
+    """scikit-fem basis of the dynamic forces r on the mesh of ``disc``."""
+    return Basis(disc.mesh, r_element(), intorder=MASS_INTORDER)
+
+
+def element_density(disc, rho):
+    """Density per element, shape (n_elements,), from a number or an array; checked > 0."""
+    rho = np.broadcast_to(np.asarray(rho, dtype=float), (disc.mesh.nelements,))
+    if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
+        raise ValueError(f"rho (density) must be positive in every element, got min "
+                         f"{float(np.min(rho))!r}")
+    return np.array(rho)
+
+
+def _per_element(basis, values):
+    """A field constant per element, sampled at the quadrature points of ``basis``."""
+    return np.repeat(values[:, None], basis.X.shape[1], axis=1)
+
+
+def assemble_A(disc, basis_r=None):
+    """A = int N_r^T N_u dV (4.21), shape (n_r, n_u): r^T A du = int r . du dV."""
+    basis_r = basis_r or r_basis(disc)
+    basis_u = basis_r.with_element(disc.basis_u.elem)
+
+    @BilinearForm
+    def coupling(u, r, w):
+        return dot(u, r)
+
+    return coupling.assemble(basis_u, basis_r).tocsr()
+
+
+def assemble_D(disc, rho_tilde, basis_r=None):
+    """D = int N_r^T rho~^-1 N_r dV (4.21), block-diagonal (one 12 x 12 block per element).
+
+    Parameters
+    ----------
+    rho_tilde : number or (n_elements,) array, rho / (theta1 theta2) (4.6).
+    """
+    basis_r = basis_r or r_basis(disc)
+    inv_rho = 1.0 / element_density(disc, rho_tilde)
+
+    @BilinearForm
+    def weighted_mass(r, q, w):
+        return w.inv_rho * dot(r, q)
+
+    return weighted_mass.assemble(basis_r, inv_rho=_per_element(basis_r, inv_rho)).tocsr()
+
+
+def element_blocks(D, basis_r):
+    """The diagonal blocks of a block-diagonal D as an (n_elements, 12, 12) array."""
+    dofs = basis_r.element_dofs                       # (12, n_elements)
+    n_loc, n_el = dofs.shape
+    element = np.empty(D.shape[0], dtype=int)
+    local = np.empty(D.shape[0], dtype=int)
+    element[dofs] = np.arange(n_el)[None, :]
+    local[dofs] = np.arange(n_loc)[:, None]
+    coo = D.tocoo()
+    if np.any(element[coo.row] != element[coo.col]):
+        raise ValueError("D couples different elements: it is not block-diagonal")
+    blocks = np.zeros((n_el, n_loc, n_loc))
+    np.add.at(blocks, (element[coo.row], local[coo.row], local[coo.col]), coo.data)
+    return blocks
+
+
+def block_cholesky(D, basis_r):
+    """Sparse G with D = G^T G, G block upper-triangular per element (App A, (A.4)-(A.8)).
+
+    Rows of G are element-major like the r dofs, so ``(G @ r).reshape(-1, 12)``
+    gives one row per element and the quadratic term r^T D r = sum_e |G_e r_e|^2.
+    """
+    blocks = element_blocks(D, basis_r)
+    upper = np.transpose(np.linalg.cholesky(blocks), (0, 2, 1))
+    dofs = basis_r.element_dofs.T                     # (n_elements, 12)
+    n_el, n_loc = dofs.shape
+    rows = np.repeat(np.arange(n_el * n_loc).reshape(n_el, n_loc)[:, :, None], n_loc, axis=2)
+    cols = np.repeat(dofs[:, None, :], n_loc, axis=1)
+    return sp.csr_matrix((upper.ravel(), (rows.ravel(), cols.ravel())), shape=D.shape)
+
+
+def mass_matrix(disc, rho):
+    """Consistent mass int rho N_u^T N_u dV with rho a number or one value per element."""
+    rho_e = element_density(disc, rho)
+    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=MASS_INTORDER)
+
+    @BilinearForm
+    def mass(u, v, w):
+        return w.rho * dot(u, v)
+
+    return mass.assemble(basis, rho=_per_element(basis, rho_e)).tocsr()
+
+
+def gravity_vector(disc, rho, g, direction=(0.0, -1.0)):
+    """Self-weight int N_u^T rho g e dV with rho a number or one value per element."""
+    rho_e = element_density(disc, rho)
+    if not np.isfinite(g) or g < 0:
+        raise ValueError(f"g (gravitational acceleration) must be >= 0, got {g!r}")
+    e = np.asarray(direction, dtype=float)
+    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=MASS_INTORDER)
+
+    @LinearForm
+    def weight(v, w):
+        return w.rho * g * (e[0] * v[0] + e[1] * v[1])
+
+    return weight.assemble(basis, rho=_per_element(basis, rho_e))
+
+
+def kinetic_energy(M, v):
+    """1/2 v^T M v."""
+    return 0.5 * float(v @ (M @ v))
+
+
+def elastic_energy(C, sigma):
+    """Complementary (= stored, for linear elasticity) energy 1/2 sigma^T C sigma."""
+    s = np.asarray(sigma, dtype=float).ravel()
+    return 0.5 * float(s @ (C @ s))

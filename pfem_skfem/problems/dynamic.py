@@ -1,0 +1,364 @@
+"""The dynamic problem: theta-method in time (4.3)-(4.11) and the SOCP (4.23).
+
+Each time step solves
+
+.. math::
+    \\max_{\\sigma, r}\\; -\\tfrac12 \\Delta\\sigma^T C \\Delta\\sigma
+        - \\tfrac12 \\Delta t^2\\, r^T D r
+    \\quad\\text{s.t.}\\quad B^T\\sigma + A^T r = f,\\quad F(\\sigma_j) \\le 0
+
+(4.23), with rho~ = rho/(theta1 theta2) in D, and f the discrete form of
+b~ and t~ (4.6), (4.10) (the inertia of the state at t_n included).
+
+KKT conditions (4.25), re-derived (the printed first row has a sign error, see
+MAP.md). With the Lagrangian
+
+    L = -1/2 ds^T C ds - 1/2 dt^2 r^T D r + du^T (B^T sigma + A^T r - f)
+
+stationarity gives  B du = C ds + dlambda grad F  (flow rule, (4.11)),
+dt^2 D r = A du  (r = rho~ du/dt^2, the dynamic force), and eliminating r,
+B^T sigma + (A^T D^-1 A) du / dt^2 = f with A^T D^-1 A = int rho~ N_u^T N_u
+(4.26)-(4.27). So the multiplier of the equality is +du; cvxpy's dual of an
+equality in a maximisation is its negative (tests: free fall, standard-FE agreement).
+
+Scaling. As stated, f carries the inertia rho~ v_n/dt, which dwarfs gravity and
+the tractions when dt is small, and Clarabel's tolerances are absolute. We
+therefore write r = rho~ v_n / dt + r' (exact: v_n restricted to an element is in
+the discontinuous P2 space of r). Then A^T (rho~ v_n/dt) = M~ v_n/dt cancels the
+inertia in f, D (rho~ v_n/dt) = A v_n/dt, and the problem becomes
+
+    max  -1/2 ds^T C ds - 1/2 dt^2 r'^T D r' - dt v_n^T A^T r'
+    s.t. B^T sigma + A^T r' = f'     (f' = f - M~ v_n/dt: loads and sigma_n only)
+
+with the same multiplier du. Stresses, r' and du are measured in scales
+(:class:`DynamicScales`) taken from an elastic predictor of the step
+(:func:`estimate_scales`) or, when stepping, from the previous step's solution;
+B is measured in its median entry and the objective in force x displacement, so
+the scaled dual is du / displacement scale and the data are near order one.
+Measured: a body in free fall then falls g dt^2 (N(N-1)/2 + N theta2) in N steps
+to round-off with either material model (tests/test_dynamics.py).
+"""
+from dataclasses import dataclass
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from ..operators import assemble_B, assemble_C
+from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
+                                 mass_matrix, r_basis)
+from .conic import SolveInfo, solve
+from .static import _split_dofs
+
+
+@dataclass(frozen=True)
+class ThetaMethod:
+    """The theta-method of (4.4): theta1 weights the stresses (and loads), theta2 the velocities.
+
+    theta1 = theta2 = 1/2 is Newmark's average acceleration scheme (no numerical
+    damping); theta1 = 1 damps. Only the implicit, unconditionally stable range
+    1/2 <= theta <= 1 is accepted.
+    """
+
+    dt: float
+    theta1: float = 1.0
+    theta2: float = 1.0
+
+    def __post_init__(self):
+        if not np.isfinite(self.dt) or self.dt <= 0:
+            raise ValueError(f"dt (time step) must be positive, got {self.dt!r}")
+        for name in ("theta1", "theta2"):
+            value = getattr(self, name)
+            if not np.isfinite(value) or not 0.5 <= value <= 1.0:
+                raise ValueError(f"{name} must lie in [1/2, 1] (implicit, unconditionally "
+                                 f"stable theta-method), got {value!r}")
+
+    def rho_tilde(self, rho):
+        """rho~ = rho / (theta1 theta2) (4.6)."""
+        return np.asarray(rho, dtype=float) / (self.theta1 * self.theta2)
+
+    def load(self, f_n, f_next):
+        """External load of the step, theta1 f_{n+1} + (1 - theta1) f_n.
+
+        The thesis weights the stresses in (4.4) and (4.8) by theta1; the loads are
+        weighted alike (for a load linear in time this is its value at t_n + theta1 dt),
+        which keeps theta1 = theta2 = 1/2 the energy-conserving trapezoidal rule.
+        """
+        return self.theta1 * np.asarray(f_next, dtype=float) + \
+            (1 - self.theta1) * np.asarray(f_n, dtype=float)
+
+    def equilibrium_rhs(self, f_n, f_next, B, sigma_n):
+        """f' = f_theta / theta1 - (1 - theta1)/theta1 B^T sigma_n: the b~, t~ of (4.6), (4.10)
+        in discrete form, without the inertia term rho~ v_n / dt (carried by r = rho~ v_n/dt + r')."""
+        s_n = np.asarray(sigma_n, dtype=float).ravel()
+        return (self.load(f_n, f_next) - (1 - self.theta1) * (B.T @ s_n)) / self.theta1
+
+    def velocity(self, du, v_n):
+        """v_{n+1} = (du/dt - (1 - theta2) v_n) / theta2 (4.7)."""
+        return (np.asarray(du) / self.dt - (1 - self.theta2) * np.asarray(v_n)) / self.theta2
+
+
+@dataclass
+class DynamicOperators:
+    """Matrices of (4.20)-(4.21) for one mesh, density and theta-method.
+
+    B (3.41), C (3.43; None for a rigid-plastic material), A and D (4.21),
+    G with D = G^T G (block upper-triangular, for the cone form of the r^T D r term),
+    M the consistent mass int rho N_u^T N_u (for energies and the velocity term);
+    derived: K = B^T C^-1 B (the elastic stiffness), C_inverse, D_inverse.
+    """
+
+    B: object
+    C: object
+    A: object
+    D: object
+    G: object
+    M: object
+    theta: ThetaMethod
+
+    def __post_init__(self):
+        # inverses used by the elastic predictor of estimate_scales (both block-diagonal)
+        self.D_inverse = block_inverse_elements(self.D)
+        self.C_inverse = None if self.C is None else block_inverse(self.C, 4)
+        self.K = None if self.C is None else (self.B.T @ self.C_inverse @ self.B).tocsr()
+
+    @property
+    def M_tilde(self):
+        """A^T D^-1 A = M / (theta1 theta2) (4.26)-(4.27)."""
+        return self.M / (self.theta.theta1 * self.theta.theta2)
+
+
+def dynamic_operators(disc, rho, theta, elastic=None):
+    """Assemble B, C, A, D, G and M for (4.23).
+
+    Parameters
+    ----------
+    disc : :class:`~pfem_skfem.operators.Discretisation`.
+    rho : density, a number or one value per element.
+    theta : :class:`ThetaMethod`.
+    elastic : :class:`~pfem_skfem.materials.Elastic`, or None for rigid-plastic.
+    """
+    rho_e = element_density(disc, rho)
+    basis_r = r_basis(disc)
+    D = assemble_D(disc, theta.rho_tilde(rho_e), basis_r)
+    return DynamicOperators(B=assemble_B(disc),
+                            C=None if elastic is None else assemble_C(disc, elastic),
+                            A=assemble_A(disc, basis_r), D=D, G=block_cholesky(D, basis_r),
+                            M=mass_matrix(disc, rho_e), theta=theta)
+
+
+@dataclass
+class DynamicIncrement:
+    """Solution of one step of (4.23).
+
+    sigma : (n_points, 4) stresses at t_{n+1};  du : (n_u,) displacement increments;
+    v : (n_u,) velocities at t_{n+1} (4.7);  r : (n_r,) dynamic forces r' = r - rho~ v_n/dt;
+    reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
+    plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
+    info : solver report;  scales : the solution's own magnitudes, a good
+        ``scaling`` for the next step.
+    """
+
+    sigma: np.ndarray
+    du: np.ndarray
+    v: np.ndarray
+    r: np.ndarray
+    reactions: np.ndarray
+    plastic_multiplier: np.ndarray
+    info: SolveInfo
+    scales: "DynamicScales" = None
+
+
+@dataclass(frozen=True)
+class DynamicScales:
+    """Reference stress, displacement increment and dynamic force r' of one step of (4.23).
+
+    Forces are measured in stress x length (length = median |B| entry), the
+    objective in force x displacement, so the scaled dual of equilibrium is
+    du / displacement; r' is measured in ``dynamic_force``.
+    """
+
+    stress: float
+    displacement: float
+    dynamic_force: float
+
+    def __post_init__(self):
+        for name in ("stress", "displacement", "dynamic_force"):
+            value = getattr(self, name)
+            if not np.isfinite(value) or value <= 0:
+                raise ValueError(f"scaling {name} must be positive, got {value!r}")
+
+
+def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
+    """Scales from an elastic predictor of the step (used for a first step).
+
+    Solves the linear step (K + M~/dt^2) du = f' + M~ v_n/dt - B^T sigma_n on the
+    free dofs, K = B^T C^-1 B (zero for a rigid-plastic material: the mass alone),
+    and takes its magnitudes: displacement |du|, stress the strength (or the
+    larger of the predicted |sigma| and |f'| / length), dynamic force
+    |D^-1 A (du - dt v_n)| / dt^2, for a rigid-plastic body at least the force
+    density stress x |B| / |A| that balances stress gradients.
+    """
+    from scipy.sparse.linalg import splu
+
+    th = ops.theta
+    lhs = ops.M_tilde / th.dt ** 2
+    if ops.K is not None:
+        lhs = lhs + ops.K
+    rhs = f + ops.M_tilde @ v_n / th.dt - ops.B.T @ np.ravel(sigma_n)
+    du = np.zeros(len(v_n))
+    du[free] = splu(lhs.tocsc()[free][:, free].tocsc()).solve(rhs[free])
+    u = max(np.abs(du).max(), np.abs(du_prescribed).max(initial=0.0))
+    r = np.abs(ops.D_inverse @ (ops.A @ (du - th.dt * v_n))).max() / th.dt ** 2
+    if criterion is not None:
+        stress = float(criterion.strength_scale())
+    else:
+        sigma = np.ravel(sigma_n) + ops.C_inverse @ (ops.B @ du)
+        # a body in rigid motion has no stress: then measure forces by the loads
+        stress = max(np.abs(sigma).max(), np.abs(f).max() / np.median(np.abs(ops.B.data)))
+    stress = stress if stress > 0 else 1.0
+    u = u if u > 0 else 1.0
+    # r' that balances stress gradients of the stress scale; a rigid-plastic body's
+    # plastic resistance is of this size, which its predictor (mass only) cannot see
+    r_stress = stress * np.median(np.abs(ops.B.data)) / np.median(np.abs(ops.A.data))
+    r = max(r, r_stress) if ops.C is None else max(r, 1e-6 * r_stress)
+    return DynamicScales(stress=stress, displacement=u, dynamic_force=r)
+
+
+def block_inverse_elements(D):
+    """Inverse of D (4.21), block-diagonal with one 12 x 12 block per element."""
+    return block_inverse(D, 12)
+
+
+def block_inverse(M, size):
+    """Inverse of a block-diagonal sparse matrix with consecutive square blocks of ``size``."""
+    n = M.shape[0] // size
+    coo = M.tocoo()
+    keep = np.abs(coo.data) > 1e-12 * np.abs(coo.data).max()    # quadrature round-off
+    coo = sp.coo_matrix((coo.data[keep], (coo.row[keep], coo.col[keep])), shape=M.shape)
+    if np.any(coo.row // size != coo.col // size):
+        raise ValueError("matrix is not block-diagonal")
+    blocks = np.zeros((n, size, size))
+    np.add.at(blocks, (coo.row // size, coo.row % size, coo.col % size), coo.data)
+    inv = np.linalg.inv(blocks)
+    rows = np.arange(n * size).reshape(n, size)
+    return sp.csr_matrix((inv.ravel(), (np.repeat(rows[:, :, None], size, axis=2).ravel(),
+                                        np.repeat(rows[:, None, :], size, axis=1).ravel())),
+                         shape=M.shape)
+
+
+D_FORMS = ("quad_form", "cone")
+
+
+def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
+                      prescribed=(), du_prescribed=(), scaling=None, d_form="quad_form",
+                      **solver_settings):
+    """Solve one time step of the dynamic problem (4.23).
+
+    .. math::
+        \\max_{\\sigma, r'}\\; -\\tfrac12 \\Delta\\sigma^T C \\Delta\\sigma
+          - \\tfrac12 \\Delta t^2 r'^T D r' - \\Delta t\\, v_n^T A^T r'
+          + \\Delta\\bar u_P^T (B_P^T\\sigma + A_P^T r' - f'_P)
+
+        \\text{s.t.}\\quad B_F^T\\sigma + A_F^T r' = f'_F, \\quad F(\\sigma_j) \\le 0
+
+    which is (4.23) with r = rho~ v_n/dt + r' (see the module docstring), F the
+    free dofs and P the dofs with prescribed increments (last term: work of their
+    reactions). ``C = None`` in ``ops`` means rigid-plastic (no C term);
+    ``criterion = None`` means elastic (no yield cone).
+
+    Parameters
+    ----------
+    ops : :class:`DynamicOperators`.
+    f_n, f_next : (n_u,) external forces (3.42) at t_n and t_{n+1}.
+    sigma_n : (n_points, 4) stresses at t_n.  v_n : (n_u,) velocities at t_n.
+    criterion : yield criterion or None (elastic).
+    fixed : dofs held at zero increment.  prescribed, du_prescribed : dofs and increments.
+    scaling : :class:`DynamicScales` (stress, displacement); by default
+        :func:`estimate_scales`. Pass the previous step's ``scales`` when stepping.
+    d_form : "quad_form" (r'^T D r' as a quadratic objective, cvxpy ``quad_form``) or
+        "cone" (one rotated second-order cone per element through D = G^T G, App A).
+
+    Returns
+    -------
+    DynamicIncrement
+    """
+    if d_form not in D_FORMS:
+        raise ValueError(f"d_form must be one of {D_FORMS}, got {d_form!r}")
+    if ops.C is None and criterion is None:
+        raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
+    th = ops.theta
+    B, C, A, D = ops.B, ops.C, ops.A, ops.D
+    n_s, n_u = B.shape
+    n = n_s // 4
+    sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
+    v_n = np.asarray(v_n, dtype=float)
+    du_P = np.asarray(du_prescribed, dtype=float)
+    free, P = _split_dofs(n_u, fixed, prescribed)
+    if du_P.shape != P.shape:
+        raise ValueError("du_prescribed must give one value per prescribed dof")
+    f = th.equilibrium_rhs(f_n, f_next, B, sigma_n)           # f' of the module docstring
+
+    # -- scales (module docstring): stress, displacement, r'; medians of |B|, diag D, diag C
+    length = float(np.median(np.abs(B.data)))
+    d_ref = float(np.median(D.diagonal()))
+    c_ref = float(np.median(C.diagonal())) if C is not None else None
+    sc = scaling or estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_P)
+    stress, u_ref, r_ref = sc.stress, sc.displacement, sc.dynamic_force
+    force = stress * length                                  # B^T sigma, f in force
+    j_ref = force * u_ref                                    # objective; du = u_ref x dual
+    kappa = th.dt ** 2 * r_ref ** 2 * d_ref / j_ref          # weight of dt^2 r'^T D r'
+    kappa_C = stress ** 2 * c_ref / j_ref if C is not None else 0.0   # weight of ds^T C ds
+
+    Bh = (B / length).tocsc()
+    Ah = (A * (r_ref / force)).tocsc()
+    f_h = f / force
+    s_n = sigma_n.ravel() / stress
+    v_h = v_n * th.dt / u_ref
+    u_P = du_P / u_ref
+
+    S = cp.Variable((n, 4))                      # sigma_{n+1} / stress, one row per point
+    s = cp.vec(S, order="C")                     # point-major as (3.28)
+    q = cp.Variable(A.shape[0])                  # r' / r_ref, element-major (12 per element)
+    constraints = []
+    # -1/2 dt^2 r'^T D r' - dt v_n^T A^T r'   (in units of j_ref)
+    if d_form == "quad_form":
+        inertia_term = 0.5 * kappa * cp.quad_form(q, cp.psd_wrap((D / d_ref).tocsr()))
+    else:                                        # sum_e |G_e q_e|^2 <= 2 sum_e t_e (A.4)-(A.8)
+        W = cp.reshape((ops.G / np.sqrt(d_ref)) @ q, (A.shape[0] // 12, 12), order="C")
+        t = cp.Variable(A.shape[0] // 12)
+        rest = cp.reshape(2 * t - 1, (-1, 1), order="C")
+        constraints.append(cp.SOC(2 * t + 1, cp.hstack([2 * W, rest]), axis=1))
+        inertia_term = kappa * cp.sum(t)
+    objective_terms = -inertia_term - (Ah @ v_h) @ q
+    if C is not None:                            # -1/2 ds^T C ds, C scaled by c_ref
+        Ch = (C / c_ref).tocsr()
+        objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
+    if P.size:                                   # work of the reactions on prescribed dofs
+        objective_terms += u_P @ (Bh[:, P].T @ s + Ah[:, P].T @ q - f_h[P])
+    equilibrium = Bh[:, free].T @ s + Ah[:, free].T @ q == f_h[free]   # B^T sigma + A^T r = f
+    constraints.insert(0, equilibrium)
+    if criterion is not None:
+        yield_cone = criterion.scaled(stress).constraint(S)            # F(sigma_j) <= 0
+        constraints.append(yield_cone)
+    problem = cp.Problem(cp.Maximize(objective_terms), constraints)
+    info = solve(problem, what="dynamic step (4.23)", **solver_settings)
+
+    sigma = S.value * stress
+    r = q.value * r_ref
+    du = np.zeros(n_u)
+    du[free] = -equilibrium.dual_value * u_ref
+    du[P] = du_P
+    reactions = B.T @ sigma.ravel() + A.T @ r - f
+    reactions[free] = 0.0
+    if criterion is not None:
+        multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * length * u_ref
+    else:
+        multiplier = np.zeros(n)
+    s_max, u_max, r_max = np.abs(sigma).max(), np.abs(du).max(), np.abs(r).max()
+    scales = DynamicScales(                     # keep the old scale where the field vanished
+        stress=sc.stress if criterion is not None or s_max < 1e-9 * sc.stress else s_max,
+        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
+        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
+    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
+                            scales)
