@@ -139,3 +139,36 @@ def test_buried_pipe_quick_lies_between_the_bounds_and_nothing_penetrates(tmp_pa
     out = tmp_path / "pipe.json"
     assert bp.main(["--quick", "--no-figures", "--json", str(out)]) == 0
     assert json.loads(out.read_text())["case"] == "buried_pipe"
+
+
+# -- contact in the dynamic problem (5.12) -----------------------------------
+def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight():
+    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
+    floor = RigidSegment((-1.0, 0.0), (2.0, 0.0), mu=0.3)
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 1.0), elastic=None)
+    f = body_force_vector(disc, (0.0, -2.0 * 9.8))
+    sigma, v, u = np.zeros((disc.n_points, 4)), np.zeros(disc.n_u), np.zeros(disc.n_u)
+    for _ in range(3):
+        contacts = potential_contacts(disc, [floor], 0.05, displacement=u)
+        res = dynamic_increment(ops, f, f, sigma, v, Tresca(1e3), contacts=contacts)
+        sigma, v, u = res.sigma, res.v, u + res.du
+        R = resultants(contacts, res.p, res.q)[0]
+        assert R[1] == pytest.approx(-2.0 * 9.8 * 0.5, rel=1e-6)   # the weight
+        assert abs(R[0]) < 1e-8
+    g_dt2 = 9.8 * 0.05 ** 2                          # a free fall's first step
+    assert np.abs(u).max() < 1e-6 * g_dt2 and np.abs(v).max() < 1e-6 * 9.8 * 0.05
+
+
+def test_fe_block_slides_like_the_rigid_particle():
+    """(5.12) on a rigid-plastic block reproduces (5.9) for the rigid particle."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "verification" / "sliding_box.py"
+    spec = importlib.util.spec_from_file_location("sliding_box", path)
+    sb = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sb)
+    fe, _ = sb.slide_fe(0.98, 0.1, 9.8, 10, 1.0, 0.5)
+    particle, _ = sb.slide(0.98, 0.1, 9.8, 10, 1.0, 0.5)
+    assert np.allclose(fe, particle, rtol=1e-6, atol=1e-8)
+    assert fe[:, 1].min() > -1e-9                       # never below the floor

@@ -137,7 +137,7 @@ def boundary_nodes(disc):
     return np.stack([ux, uy], axis=1), disc.basis_u.doflocs[:, ux].T
 
 
-def potential_contacts(disc, bodies, search_distance, *, motions=None, warn=True):
+def potential_contacts(disc, bodies, search_distance, *, motions=None, displacement=None):
     """Boundary nodes within ``search_distance`` of each rigid body, with g0 and n at t_n.
 
     Parameters
@@ -147,6 +147,9 @@ def potential_contacts(disc, bodies, search_distance, *, motions=None, warn=True
     search_distance : nodes with g0 <= search_distance are potential contacts.
     motions : optional (n_bodies, 2) prescribed translation of each body over the step;
         the gap seen by the solid shrinks by n . motion.
+    displacement : optional (n_u,) displacements of the solid since its mesh was
+        made; the nodes are taken at their displaced positions (time stepping on a
+        fixed mesh).
 
     Raises ValueError if a body has no potential contact node (contact requested
     where none can occur is almost always a set-up error).
@@ -156,6 +159,8 @@ def potential_contacts(disc, bodies, search_distance, *, motions=None, warn=True
     bodies = list(bodies)
     motions = np.zeros((len(bodies), 2)) if motions is None else np.asarray(motions, float)
     dofs, x = boundary_nodes(disc)
+    if displacement is not None:
+        x = x + np.asarray(displacement, dtype=float)[dofs]
     rows = []
     for k, body in enumerate(bodies):
         g0, n = body.gap(x)

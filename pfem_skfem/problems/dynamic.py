@@ -48,6 +48,7 @@ from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
 from .conic import SolveInfo, solve
+from .contact import contact_terms
 from .static import _split_dofs
 
 
@@ -156,7 +157,10 @@ class DynamicIncrement:
     reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
     plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
     info : solver report;  scales : the solution's own magnitudes, a good
-        ``scaling`` for the next step.
+        ``scaling`` for the next step;
+    p, q : (nc,) normal and tangential contact forces of the step (empty without
+        contacts), the forces of the momentum balance, i.e. theta1 times the
+        multipliers of the theta1-weighted equilibrium.
     """
 
     sigma: np.ndarray
@@ -167,6 +171,8 @@ class DynamicIncrement:
     plastic_multiplier: np.ndarray
     info: SolveInfo
     scales: "DynamicScales" = None
+    p: np.ndarray = None
+    q: np.ndarray = None
 
 
 @dataclass(frozen=True)
@@ -251,8 +257,8 @@ D_FORMS = ("quad_form", "cone")
 
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
-                      prescribed=(), du_prescribed=(), scaling=None, d_form="quad_form",
-                      **solver_settings):
+                      prescribed=(), du_prescribed=(), contacts=None, scaling=None,
+                      d_form="quad_form", **solver_settings):
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
@@ -265,7 +271,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     which is (4.23) with r = rho~ v_n/dt + r' (see the module docstring), F the
     free dofs and P the dofs with prescribed increments (last term: work of their
     reactions). ``C = None`` in ``ops`` means rigid-plastic (no C term);
-    ``criterion = None`` means elastic (no yield cone).
+    ``criterion = None`` means elastic (no yield cone). With ``contacts`` (a
+    :class:`~pfem_skfem.problems.contact.ContactSet`) it is (5.12): the contact
+    forces G (p, q) join equilibrium, - sum g0_j p_j the objective, and
+    |q_j| <= mu_j p_j the constraints.
 
     Parameters
     ----------
@@ -334,9 +343,15 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     if C is not None:                            # -1/2 ds^T C ds, C scaled by c_ref
         Ch = (C / c_ref).tocsr()
         objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
+    internal = Bh.T @ s + Ah.T @ q               # B^T sigma + A^T r
+    if contacts is not None:                     # + E^T rho = - G (p, q)   (5.12)
+        ct = contact_terms(contacts, n_u, length_scale=u_ref)
+        internal = internal - ct.force()
+        objective_terms += ct.objective          # - sum g0_j p_j
+        constraints += ct.constraints            # |q_j| <= mu_j p_j
     if P.size:                                   # work of the reactions on prescribed dofs
-        objective_terms += u_P @ (Bh[:, P].T @ s + Ah[:, P].T @ q - f_h[P])
-    equilibrium = Bh[:, free].T @ s + Ah[:, free].T @ q == f_h[free]   # B^T sigma + A^T r = f
+        objective_terms += u_P @ (internal[P] - f_h[P])
+    equilibrium = internal[free] == f_h[free]    # B^T sigma + A^T r + E^T rho = f
     constraints.insert(0, equilibrium)
     if criterion is not None:
         yield_cone = criterion.scaled(stress).constraint(S)            # F(sigma_j) <= 0
@@ -350,6 +365,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     du[free] = -equilibrium.dual_value * u_ref
     du[P] = du_P
     reactions = B.T @ sigma.ravel() + A.T @ r - f
+    p_c = q_c = np.zeros(0)
+    if contacts is not None:
+        p_c, q_c = ct.p.value * force, ct.q.value * force
+        reactions -= ct.G @ np.concatenate([p_c, q_c])
+        p_c, q_c = th.theta1 * p_c, th.theta1 * q_c       # forces of the momentum balance
     reactions[free] = 0.0
     if criterion is not None:
         multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * length * u_ref
@@ -361,4 +381,4 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
         dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
     return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
-                            scales)
+                            scales, p_c, q_c)
