@@ -73,22 +73,31 @@ def graded_rectangle_with_elements(width, depth, focus, n_elements, *, ratio=12.
                                    growth=0.3, min_angle=30.0):
     """:func:`graded_rectangle` whose size scale is chosen to give about ``n_elements``.
 
-    ``ratio`` = h_max / h_min. The count scales like 1 / h^2, so a few secant
-    updates of the size scale in that law reach the target within a few percent.
+    ``ratio`` = h_max / h_min.
+    """
+    return fit_element_count(
+        lambda h: graded_rectangle(width, depth, focus, h_min=h / ratio, h_max=h,
+                                   growth=growth, min_angle=min_angle),
+        n_elements, first_size=2 * np.sqrt(2.3 * width * depth / n_elements))
+
+
+def fit_element_count(build, n_elements, first_size, *, tolerance=0.05, tries=8):
+    """The mesh ``build(h)`` whose element count is closest to ``n_elements``.
+
+    The count scales like 1 / h^2, so a few secant updates of the size scale h in
+    that law reach the target within ``tolerance`` (relative).
     """
     if not n_elements or n_elements < 4:
         raise ValueError(f"n_elements must be at least 4, got {n_elements!r}")
-    h_max = np.sqrt(2.3 * width * depth / n_elements) * 2  # first guess
-    best = None
-    for _ in range(8):
-        mesh = graded_rectangle(width, depth, focus, h_min=h_max / ratio, h_max=h_max,
-                                growth=growth, min_angle=min_angle)
+    h, best = first_size, None
+    for _ in range(tries):
+        mesh = build(h)
         n = mesh.t.shape[1]
         if best is None or abs(n - n_elements) < abs(best.t.shape[1] - n_elements):
             best = mesh
-        if abs(n - n_elements) <= 0.05 * n_elements:
+        if abs(n - n_elements) <= tolerance * n_elements:
             break
-        h_max *= np.sqrt(n / n_elements)
+        h *= np.sqrt(n / n_elements)
     return best
 
 

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.materials import Tresca
-from pfem_skfem.meshes import pipe_half_domain
+from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
@@ -44,17 +44,10 @@ LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
 def pipe_model(n_elements, *, width=10.0, height=15.0, depth=7.5, r=0.5, ratio=30.0,
                growth=0.25):
     """Curved P2 mesh of the half column with about ``n_elements`` elements, and its supports."""
-    h_max = np.sqrt(2.3 * width * height / n_elements) * 1.5
-    best = None
-    for _ in range(8):                                  # secant on the 1/h^2 law
-        mesh = pipe_half_domain(width, height, depth, r, h_min=h_max / ratio, h_max=h_max,
-                                growth=growth)
-        n = mesh.t.shape[1]
-        if best is None or abs(n - n_elements) < abs(best.t.shape[1] - n_elements):
-            best = mesh
-        if abs(n - n_elements) <= 0.05 * n_elements:
-            break
-        h_max *= np.sqrt(n / n_elements)
+    best = fit_element_count(
+        lambda h: pipe_half_domain(width, height, depth, r, h_min=h / ratio, h_max=h,
+                                   growth=growth),
+        n_elements, first_size=1.5 * np.sqrt(2.3 * width * height / n_elements))
     disc = discretise(best)
     eps = 1e-9 * width
     axis = lambda x: x[0] < eps                                  # noqa: E731 symmetry
