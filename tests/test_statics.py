@@ -289,3 +289,18 @@ def test_davis_reduction_for_zero_dilation():
     assert davis(10.0, 30.0, 30.0) == pytest.approx((10.0, 30.0))   # associated: unchanged
     with pytest.raises(ValueError, match="psi"):
         davis(10.0, 30.0, 35.0)
+
+
+def test_prescribed_dofs_in_any_order_keep_their_values():
+    """The prescribed values follow the order of the prescribed dofs given."""
+    disc, fixed, top = block()
+    P = boundary_dofs(disc, lambda x: x[1] > 1 - 1e-9, 1)
+    B, C = assemble_B(disc), assemble_C(disc, Elastic(100.0, 0.3))
+    values = -1e-3 * (1 + disc.basis_u.doflocs[0, P])           # a tilted platen
+    order = np.random.default_rng(0).permutation(P.size)
+    kw = dict(fixed=fixed, prescribed=P, du_prescribed=values)
+    a = static_increment(B, C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), Tresca(10.0), **kw)
+    kw = dict(fixed=fixed, prescribed=P[order], du_prescribed=values[order])
+    b = static_increment(B, C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), Tresca(10.0), **kw)
+    assert np.allclose(a.du, b.du, rtol=1e-8, atol=1e-12)
+    assert np.allclose(a.du[P], values)

@@ -41,7 +41,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from .conic import SolveInfo, solve
+from .conic import SolveInfo, solve, split_dofs
 
 
 # -- geometry and the bar element (B.1)-(B.9) --------------------------------------------
@@ -138,20 +138,6 @@ class TrussIncrement:
     info: SolveInfo
 
 
-def _split_dofs(n_dof, fixed, prescribed):
-    fixed = np.unique(np.asarray(fixed, dtype=int))
-    prescribed = np.asarray(prescribed, dtype=int).ravel()
-    for name, d in (("fixed", fixed), ("prescribed", prescribed)):
-        if d.size and (d.min() < 0 or d.max() >= n_dof):
-            raise ValueError(f"{name} dofs out of range [0, {n_dof})")
-    if np.unique(prescribed).size != prescribed.size:
-        raise ValueError("prescribed dofs must not repeat")
-    if np.intersect1d(fixed, prescribed).size:
-        raise ValueError("a dof is both fixed and prescribed")
-    free = np.setdiff1d(np.arange(n_dof), np.concatenate([fixed, prescribed]))
-    return free, prescribed
-
-
 def _per_bar(name, value, n, allow_none=False):
     if value is None and allow_none:
         return None
@@ -202,7 +188,7 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
     f = np.zeros(n_dof) if f is None else np.asarray(f, dtype=float)
     if f.shape != (n_dof,):
         raise ValueError(f"f must have one entry per dof ({n_dof}), got {f.shape}")
-    free, P = _split_dofs(n_dof, fixed, prescribed)
+    free, P = split_dofs(n_dof, fixed, prescribed)
     du_P = np.asarray(du_prescribed, dtype=float).ravel()
     if du_P.shape != P.shape:
         raise ValueError("du_prescribed must give one value per prescribed dof")
@@ -328,7 +314,7 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     volume = area * length0
     sigma = np.zeros(len(bars))
     n_dof = 2 * x.shape[0]
-    free, _ = _split_dofs(n_dof, fixed, prescribed)
+    free, _ = split_dofs(n_dof, fixed, prescribed)
     xs, sigmas, areas = [x.copy()], [sigma.copy()], [area.copy()]
     reactions, updated = [np.zeros(n_dof)], [np.zeros(n_dof)]
     iterations, times = [], []

@@ -103,3 +103,22 @@ class Scaling:
         length = float(np.median(np.abs(B.data[B.data != 0])))
         compliance = 1.0 if C is None else float(np.median(np.abs(C.diagonal())))
         return cls(stress=float(stress), length=length, compliance=compliance)
+
+
+def split_dofs(n_dof, fixed, prescribed):
+    """Free dofs, and the prescribed dofs in the order given (their values follow it).
+
+    Raises ValueError for dofs out of range, repeated prescribed dofs, or a dof both
+    fixed and prescribed.
+    """
+    fixed = np.unique(np.asarray(fixed, dtype=int))
+    prescribed = np.asarray(prescribed, dtype=int).ravel()
+    for name, d in (("fixed", fixed), ("prescribed", prescribed)):
+        if d.size and (d.min() < 0 or d.max() >= n_dof):
+            raise ValueError(f"{name} dofs out of range [0, {n_dof})")
+    if np.unique(prescribed).size != prescribed.size:
+        raise ValueError("prescribed dofs must not repeat")
+    if np.intersect1d(fixed, prescribed).size:
+        raise ValueError("a dof is both fixed and prescribed")
+    free = np.setdiff1d(np.arange(n_dof), np.concatenate([fixed, prescribed]))
+    return free, prescribed

@@ -47,9 +47,8 @@ import scipy.sparse as sp
 from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
-from .conic import SolveInfo, solve
+from .conic import SolveInfo, solve, split_dofs
 from .contact import contact_terms
-from .static import _split_dofs
 
 
 @dataclass(frozen=True)
@@ -303,7 +302,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
     v_n = np.asarray(v_n, dtype=float)
     du_P = np.asarray(du_prescribed, dtype=float)
-    free, P = _split_dofs(n_u, fixed, prescribed)
+    free, P = split_dofs(n_u, fixed, prescribed)
     if du_P.shape != P.shape:
         raise ValueError("du_prescribed must give one value per prescribed dof")
     f = th.equilibrium_rhs(f_n, f_next, B, sigma_n)           # f' of the module docstring

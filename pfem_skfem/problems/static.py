@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import Scaling, SolveInfo, SolverError, solve
+from .conic import Scaling, SolveInfo, SolverError, solve, split_dofs
 from .contact import contact_terms
 
 
@@ -38,19 +38,6 @@ class StaticIncrement:
     info: SolveInfo
     p: np.ndarray = None
     q: np.ndarray = None
-
-
-def _split_dofs(n_u, fixed, prescribed):
-    fixed = np.unique(np.asarray(fixed, dtype=int))
-    prescribed = np.unique(np.asarray(prescribed, dtype=int))
-    if fixed.size and (fixed.min() < 0 or fixed.max() >= n_u):
-        raise ValueError("fixed dofs out of range")
-    if prescribed.size and (prescribed.min() < 0 or prescribed.max() >= n_u):
-        raise ValueError("prescribed dofs out of range")
-    if np.intersect1d(fixed, prescribed).size:
-        raise ValueError("a dof is both fixed and prescribed")
-    free = np.setdiff1d(np.arange(n_u), np.concatenate([fixed, prescribed]))
-    return free, prescribed
 
 
 def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
@@ -89,7 +76,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
     f = np.asarray(f, dtype=float)
     du_P = np.asarray(du_prescribed, dtype=float)
-    free, P = _split_dofs(n_u, fixed, prescribed)
+    free, P = split_dofs(n_u, fixed, prescribed)
     if du_P.shape != P.shape:
         raise ValueError("du_prescribed must give one value per prescribed dof")
     closing = 0.0 if contacts is None else max(0.0, -float(np.min(contacts.gap)))
@@ -202,7 +189,7 @@ def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
     """
     n_s, n_u = B.shape
     n = n_s // 4
-    free, _ = _split_dofs(n_u, fixed, ())
+    free, _ = split_dofs(n_u, fixed, ())
     f_live = np.asarray(f_live, dtype=float)
     f_dead = np.zeros(n_u) if f_dead is None else np.asarray(f_dead, dtype=float)
     if not np.any(f_live[free]):
