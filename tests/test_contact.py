@@ -136,6 +136,11 @@ def test_buried_pipe_quick_lies_between_the_bounds_and_nothing_penetrates(tmp_pa
     buoyancy = 2.0 * 9.8 * np.pi * 0.5 ** 2 / 2
     nc = (F - buoyancy) / (0.5 * 50.0)
     assert 9.14 <= nc <= 9.40
+    # the thesis' dynamic step (theta1 = theta2 = 1, from rest) at a slow pipe speed
+    # adds only the soil's inertia: the quasi-static resistance to 1e-3
+    F_dyn, _, _ = bp.pipe_resistance(model, su=50.0, rho=2.0, g=9.8, dt=1.0)
+    assert F_dyn == pytest.approx(F, rel=1e-3)
+    assert F_dyn >= F * (1 - 1e-6)                                 # inertia resists
     out = tmp_path / "pipe.json"
     assert bp.main(["--quick", "--no-figures", "--json", str(out)]) == 0
     assert json.loads(out.read_text())["case"] == "buried_pipe"

@@ -60,16 +60,26 @@ def pipe_model(n_elements, *, width=10.0, height=15.0, depth=7.5, r=0.5, ratio=3
                 center=(0.0, -depth), r=r)
 
 
-def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None):
-    """Force on the half pipe moved down by ``step`` (rigid-plastic, quasi-static)."""
+def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
+    """Force on the half pipe moved down by ``step``: rigid-plastic, quasi-static, or,
+    with a time step ``dt``, one step of the dynamic problem (4.23) + (5.12) with
+    theta1 = theta2 = 1 from rest (as in the thesis)."""
     disc, r = model["disc"], model["r"]
     step = step or 0.01 * r
     pipe = RigidCircle(model["center"], r, mu=mu)
     contacts = potential_contacts(disc, [pipe], search_distance=0.02 * r,
                                   motions=[(0.0, -step)])
     f = body_force_vector(disc, (0.0, -rho * g))
-    res = static_increment(model["B"], None, f, np.zeros((disc.n_points, 4)), Tresca(su),
-                           fixed=model["fixed"], contacts=contacts)
+    zero_stress = np.zeros((disc.n_points, 4))
+    if dt is None:
+        res = static_increment(model["B"], None, f, zero_stress, Tresca(su),
+                               fixed=model["fixed"], contacts=contacts)
+    else:
+        from pfem_skfem.problems.dynamic import (ThetaMethod, dynamic_increment,
+                                                 dynamic_operators)
+        ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0), elastic=None)
+        res = dynamic_increment(ops, f, f, zero_stress, np.zeros(disc.n_u), Tresca(su),
+                                fixed=model["fixed"], contacts=contacts)
     force_on_pipe = resultants(contacts, res.p, res.q)[0]
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 
@@ -85,6 +95,9 @@ def build_parser():
     p.add_argument("--height", type=positive("height"), default=15.0, help="column [m]")
     p.add_argument("--depth", type=positive("depth"), default=7.5,
                    help="depth of the pipe centre [m]")
+    p.add_argument("--dt", type=float, default=None,
+                   help="solve one dynamic step (4.23) of this length [s] (theta1 = theta2 "
+                        "= 1, from rest) instead of the quasi-static step")
     p.add_argument("--elements", type=int, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
     return p
@@ -104,7 +117,7 @@ def main(argv=None):
         t0 = time.perf_counter()
         model = pipe_model(n, width=args.width, height=args.height, depth=args.depth, r=args.r)
         F, res, contacts = pipe_resistance(model, su=args.su, rho=args.rho, g=args.g,
-                                           mu=args.mu)
+                                           mu=args.mu, dt=args.dt)
         nc_raw = F / (args.r * args.su)
         rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
         progress(f"{model['n_elements']:6d} elements: F/(r Su) = {nc_raw:.4f}, net of buoyancy "
