@@ -49,8 +49,10 @@ def summary_table(rows):
         if q is None:
             lines.append(f"{case:22s} {'(did not run)':28s}")
             continue
-        if q.get("lower") is not None:
-            ref = f"[{q['lower']:.4g},{q['upper']:.4g}]"
+        if "lower" in q:                     # an interval; JSON writes infinite ends as null
+            lo = "-inf" if q["lower"] is None else f"{q['lower']:.4g}"
+            hi = "inf" if q["upper"] is None else f"{q['upper']:.4g}"
+            ref = f"[{lo},{hi}]"
         else:
             ref = "-" if q["reference"] is None else f"{q['reference']:.6g}"
         val = "nan" if q["value"] is None else f"{q['value']:.6g}"

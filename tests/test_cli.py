@@ -37,3 +37,12 @@ def test_unknown_case_is_an_error(tmp_path):
     import pytest
     with pytest.raises(SystemExit, match="unknown case"):
         cli.main(["verify", "no_such_case", "--json-dir", str(tmp_path)])
+
+
+def test_summary_shows_intervals_with_infinite_ends(tmp_path, capsys):
+    """The sliding box checks the dilation order against [0.4, inf)."""
+    code = cli.main(["verify", "sliding_box", "--quick", "--no-figures",
+                     "--json-dir", str(tmp_path), "--outdir", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "[0.4,inf]" in out
