@@ -129,7 +129,7 @@ def figures(points, h, rows, outdir):
 
     from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
 
-    out = Path(outdir)
+    out = Path(outdir) / "alpha_shape"
     out.mkdir(parents=True, exist_ok=True)
     fig, axes = plt.subplots(3, 2, figsize=(8, 9.5))
     for ax, a in zip(axes.ravel(), PANELS):

@@ -227,6 +227,7 @@ def figures(args, runs, tip_static, outdir):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    outdir = outdir / "cantilever"
     outdir.mkdir(parents=True, exist_ok=True)
     t = runs["undamped"]["hist"].times
     fig, ax = plt.subplots(1, 3, figsize=(15, 3.8))

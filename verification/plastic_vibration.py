@@ -97,7 +97,7 @@ def main(argv=None):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        out = Path(args.outdir)
+        out = Path(args.outdir) / "plastic_vibration"
         out.mkdir(parents=True, exist_ok=True)
         fig, ax = plt.subplots(figsize=(6, 3.5))
         ax.plot(el.times, el.energy / K0, "C0", label="elastic: K + W")
