@@ -152,3 +152,17 @@ def test_new_methods_reject_bad_input():
     for method in ("uem_bounded", "spr"):
         with pytest.raises(ValueError, match="rows"):
             map_stress(old, np.zeros(old.n_points - 1), new, method)
+
+
+def test_only_ida_keeps_stresses_at_yield_admissible():
+    """IDA is a convex combination, so it keeps a convex yield set; the box bounds do not."""
+    from pfem_skfem.materials import MohrCoulomb
+    old, new = unrelated_meshes()
+    mc, rng = MohrCoulomb(1.0, 30.0), np.random.default_rng(0)
+    p_mean, theta = rng.uniform(-3, 0, old.n_points), rng.uniform(0, 2 * np.pi, old.n_points)
+    radius = np.cos(np.radians(30)) - p_mean * np.sin(np.radians(30))
+    at_yield = np.c_[p_mean + radius * np.cos(theta), p_mean - radius * np.cos(theta),
+                     0.6 * p_mean, radius * np.sin(theta)]
+    assert np.abs(mc.F(at_yield)).max() < 1e-12                # all on the yield surface
+    assert mc.F(map_stress(old, at_yield, new, "ida")).max() < 1e-12
+    assert mc.F(map_stress(old, at_yield, new, "uem_bounded")).max() > 1e-3
