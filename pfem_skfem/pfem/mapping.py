@@ -16,8 +16,9 @@ Two stable variants (not in the thesis; it mentions the second as an "improved U
   range of the old element's three recovered vertex values (patch recovery below, each
   limited to the range of the old values around its vertex): a limiter, as in slope
   limiting. It obeys a discrete maximum principle, so repeated remapping cannot amplify
-  oscillations, and is still exact for a linear field in old elements with no vertex
-  on the boundary.
+  oscillations, and is still exact for a linear field in old elements whose vertices
+  are interior and surrounded by their patches' stress points (every interior vertex
+  of a quality mesh; not always next to a sliver).
 * patch recovery ('spr'): a continuous nodal field recovered by a least-squares linear
   fit to the stress points of the elements around each old vertex (superconvergent
   patch recovery, Zienkiewicz and Zhu [209]), interpolated linearly at the new points.
@@ -214,8 +215,9 @@ def recover_nodal(old, sigma, *, bounded=False):
     ----------
     old : Discretisation; sigma : (n_points_old, ...) stress-point values;
     bounded : clip each nodal value, component by component, to the range of the
-        stress-point values it was fitted to (changes nothing at a vertex inside the
-        mesh for a linear field: the vertex lies inside its patch's stress points).
+        stress-point values it was fitted to (for a linear field this changes nothing
+        at a vertex inside the convex hull of its patch's stress points: every interior
+        vertex of a quality mesh, not always one next to a sliver).
 
     Returns
     -------
@@ -258,9 +260,10 @@ def uem_bounded(old, sigma, new, *, k=8):
     vertex) can no longer carry an element-wise oscillation beyond the smooth recovered
     field, and each mapped value lies within the range of the old values around its
     element (a discrete maximum principle), so repeated remapping cannot amplify it.
-    A linear field is mapped exactly at points of old elements with no vertex on the
-    boundary (there the clips are inactive); near the boundary the clip can cut a
-    gradient, a first-order error.
+    A linear field is mapped exactly in old elements whose vertices are interior and
+    inside the convex hull of their patches' stress points (there the clips are
+    inactive; true of every interior vertex of a quality mesh); near the boundary the
+    clip can cut a gradient, a first-order error.
 
     Parameters and returns as :func:`uem`.
     """
