@@ -10,6 +10,20 @@ Stresses live at the stress points (the Gauss points of the six-node triangle,
 * Inverse Distance Algorithm (IDA, Fig 2.5), (2.1)-(2.2): a weighted mean of the k
   nearest old stress points, weights ``w_i = d_i^-c``, c = 3.5 recommended.
 
+Two stable variants (not in the thesis; it mentions the second as an "improved UEM"):
+
+* bounded UEM ('uem_bounded'): the UEM value clipped, component by component, to the
+  range of the old element's three recovered vertex values (patch recovery below, each
+  limited to the range of the old values around its vertex): a limiter, as in slope
+  limiting. It obeys a discrete maximum principle, so repeated remapping cannot amplify
+  oscillations, and is still exact for a linear field in old elements whose vertices
+  are interior and surrounded by their patches' stress points (every interior vertex
+  of a quality mesh; not always next to a sliver).
+* patch recovery ('spr'): a continuous nodal field recovered by a least-squares linear
+  fit to the stress points of the elements around each old vertex (superconvergent
+  patch recovery, Zienkiewicz and Zhu [209]), interpolated linearly at the new points.
+  Exact for linear fields everywhere; no maximum principle.
+
 Nodal fields (velocities, accelerations: any function of a scikit-fem basis) are
 interpolated with the old P2 basis at the new nodes (Section 2.5, last paragraph).
 
@@ -22,7 +36,7 @@ from skfem import ElementVector
 
 from ..operators import Discretisation
 
-SCHEMES = ("uem", "ida")
+SCHEMES = ("uem", "ida", "uem_bounded", "spr")
 
 
 def _affine(mesh):
@@ -172,14 +186,124 @@ def ida(old, sigma, new, *, c=3.5, k=6):
     return np.einsum("nk,nk...->n...", w, sigma[i])
 
 
+def _flat(sigma):
+    """(n, ...) -> (n, m) and the trailing shape, so that patch operations see columns."""
+    return sigma.reshape(len(sigma), -1), sigma.shape[1:]
+
+
+def _vertex_range(mesh, element_points, flat):
+    """Smallest and largest stress-point value (n_vertices, m) over the elements around each vertex."""
+    values = flat[element_points]                        # (3, m_elements, m)
+    corner = mesh.t[:3].ravel()                          # the vertex of each (corner, element)
+    nv = mesh.p.shape[1]
+    vmin = np.full((nv, flat.shape[1]), np.inf)
+    vmax = np.full((nv, flat.shape[1]), -np.inf)
+    np.minimum.at(vmin, corner, np.tile(values.min(axis=0), (3, 1)))
+    np.maximum.at(vmax, corner, np.tile(values.max(axis=0), (3, 1)))
+    return vmin, vmax
+
+
+def recover_nodal(old, sigma, *, bounded=False):
+    """Nodal values from the stress points by superconvergent patch recovery [209].
+
+    At each old vertex v a linear polynomial a + b (x - x_v) + c (y - y_v) is fitted by
+    least squares to the stress-point values of the elements containing v (at least 3
+    points, never collinear), and its value a at v is the nodal value. Exact for a linear
+    field.
+
+    Parameters
+    ----------
+    old : Discretisation; sigma : (n_points_old, ...) stress-point values;
+    bounded : clip each nodal value, component by component, to the range of the
+        stress-point values it was fitted to (for a linear field this changes nothing
+        at a vertex inside the convex hull of its patch's stress points: every interior
+        vertex of a quality mesh, not always one next to a sliver).
+
+    Returns
+    -------
+    (n_vertices, ...) array.
+    """
+    mesh, element_points, points = _stress_layout(old)
+    sigma = _check_sigma(sigma, element_points.max() + 1)
+    flat, trailing = _flat(sigma)
+    t = mesh.t[:3]
+    nv = mesh.p.shape[1]
+    # every (vertex, stress point) pair of an element: 3 x 3 per element
+    vertex = np.broadcast_to(t[:, None, :], (3,) + t.shape).ravel()
+    point = np.broadcast_to(element_points[None, :, :], (3,) + element_points.shape).ravel()
+    d = points[point] - mesh.p.T[vertex]
+    scale = np.zeros(nv)
+    np.maximum.at(scale, vertex, np.abs(d).max(axis=1))  # local length: keeps A well scaled
+    scale[scale == 0] = 1.0
+    P = np.c_[np.ones(len(d)), d / scale[vertex, None]]  # basis (1, dx, dy) of the fit
+    A = np.zeros((nv, 3, 3))
+    np.add.at(A, vertex, P[:, :, None] * P[:, None, :])
+    b = np.zeros((nv, 3, flat.shape[1]))
+    np.add.at(b, vertex, P[:, :, None] * flat[point][:, None, :])
+    unused = np.ones(nv, dtype=bool)
+    unused[t.ravel()] = False
+    A[unused] = np.eye(3)                                # vertices in no element: value 0
+    nodal = np.linalg.solve(A, b)[:, 0]
+    if bounded:
+        vmin, vmax = _vertex_range(mesh, element_points, flat)
+        nodal[~unused] = np.clip(nodal, vmin, vmax)[~unused]
+    return nodal.reshape((nv,) + trailing)
+
+
+def uem_bounded(old, sigma, new, *, k=8):
+    """UEM (Fig 2.6) limited to the range of the element's recovered vertex values.
+
+    sigma(x) = clip(sum_j N_j(x) sigma_j, lo_e, hi_e), component by component, where
+    lo_e, hi_e are the smallest and largest of the three nodal values of the old element
+    e recovered by :func:`recover_nodal` with ``bounded=True``. A limiter, as in slope
+    limiting: the extrapolation of the element's linear field (N_j up to 5/3 at a
+    vertex) can no longer carry an element-wise oscillation beyond the smooth recovered
+    field, and each mapped value lies within the range of the old values around its
+    element (a discrete maximum principle), so repeated remapping cannot amplify it.
+    A linear field is mapped exactly in old elements whose vertices are interior and
+    inside the convex hull of their patches' stress points (there the clips are
+    inactive; true of every interior vertex of a quality mesh); near the boundary the
+    clip can cut a gradient, a first-order error.
+
+    Parameters and returns as :func:`uem`.
+    """
+    mesh, element_points, _ = _stress_layout(old)
+    sigma = _check_sigma(sigma, element_points.max() + 1)
+    x = _new_points(new)
+    element, _, lam = locate(mesh, x, k=k)
+    values = np.einsum("nj,nj...->n...", 2 * lam - 1 / 3, sigma[element_points[:, element].T])
+    nodal = recover_nodal(old, sigma, bounded=True)[mesh.t[:3]]   # (3, m, ...)
+    lo, hi = nodal.min(axis=0), nodal.max(axis=0)
+    return np.clip(values, lo[element], hi[element])
+
+
+def spr(old, sigma, new, *, k=8):
+    """Patch-recovered nodal stresses (:func:`recover_nodal`), interpolated linearly.
+
+    sigma(x) = sum_j lambda_j(x) sigma(v_j) in the old element containing x (or the
+    nearest, extrapolating), the "improved UEM" of Section 2.5. Exact for linear fields.
+
+    Parameters and returns as :func:`uem`.
+    """
+    mesh, element_points, _ = _stress_layout(old)
+    sigma = _check_sigma(sigma, element_points.max() + 1)
+    nodal = recover_nodal(old, sigma)
+    x = _new_points(new)
+    element, _, lam = locate(mesh, x, k=k)
+    return np.einsum("nj,nj...->n...", lam, nodal[mesh.t[:3, element].T])
+
+
 def map_stress(old, sigma, new, method="uem", **options):
-    """Stresses at the new stress points by ``method`` 'uem' (Fig 2.6) or 'ida' (2.1)-(2.2)."""
+    """Stresses at the new stress points by ``method``.
+
+    'uem' (Fig 2.6, the thesis' choice), 'ida' (2.1)-(2.2), 'uem_bounded' (UEM with a
+    patch limiter, :func:`uem_bounded`) or 'spr' (patch recovery, :func:`spr`).
+    """
     method = str(method).lower()
-    if method == "uem":
-        return uem(old, sigma, new, **options)
-    if method == "ida":
-        return ida(old, sigma, new, **options)
-    raise ValueError(f"method must be one of {SCHEMES}, got {method!r}")
+    schemes = {"uem": uem, "ida": ida, "uem_bounded": uem_bounded, "spr": spr}
+    if method not in schemes:
+        raise ValueError(f"method must be one of {SCHEMES}, got {method!r}")
+    return schemes[method](old, sigma, new, **options)
 
 
 def interpolate(basis, values, x, *, k=8):
