@@ -572,3 +572,16 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     k0 = 1 - np.sin(np.radians(phi)) if k0 is None else k0
     state = initial_state(x, h, geostatic_mean_stress(x, h0, rho, g, k0))
     return state, config
+
+
+def deposit_extent(state, alpha):
+    """Height and toe (largest x) of the main body: the detected body of largest area.
+
+    Particles splashed off the body (free, or in a small separate body) are left out,
+    as an experimentalist measures the deposit, not its outliers.
+    Returns (height, toe, main-body particle indices).
+    """
+    shape = detect(state.x, state.h, alpha)
+    main = int(np.argmax(shape.body_area))
+    idx = np.unique(shape.triangles[shape.body == main])
+    return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
