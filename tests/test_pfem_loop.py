@@ -81,10 +81,29 @@ def test_verification_script_tiny(tmp_path):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     out = tmp_path / "r.json"
-    code = module.main(["--quick", "--nx", "6", "--steps", "40", "--json", str(out),
+    code = module.main(["--quick", "--nx", "8", "--steps", "40", "--json", str(out),
                         "--no-figures", "--outdir", str(tmp_path)])
     result = json.loads(out.read_text())
     q = {x["name"]: x for x in result["quantities"]}
     assert code == 0, [x for x in result["quantities"] if not x["pass"]]
     assert q["a1_phi31_h_inf_over_h0"]["value"] < 1.0
     assert q["a1_phi31_volume_change_max"]["value"] < module.VOLUME_BOUND
+
+
+def test_run_writes_a_vtu_per_saved_step_and_a_pvd(tmp_path):
+    import pyvista as pv
+    from pfem_skfem.io import TimeSeries
+
+    state, config = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
+    series = TimeSeries(tmp_path, "column")
+    state, _ = run(state, config, 4, series=series, save_every=2)
+    assert [t for t, _ in series.entries] == pytest.approx([2 * config.dt, 4 * config.dt])
+    grid = pv.read(series.entries[-1][1])
+    assert grid.n_points == len(state._last["pm"].particle)
+    for name in ("velocity", "pressure", "mean_stress"):
+        assert name in grid.point_data
+    for name in ("stress", "plastic_strain_increment"):
+        assert name in grid.cell_data
+    # the velocities written are the particles' velocities
+    np.testing.assert_allclose(grid.point_data["velocity"][:, :2],
+                               state.v[state._last["pm"].particle])
