@@ -103,6 +103,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                       **{k: {"points": v["points"], "speed": v["speed"]}
                          for k, v in snaps.items()}},
         "config": config_summary(config),
+        "vtu": [str(path) for _, path in series.entries] if series is not None else [],
+        "pvd": str(series.pvd_path) if series is not None else None,
     }
 
 
@@ -226,6 +228,19 @@ def _summary(r):
          "area_change": r["area_change"][::max(1, len(r["area_change"]) // 100)]}
 
 
+def render_deposits(out, rows):
+    """pyvista pictures (off-screen, in a subprocess) of the mid-run and final VTU of each
+    case, coloured by the equivalent plastic strain increment; skipped without VTUs."""
+    from pfem_skfem.viz import render_png
+
+    for r in rows:
+        if not r.get("vtu"):
+            continue
+        for label, vtu in (("mid", r["vtu"][len(r["vtu"]) // 4]), ("final", r["vtu"][-1])):
+            render_png(vtu, out / f"pyvista_a{r['a']:g}_phi{r['phi']:g}_{label}.png",
+                       scalars="plastic_strain_increment", window_size=(1000, 500))
+
+
 def figures(out, sweep, dt_study):
     """Fig 6.12 (snapshots), 6.13 (deposit vs a with the fits), 6.15 (volume change)."""
     import matplotlib
@@ -282,6 +297,7 @@ def figures(out, sweep, dt_study):
     fig.tight_layout()
     fig.savefig(out / "volume_change.png", dpi=120)
     plt.close(fig)
+    render_deposits(out, rows)
     (out / "summary.json").write_text(json.dumps(
         {"cases": [_summary(r) for r in sweep], "time_step_study": [_summary(r) for r in dt_study]},
         default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
