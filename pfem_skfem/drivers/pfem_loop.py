@@ -67,7 +67,10 @@ class PFEMConfig:
     become particles; crowded particles are thinned);  remesh_interval : remesh
     every this many steps (between, the mesh moves with the particles);  mapping :
     stress mapping "ida" or "uem";  bodies : rigid walls and base (contact, (5.12));
-    search : contact search distance in units of h.
+    search : contact search distance in units of h;  bulge : place the boundary
+    particles so that the straight-sided boundary keeps the area of the curved P2 one
+    (:func:`bulge_correction`);  refine_surface : a boundary edge stretched longer than
+    this many h gets its P2 midside node as a new particle (0: never).
     """
 
     rho: float = 2.0
@@ -88,6 +91,8 @@ class PFEMConfig:
     mapping: str = "ida"
     bodies: tuple = ()
     search: float = 1.0
+    bulge: bool = True
+    refine_surface: float = 1.4
 
     def __post_init__(self):
         if self.material not in MATERIALS:
@@ -355,18 +360,74 @@ def plastic_strain_increment(disc, B, du):
     return np.sqrt((e[:, 0] - e[:, 1]) ** 2 + e[:, 3] ** 2)
 
 
+def _boundary_edges(disc, du):
+    """Boundary edges: end vertices a, b, midside dofs, the midside deviation
+    delta = du_mid - (du_a + du_b)/2 and the outward unit normal at t_n."""
+    mesh = disc.mesh
+    f = mesh.boundary_facets()
+    a, b = mesh.facets[:, f]
+    vd = vertex_dofs(disc)
+    fd = disc.basis_u.facet_dofs[:, f]
+    delta = du[fd].T - 0.5 * (du[vd[a]] + du[vd[b]])
+    p = mesh.p.T
+    t = p[b] - p[a]
+    n = np.column_stack([t[:, 1], -t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]
+    centroid = p[mesh.t[:, mesh.f2t[0, f]]].mean(axis=0)
+    n[np.einsum("id,id->i", n, 0.5 * (p[a] + p[b]) - centroid) < 0] *= -1   # outward
+    return a, b, fd, delta, n
+
+
+def bulge_correction(disc, du, skip=None):
+    """Shift of the boundary vertices that keeps the area the P2 displacement gives the body.
+
+    The particles are the vertices only, so moving them drops the bulge of each boundary
+    edge, the area (2/3) L (delta . n) between the curved P2 edge and its chord, with
+    delta = du_mid - (du_a + du_b)/2 and n the outward unit normal. The flow of the psi = 0
+    scheme is exactly isochoric in each P2 element (div du is linear and orthogonal to
+    the linear stresses), so the dropped bulge is a loss of area at every step, of first
+    order in du and independent of dt. Moving each boundary vertex by
+    w_a = (1/3) sum_{edges e at a} (delta_e . n_e) n_e puts the area back (exactly for a
+    straight boundary, to first order otherwise). ``skip`` : (n_boundary_edges,) bool,
+    edges left out (those whose midside node becomes a particle).
+
+    Returns (n_vertices, 2) shifts (zero at interior vertices).
+    """
+    a, b, _, delta, n = _boundary_edges(disc, du)
+    w = (np.einsum("id,id->i", delta, n) / 3)[:, None] * n
+    if skip is not None:
+        w[skip] = 0.0
+    shift = np.zeros((disc.mesh.nvertices, 2))
+    np.add.at(shift, a, w)
+    np.add.at(shift, b, w)
+    return shift
+
+
 def move(state, pm, disc, inc, config, sigma_m_vertices):
     """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
     in no element fly ballistically (theta-method free fall), stopped by the rigid bodies.
 
-    Returns x, v, sigma_m of the particles and the number of particles found inside a
-    rigid body by more than 1e-3 h (put back on its surface)."""
+    Returns x, v, sigma_m, h of the particles (new ones appended: midside nodes of
+    stretched boundary edges) and the number of particles found inside a rigid body by
+    more than 1e-3 h (put back on its surface)."""
     vd = vertex_dofs(disc)
     x, v = state.x.copy(), state.v.copy()
     sm = state.sigma_m.copy()
     on_mesh = np.zeros(len(x), dtype=bool)
     on_mesh[pm.particle] = True
     x[pm.particle] += inc.du[vd]
+    # stretched boundary edges: their P2 midside node becomes a particle, so the free
+    # surface is not torn open by the alpha-shape (its triangles would be deleted)
+    a, b, fd, _, _ = _boundary_edges(disc, inc.du)
+    pa, pb = pm.particle[a], pm.particle[b]
+    h_edge = 0.5 * (state.h[pa] + state.h[pb])
+    split = np.zeros(len(a), dtype=bool)
+    if config.refine_surface > 0:
+        split = np.linalg.norm(x[pa] - x[pb], axis=1) > config.refine_surface * h_edge
+    if config.bulge:
+        x[pm.particle] += bulge_correction(disc, inc.du, skip=split)
+    new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
+    new_v = inc.v[fd[:, split]].T
+    new_h = h_edge[split]
     v[pm.particle] = inc.v[vd]
     sm[pm.particle] = sigma_m_vertices
     free = ~on_mesh
@@ -377,6 +438,11 @@ def move(state, pm, disc, inc, config, sigma_m_vertices):
         x[free] += du
         v[free] = v_new
         sm[free] = 0.0
+    h = state.h
+    if split.any():
+        new_sm = 0.5 * (sm[pa[split]] + sm[pb[split]])
+        x, v = np.vstack([x, new_x]), np.vstack([v, new_v])
+        sm, h = np.concatenate([sm, new_sm]), np.concatenate([h, new_h])
     # no particle inside a rigid body: a node that was outside the contact search (or a
     # free particle) and crossed a wall is put back on it with its normal velocity removed
     projected = 0
@@ -388,7 +454,7 @@ def move(state, pm, disc, inc, config, sigma_m_vertices):
             vn = np.einsum("id,id->i", v[inside], n[inside])
             v[inside] -= np.minimum(vn, 0)[:, None] * n[inside]
             projected += int(np.sum(g0 < -1e-3 * np.median(state.h)))
-    return x, v, sm, projected
+    return x, v, sm, h, projected
 
 
 # -- the step ----------------------------------------------------------------------------
@@ -443,7 +509,7 @@ def pfem_step(state, config):
     timing["compile"] = t_compile
     timing["solve"] = t_solve
     timing["other_solve"] = (t5 - t4) - t_compile - t_solve
-    x, v, sm, projected = move(state, pm, disc, inc, config, sm_v)
+    x, v, sm, h_new, projected = move(state, pm, disc, inc, config, sm_v)
 
     # the mesh moved with its vertices (straight sides), for the next map
     mesh_p = x[pm.particle]
@@ -466,7 +532,7 @@ def pfem_step(state, config):
     history = {k: list(vals) for k, vals in state.history.items()}
     for k, val in record.items():
         history.setdefault(k, []).append(val)
-    new = PFEMState(step=state.step + 1, time=state.time + config.dt, x=x, v=v, h=state.h,
+    new = PFEMState(step=state.step + 1, time=state.time + config.dt, x=x, v=v, h=h_new,
                     sigma_m=sm, mesh_p=mesh_p, mesh_t=disc.mesh.t.T.copy(),
                     mesh_particle=pm.particle.copy(), v_dofs=inc.v.copy(),
                     sigma=inc.sigma.copy(),
