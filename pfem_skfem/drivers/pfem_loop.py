@@ -287,7 +287,11 @@ def _adopt_added_nodes(state, pm):
         old_disc = discretise(old)
         va = interpolate(old_disc.basis_u, state.v_dofs, xa).T
         p1 = Basis(old, ElementTriP1())
-        sa = interpolate(p1, state.sigma_m[state.mesh_particle], xa)
+        mp = state.mesh_particle                  # -1: a particle thinned away since
+        vals = state.sigma_m[np.maximum(mp, 0)]
+        if (mp < 0).any():
+            vals[mp < 0] = vals[mp >= 0].mean()
+        sa = interpolate(p1, vals, xa)
     ha = np.full(len(xa), np.median(state.h))
     n = len(state.x)
     particle = pm.particle.copy()
