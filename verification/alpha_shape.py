@@ -16,6 +16,14 @@ polygons (what the "reasonable" boundaries enclose) and scipy's convex hull area
 The checks are the thesis' qualitative intervals.
 
 Run: ``python verification/alpha_shape.py [--quick] [--json out.json]``.
+
+Usage::
+
+    python verification/alpha_shape.py --quick --json results/alpha_shape.json   # seconds
+    python verification/alpha_shape.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 

@@ -24,6 +24,14 @@ The problem solved here is the quasi-static rigid-plastic step: (3.45) without C
 with the contact cones of (5.12) and the pipe's motion entering through the gaps.
 With theta1 = theta2 = 1 and a pipe starting from rest, the dynamic step (4.23)
 differs from it only by the inertia of the soil over one step.
+
+Usage::
+
+    python verification/buried_pipe.py --quick --json results/buried_pipe.json   # seconds
+    python verification/buried_pipe.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time

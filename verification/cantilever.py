@@ -20,6 +20,14 @@ References, all computed here:
     hold and at zero after unloading (within 1 % of the quasi-static deflection);
 (d) with theta1 = theta2 = 1/2 the energy (kinetic + elastic) after unloading is
     constant (trapezoidal rule on a linear system) to 1e-6 relative.
+
+Usage::
+
+    python verification/cantilever.py --quick --json results/cantilever.json   # seconds
+    python verification/cantilever.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time

@@ -23,6 +23,14 @@ References
 Asserted are the physics (final height below h0, deposit at rest, run-out growing
 with a, volume change below a stated bound), not agreement with the fits: a
 rate-independent friction model is not expected to give it (thesis 6.4.3).
+
+Usage::
+
+    python verification/granular_column_plane.py --quick --json results/granular_column_plane.json   # seconds
+    python verification/granular_column_plane.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import json
 import os

@@ -50,6 +50,14 @@ updated configuration (exact geometry here, both end positions are prescribed), 
 its error is the error of the accumulated strain alone. The reaction as solved (on
 the configuration at the start of the increment) is also reported; its error is
 O(1/N) too.
+
+Usage::
+
+    python verification/inclined_rod.py --quick --json results/inclined_rod.json   # seconds
+    python verification/inclined_rod.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 from pathlib import Path

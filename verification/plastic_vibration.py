@@ -15,6 +15,14 @@ References (facts, not fits):
   (to 1e-7 K_0), and D_N >= 0 (convex yield set containing the origin);
 * the elastic run conserves K + W to 1e-6 (trapezoidal rule, linear system);
 * the elastoplastic run yields: D_N is more than 5 % of K_0.
+
+Usage::
+
+    python verification/plastic_vibration.py --quick --json results/plastic_vibration.json   # seconds
+    python verification/plastic_vibration.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 from pathlib import Path

@@ -23,6 +23,14 @@ Quantities: ``strain_N<max>`` against -theta^2/(2N) (relative tolerance
 theta^2/(12 N^2), the next term of the series, plus 1e-6); ``strain_scheme_N<max>``
 against N (cos(theta/N) - 1) to 1e-6; ``order`` the slope of log|eps| against
 log N fitted over all N >= 4, against 1.
+
+Usage::
+
+    python verification/rotating_bar.py --quick --json results/rotating_bar.json   # seconds
+    python verification/rotating_bar.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 from pathlib import Path

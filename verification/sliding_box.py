@@ -17,6 +17,14 @@ Runs with 10, 20, 40 and 60 steps over the same total time (dt = 0.1 ... 0.0167 
 report the travel, the largest and the final separation, and fit the order of the
 separation in dt. theta = 1/2 (default) integrates the constant deceleration
 exactly; theta = 1 (--theta 1) is first order in the travel.
+
+Usage::
+
+    python verification/sliding_box.py --quick --json results/sliding_box.json   # seconds
+    python verification/sliding_box.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 from pathlib import Path

@@ -19,6 +19,14 @@ Runs: Nc-settlement curves for each mesh and increment count (Tresca, E, nu, Su
 of Table 3.1), the limit-analysis Nc on each mesh (rigid-plastic, one solve),
 and a Mohr-Coulomb sweep (elastoplastic plateau and limit analysis per phi).
 The quantity ``Nc`` is the plateau of the finest run made.
+
+Usage::
+
+    python verification/strip_footing.py --quick --json results/strip_footing.json   # seconds
+    python verification/strip_footing.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import importlib.util
 import sys

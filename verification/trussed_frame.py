@@ -56,6 +56,14 @@ difference halves with the step, the 1/N law of (6.3). Tolerance 2 % (4 % with
 ``peak_force``: the SOCP peak force against the reference peak (2 %).
 Deformed shapes at u_V = 20, 40, 60 mm (Fig 6.5) and the force-displacement
 curves (Fig 6.6) are drawn.
+
+Usage::
+
+    python verification/trussed_frame.py --quick --json results/trussed_frame.json   # seconds
+    python verification/trussed_frame.py --help                                # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time
