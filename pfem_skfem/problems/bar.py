@@ -41,7 +41,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from .conic import SolveInfo, solve, split_dofs
+from .conic import SolveInfo, prescribed_values, solve, split_dofs
 
 
 # -- geometry and the bar element (B.1)-(B.9) --------------------------------------------
@@ -189,9 +189,7 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
     if f.shape != (n_dof,):
         raise ValueError(f"f must have one entry per dof ({n_dof}), got {f.shape}")
     free, P = split_dofs(n_dof, fixed, prescribed)
-    du_P = np.asarray(du_prescribed, dtype=float).ravel()
-    if du_P.shape != P.shape:
-        raise ValueError("du_prescribed must give one value per prescribed dof")
+    du_P = prescribed_values(P, np.ravel(du_prescribed))
     if free.size == 0 and P.size == 0:
         raise ValueError("every dof is fixed: nothing to solve")
 

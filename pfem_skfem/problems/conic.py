@@ -122,3 +122,11 @@ def split_dofs(n_dof, fixed, prescribed):
         raise ValueError("a dof is both fixed and prescribed")
     free = np.setdiff1d(np.arange(n_dof), np.concatenate([fixed, prescribed]))
     return free, prescribed
+
+
+def prescribed_values(prescribed, values):
+    """``values`` as floats, one per prescribed dof (from :func:`split_dofs`), or ValueError."""
+    values = np.asarray(values, dtype=float)
+    if values.shape != np.shape(prescribed):
+        raise ValueError("du_prescribed must give one value per prescribed dof")
+    return values

@@ -47,7 +47,7 @@ import scipy.sparse as sp
 from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
-from .conic import SolveInfo, solve, split_dofs
+from .conic import SolveInfo, prescribed_values, solve, split_dofs
 from .contact import contact_terms
 
 
@@ -301,10 +301,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     n = n_s // 4
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
     v_n = np.asarray(v_n, dtype=float)
-    du_P = np.asarray(du_prescribed, dtype=float)
     free, P = split_dofs(n_u, fixed, prescribed)
-    if du_P.shape != P.shape:
-        raise ValueError("du_prescribed must give one value per prescribed dof")
+    du_P = prescribed_values(P, du_prescribed)
     f = th.equilibrium_rhs(f_n, f_next, B, sigma_n)           # f' of the module docstring
 
     # -- scales (module docstring): stress, displacement, r'; medians of |B|, diag D, diag C

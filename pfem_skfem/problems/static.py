@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import Scaling, SolveInfo, SolverError, solve, split_dofs
+from .conic import Scaling, SolveInfo, SolverError, prescribed_values, solve, split_dofs
 from .contact import contact_terms
 
 
@@ -75,10 +75,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     n = n_s // 4
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
     f = np.asarray(f, dtype=float)
-    du_P = np.asarray(du_prescribed, dtype=float)
     free, P = split_dofs(n_u, fixed, prescribed)
-    if du_P.shape != P.shape:
-        raise ValueError("du_prescribed must give one value per prescribed dof")
+    du_P = prescribed_values(P, du_prescribed)
     closing = 0.0 if contacts is None else max(0.0, -float(np.min(contacts.gap)))
     if C is None and not np.any(du_P) and closing == 0:
         raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion "
