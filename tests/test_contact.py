@@ -177,3 +177,54 @@ def test_fe_block_slides_like_the_rigid_particle():
     particle, _ = sb.slide(0.98, 0.1, 9.8, 10, 1.0, 0.5)
     assert np.allclose(fe, particle, rtol=1e-6, atol=1e-8)
     assert fe[:, 1].min() > -1e-9                       # never below the floor
+
+
+def _sliding_box():
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "verification" / "sliding_box.py"
+    spec = importlib.util.spec_from_file_location("sliding_box", path)
+    sb = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sb)
+    return sb
+
+
+@pytest.mark.parametrize("steps", [5, 10])
+def test_zero_dilation_contact_slides_the_fe_block_to_newton_without_lift(steps):
+    """|q| <= mu p~ with p~ from a smooth first pass: the travel v0^2/(2 mu g) of Newton's law
+    (exact for theta = 1/2 when the box stops at a step's end) and no lift-off at any dt."""
+    v0, mu, g = 0.98, 0.1, 9.8
+    path, _ = _sliding_box().slide_fe(v0, mu, g, steps, v0 / (mu * g), 0.5,
+                                      contact="zero-dilation")
+    assert path[-1, 0] == pytest.approx(v0 ** 2 / (2 * mu * g), rel=1e-6)
+    assert np.abs(path[:, 1]).max() < 1e-7 * v0
+
+
+def test_friction_bound_caps_the_tangential_force_of_a_pushed_block():
+    """Static (3.45) with a known friction bound: the block pushed harder than the bound
+    is infeasible, pushed below it holds with q equal to the push."""
+    from pfem_skfem.problems.contact import with_friction_bound
+    disc, contacts, B, C, f = block_on_plane(mu=0.5)
+    weight = RHO_G * 1.0
+    bounded = with_friction_bound(contacts, np.full(contacts.size, weight / contacts.size))
+    push = np.zeros(disc.n_u)
+    left = boundary_dofs(disc, lambda x: x[0] < 1e-9, 0)
+    push[left] = 0.3 * weight / len(left)          # below mu x (weight / nc) x nc = 0.5 W
+    res = static_increment(B, C, f + push, np.zeros((disc.n_points, 4)), Tresca(1e6),
+                           fixed=[], contacts=bounded)
+    R = resultants(bounded, res.p, res.q)[0]
+    assert R[0] == pytest.approx(0.3 * weight, rel=1e-5)
+    assert np.abs(res.q).max() <= 0.5 * weight / contacts.size * (1 + 1e-6)
+    push[left] = 0.6 * weight / len(left)
+    with pytest.raises(SolverError):
+        static_increment(B, C, f + push, np.zeros((disc.n_points, 4)), Tresca(1e6),
+                         fixed=[], contacts=bounded)
+
+
+def test_with_friction_bound_checks_its_input():
+    from pfem_skfem.problems.contact import with_friction_bound
+    _, contacts, *_ = block_on_plane(mu=0.5)
+    with pytest.raises(ValueError, match="one value per contact"):
+        with_friction_bound(contacts, np.ones(contacts.size + 1))
+    with pytest.raises(ValueError, match="non-negative"):
+        with_friction_bound(contacts, -np.ones(contacts.size))

@@ -78,3 +78,29 @@ def test_sliding_box_travel_and_vanishing_dilation(tmp_path):
     path2, _ = sb.slide(0.98, 0.1, G, 40, 1.0, 1.0)
     assert 0.49 - path1[-1, 0] == pytest.approx(0.98 * 0.05 / 2, rel=0.02)
     assert path2[:, 1].max() < 0.6 * path1[:, 1].max()
+
+
+def test_free_particle_slides_to_newton_and_never_enters_the_plane():
+    """Closed-form point contact (pfem free particles): v0^2/(2 mu g) for theta = 1/2."""
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.problems.particle import free_particles_step
+    plane = RigidSegment((-10.0, 0.0), (10.0, 0.0), mu=0.1)
+    x, v = np.array([[0.0, 0.0]]), np.array([[0.98, 0.0]])
+    dt = 0.1
+    for _ in range(10):                      # stops at t = v0/(mu g) = 1 s
+        x, v = free_particles_step(x, v, (0.0, -G), dt, 0.5, [plane])
+        assert x[0, 1] >= -1e-12
+    assert x[0, 0] == pytest.approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-12)
+    assert np.abs(v).max() < 1e-12
+
+
+def test_free_particle_falls_freely_and_lands_on_the_surface():
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.problems.particle import free_particles_step
+    plane = RigidSegment((-10.0, 0.0), (10.0, 0.0), mu=0.0)
+    x, v = free_particles_step([[0.0, 1.0]], [[0.5, 0.0]], (0.0, -G), 0.1, 1.0, [plane])
+    assert np.allclose(x, [[0.05, 1.0 - G * 0.01]]) and np.allclose(v, [[0.5, -G * 0.1]])
+    for _ in range(10):
+        x, v = free_particles_step(x, v, (0.0, -G), 0.1, 1.0, [plane])
+    assert x[0, 1] == pytest.approx(0.0, abs=1e-12) and abs(v[0, 1]) < 1e-12
+    assert v[0, 0] == pytest.approx(0.5)     # smooth: the tangential velocity is kept

@@ -56,11 +56,13 @@ from ..pfem.alpha_shape import triangle_areas
 from ..pfem.mapping import interpolate, locate, map_nodal, map_stress
 from ..pfem.remesh import ParticleMesh
 from ..problems.conic import SolverError
-from ..problems.contact import boundary_nodes, potential_contacts
+from ..problems.contact import boundary_nodes, potential_contacts, with_friction_bound
+from ..problems.particle import free_particles_step
 from ..problems.dynamic import (DynamicScales, ThetaMethod, dynamic_increment, dynamic_operators,
                                 estimate_scales)
 
 MATERIALS = ("tresca-mc", "davis")
+CONTACTS = ("zero-dilation", "coulomb")
 REMESHERS = ("alpha", "quality")
 
 
@@ -78,7 +80,11 @@ class PFEMConfig:
     become particles; crowded particles are thinned);  remesh_interval : remesh
     every this many steps (between, the mesh moves with the particles);  mapping :
     stress mapping "ida" or "uem";  bodies : rigid walls and base (contact, (5.12));
-    search : contact search distance in units of h;  bulge : place the boundary
+    search : contact search distance in units of h;  contact : "zero-dilation" (the
+    first pass of a step is smooth, each later one bounds the friction by mu times the
+    previous pass's normal force, :func:`~pfem_skfem.problems.contact.with_friction_bound`;
+    needs passes >= 2) or "coulomb" (the associated cones of (5.12), which lift a
+    sliding node by mu |slip| per step);  bulge : place the boundary
     particles so that the straight-sided boundary keeps the area of the curved P2 one
     (:func:`bulge_correction`);  refine_surface : a boundary edge stretched longer than
     this many h gets its P2 midside node as a new particle (0: never).
@@ -102,12 +108,18 @@ class PFEMConfig:
     mapping: str = "ida"
     bodies: tuple = ()
     search: float = 1.0
+    contact: str = "zero-dilation"
     bulge: bool = True
     refine_surface: float = 1.4
 
     def __post_init__(self):
         if self.material not in MATERIALS:
             raise ValueError(f"material must be one of {MATERIALS}, got {self.material!r}")
+        if self.contact not in CONTACTS:
+            raise ValueError(f"contact must be one of {CONTACTS}, got {self.contact!r}")
+        if self.contact == "zero-dilation" and self.bodies and int(self.passes) < 2:
+            raise ValueError("contact='zero-dilation' needs passes >= 2 (the first pass "
+                             "finds the normal forces)")
         if self.remesh not in REMESHERS:
             raise ValueError(f"remesh must be one of {REMESHERS}, got {self.remesh!r}")
         for name in ("rho", "g", "dt", "alpha", "floor", "search"):
@@ -333,35 +345,44 @@ def criterion_for(config, sigma_m_points):
 
 
 def solve_step(ops, f, contacts, disc, config, v_dofs, sigma_n, sigma_m_vertices, scales):
-    """Step 2a: (4.23) with (5.12) on the psi = 0 cone; ``passes`` fixed-point passes on sigma_m.
+    """Step 2a: (4.23) with (5.12) on the psi = 0 cone; ``passes`` fixed-point passes.
 
+    Each pass takes the mean stress of the previous one (the first: the lagged one
+    carried by the particles); with ``contact="zero-dilation"`` the first pass is
+    smooth and each later one bounds the friction by mu p of the previous pass.
     Returns the last DynamicIncrement, the smoothed vertex mean stress of its solution,
     the solver iterations, compile and solve seconds summed over the passes, and the
     number of passes Clarabel ended 'AlmostSolved' (accepted, and counted).
     """
-    passes = 1 if config.material == "davis" else int(config.passes)
+    zero_dilation = contacts is not None and config.contact == "zero-dilation"
+    passes = int(config.passes) if config.material != "davis" or zero_dilation else 1
     sm_v = sigma_m_vertices
     if scales is None:           # first step: scales from the Mohr-Coulomb strength at sigma_m
         k = mohr_coulomb_radius(config.c, config.phi, vertex_to_points(disc, sm_v), config.floor)
         f_rhs = config.theta.equilibrium_rhs(f, f, ops.B, sigma_n)
         scales = estimate_scales(ops, f_rhs, v_dofs, sigma_n, np.arange(disc.n_u), TrescaField(k))
     iterations, compile_time, solve_time, inaccurate = 0, 0.0, 0.0, 0
+    step_contacts = contacts
+    if zero_dilation:                                   # pass 1: smooth, for p
+        step_contacts = with_friction_bound(contacts, np.zeros(contacts.size))
     for _ in range(passes):
         crit = criterion_for(config, vertex_to_points(disc, sm_v))
         try:
-            inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=contacts,
+            inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=step_contacts,
                                     scaling=scales)
         except SolverError as err:
             if err.status != "optimal_inaccurate":
                 raise
             # Clarabel's 'AlmostSolved': accept it, counted in the step record
-            inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=contacts,
+            inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=step_contacts,
                                     scaling=scales, accept_inaccurate=True)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time
         solve_time += inc.info.solve_time
         sm_v = smoothed_mean_stress(disc, inc.sigma)
+        if zero_dilation:
+            step_contacts = with_friction_bound(contacts, np.maximum(inc.p, 0.0))
     return inc, sm_v, iterations, compile_time, solve_time, inaccurate
 
 
@@ -419,7 +440,8 @@ def bulge_correction(disc, du, skip=None):
 
 def move(state, pm, disc, inc, config, sigma_m_vertices):
     """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
-    in no element fly ballistically (theta-method free fall), stopped by the rigid bodies.
+    in no element fly ballistically (theta-method free fall) and slide with friction on the
+    rigid bodies (:func:`~pfem_skfem.problems.particle.free_particles_step`).
 
     Returns x, v, sigma_m, h of the particles (new ones appended: midside nodes of
     stretched boundary edges) and the number of particles found inside a rigid body by
@@ -446,12 +468,9 @@ def move(state, pm, disc, inc, config, sigma_m_vertices):
     v[pm.particle] = inc.v[vd]
     sm[pm.particle] = sigma_m_vertices
     free = ~on_mesh
-    if free.any():
-        th = config.theta
-        v_new = v[free] + np.array([0.0, -config.g * config.dt])
-        du = th.dt * (th.theta2 * v_new + (1 - th.theta2) * v[free])
-        x[free] += du
-        v[free] = v_new
+    if free.any():              # gravity and frictional contact with the walls, (5.2)
+        x[free], v[free] = free_particles_step(x[free], v[free], (0.0, -config.g), config.dt,
+                                               config.theta.theta2, config.bodies)
         sm[free] = 0.0
     h = state.h
     if split.any():

@@ -12,6 +12,15 @@ KKT conditions then give (5.11): the gap at t_{n+1}, g0 + n . du, equals
 mu * lambda >= 0 (no penetration; the associated sliding rule dilates by
 mu * lambda), and the slip n^ . du opposes q.
 
+Zero dilation. The associated rule lifts a sliding node off the body by mu |slip|
+per step. The contact counterpart of the psi = 0 scheme of [80] removes it: with a
+known normal force p~_j (lagged, e.g. from a first pass of the step), the cone
+|q_j| <= mu_j p_j becomes the bound |q_j| <= mu_j p~_j (Tresca-type friction).
+The KKT conditions then give g0 + n . du >= 0 with complementarity to p_j (no
+opening while in contact) and a slip opposing q_j, at the friction force mu p~_j
+(:func:`with_friction_bound`). At a fixed point p = p~ it is Coulomb's law
+without the dilation.
+
 Conventions: the thesis writes the forces through rho_j = -(n_j p_j + n^_j q_j)
 and the index matrix E (5.12); here ``contact_matrix`` is the matrix G = -E^T
 [n, n^] that maps (p, q) to nodal forces on the solid.
@@ -107,7 +116,9 @@ class ContactSet:
 
     dofs : (nc, 2) x and y displacement dofs of the node;  x : (nc, 2) its position;
     gap : (nc,) g0 at t_n (reduced by the body's prescribed motion over the step);
-    normal : (nc, 2) n;  mu : (nc,) friction;  body : (nc,) index of the rigid body.
+    normal : (nc, 2) n;  mu : (nc,) friction;  body : (nc,) index of the rigid body;
+    friction_bound : None (Coulomb, |q_j| <= mu_j p_j) or (nc,) known friction forces
+        mu_j p~_j (zero dilation, |q_j| <= mu_j p~_j; see :func:`with_friction_bound`).
     """
 
     dofs: np.ndarray
@@ -118,6 +129,7 @@ class ContactSet:
     body: np.ndarray
     n_bodies: int = 1
     motion: list = field(default_factory=list)
+    friction_bound: np.ndarray = None
 
     @property
     def size(self):
@@ -175,6 +187,21 @@ def potential_contacts(disc, bodies, search_distance, *, motions=None, displacem
     return ContactSet(*cat, n_bodies=len(bodies), motion=list(motions))
 
 
+def with_friction_bound(contacts, normal_force):
+    """The same contacts with zero dilation: |q_j| <= mu_j p~_j for a known normal force p~.
+
+    ``normal_force`` : (nc,) p~_j >= 0, typically the p of a first, associated pass of
+    the same step (in the units of the problem's forces, as returned in ``p``).
+    """
+    p = np.asarray(normal_force, dtype=float)
+    if p.shape != (contacts.size,):
+        raise ValueError(f"normal_force must have one value per contact ({contacts.size}), "
+                         f"got shape {p.shape}")
+    if not np.all(np.isfinite(p)) or np.any(p < 0):
+        raise ValueError("normal_force must be finite and non-negative")
+    return replace(contacts, friction_bound=contacts.mu * p)
+
+
 def contact_matrix(contacts, n_u):
     """G (n_u, 2 nc): nodal forces on the solid from (p, q), i.e. n_j p_j + n^_j q_j at node j."""
     nc = contacts.size
@@ -202,17 +229,28 @@ class ContactTerms:
         return self.G @ cp.hstack([self.p, self.q])
 
 
-def contact_terms(contacts, n_u, *, length_scale):
+def contact_terms(contacts, n_u, *, length_scale, force_scale=1.0):
     """The contact part of (5.12): variables p, q, the objective term and the cones.
 
     ``length_scale`` divides the gaps (the objective is measured in
-    force_scale x length_scale, like the rest of the scaled problem).
+    force_scale x length_scale, like the rest of the scaled problem);
+    ``force_scale`` divides a friction bound (the force one unit of p, q stands for).
     """
     nc = contacts.size
     p, q = cp.Variable(nc), cp.Variable(nc)
     mu = contacts.mu
-    rough = mu > 0
     cons = [p >= 0]                                  # normal force compressive (5.5)
+    if contacts.friction_bound is not None:          # zero dilation: |q_j| <= mu_j p~_j
+        k = np.asarray(contacts.friction_bound, dtype=float) / force_scale
+        rough = k > 0
+        if rough.any():
+            idx = np.flatnonzero(rough)
+            cons.append(cp.abs(q[idx]) <= k[idx])
+        if (~rough).any():                           # smooth, or no lagged normal force
+            cons.append(q[np.flatnonzero(~rough)] == 0)
+        objective = -(contacts.gap / length_scale) @ p
+        return ContactTerms(p, q, contact_matrix(contacts, n_u), objective, cons)
+    rough = mu > 0
     if rough.any():
         idx = np.flatnonzero(rough)
         cons.append(cp.abs(q[idx]) <= cp.multiply(mu[idx], p[idx]))   # |q_j| - mu p_j <= 0

@@ -273,7 +273,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     ``criterion = None`` means elastic (no yield cone). With ``contacts`` (a
     :class:`~pfem_skfem.problems.contact.ContactSet`) it is (5.12): the contact
     forces G (p, q) join equilibrium, - sum g0_j p_j the objective, and
-    |q_j| <= mu_j p_j the constraints.
+    |q_j| <= mu_j p_j the constraints (or |q_j| <= mu_j p~_j for contacts
+    given a lagged normal force, :func:`~pfem_skfem.problems.contact.with_friction_bound`).
 
     Parameters
     ----------
@@ -342,7 +343,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
     internal = Bh.T @ s + Ah.T @ q               # B^T sigma + A^T r
     if contacts is not None:                     # + E^T rho = - G (p, q)   (5.12)
-        ct = contact_terms(contacts, n_u, length_scale=u_ref)
+        # a friction bound is a force of the momentum balance (theta1 x the variable)
+        ct = contact_terms(contacts, n_u, length_scale=u_ref, force_scale=force * th.theta1)
         internal = internal - ct.force()
         objective_terms += ct.objective          # - sum g0_j p_j
         constraints += ct.constraints            # |q_j| <= mu_j p_j

@@ -87,3 +87,40 @@ def rigid_particle_step(m, v_n, f_ext, dt, theta, gaps, normals, mu, **solver_se
     du = r.value * f_ref * dt ** 2 / m_bar                    # (5.8)
     v = (du / dt - (1 - theta) * v_n) / theta                 # (5.3)
     return ParticleStep(du, v, p.value * f_ref, q.value * f_ref, info)
+
+
+def free_particles_step(x, v, acceleration, dt, theta, bodies):
+    """One step of point particles under a body force, with frictional contact without dilation.
+
+    The PFEM's free particles (in no element, Section 2.2) move by the theta-method
+    (5.2)-(5.3): v_{n+1} = v_n + a dt, du = dt (theta v_{n+1} + (1 - theta) v_n). A
+    particle whose trial move would close its gap g0 to a rigid body ends on its
+    surface: n . du = -g0 fixes the normal velocity, the normal impulse per unit mass
+    J = n . (v_{n+1} - v*) >= 0, and friction takes at most mu J off the tangential
+    velocity (Coulomb's law for the impulse of the step, no lift-off: the closed form
+    of (5.9) for one particle and one contact with the friction bounded by mu J).
+
+    Parameters
+    ----------
+    x, v : (m, 2) positions and velocities at t_n.  acceleration : (2,) body force per mass.
+    dt, theta : time step and theta in (0, 1].  bodies : rigid bodies with ``gap`` and ``mu``.
+
+    Returns x, v at t_{n+1} (new arrays).
+    """
+    check_time_step(dt, theta)
+    x, v = np.array(x, dtype=float), np.array(v, dtype=float)
+    v_new = v + np.asarray(acceleration, dtype=float) * dt
+    for body in bodies:
+        g0, n = body.gap(x)
+        du = dt * (theta * v_new + (1 - theta) * v)
+        closing = g0 + np.einsum("id,id->i", du, n) < 0
+        if not closing.any():
+            continue
+        n, t = n[closing], np.stack([-n[closing, 1], n[closing, 0]], axis=1)
+        vs, vo = v_new[closing], v[closing]
+        vn = (-g0[closing] / dt - (1 - theta) * np.einsum("id,id->i", vo, n)) / theta
+        impulse = np.maximum(vn - np.einsum("id,id->i", vs, n), 0.0)
+        vt = np.einsum("id,id->i", vs, t)
+        vt = np.sign(vt) * np.maximum(np.abs(vt) - body.mu * impulse, 0.0)
+        v_new[closing] = vn[:, None] * n + vt[:, None] * t
+    return x + dt * (theta * v_new + (1 - theta) * v), v_new

@@ -119,7 +119,8 @@ def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, clos
     S = cp.Variable((n, 4))                      # sigma_{n+1} / sigma_ref, one row per point
     s = cp.vec(S, order="C")                     # point-major as (3.28)
     if contacts is not None:
-        ct = contact_terms(contacts, n_u, length_scale=u_ref)
+        ct = contact_terms(contacts, n_u, length_scale=u_ref,
+                           force_scale=sc.stress * sc.length)
         g = ct.force()                            # G (p, q): contact forces on the solid
         internal = B_F.T @ s - g[free]
         work_P = u_P @ (B_P.T @ s - f_h[P] - g[P]) if P.size else 0
