@@ -340,3 +340,23 @@ def test_uem_exact_for_linear_fields_between_random_remeshes(seed, n, alpha):
     old, new = discretise(alpha_mesh(s).mesh), discretise(quality_remesh(s, size=0.7).mesh)
     mapped = map_stress(old, _linear_stress(old.points), new, "uem")
     np.testing.assert_allclose(mapped, _linear_stress(new.points), rtol=1e-9, atol=1e-9)
+
+
+def test_velocity_projection_is_exact_on_p2_fields_and_adds_no_energy():
+    """project_nodal: M_new v = int N^T v_old reproduces a quadratic field (so its momentum),
+    and does not raise the kinetic energy of a rough field (up to the quadrature of the
+    old, piecewise field on the new elements)."""
+    from skfem import MeshTri
+    from pfem_skfem.operators_dynamic import mass_matrix
+    from pfem_skfem.pfem.mapping import project_nodal
+    old = discretise(MeshTri.init_tensor(np.linspace(0, 1, 6), np.linspace(0, 1, 5)))
+    new = discretise(MeshTri.init_symmetric().refined(2))
+    x = old.basis_u.doflocs
+    quad = np.where(np.arange(old.n_u) % 2 == 0, x[0] ** 2 + x[1], x[0] * x[1] - 1)
+    y = new.basis_u.doflocs
+    exact = np.where(np.arange(new.n_u) % 2 == 0, y[0] ** 2 + y[1], y[0] * y[1] - 1)
+    assert np.allclose(project_nodal(old.basis_u, quad, new.basis_u), exact, atol=1e-12)
+    rough = np.random.default_rng(1).normal(size=old.n_u)
+    M_old, M_new = mass_matrix(old, 1.0), mass_matrix(new, 1.0)
+    v = project_nodal(old.basis_u, rough, new.basis_u)
+    assert v @ (M_new @ v) <= 1.01 * rough @ (M_old @ rough)

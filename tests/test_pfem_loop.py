@@ -120,3 +120,24 @@ def test_run_writes_a_vtu_per_saved_step_and_a_pvd(tmp_path):
     # the velocities written are the particles' velocities
     np.testing.assert_allclose(grid.point_data["velocity"][:, :2],
                                state.v[state._last["pm"].particle])
+
+
+def test_strong_slab_slides_to_newton_through_the_whole_loop():
+    """A slab far stronger than its stresses, launched at v0 on a rough base, is a rigid box:
+    through detect - remesh - map - solve - move with the zero-dilation contact,
+    v(t) = v0 - mu g t (theta2 = 1: the velocity is exact) and it stays on the base.
+    (The associated cones of (5.12) lift it by mu |slip| per step, which raises the
+    normal force of that step: first order in dt, so not exact here.)"""
+    contact = "zero-dilation"
+    from pfem_skfem.drivers.pfem_loop import grid_particles, initial_state, pfem_step
+    from pfem_skfem.problems.contact import RigidSegment
+    x, h = grid_particles(1.0, 0.2, 6)
+    mu, v0, dt = 0.3, 3.0, 0.02
+    config = PFEMConfig(c=1e3, phi=0.0, floor=1.0, dt=dt, contact=contact,
+                        bodies=(RigidSegment((-10.0, 0.0), (30.0, 0.0), mu),))
+    state = initial_state(x, h)
+    state.v[:, 0] = v0
+    for n in range(1, 11):
+        state, _ = pfem_step(state, config)
+        assert np.allclose(state.v[:, 0], v0 - mu * G * n * dt, rtol=0, atol=1e-6 * v0)
+    assert np.abs(state.x[:, 1] - x[:, 1]).max() < 1e-7

@@ -358,3 +358,52 @@ def map_nodal(old_basis, values, new_basis, *, k=8):
     for comp, idx in enumerate(new_split):
         out[idx] = mapped[:, comp]
     return out
+
+
+def project_nodal(old_basis, values, new_basis, *, vertex_values=None, intorder=4, k=8):
+    """A vector field of the old basis, L2-projected onto the new one: M_new v = int N^T v_old.
+
+    The projection keeps the field's mean (momentum, for velocities) and cannot increase
+    its L2 norm (kinetic energy) where the old field is known, unlike nodal interpolation
+    (:func:`map_nodal`), which on every remeshing of a sheared P2 field adds energy
+    (measured in the granular column: a third of the peak kinetic energy over a run).
+    Quadrature points of the new mesh outside the old one take, instead of an
+    extrapolation, the linear interpolation of ``vertex_values`` (n_vertices, dim) of
+    the new mesh (the particles' values) when given.
+
+    Returns (new_basis.N,) dofs of the projected field.
+    """
+    from scipy.sparse.linalg import splu
+    from skfem import Basis, BilinearForm, LinearForm, asm
+    from skfem.helpers import dot
+
+    values = np.asarray(values, dtype=float)
+    mesh = new_basis.mesh
+    basis = Basis(mesh, new_basis.elem, intorder=intorder)
+    X = basis.mapping.F(basis.X)                                   # (2, nel, nqp)
+    dim, nel, nqp = X.shape
+    pts = X.reshape(dim, -1).T
+    scalar_old = old_basis.with_element(old_basis.elem.elem)
+    stacked = np.stack([values[idx] for idx in old_basis.split_indices()], axis=1)
+    vq = interpolate(scalar_old, stacked, pts, k=k)                # (n, dim)
+    if vertex_values is not None:
+        _, inside, _ = locate(old_basis.mesh, pts, k=k)
+        if not inside.all():
+            cells = np.repeat(np.arange(nel), nqp)[~inside]
+            lam = basis.mapping.invF(pts[~inside].T[:, :, None], tind=cells)[:, :, 0]
+            bary = np.column_stack([1 - lam.sum(axis=0), lam[0], lam[1]])
+            vv = np.asarray(vertex_values, dtype=float)[mesh.t[:3, cells].T]   # (m, 3, dim)
+            vq[~inside] = np.einsum("mk,mkd->md", bary, vv)
+    field = vq.T.reshape(dim, nel, nqp)
+
+    @BilinearForm
+    def mass(u, v, w):
+        return dot(u, v)
+
+    @LinearForm
+    def load(v, w):
+        return dot(w["old"], v)
+
+    M = asm(mass, basis).tocsc()
+    b = asm(load, basis, old=field)
+    return splu(M).solve(b)
