@@ -72,7 +72,7 @@ def lube_lagree(a):
 
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
-             d0=1.0, checkpoint_every=0, checkpoint_dir=None):
+             d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb"):
     """One column to t = 4 sqrt(h0/g); returns the measured quantities and what the figures need.
 
     With ``checkpoint_every``, the state is saved to ``checkpoint_dir``/<case>.npz every
@@ -82,18 +82,19 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     t_end = 4.0 * np.sqrt(h0 / g)
     state, config = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
                                     floor_fraction=floor, material=material, remesh=remesh,
-                                    passes=passes, alpha=alpha, dt=t_end / steps)
+                                    passes=passes, alpha=alpha, dt=t_end / steps,
+                                    contact=contact)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}"
+        case_dir = Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "column")
     snap_steps = {int(round(s * steps / 4)) for s in (1.0, 4.0)}
     x0 = state.x.copy()
     checkpoint = None
     if checkpoint_every:
-        checkpoint = Path(checkpoint_dir or ".") / f"column_a{a:g}_phi{phi:g}_n{steps}.npz"
+        checkpoint = Path(checkpoint_dir or ".") / f"column_a{a:g}_phi{phi:g}_n{steps}_nx{nx}.npz"
         checkpoint.parent.mkdir(parents=True, exist_ok=True)
         if checkpoint.exists():
             state = load_checkpoint(checkpoint)
@@ -156,6 +157,10 @@ def build_parser():
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
     p.add_argument("--time-steps", type=int, nargs="*", default=[],
                    help="time-step study for a = 1 (Fig 6.14-6.15), e.g. 100 200 400")
+    p.add_argument("--mesh-study", type=int, nargs="*", default=[],
+                   help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
+    p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
+                   help="base and wall contact: the cones of (5.12) or the lagged friction bound")
     p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
     p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--floor", type=positive("floor"), default=0.005,
@@ -188,14 +193,18 @@ def main(argv=None):
     cases = [dict(a=a, nx=args.nx, steps=args.steps, phi=phi, mu=args.mu, g=args.g,
                   rho=args.rho, material=args.material, remesh=args.remesh,
                   passes=args.passes, alpha=args.alpha, floor=args.floor, outdir=vtu_dir,
+                  contact=args.contact,
                   save_every=args.save_every, verbose=args.progress,
                   checkpoint_every=args.checkpoint_every, checkpoint_dir=out / "checkpoints")
              for phi in args.phi for a in sorted(args.a)]
     study = [dict(cases[0], a=1.0, phi=args.phi[0], steps=n) for n in args.time_steps]
+    meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) for n in args.mesh_study]
     if args.progress:
-        progress(f"{len(cases) + len(study)} case(s) on {args.workers} worker(s)")
-    results = run_cases(cases + study, args.workers)
-    sweep, dt_study = results[:len(cases)], results[len(cases):]
+        progress(f"{len(cases) + len(study) + len(meshes)} case(s) on {args.workers} worker(s)")
+    results = run_cases(cases + study + meshes, args.workers)
+    sweep = results[:len(cases)]
+    dt_study = results[len(cases):len(cases) + len(study)]
+    mesh_study = results[len(cases) + len(study):]
 
     report = Report("granular_column_plane",
                     {k: v for k, v in vars(args).items()
@@ -240,14 +249,23 @@ def main(argv=None):
                                 "run-out grows with a (Lube et al. 2005)")
     if dt_study:
         print(f"\ntime-step study, a = 1: {'steps':>6s} {'h/d0':>7s} {'(d-d0)/d0':>9s} "
-              f"{'|dA|max':>8s}")
+              f"{'|dA|max':>8s} {'KEend/max':>9s}")
         for r in dt_study:
             print(f"{'':22s}{r['steps']:6d} {r['h_inf_over_d0']:7.3f} "
-                  f"{r['runout_over_d0']:9.3f} {r['volume_change_max']:8.2%}")
+                  f"{r['runout_over_d0']:9.3f} {r['volume_change_max']:8.2%} "
+                  f"{r['final_over_peak_kinetic_energy']:9.2e}")
+    if mesh_study:
+        print(f"\nmesh study, a = 1: {'nx':>4s} {'elements':>8s} {'h/d0':>7s} {'(d-d0)/d0':>9s} "
+              f"{'|dA|max':>8s} {'KEend/max':>9s}")
+        for r in mesh_study:
+            print(f"{'':18s}{r['nx']:4d} {r['elements']:8d} {r['h_inf_over_d0']:7.3f} "
+                  f"{r['runout_over_d0']:9.3f} {r['volume_change_max']:8.2%} "
+                  f"{r['final_over_peak_kinetic_energy']:9.2e}")
     report.extra = {"cases": [_summary(r) for r in sweep],
-                    "time_step_study": [_summary(r) for r in dt_study]}
+                    "time_step_study": [_summary(r) for r in dt_study],
+                    "mesh_study": [_summary(r) for r in mesh_study]}
     if not args.no_figures:
-        figures(out, sweep, dt_study)
+        figures(out, sweep, dt_study, mesh_study)
     return report.finish(args)
 
 
@@ -270,7 +288,7 @@ def render_deposits(out, rows):
                        scalars="plastic_strain_increment", window_size=(1000, 500))
 
 
-def figures(out, sweep, dt_study):
+def figures(out, sweep, dt_study, mesh_study=()):
     """Fig 6.12 (snapshots), 6.13 (deposit vs a with the fits), 6.15 (volume change)."""
     import matplotlib
     matplotlib.use("Agg")
@@ -328,7 +346,8 @@ def figures(out, sweep, dt_study):
     plt.close(fig)
     render_deposits(out, rows)
     (out / "summary.json").write_text(json.dumps(
-        {"cases": [_summary(r) for r in sweep], "time_step_study": [_summary(r) for r in dt_study]},
+        {"cases": [_summary(r) for r in sweep], "time_step_study": [_summary(r) for r in dt_study],
+         "mesh_study": [_summary(r) for r in mesh_study]},
         default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
 
 
