@@ -141,3 +141,24 @@ def test_strong_slab_slides_to_newton_through_the_whole_loop():
         state, _ = pfem_step(state, config)
         assert np.allclose(state.v[:, 0], v0 - mu * G * n * dt, rtol=0, atol=1e-6 * v0)
     assert np.abs(state.x[:, 1] - x[:, 1]).max() < 1e-7
+
+
+def test_elastoplastic_column_held_by_its_walls_stays_geostatic():
+    """With E given, (4.23) keeps the C term; a column started in geostatic equilibrium
+    (sy = -rho g (h0 - y), sx = K0 sy, inside the cone) between rough walls stays at rest."""
+    state, config = granular_column(1.0, 6, right_wall=True, E=1e4, nu=0.3)
+    assert config.elastic is not None and state.stress0 is not None
+    state, _ = run(state, config, 3)
+    assert np.max(np.abs(state.v)) < 1e-4 * np.sqrt(G * 1.0)
+    disc = state._last["disc"]
+    y = disc.points[:, 1]
+    sy = -2.0 * G * (1.0 - y)
+    assert np.allclose(state.sigma[:, 1], sy, atol=1e-3 * 2.0 * G)
+    assert np.allclose(state.sigma[:, 0], (1 - np.sin(np.radians(31.0))) * sy,
+                       atol=1e-3 * 2.0 * G)
+
+
+def test_elastoplastic_short_collapse_keeps_its_volume():
+    state = short_collapse(E=1e4, nu=0.3)
+    assert np.abs(state.history["area_change"]).max() < 0.02
+    assert state.x[:, 0].max() > 1.05

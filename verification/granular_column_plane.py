@@ -72,7 +72,8 @@ def lube_lagree(a):
 
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
-             d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb"):
+             d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
+             nu=0.3):
     """One column to t = 4 sqrt(h0/g); returns the measured quantities and what the figures need.
 
     With ``checkpoint_every``, the state is saved to ``checkpoint_dir``/<case>.npz every
@@ -83,7 +84,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     state, config = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
                                     floor_fraction=floor, material=material, remesh=remesh,
                                     passes=passes, alpha=alpha, dt=t_end / steps,
-                                    contact=contact)
+                                    contact=contact, E=E, nu=nu)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -108,7 +109,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     hist = state.history
     ke = np.asarray(hist["kinetic_energy"])
     return {
-        "a": a, "phi": phi, "nx": nx, "steps": steps, "material": material,
+        "a": a, "phi": phi, "nx": nx, "steps": steps, "E": E,
+        "material": material if E is None else f"elastoplastic {material}",
         "h_inf_over_d0": height / d0,
         "runout_over_d0": (toe - d0) / d0,
         "volume_change_max": float(np.max(np.abs(hist["area_change"]))),
@@ -161,6 +163,9 @@ def build_parser():
                    help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
     p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")
+    p.add_argument("--E", type=positive("E"), default=None,
+                   help="Young's modulus [kPa] of an elastoplastic material (default: rigid-plastic)")
+    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio (with --E)")
     p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
     p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--floor", type=positive("floor"), default=0.005,
@@ -193,7 +198,7 @@ def main(argv=None):
     cases = [dict(a=a, nx=args.nx, steps=args.steps, phi=phi, mu=args.mu, g=args.g,
                   rho=args.rho, material=args.material, remesh=args.remesh,
                   passes=args.passes, alpha=args.alpha, floor=args.floor, outdir=vtu_dir,
-                  contact=args.contact,
+                  contact=args.contact, E=args.E, nu=args.nu,
                   save_every=args.save_every, verbose=args.progress,
                   checkpoint_every=args.checkpoint_every, checkpoint_dir=out / "checkpoints")
              for phi in args.phi for a in sorted(args.a)]

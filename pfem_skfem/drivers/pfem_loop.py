@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 from skfem import Basis, ElementTriP1, MeshTri
 
-from ..materials import MohrCoulomb, TrescaField, davis, mohr_coulomb_radius
+from ..materials import Elastic, MohrCoulomb, TrescaField, davis, mohr_coulomb_radius
 from ..operators import body_force_vector, discretise
 from ..pfem import alpha_shape, alpha_mesh, quality_remesh, thin_cloud, adaptive_alpha
 from ..pfem.alpha_shape import triangle_areas
@@ -71,7 +71,9 @@ REMESHERS = ("alpha", "quality")
 class PFEMConfig:
     """Parameters of a PFEM run of a cohesionless or cohesive granular body.
 
-    rho, g : density and gravity (units: t/m3, m/s2 give kPa);  c, phi : Mohr-Coulomb
+    rho, g : density and gravity (units: t/m3, m/s2 give kPa);  E, nu : Young's modulus
+    and Poisson's ratio of an elastoplastic material (E = None: rigid-plastic, C = 0
+    in (4.23));  c, phi : Mohr-Coulomb
     strength (phi in degrees), psi = 0;  material : "tresca-mc" (the scheme of [80])
     or "davis";  passes : solves per step (1 = lagged mean stress only);  floor :
     least cone radius k (a stress);  dt, theta1, theta2 : theta-method (4.4);
@@ -94,6 +96,8 @@ class PFEMConfig:
 
     rho: float = 2.0
     g: float = 9.8
+    E: float = None
+    nu: float = 0.3
     c: float = 0.0
     phi: float = 31.0
     material: str = "tresca-mc"
@@ -137,6 +141,7 @@ class PFEMConfig:
         if int(self.remesh_interval) < 1:
             raise ValueError(f"remesh_interval must be >= 1, got {self.remesh_interval!r}")
         self.theta = ThetaMethod(self.dt, self.theta1, self.theta2)
+        self.elastic = None if self.E is None else Elastic(self.E, self.nu)
 
 
 @dataclass
@@ -149,7 +154,9 @@ class PFEMState:
     of each vertex;  v_dofs : (n_u,) P2 velocities on it;  sigma : (n_points, 4)
     stresses at its stress points;  scales : (3,) the previous step's DynamicScales
     (nan before the first step);  area0 : area of the initial domain;  alpha : the
-    current alpha;  history : dict of per-step lists.
+    current alpha;  history : dict of per-step lists;  stress0 : (n, 4) initial
+    stresses (sx, sy, sz, sxy) at the particles, interpolated to the stress points of
+    the first mesh (None: zero), which an elastoplastic body needs to start in equilibrium.
     """
 
     step: int
@@ -167,6 +174,7 @@ class PFEMState:
     area0: float = np.nan
     alpha: float = np.nan
     history: dict = field(default_factory=dict)
+    stress0: np.ndarray = None
 
 
 # -- initial state ------------------------------------------------------------------------
@@ -191,13 +199,27 @@ def geostatic_mean_stress(x, top, rho, g, k0):
     return 0.5 * (1 + k0) * sv
 
 
-def initial_state(x, h, sigma_m=None):
-    """The state at t = 0: particles at rest with a lagged mean stress (zero by default)."""
+def initial_state(x, h, sigma_m=None, stress=None):
+    """The state at t = 0: particles at rest with a lagged mean stress (zero by default)
+    and, optionally, initial stresses (n, 4) at the particles (zero by default)."""
     x = np.asarray(x, dtype=float)
     n = len(x)
     sm = np.zeros(n) if sigma_m is None else np.asarray(sigma_m, dtype=float)
+    if stress is not None:
+        stress = np.asarray(stress, dtype=float)
+        if stress.shape != (n, 4):
+            raise ValueError(f"stress must have shape ({n}, 4), got {stress.shape}")
     return PFEMState(step=0, time=0.0, x=x.copy(), v=np.zeros((n, 2)),
-                     h=np.broadcast_to(np.asarray(h, float), (n,)).copy(), sigma_m=sm)
+                     h=np.broadcast_to(np.asarray(h, float), (n,)).copy(), sigma_m=sm,
+                     stress0=stress)
+
+
+def geostatic_stress(x, top, rho, g, k0, nu=0.0):
+    """Geostatic stresses (n, 4) (sx, sy, sz, sxy): sy = -rho g (top - y), sx = k0 sy and
+    the plane-strain sz = nu (sx + sy)."""
+    sy = -rho * g * np.clip(top - x[:, 1], 0, None)
+    sx = k0 * sy
+    return np.column_stack([sx, sy, nu * (sx + sy), np.zeros_like(sy)])
 
 
 # -- stages ------------------------------------------------------------------------------
@@ -281,7 +303,11 @@ def map_state(state, pm, disc, mapping="uem_bounded", velocity="projection"):
         v[vd] = state.v[pm.particle]
         a, b = disc.mesh.facets
         v[disc.basis_u.facet_dofs] = 0.5 * (v[vd[a]] + v[vd[b]]).T
-        return v, np.zeros((disc.n_points, 4))
+        sigma = np.zeros((disc.n_points, 4))
+        if state.stress0 is not None:
+            for k in range(4):
+                sigma[:, k] = vertex_to_points(disc, state.stress0[pm.particle, k])
+        return v, sigma
     old = discretise(MeshTri(np.ascontiguousarray(state.mesh_p.T),
                              np.ascontiguousarray(state.mesh_t.T), sort_t=False))
     sigma = map_stress(old, state.sigma, disc, mapping)
@@ -330,6 +356,9 @@ def _adopt_added_nodes(state, pm):
     new.v = np.vstack([state.v, va])
     new.h = np.concatenate([state.h, ha])
     new.sigma_m = np.concatenate([state.sigma_m, sa])
+    if state.stress0 is not None:             # first mesh: nearest particle's initial stress
+        from scipy.spatial import cKDTree
+        new.stress0 = np.vstack([state.stress0, state.stress0[cKDTree(state.x).query(xa)[1]]])
     if state.mesh_particle is not None:
         new.mesh_particle = state.mesh_particle
     return new, ParticleMesh(pm.mesh, particle)
@@ -340,7 +369,7 @@ def assemble(disc, config, search):
 
     Only the rigid bodies with a boundary node within ``search`` take part.
     """
-    ops = dynamic_operators(disc, config.rho, config.theta, elastic=None)
+    ops = dynamic_operators(disc, config.rho, config.theta, elastic=config.elastic)
     f = body_force_vector(disc, (0.0, -config.rho * config.g))
     contacts = None
     if config.bodies:
@@ -599,6 +628,8 @@ def _subset(state, keep):
     new = PFEMState(**{f.name: getattr(state, f.name) for f in fields(PFEMState)})
     new.x, new.v, new.h, new.sigma_m = state.x[keep], state.v[keep], state.h[keep], \
         state.sigma_m[keep]
+    if state.stress0 is not None:
+        new.stress0 = state.stress0[keep]
     if state.mesh_particle is not None:       # old mesh keeps its own vertex data
         index = np.full(len(keep), -1)
         index[keep] = np.arange(int(keep.sum()))
@@ -608,6 +639,7 @@ def _subset(state, keep):
 
 # -- checkpoints -----------------------------------------------------------------------
 _ARRAYS = ("x", "v", "h", "sigma_m", "mesh_p", "mesh_t", "mesh_particle", "v_dofs", "sigma",
+           "stress0",
            "scales")
 
 
@@ -727,7 +759,10 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     config = PFEMConfig(rho=rho, g=g, c=c, phi=phi, floor=floor_fraction * rho * g * h0,
                         bodies=tuple(bodies), **options)
     k0 = 1 - np.sin(np.radians(phi)) if k0 is None else k0
-    state = initial_state(x, h, geostatic_mean_stress(x, h0, rho, g, k0))
+    stress = None
+    if options.get("E") is not None:          # elastoplastic: start in geostatic equilibrium
+        stress = geostatic_stress(x, h0, rho, g, k0, options.get("nu", 0.3))
+    state = initial_state(x, h, geostatic_mean_stress(x, h0, rho, g, k0), stress)
     return state, config
 
 
