@@ -58,7 +58,7 @@ from ..pfem.remesh import ParticleMesh
 from ..problems.conic import SolverError
 from ..problems.contact import boundary_nodes, potential_contacts, with_friction_bound
 from ..problems.particle import free_particles_step
-from ..problems.dynamic import (DynamicScales, ThetaMethod, dynamic_increment, dynamic_operators,
+from ..problems.dynamic import (BACKENDS, DynamicScales, ThetaMethod, dynamic_increment, dynamic_operators,
                                 estimate_scales)
 
 MATERIALS = ("tresca-mc", "davis")
@@ -88,7 +88,9 @@ class PFEMConfig:
     first pass of a step is smooth, each later one bounds the friction by mu times the
     previous pass's normal force, :func:`~pfem_skfem.problems.contact.with_friction_bound`;
     needs passes >= 2) or "coulomb" (the associated cones of (5.12), which lift a
-    sliding node by mu |slip| per step);  bulge : place the boundary
+    sliding node by mu |slip| per step);  backend : "clarabel" (the step assembled
+    directly, :mod:`~pfem_skfem.problems.clarabel_direct`) or "cvxpy" (the reference
+    statement of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`);  bulge : place the boundary
     particles so that the straight-sided boundary keeps the area of the curved P2 one
     (:func:`bulge_correction`);  refine_surface : a boundary edge stretched longer than
     this many h gets its P2 midside node as a new particle (0: never).
@@ -116,6 +118,7 @@ class PFEMConfig:
     bodies: tuple = ()
     search: float = 1.0
     contact: str = "coulomb"
+    backend: str = "clarabel"
     bulge: bool = True
     refine_surface: float = 2.0
 
@@ -130,6 +133,8 @@ class PFEMConfig:
         if self.velocity_mapping not in VELOCITY_MAPPINGS:
             raise ValueError(f"velocity_mapping must be one of {VELOCITY_MAPPINGS}, "
                              f"got {self.velocity_mapping!r}")
+        if self.backend not in BACKENDS:
+            raise ValueError(f"backend must be one of {BACKENDS}, got {self.backend!r}")
         if self.remesh not in REMESHERS:
             raise ValueError(f"remesh must be one of {REMESHERS}, got {self.remesh!r}")
         for name in ("rho", "g", "dt", "alpha", "floor", "search"):
@@ -415,13 +420,14 @@ def solve_step(ops, f, contacts, disc, config, v_dofs, sigma_n, sigma_m_vertices
         crit = criterion_for(config, vertex_to_points(disc, sm_v))
         try:
             inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=step_contacts,
-                                    scaling=scales)
+                                    scaling=scales, backend=config.backend)
         except SolverError as err:
             if err.status != "optimal_inaccurate":
                 raise
             # Clarabel's 'AlmostSolved': accept it, counted in the step record
             inc = dynamic_increment(ops, f, f, sigma_n, v_dofs, crit, contacts=step_contacts,
-                                    scaling=scales, accept_inaccurate=True)
+                                    scaling=scales, accept_inaccurate=True,
+                                    backend=config.backend)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time

@@ -253,11 +253,12 @@ def block_inverse(M, size):
 
 
 D_FORMS = ("quad_form", "cone")
+BACKENDS = ("cvxpy", "clarabel")
 
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
                       prescribed=(), du_prescribed=(), contacts=None, scaling=None,
-                      d_form="quad_form", **solver_settings):
+                      d_form="quad_form", backend="cvxpy", **solver_settings):
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
@@ -287,6 +288,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         :func:`estimate_scales`. Pass the previous step's ``scales`` when stepping.
     d_form : "quad_form" (r'^T D r' as a quadratic objective, cvxpy ``quad_form``) or
         "cone" (one rotated second-order cone per element through D = G^T G, App A).
+    backend : "cvxpy" (the statement above, the reference) or "clarabel" (the same
+        scaled problem assembled in Clarabel's standard form by
+        :mod:`~pfem_skfem.problems.clarabel_direct`, without cvxpy's compile step;
+        ``d_form="quad_form"`` only).
 
     Returns
     -------
@@ -294,6 +299,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     """
     if d_form not in D_FORMS:
         raise ValueError(f"d_form must be one of {D_FORMS}, got {d_form!r}")
+    if backend not in BACKENDS:
+        raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
+    if backend == "clarabel" and (d_form != "quad_form" or criterion is None):
+        raise ValueError("backend='clarabel' supports d_form='quad_form' with a yield criterion")
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
     th = ops.theta
@@ -324,6 +333,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     v_h = v_n * th.dt / u_ref
     u_P = du_P / u_ref
 
+    if backend == "clarabel":
+        return _direct_increment(ops, sc, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P,
+                                 free, P, du_P, f, v_n, kappa, kappa_C, d_ref, c_ref, length,
+                                 force, solver_settings)
     S = cp.Variable((n, 4))                      # sigma_{n+1} / stress, one row per point
     s = cp.vec(S, order="C")                     # point-major as (3.28)
     q = cp.Variable(A.shape[0])                  # r' / r_ref, element-major (12 per element)
@@ -381,3 +394,46 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
     return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
                             scales, p_c, q_c)
+
+
+def _direct_increment(ops, sc, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, du_P,
+                      f, v_n, kappa, kappa_C, d_ref, c_ref, length, force, solver_settings):
+    """The step of :func:`dynamic_increment` solved by the direct Clarabel assembly."""
+    from .clarabel_direct import solve_dynamic_step
+    from .contact import contact_matrix
+
+    th = ops.theta
+    stress, u_ref, r_ref = sc.stress, sc.displacement, sc.dynamic_force
+    n_u = Bh.shape[1]
+    n = Bh.shape[0] // 4
+    contact = None
+    if contacts is not None:
+        bound = contacts.friction_bound
+        contact = {"G": contact_matrix(contacts, n_u), "gap": contacts.gap / u_ref,
+                   "mu": contacts.mu,
+                   "bound": None if bound is None else np.asarray(bound) / (force * th.theta1)}
+    out = solve_dynamic_step(
+        Bh=Bh, Ah=Ah, Dh=(ops.D / d_ref).tocsr(),
+        Ch=None if ops.C is None else (ops.C / c_ref).tocsr(), kappa=kappa, kappa_C=kappa_C,
+        s_n=s_n, v_h=v_h, f_h=f_h, free=free, P=P, u_P=u_P,
+        criterion=criterion.scaled(stress), contact=contact, **solver_settings)
+    sigma = out["s"].reshape(n, 4) * stress
+    r = out["q"] * r_ref
+    du = np.zeros(n_u)
+    du[free] = -out["du_scaled"] * u_ref
+    du[P] = du_P
+    reactions = ops.B.T @ sigma.ravel() + ops.A.T @ r - f
+    p_c = q_c = np.zeros(0)
+    if contacts is not None:
+        p_c, q_c = out["p"] * force, out["qc"] * force
+        reactions -= contact["G"] @ np.concatenate([p_c, q_c])
+        p_c, q_c = th.theta1 * p_c, th.theta1 * q_c
+    reactions[free] = 0.0
+    multiplier = out["multiplier_scaled"] * length * u_ref
+    u_max, r_max = np.abs(du).max(), np.abs(r).max()
+    scales = DynamicScales(
+        stress=sc.stress,
+        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
+        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
+    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier,
+                            out["info"], scales, p_c, q_c)

@@ -1,0 +1,168 @@
+"""The dynamic step (4.23) with contact (5.12) handed to Clarabel directly.
+
+:func:`~pfem_skfem.problems.dynamic.dynamic_increment` states the step in cvxpy,
+the readable reference. cvxpy then spends a noticeable part of a PFEM step
+compiling it (measured in ``benchmarks/pfem_step.py``), so this module writes the
+same scaled problem in Clarabel's standard form
+
+    minimise  1/2 x^T P x + c^T x   subject to  A x + s = b,  s in K
+
+with x = (sigma / stress, r' / r_ref, p, q) and K = {0}^(free dofs [+ smooth
+contacts]) x R+^(contacts) x SOC(m)^(stress points) x SOC(2)^(rough contacts):
+
+* P = blockdiag(kappa_C C^, kappa D^, 0, 0) and c the linear terms of the objective
+  (the sign flipped: Clarabel minimises);
+* the zero cone is equilibrium B_F^T sigma + A_F^T r' - G_F (p, q) = f'_F;
+* each yield cone rho_j = D_j sigma_j + d_j (the criterion's ``cone_vector``, affine,
+  read off numerically) is s = b - A x with A = -D_j, b = d_j;
+* |q_j| <= mu_j p_j is (mu_j p_j, q_j) in SOC(2); a friction bound k_j gives (k_j, q_j).
+
+Clarabel's dual of the equality rows is the multiplier of equilibrium; the displacement
+increment is du_F = -z_eq x displacement scale (the sign fixed by the test against the
+cvxpy statement, tests/test_dynamics.py). The yield multipliers are the first
+component of each cone's dual.
+"""
+import time
+
+import clarabel
+import numpy as np
+import scipy.sparse as sp
+
+from .conic import SolverError, SolveInfo
+
+_STATUS = {"Solved": "optimal", "AlmostSolved": "optimal_inaccurate",
+           "PrimalInfeasible": "infeasible", "AlmostPrimalInfeasible": "infeasible_inaccurate",
+           "DualInfeasible": "unbounded", "AlmostDualInfeasible": "unbounded_inaccurate"}
+_HINTS = {"infeasible": "no admissible stress field equilibrates the loads",
+          "unbounded": "the objective is unbounded (a mechanism with no resistance)",
+          "optimal_inaccurate": "the solver stopped short of its tolerances"}
+
+
+def cone_matrices(criterion, n):
+    """The affine cone map of a yield criterion at n points: D (n, m, 4), d (n, m).
+
+    rho_j = D_j sigma_j + d_j with rho_1 >= ||rho_2..m|| (the criterion's
+    ``cone_vector``, evaluated at zero and at the four unit stresses).
+    """
+    zero = np.zeros(n)
+
+    def rho(*s):
+        t, X = criterion.cone_vector(*s)
+        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in [t, *X]],
+                        axis=1)
+
+    d = rho(zero, zero, zero, zero)
+    columns = []
+    for k in range(4):
+        unit = [zero] * 4
+        unit[k] = np.ones(n)
+        columns.append(rho(*unit) - d)
+    return np.stack(columns, axis=2), d
+
+
+def _yield_block(criterion, n):
+    """Rows of A and b for the yield cones, one SOC(m) per stress point (point-major x)."""
+    D, d = cone_matrices(criterion, n)
+    m = D.shape[1]
+    rows = (np.arange(n)[:, None, None] * m + np.arange(m)[None, :, None]).repeat(4, axis=2)
+    cols = (np.arange(n)[:, None, None] * 4 + np.arange(4)[None, None, :]).repeat(m, axis=1)
+    A = sp.csr_matrix((-D.ravel(), (rows.ravel(), cols.ravel())), shape=(n * m, 4 * n))
+    return A, d.ravel(), m
+
+
+def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P, u_P,
+                       criterion, contact=None, what="dynamic step (4.23)",
+                       accept_inaccurate=False, **settings):
+    """Solve the scaled step of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
+
+    Arguments are the scaled data of that function (Bh (4n, n_u), Ah (n_r, n_u), Dh, Ch
+    or None, the weights kappa, kappa_C, s_n, v_h, f_h, the free and prescribed dofs and
+    u_P); ``criterion`` is already scaled; ``contact`` is None or a dict with G (n_u, 2 nc),
+    gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None.
+
+    Returns dict(s, q, p, qc, du_scaled, multiplier_scaled, info).
+    """
+    t0 = time.perf_counter()
+    n = Bh.shape[0] // 4
+    n_r = Ah.shape[0]
+    nc = 0 if contact is None else contact["G"].shape[1] // 2
+    n_x = 4 * n + n_r + 2 * nc
+    sl_s, sl_q = slice(0, 4 * n), slice(4 * n, 4 * n + n_r)
+    sl_p, sl_c = slice(4 * n + n_r, 4 * n + n_r + nc), slice(4 * n + n_r + nc, n_x)
+
+    # objective: -J = 1/2 kappa q^T D q + (A v)^T q [+ kappa_C (1/2 s^T C s - (C s_n)^T s)]
+    #               + g0^T p - u_P^T (internal_P - f_P)
+    blocks = [kappa_C * Ch if Ch is not None else sp.csr_matrix((4 * n, 4 * n)),
+              kappa * Dh, sp.csr_matrix((2 * nc, 2 * nc))]
+    Pmat = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
+    c = np.zeros(n_x)
+    c[sl_q] = Ah @ v_h
+    if Ch is not None:
+        c[sl_s] -= kappa_C * (Ch @ s_n)
+    # internal forces: K x with K = [B^T, A^T, -G]
+    parts = [Bh.T, Ah.T]
+    if nc:
+        parts.append(-contact["G"])
+        c[sl_p] = contact["gap"]
+    K = sp.hstack(parts, format="csr")
+    if P.size:
+        c -= K[P].T @ u_P
+
+    rows_A, rows_b, cones = [K[free]], [f_h[free]], [clarabel.ZeroConeT(free.size)]
+    if nc:
+        mu, bound = contact["mu"], contact["bound"]
+        tangential = sp.csr_matrix((np.ones(nc), (np.arange(nc), 4 * n + n_r + nc
+                                                   + np.arange(nc))), shape=(nc, n_x))
+        normal = sp.csr_matrix((np.ones(nc), (np.arange(nc), 4 * n + n_r + np.arange(nc))),
+                               shape=(nc, n_x))
+        k = mu if bound is None else bound
+        smooth = np.flatnonzero(k <= 0)
+        rough = np.flatnonzero(k > 0)
+        if smooth.size:                                    # q_j = 0
+            rows_A.append(tangential[smooth])
+            rows_b.append(np.zeros(smooth.size))
+            cones[0] = clarabel.ZeroConeT(free.size + smooth.size)
+        rows_A.append(-normal)                             # p_j >= 0
+        rows_b.append(np.zeros(nc))
+        cones.append(clarabel.NonnegativeConeT(nc))
+    A_yield, b_yield, m = _yield_block(criterion, n)
+    rows_A.append(sp.hstack([A_yield, sp.csr_matrix((A_yield.shape[0], n_x - 4 * n))]))
+    rows_b.append(b_yield)
+    cones += [clarabel.SecondOrderConeT(m)] * n
+    if nc and rough.size:                                  # (mu p_j or k_j, q_j) in SOC(2)
+        i = np.arange(rough.size)
+        r, col, val = 2 * i + 1, sl_c.start + rough, -np.ones(rough.size)
+        b_pairs = np.zeros(2 * rough.size)
+        if bound is None:                                  # -(mu_j p_j) in the first row
+            r = np.concatenate([r, 2 * i])
+            col = np.concatenate([col, sl_p.start + rough])
+            val = np.concatenate([val, -mu[rough]])
+        else:
+            b_pairs[2 * i] = bound[rough]
+        rows_A.append(sp.csr_matrix((val, (r, col)), shape=(2 * rough.size, n_x)))
+        rows_b.append(b_pairs)
+        cones += [clarabel.SecondOrderConeT(2)] * rough.size
+    Amat = sp.vstack(rows_A, format="csc")
+    b = np.concatenate(rows_b)
+
+    opts = clarabel.DefaultSettings()
+    opts.verbose = False
+    opts.direct_solve_method = "qdldl"
+    for key, value in settings.items():
+        setattr(opts, key, value)
+    solver = clarabel.DefaultSolver(Pmat, c, Amat, b, cones, opts)
+    build = time.perf_counter() - t0
+    sol = solver.solve()
+    status = _STATUS.get(str(sol.status), str(sol.status))
+    ok = {"optimal"} | ({"optimal_inaccurate"} if accept_inaccurate else set())
+    if status not in ok:
+        hint = _HINTS.get(status, "")
+        raise SolverError(f"{what}: solver status '{status}'" + (f": {hint}" if hint else ""),
+                          status)
+    x, z = np.asarray(sol.x), np.asarray(sol.z)
+    start = free.size + (smooth.size if nc else 0) + nc
+    info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
+                     solve_time=float(sol.solve_time), objective=-float(sol.obj_val))
+    return {"s": x[sl_s], "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
+            "du_scaled": z[:free.size], "multiplier_scaled": z[start:start + n * m:m],
+            "info": info}
