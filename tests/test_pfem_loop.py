@@ -182,3 +182,32 @@ def test_backends_give_the_same_collapse():
     assert motion > 0.01
     assert np.abs(a.x - b.x).max() < 1e-2 * motion
     assert np.abs(a.v - b.v).max() < 1e-2 * np.abs(a.v).max()
+
+
+def test_old_discretisation_leaves_out_collapsed_triangles_and_keeps_the_field():
+    """A moved mesh with a collapsed triangle: the map source drops it and carries the P2
+    field (checked against the function at every dof location) and the other stresses."""
+    from skfem import MeshTri
+    from pfem_skfem.drivers.pfem_loop import PFEMState, old_discretisation
+    mesh = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 4))
+    p, t = mesh.p.T, mesh.t.T
+    # a collapsed triangle on the bottom edge: (a, b, midpoint of ab)
+    bottom = [f for f in mesh.facets.T if np.allclose(p[f, 1], 0.0)]
+    a, b = bottom[0]
+    p = np.vstack([p, 0.5 * (p[a] + p[b])])
+    t = np.vstack([t, [a, b, len(p) - 1]])
+    full = MeshTri(p.T, t.T, sort_t=False)
+    fn = lambda x: np.stack([x[:, 0] ** 2 + x[:, 1], x[:, 0] * x[:, 1]], axis=1)  # noqa: E731
+    nv, nf = full.nvertices, full.facets.shape[1]
+    v = np.zeros(2 * nv + 2 * nf)               # scikit-fem P2 vector numbering
+    v[:2 * nv] = fn(p).ravel()
+    v[2 * nv:] = fn(p[full.facets].mean(axis=0)).ravel()
+    sigma = np.arange(3 * len(t) * 4, dtype=float).reshape(-1, 4)
+    state = PFEMState(step=1, time=0.0, x=p, v=np.zeros_like(p), h=np.ones(nv),
+                      sigma_m=np.zeros(nv), mesh_p=p, mesh_t=t, v_dofs=v, sigma=sigma)
+    old, v_old, s_old = old_discretisation(state)
+    assert old.mesh.nelements == len(t) - 1
+    assert np.allclose(s_old, sigma[:-3])
+    x = old.basis_u.doflocs.T
+    expected = np.where(np.arange(old.n_u) % 2 == 0, x[:, 0] ** 2 + x[:, 1], x[:, 0] * x[:, 1])
+    assert np.allclose(v_old, expected)

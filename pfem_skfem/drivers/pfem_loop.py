@@ -298,6 +298,43 @@ def vertex_dofs(disc):
     return disc.basis_u.nodal_dofs.T
 
 
+def _collapsed(p, t):
+    """Triangles of zero area relative to their size (as :func:`~pfem_skfem.operators.check_mesh`)."""
+    v = p[t]
+    e = v[:, [1, 2, 0]] - v
+    twice_area = np.abs(e[:, 0, 0] * e[:, 2, 1] - e[:, 0, 1] * e[:, 2, 0])
+    return twice_area <= 1e-10 * np.max(np.sum(e ** 2, axis=2), axis=1)
+
+
+def old_discretisation(state):
+    """The last mesh, moved to t_n, with its P2 velocities and stresses: the source of a map.
+
+    A step may collapse a triangle of the moved mesh (zero area); it is left out, its
+    values living on in its neighbours (vertex and midside dofs are shared), so that the
+    map sees a valid mesh. Returns (Discretisation, v_dofs, sigma).
+    """
+    p, t = state.mesh_p, state.mesh_t
+    bad = _collapsed(p, t)
+    if not bad.any():
+        disc = discretise(MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T),
+                                  sort_t=False))
+        return disc, state.v_dofs, state.sigma
+    full = MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T), sort_t=False)
+    disc = discretise(MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t[~bad].T),
+                              sort_t=False))
+    # P2 vector dofs (scikit-fem): vertex v -> 2v + c, facet f -> 2 nv + 2f + c, with
+    # nv = mesh.nvertices (the largest vertex index in t, plus one)
+    nv, nv_red = full.nvertices, disc.mesh.nvertices
+    key = lambda f: f[0] * nv + f[1]                       # noqa: E731 (facets are sorted)
+    index = dict(zip(key(full.facets), range(full.facets.shape[1])))
+    f_full = np.array([index[k] for k in key(disc.mesh.facets)])
+    v = np.zeros(disc.n_u)
+    v[disc.basis_u.nodal_dofs] = state.v_dofs[np.arange(2 * nv_red).reshape(nv_red, 2).T]
+    v[disc.basis_u.facet_dofs] = state.v_dofs[2 * nv + 2 * f_full + np.arange(2)[:, None]]
+    sigma = state.sigma.reshape(-1, 3, 4)[~bad].reshape(-1, 4)
+    return disc, v, sigma
+
+
 def map_state(state, pm, disc, mapping="uem_bounded", velocity="projection"):
     """Step 1c: velocities, stresses and the lagged mean stress on the new mesh.
 
@@ -324,13 +361,12 @@ def map_state(state, pm, disc, mapping="uem_bounded", velocity="projection"):
             for k in range(4):
                 sigma[:, k] = vertex_to_points(disc, state.stress0[pm.particle, k])
         return v, sigma
-    old = discretise(MeshTri(np.ascontiguousarray(state.mesh_p.T),
-                             np.ascontiguousarray(state.mesh_t.T), sort_t=False))
-    sigma = map_stress(old, state.sigma, disc, mapping)
+    old, v_old, sigma_old = old_discretisation(state)
+    sigma = map_stress(old, sigma_old, disc, mapping)
     if velocity == "projection":
-        return project_nodal(old.basis_u, state.v_dofs, disc.basis_u,
+        return project_nodal(old.basis_u, v_old, disc.basis_u,
                              vertex_values=state.v[pm.particle]), sigma
-    v = map_nodal(old.basis_u, state.v_dofs, disc.basis_u)
+    v = map_nodal(old.basis_u, v_old, disc.basis_u)
     v[vd] = state.v[pm.particle]
     # a midside node outside the old mesh would take the old quadratic extrapolated, which
     # can be far off near the free surface (measured: a splashing element thrown at 15 m/s);
@@ -353,11 +389,9 @@ def _adopt_added_nodes(state, pm):
     if state.mesh_p is None:
         va, sa = np.zeros((len(xa), 2)), np.zeros(len(xa))
     else:
-        old = MeshTri(np.ascontiguousarray(state.mesh_p.T), np.ascontiguousarray(state.mesh_t.T),
-                      sort_t=False)
-        old_disc = discretise(old)
-        va = interpolate(old_disc.basis_u, state.v_dofs, xa).T
-        p1 = Basis(old, ElementTriP1())
+        old_disc, v_old, _ = old_discretisation(state)
+        va = interpolate(old_disc.basis_u, v_old, xa).T
+        p1 = Basis(old_disc.mesh, ElementTriP1())
         mp = state.mesh_particle                  # -1: a particle thinned away since
         vals = state.sigma_m[np.maximum(mp, 0)]
         if (mp < 0).any():
