@@ -39,6 +39,7 @@ Measured: a body in free fall then falls g dt^2 (N(N-1)/2 + N theta2) in N steps
 to round-off with either material model (tests/test_dynamics.py).
 """
 from dataclasses import dataclass
+from functools import cached_property
 
 import cvxpy as cp
 import numpy as np
@@ -103,24 +104,35 @@ class DynamicOperators:
     """Matrices of (4.20)-(4.21) for one mesh, density and theta-method.
 
     B (3.41), C (3.43; None for a rigid-plastic material), A and D (4.21),
-    G with D = G^T G (block upper-triangular, for the cone form of the r^T D r term),
-    M the consistent mass int rho N_u^T N_u (for energies and the velocity term);
-    derived: K = B^T C^-1 B (the elastic stiffness), C_inverse, D_inverse.
+    M the consistent mass int rho N_u^T N_u (for energies and the velocity term),
+    basis_r the basis of r; derived on first use: G with D = G^T G (block
+    upper-triangular, for the cone form of the r^T D r term), K = B^T C^-1 B (the
+    elastic stiffness), C_inverse, D_inverse (for the elastic predictor).
     """
 
     B: object
     C: object
     A: object
     D: object
-    G: object
     M: object
     theta: ThetaMethod
+    basis_r: object = None
 
-    def __post_init__(self):
-        # inverses used by the elastic predictor of estimate_scales (both block-diagonal)
-        self.D_inverse = block_inverse_elements(self.D)
-        self.C_inverse = None if self.C is None else block_inverse(self.C, 4)
-        self.K = None if self.C is None else (self.B.T @ self.C_inverse @ self.B).tocsr()
+    @cached_property
+    def G(self):
+        return block_cholesky(self.D, self.basis_r)
+
+    @cached_property
+    def D_inverse(self):
+        return block_inverse_elements(self.D)
+
+    @cached_property
+    def C_inverse(self):
+        return None if self.C is None else block_inverse(self.C, 4)
+
+    @cached_property
+    def K(self):
+        return None if self.C is None else (self.B.T @ self.C_inverse @ self.B).tocsr()
 
     @property
     def M_tilde(self):
@@ -129,7 +141,7 @@ class DynamicOperators:
 
 
 def dynamic_operators(disc, rho, theta, elastic=None):
-    """Assemble B, C, A, D, G and M for (4.23).
+    """Assemble B, C, A, D and M for (4.23) (G, K and the inverses follow on first use).
 
     Parameters
     ----------
@@ -143,8 +155,8 @@ def dynamic_operators(disc, rho, theta, elastic=None):
     D = assemble_D(disc, theta.rho_tilde(rho_e), basis_r)
     return DynamicOperators(B=assemble_B(disc),
                             C=None if elastic is None else assemble_C(disc, elastic),
-                            A=assemble_A(disc, basis_r), D=D, G=block_cholesky(D, basis_r),
-                            M=mass_matrix(disc, rho_e), theta=theta)
+                            A=assemble_A(disc, basis_r), D=D,
+                            M=mass_matrix(disc, rho_e), theta=theta, basis_r=basis_r)
 
 
 @dataclass
