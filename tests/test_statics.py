@@ -304,3 +304,12 @@ def test_prescribed_dofs_in_any_order_keep_their_values():
     b = static_increment(B, C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), Tresca(10.0), **kw)
     assert np.allclose(a.du, b.du, rtol=1e-8, atol=1e-12)
     assert np.allclose(a.du[P], values)
+
+
+def test_solver_error_survives_pickling():
+    """A SolverError raised in a worker process (parallel sweeps) reaches the parent intact."""
+    import pickle
+    from pfem_skfem.problems.conic import SolverError
+    err = pickle.loads(pickle.dumps(SolverError("step: solver status 'infeasible'", "infeasible")))
+    assert isinstance(err, SolverError) and err.status == "infeasible"
+    assert "infeasible" in str(err)

@@ -24,6 +24,9 @@ class SolverError(RuntimeError):
         self.status = status
         self.sigma = None  # the near-solution's stresses, when a problem attaches them
 
+    def __reduce__(self):          # picklable, so a worker process can report it
+        return (SolverError, (str(self), self.status))
+
 
 @dataclass
 class SolveInfo:
