@@ -55,7 +55,6 @@ dissipates energy that the film otherwise keeps.
 from dataclasses import dataclass, field, fields
 import json
 import time as _time
-from pathlib import Path
 
 import numpy as np
 from skfem import Basis, ElementTriP1, MeshTri
@@ -66,7 +65,6 @@ from ..pfem import alpha_shape, alpha_mesh, quality_remesh, thin_cloud, adaptive
 from ..pfem.alpha_shape import triangle_areas
 from ..pfem.mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from ..pfem.remesh import ParticleMesh
-from ..problems.conic import SolverError
 from ..problems.contact import boundary_nodes, potential_contacts, with_friction_bound
 from ..problems.particle import free_particles_step
 from ..problems.dynamic import (BACKENDS, DynamicScales, ThetaMethod, dynamic_increment, dynamic_operators,

@@ -18,10 +18,10 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
 
-Clarabel's dual of the equality rows is the multiplier of equilibrium; the displacement
-increment is du_F = -z_eq x displacement scale (the sign fixed by the test against the
-cvxpy statement, tests/test_dynamics.py). The yield multipliers are the first
-component of each cone's dual.
+Clarabel's dual z of the equality rows has the sign of cvxpy's dual of the same
+equality, so the displacement increment is du_F = -z_eq x displacement scale (checked
+against the cvxpy statement, tests/test_clarabel_direct.py). The yield multipliers are
+the first component of each cone's dual.
 """
 import time
 
@@ -81,7 +81,9 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     u_P); ``criterion`` is already scaled; ``contact`` is None or a dict with G (n_u, 2 nc),
     gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None.
 
-    Returns dict(s, q, p, qc, du_scaled, multiplier_scaled, info).
+    Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
+    the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
+    sign of cvxpy's dual) and of the first component of each yield cone.
     """
     t0 = time.perf_counter()
     n = Bh.shape[0] // 4
@@ -169,5 +171,5 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
                      solve_time=wall, objective=-float(sol.obj_val))
     return {"s": x[sl_s], "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
-            "du_scaled": z[:free.size], "multiplier_scaled": z[start:start + n * m:m],
+            "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n * m:m],
             "info": info}

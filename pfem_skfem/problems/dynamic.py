@@ -49,7 +49,7 @@ from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
 from .conic import SolveInfo, prescribed_values, solve, split_dofs
-from .contact import contact_terms
+from .contact import contact_matrix, contact_terms
 
 
 @dataclass(frozen=True)
@@ -345,31 +345,70 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     v_h = v_n * th.dt / u_ref
     u_P = du_P / u_ref
 
-    if backend == "clarabel":
-        return _direct_increment(ops, sc, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P,
-                                 free, P, du_P, f, v_n, kappa, kappa_C, d_ref, c_ref, length,
-                                 force, solver_settings)
+    if backend == "clarabel":                    # the same problem, assembled directly
+        sol = _solve_direct(ops, criterion.scaled(stress), contacts, Bh, Ah, f_h, s_n, v_h,
+                            u_P, free, P, kappa, kappa_C, d_ref, c_ref, u_ref,
+                            force * th.theta1, solver_settings)
+    else:
+        sol = _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free,
+                           P, kappa, kappa_C, d_ref, c_ref, u_ref, force * th.theta1, d_form,
+                           solver_settings)
+
+    sigma = sol["s"].reshape(n, 4) * stress
+    r = sol["q"] * r_ref
+    du = np.zeros(n_u)
+    du[free] = -sol["dual_equilibrium"] * u_ref
+    du[P] = du_P
+    reactions = B.T @ sigma.ravel() + A.T @ r - f
+    p_c = q_c = np.zeros(0)
+    if contacts is not None:
+        p_c, q_c = sol["p"] * force, sol["qc"] * force
+        reactions -= contact_matrix(contacts, n_u) @ np.concatenate([p_c, q_c])
+        p_c, q_c = th.theta1 * p_c, th.theta1 * q_c       # forces of the momentum balance
+    reactions[free] = 0.0
+    multiplier = (sol["dual_yield"] * length * u_ref if criterion is not None
+                  else np.zeros(n))
+    info = sol["info"]
+    s_max, u_max, r_max = np.abs(sigma).max(), np.abs(du).max(), np.abs(r).max()
+    scales = DynamicScales(                     # keep the old scale where the field vanished
+        stress=sc.stress if criterion is not None or s_max < 1e-9 * sc.stress else s_max,
+        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
+        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
+    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
+                            scales, p_c, q_c)
+
+
+
+def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, kappa,
+                 kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings):
+    """The scaled step of :func:`dynamic_increment` stated in cvxpy (the reference).
+
+    Returns the scaled solution: s, q (r'), p, qc (contact forces, or None), the dual of
+    the equality on the free dofs and of the yield cones, and the solver report.
+    """
+    n, n_u = Bh.shape[0] // 4, Bh.shape[1]
+    n_r = Ah.shape[0]
     S = cp.Variable((n, 4))                      # sigma_{n+1} / stress, one row per point
     s = cp.vec(S, order="C")                     # point-major as (3.28)
-    q = cp.Variable(A.shape[0])                  # r' / r_ref, element-major (12 per element)
+    q = cp.Variable(n_r)                         # r' / r_ref, element-major (12 per element)
     constraints = []
     # -1/2 dt^2 r'^T D r' - dt v_n^T A^T r'   (in units of j_ref)
     if d_form == "quad_form":
-        inertia_term = 0.5 * kappa * cp.quad_form(q, cp.psd_wrap((D / d_ref).tocsr()))
+        inertia_term = 0.5 * kappa * cp.quad_form(q, cp.psd_wrap((ops.D / d_ref).tocsr()))
     else:                                        # sum_e |G_e q_e|^2 <= 2 sum_e t_e (A.4)-(A.8)
-        W = cp.reshape((ops.G / np.sqrt(d_ref)) @ q, (A.shape[0] // 12, 12), order="C")
-        t = cp.Variable(A.shape[0] // 12)
+        W = cp.reshape((ops.G / np.sqrt(d_ref)) @ q, (n_r // 12, 12), order="C")
+        t = cp.Variable(n_r // 12)
         rest = cp.reshape(2 * t - 1, (-1, 1), order="C")
         constraints.append(cp.SOC(2 * t + 1, cp.hstack([2 * W, rest]), axis=1))
         inertia_term = kappa * cp.sum(t)
     objective_terms = -inertia_term - (Ah @ v_h) @ q
-    if C is not None:                            # -1/2 ds^T C ds, C scaled by c_ref
-        Ch = (C / c_ref).tocsr()
+    if ops.C is not None:                        # -1/2 ds^T C ds, C scaled by c_ref
+        Ch = (ops.C / c_ref).tocsr()
         objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
     internal = Bh.T @ s + Ah.T @ q               # B^T sigma + A^T r
     if contacts is not None:                     # + E^T rho = - G (p, q)   (5.12)
         # a friction bound is a force of the momentum balance (theta1 x the variable)
-        ct = contact_terms(contacts, n_u, length_scale=u_ref, force_scale=force * th.theta1)
+        ct = contact_terms(contacts, n_u, length_scale=u_ref, force_scale=contact_force)
         internal = internal - ct.force()
         objective_terms += ct.objective          # - sum g0_j p_j
         constraints += ct.constraints            # |q_j| <= mu_j p_j
@@ -382,70 +421,32 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         constraints.append(yield_cone)
     problem = cp.Problem(cp.Maximize(objective_terms), constraints)
     info = solve(problem, what="dynamic step (4.23)", **solver_settings)
-
-    sigma = S.value * stress
-    r = q.value * r_ref
-    du = np.zeros(n_u)
-    du[free] = -equilibrium.dual_value * u_ref
-    du[P] = du_P
-    reactions = B.T @ sigma.ravel() + A.T @ r - f
-    p_c = q_c = np.zeros(0)
-    if contacts is not None:
-        p_c, q_c = ct.p.value * force, ct.q.value * force
-        reactions -= ct.G @ np.concatenate([p_c, q_c])
-        p_c, q_c = th.theta1 * p_c, th.theta1 * q_c       # forces of the momentum balance
-    reactions[free] = 0.0
-    if criterion is not None:
-        multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * length * u_ref
-    else:
-        multiplier = np.zeros(n)
-    s_max, u_max, r_max = np.abs(sigma).max(), np.abs(du).max(), np.abs(r).max()
-    scales = DynamicScales(                     # keep the old scale where the field vanished
-        stress=sc.stress if criterion is not None or s_max < 1e-9 * sc.stress else s_max,
-        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
-        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
-    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier, info,
-                            scales, p_c, q_c)
+    # cvxpy's dual of an equality in a maximisation is minus its multiplier
+    return {"s": S.value.ravel(), "q": q.value,
+            "p": None if contacts is None else ct.p.value,
+            "qc": None if contacts is None else ct.q.value,
+            "dual_equilibrium": equilibrium.dual_value,
+            "dual_yield": (np.asarray(yield_cone.dual_value[0]).ravel()
+                           if criterion is not None else None),
+            "info": info}
 
 
-def _direct_increment(ops, sc, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, du_P,
-                      f, v_n, kappa, kappa_C, d_ref, c_ref, length, force, solver_settings):
-    """The step of :func:`dynamic_increment` solved by the direct Clarabel assembly."""
+def _solve_direct(ops, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, kappa, kappa_C,
+                  d_ref, c_ref, u_ref, contact_force, solver_settings):
+    """The same scaled step assembled for Clarabel (:mod:`.clarabel_direct`); same returns."""
     from .clarabel_direct import solve_dynamic_step
-    from .contact import contact_matrix
 
-    th = ops.theta
-    stress, u_ref, r_ref = sc.stress, sc.displacement, sc.dynamic_force
-    n_u = Bh.shape[1]
-    n = Bh.shape[0] // 4
     contact = None
     if contacts is not None:
         bound = contacts.friction_bound
-        contact = {"G": contact_matrix(contacts, n_u), "gap": contacts.gap / u_ref,
+        contact = {"G": contact_matrix(contacts, Bh.shape[1]), "gap": contacts.gap / u_ref,
                    "mu": contacts.mu,
-                   "bound": None if bound is None else np.asarray(bound) / (force * th.theta1)}
+                   "bound": None if bound is None else np.asarray(bound) / contact_force}
     out = solve_dynamic_step(
         Bh=Bh, Ah=Ah, Dh=(ops.D / d_ref).tocsr(),
         Ch=None if ops.C is None else (ops.C / c_ref).tocsr(), kappa=kappa, kappa_C=kappa_C,
-        s_n=s_n, v_h=v_h, f_h=f_h, free=free, P=P, u_P=u_P,
-        criterion=criterion.scaled(stress), contact=contact, **solver_settings)
-    sigma = out["s"].reshape(n, 4) * stress
-    r = out["q"] * r_ref
-    du = np.zeros(n_u)
-    du[free] = -out["du_scaled"] * u_ref
-    du[P] = du_P
-    reactions = ops.B.T @ sigma.ravel() + ops.A.T @ r - f
-    p_c = q_c = np.zeros(0)
-    if contacts is not None:
-        p_c, q_c = out["p"] * force, out["qc"] * force
-        reactions -= contact["G"] @ np.concatenate([p_c, q_c])
-        p_c, q_c = th.theta1 * p_c, th.theta1 * q_c
-    reactions[free] = 0.0
-    multiplier = out["multiplier_scaled"] * length * u_ref
-    u_max, r_max = np.abs(du).max(), np.abs(r).max()
-    scales = DynamicScales(
-        stress=sc.stress,
-        displacement=u_max if u_max > 1e-9 * sc.displacement else sc.displacement,
-        dynamic_force=r_max if r_max > 1e-9 * sc.dynamic_force else sc.dynamic_force)
-    return DynamicIncrement(sigma, du, th.velocity(du, v_n), r, reactions, multiplier,
-                            out["info"], scales, p_c, q_c)
+        s_n=s_n, v_h=v_h, f_h=f_h, free=free, P=P, u_P=u_P, criterion=criterion,
+        contact=contact, **solver_settings)
+    return {"s": out["s"], "q": out["q"], "p": out["p"], "qc": out["qc"],
+            "dual_equilibrium": out["dual_equilibrium"], "dual_yield": out["dual_yield"],
+            "info": out["info"]}
