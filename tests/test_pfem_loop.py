@@ -79,6 +79,16 @@ def test_smoothed_mean_stress_is_exact_for_a_constant_field():
     np.testing.assert_allclose(smoothed_mean_stress(disc, sigma), -2.0, rtol=1e-12)
 
 
+def test_initial_state_rejects_bad_clouds():
+    from pfem_skfem.drivers.pfem_loop import initial_state
+    with pytest.raises(ValueError, match="empty"):
+        initial_state(np.empty((0, 2)), 0.1)
+    with pytest.raises(ValueError, match="spacing"):
+        initial_state([[0.0, 0.0], [1.0, 0.0]], -1.0)
+    with pytest.raises(ValueError, match="stress"):
+        initial_state([[0.0, 0.0], [1.0, 0.0]], 0.5, stress=np.zeros((3, 4)))
+
+
 def test_config_rejects_bad_values():
     with pytest.raises(ValueError, match="material"):
         PFEMConfig(material="granite")
@@ -86,6 +96,16 @@ def test_config_rejects_bad_values():
         PFEMConfig(dt=0.0)
     with pytest.raises(ValueError, match="passes"):
         PFEMConfig(passes=0)
+    with pytest.raises(ValueError, match="contact"):
+        PFEMConfig(contact="glue")
+    with pytest.raises(ValueError, match="backend"):
+        PFEMConfig(backend="mosek")
+    with pytest.raises(ValueError, match="velocity_mapping"):
+        PFEMConfig(velocity_mapping="nearest")
+    with pytest.raises(ValueError, match="passes >= 2"):
+        from pfem_skfem.problems.contact import RigidSegment
+        PFEMConfig(contact="zero-dilation", passes=1,
+                   bodies=(RigidSegment((0.0, 0.0), (1.0, 0.0)),))
 
 
 def test_verification_script_tiny(tmp_path):

@@ -63,6 +63,7 @@ from ..materials import Elastic, MohrCoulomb, TrescaField, davis, mohr_coulomb_r
 from ..operators import body_force_vector, discretise
 from ..pfem import alpha_shape, alpha_mesh, quality_remesh, thin_cloud, adaptive_alpha
 from ..pfem.alpha_shape import triangle_areas
+from ..pfem.particles import check_positions, check_spacing
 from ..pfem.mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from ..pfem.remesh import ParticleMesh
 from ..problems.contact import boundary_nodes, potential_contacts, with_friction_bound
@@ -216,15 +217,18 @@ def geostatic_mean_stress(x, top, rho, g, k0):
 def initial_state(x, h, sigma_m=None, stress=None):
     """The state at t = 0: particles at rest with a lagged mean stress (zero by default)
     and, optionally, initial stresses (n, 4) at the particles (zero by default)."""
-    x = np.asarray(x, dtype=float)
+    x = check_positions(x)                       # ValueError for an empty or bad cloud
     n = len(x)
+    h = check_spacing(h, n)
     sm = np.zeros(n) if sigma_m is None else np.asarray(sigma_m, dtype=float)
+    if sm.shape != (n,):
+        raise ValueError(f"sigma_m must have shape ({n},), got {sm.shape}")
     if stress is not None:
         stress = np.asarray(stress, dtype=float)
         if stress.shape != (n, 4):
             raise ValueError(f"stress must have shape ({n}, 4), got {stress.shape}")
     return PFEMState(step=0, time=0.0, x=x.copy(), v=np.zeros((n, 2)),
-                     h=np.broadcast_to(np.asarray(h, float), (n,)).copy(), sigma_m=sm,
+                     h=h.copy(), sigma_m=sm,
                      stress0=stress)
 
 
