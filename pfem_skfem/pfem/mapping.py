@@ -306,11 +306,12 @@ def map_stress(old, sigma, new, method="uem", **options):
     return schemes[method](old, sigma, new, **options)
 
 
-def interpolate(basis, values, x, *, k=8):
+def interpolate(basis, values, x, *, k=8, cells=None):
     """Values of a finite-element function of ``basis`` at points x (n, 2).
 
     The function is evaluated in the element containing each point; a point outside
-    the mesh uses the nearest element's polynomial (extrapolation).
+    the mesh uses the nearest element's polynomial (extrapolation). ``cells``: the
+    elements of the points when already located (:func:`locate`).
 
     Returns
     -------
@@ -321,7 +322,8 @@ def interpolate(basis, values, x, *, k=8):
     values = np.asarray(values, dtype=float)
     if values.shape[0] != basis.N:
         raise ValueError(f"values must have {basis.N} rows (the basis' dofs), got {values.shape}")
-    cells, _, _ = locate(basis.mesh, x, k=k)
+    if cells is None:
+        cells, _, _ = locate(basis.mesh, x, k=k)
     local = basis.mapping.invF(x.T[:, :, None], tind=cells)
     phi = np.array([np.asarray(basis.elem.gbasis(basis.mapping, local, j, tind=cells)[0])
                     for j in range(basis.Nbfun)])
@@ -385,9 +387,9 @@ def project_nodal(old_basis, values, new_basis, *, vertex_values=None, intorder=
     pts = X.reshape(dim, -1).T
     scalar_old = old_basis.with_element(old_basis.elem.elem)
     stacked = np.stack([values[idx] for idx in old_basis.split_indices()], axis=1)
-    vq = interpolate(scalar_old, stacked, pts, k=k)                # (n, dim)
+    cells_old, inside, _ = locate(old_basis.mesh, pts, k=k)
+    vq = interpolate(scalar_old, stacked, pts, cells=cells_old)     # (n, dim)
     if vertex_values is not None:
-        _, inside, _ = locate(old_basis.mesh, pts, k=k)
         if not inside.all():
             cells = np.repeat(np.arange(nel), nqp)[~inside]
             lam = basis.mapping.invF(pts[~inside].T[:, :, None], tind=cells)[:, :, 0]
