@@ -209,9 +209,9 @@ def grid_particles(width, height, nx, ny=None, origin=(0.0, 0.0)):
 
 
 def geostatic_mean_stress(x, top, rho, g, k0):
-    """Mean stress (sx + sy)/2 of a geostatic column: sy = -rho g (top - y), sx = k0 sy."""
-    sv = -rho * g * np.clip(top - x[:, 1], 0, None)
-    return 0.5 * (1 + k0) * sv
+    """Mean stress (sx + sy)/2 of the geostatic column of :func:`geostatic_stress`."""
+    s = geostatic_stress(x, top, rho, g, k0)
+    return 0.5 * (s[:, 0] + s[:, 1])
 
 
 def initial_state(x, h, sigma_m=None, stress=None):
