@@ -29,15 +29,11 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
-from .conic import SolverError, SolveInfo
+from .conic import SolveInfo, check_status
 
 _STATUS = {"Solved": "optimal", "AlmostSolved": "optimal_inaccurate",
            "PrimalInfeasible": "infeasible", "AlmostPrimalInfeasible": "infeasible_inaccurate",
            "DualInfeasible": "unbounded", "AlmostDualInfeasible": "unbounded_inaccurate"}
-_HINTS = {"infeasible": "no admissible stress field equilibrates the loads",
-          "unbounded": "the objective is unbounded (a mechanism with no resistance)",
-          "optimal_inaccurate": "the solver stopped short of its tolerances"}
-
 
 def cone_matrices(criterion, n):
     """The affine cone map of a yield criterion at n points: D (n, m, 4), d (n, m).
@@ -161,11 +157,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     sol = solver.solve()
     wall = time.perf_counter() - t1          # Clarabel's setup and iterations
     status = _STATUS.get(str(sol.status), str(sol.status))
-    ok = {"optimal"} | ({"optimal_inaccurate"} if accept_inaccurate else set())
-    if status not in ok:
-        hint = _HINTS.get(status, "")
-        raise SolverError(f"{what}: solver status '{status}'" + (f": {hint}" if hint else ""),
-                          status)
+    check_status(status, what, accept_inaccurate)
     x, z = np.asarray(sol.x), np.asarray(sol.z)
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,

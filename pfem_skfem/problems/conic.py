@@ -40,6 +40,25 @@ class SolveInfo:
     extra: dict = field(default_factory=dict)
 
 
+#: what a non-optimal status means in this package's problems
+STATUS_HINTS = {
+    cp.INFEASIBLE: "no admissible stress field equilibrates the loads "
+                   "(the load exceeds the collapse load, or a body is unsupported)",
+    cp.UNBOUNDED: "the objective is unbounded (a mechanism with no resistance: "
+                  "check the supports and the yield criterion)",
+    cp.OPTIMAL_INACCURATE: "the solver stopped short of its tolerances",
+}
+
+
+def check_status(status, what, accept_inaccurate=False):
+    """Raise :class:`SolverError` naming ``status`` unless it is optimal (or accepted inaccurate)."""
+    ok = {cp.OPTIMAL} | ({cp.OPTIMAL_INACCURATE} if accept_inaccurate else set())
+    if status not in ok:
+        hint = STATUS_HINTS.get(status, "")
+        raise SolverError(f"{what}: solver status '{status}'" + (f": {hint}" if hint else ""),
+                          status)
+
+
 def solve(problem, *, what="problem", verbose=False, accept_inaccurate=False, **settings):
     """Solve a cvxpy problem with Clarabel; raise :class:`SolverError` unless optimal.
 
@@ -62,17 +81,7 @@ def solve(problem, *, what="problem", verbose=False, accept_inaccurate=False, **
         raise SolverError(f"{what}: Clarabel failed ({err})", "solver_error") from err
     wall = time.perf_counter() - t0
     status = problem.status
-    ok = {cp.OPTIMAL} | ({cp.OPTIMAL_INACCURATE} if accept_inaccurate else set())
-    if status not in ok:
-        hint = {
-            cp.INFEASIBLE: "no admissible stress field equilibrates the loads "
-                           "(the load exceeds the collapse load, or a body is unsupported)",
-            cp.UNBOUNDED: "the objective is unbounded (a mechanism with no resistance: "
-                          "check the supports and the yield criterion)",
-            cp.OPTIMAL_INACCURATE: "the solver stopped short of its tolerances",
-        }.get(status, "")
-        raise SolverError(f"{what}: solver status '{status}'" + (f": {hint}" if hint else ""),
-                          status)
+    check_status(status, what, accept_inaccurate)
     stats = problem.solver_stats
     solve_time = stats.solve_time if stats.solve_time is not None else wall
     return SolveInfo(status=status, iterations=int(stats.num_iters or 0),

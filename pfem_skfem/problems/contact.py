@@ -240,22 +240,18 @@ def contact_terms(contacts, n_u, *, length_scale, force_scale=1.0):
     p, q = cp.Variable(nc), cp.Variable(nc)
     mu = contacts.mu
     cons = [p >= 0]                                  # normal force compressive (5.5)
-    if contacts.friction_bound is not None:          # zero dilation: |q_j| <= mu_j p~_j
+    if contacts.friction_bound is None:              # Coulomb: |q_j| <= mu_j p_j
+        rough = mu > 0
+        limit = lambda idx: cp.multiply(mu[idx], p[idx])               # noqa: E731
+    else:                                            # zero dilation: |q_j| <= mu_j p~_j
         k = np.asarray(contacts.friction_bound, dtype=float) / force_scale
         rough = k > 0
-        if rough.any():
-            idx = np.flatnonzero(rough)
-            cons.append(cp.abs(q[idx]) <= k[idx])
-        if (~rough).any():                           # smooth, or no lagged normal force
-            cons.append(q[np.flatnonzero(~rough)] == 0)
-        objective = -(contacts.gap / length_scale) @ p
-        return ContactTerms(p, q, contact_matrix(contacts, n_u), objective, cons)
-    rough = mu > 0
+        limit = lambda idx: k[idx]                                      # noqa: E731
     if rough.any():
         idx = np.flatnonzero(rough)
-        cons.append(cp.abs(q[idx]) <= cp.multiply(mu[idx], p[idx]))   # |q_j| - mu p_j <= 0
-    if (~rough).any():
-        cons.append(q[np.flatnonzero(~rough)] == 0)  # smooth: no tangential force
+        cons.append(cp.abs(q[idx]) <= limit(idx))    # |q_j| - limit_j <= 0
+    if (~rough).any():                               # smooth (or no normal force): q_j = 0
+        cons.append(q[np.flatnonzero(~rough)] == 0)
     objective = -(contacts.gap / length_scale) @ p   # - sum g0_j p_j  (5.10)
     return ContactTerms(p, q, contact_matrix(contacts, n_u), objective, cons)
 
