@@ -505,7 +505,7 @@ def _boundary_edges(disc, du):
     return a, b, fd, delta, n
 
 
-def bulge_correction(disc, du, skip=None):
+def bulge_correction(disc, du, skip=None, regularisation=0.01):
     """Shift of the boundary vertices that keeps the area the P2 displacement gives the body.
 
     The particles are the vertices only, so moving them drops the bulge of each boundary
@@ -513,20 +513,36 @@ def bulge_correction(disc, du, skip=None):
     delta = du_mid - (du_a + du_b)/2 and n the outward unit normal. The flow of the psi = 0
     scheme is exactly isochoric in each P2 element (div du is linear and orthogonal to
     the linear stresses), so the dropped bulge is a loss of area at every step, of first
-    order in du and independent of dt. Moving each boundary vertex by
-    w_a = (1/3) sum_{edges e at a} (delta_e . n_e) n_e puts the area back (exactly for a
-    straight boundary, to first order otherwise). ``skip`` : (n_boundary_edges,) bool,
+    order in du and independent of dt.
+
+    Each end of an edge puts back half of its bulge: a shift w_a of vertex a adds
+    (L_e / 2) (w_a . n_e) to edge e, so w_a should satisfy w_a . n_e = c_e with
+    c_e = (2/3) (delta_e . n_e) for both boundary edges e at a. Solved per vertex in the
+    least-squares sense with a small Tikhonov term (``regularisation``), which on a
+    straight boundary gives w_a = (c_1 + c_2)/2 n (the two equations coincide) and at a
+    corner the shift that leaves the edge without bulge unchanged: the crest of a slope
+    below a flat top moves along the top, not up. ``skip`` : (n_boundary_edges,) bool,
     edges left out (those whose midside node becomes a particle).
 
     Returns (n_vertices, 2) shifts (zero at interior vertices).
     """
     a, b, _, delta, n = _boundary_edges(disc, du)
-    w = (np.einsum("id,id->i", delta, n) / 3)[:, None] * n
+    c = 2.0 / 3.0 * np.einsum("id,id->i", delta, n)
     if skip is not None:
-        w[skip] = 0.0
-    shift = np.zeros((disc.mesh.nvertices, 2))
-    np.add.at(shift, a, w)
-    np.add.at(shift, b, w)
+        c = np.where(skip, 0.0, c)
+    nv = disc.mesh.nvertices
+    normal_matrix = np.zeros((nv, 2, 2))                  # sum_e n_e n_e^T at each vertex
+    rhs = np.zeros((nv, 2))                               # sum_e c_e n_e
+    nn = n[:, :, None] * n[:, None, :]
+    for end in (a, b):
+        np.add.at(normal_matrix, end, nn)
+        np.add.at(rhs, end, c[:, None] * n)
+    on = np.unique(np.concatenate([a, b]))
+    # the Tikhonov term in units of the vertex's own normal matrix (trace = edges at it)
+    lam = regularisation * np.trace(normal_matrix[on], axis1=1, axis2=2) / 2
+    shift = np.zeros((nv, 2))
+    shift[on] = np.linalg.solve(normal_matrix[on] + lam[:, None, None] * np.eye(2),
+                                rhs[on][..., None])[..., 0]
     return shift
 
 
