@@ -847,3 +847,14 @@ def deposit_extent(state, alpha):
     main = int(np.argmax(shape.body_area))
     idx = np.unique(shape.triangles[shape.body == main])
     return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
+
+
+def wall_height(state, particles, wall_x=0.0):
+    """Height of the deposit at the wall x = ``wall_x``: the highest of ``particles`` within
+    one spacing h of it (Lube et al. 2005 and Lagree et al. 2011 measure the final height
+    there, where the deposit is thickest)."""
+    idx = np.asarray(particles)
+    near = idx[np.abs(state.x[idx, 0] - wall_x) <= state.h[idx]]
+    if near.size == 0:
+        raise ValueError(f"no particle of the deposit lies within one spacing of x = {wall_x}")
+    return float(state.x[near, 1].max())
