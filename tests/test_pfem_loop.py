@@ -287,3 +287,26 @@ def test_bulge_correction_restores_the_p2_area_and_keeps_a_crest_on_its_flat_top
     assert np.linalg.norm(shift[crest]) > 0
     assert abs(shift[crest, 1]) < 0.02 * np.linalg.norm(shift[crest])
     assert np.all(shift[disc.mesh.p[1] > 1 - 1e-12, 1] <= 0.01 * np.abs(shift).max())
+
+
+def test_state_tags_the_free_surface_and_the_contacts():
+    # a column held by its walls: its outline is the free surface, and the particles on
+    # the base and the walls (except the free top row) carry the column's weight
+    state, config = granular_column(1.0, 6, right_wall=True)
+    state, _ = run(state, config, 1)
+    x, h = state.x, state.h[0]
+    on_outline = (x[:, 0] < 1e-9) | (x[:, 0] > 1 - 1e-9) | (x[:, 1] < 1e-9) | (x[:, 1] > 1 - 1e-9)
+    np.testing.assert_array_equal(state.free_surface, on_outline)
+    on_base = x[:, 1] < 1e-9
+    assert state.contact[on_base].all()
+    assert not state.contact[(x[:, 1] > 0.5 * h) & (x[:, 0] > 0.5 * h) & (x[:, 0] < 1 - 0.5 * h)].any()
+
+
+def test_state_rejects_mismatched_fields():
+    from pfem_skfem.drivers.pfem_loop import initial_state
+    with pytest.raises(ValueError, match="sigma_m"):
+        initial_state(np.zeros((3, 2)), 1.0, sigma_m=np.zeros(2))
+    with pytest.raises(ValueError, match="empty"):
+        initial_state(np.zeros((0, 2)), 1.0)
+    with pytest.raises(ValueError, match="h"):
+        initial_state(np.zeros((3, 2)), -1.0)

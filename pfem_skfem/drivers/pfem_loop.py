@@ -52,7 +52,7 @@ tests/test_pfem_loop.py). Measured on the a = 1 column (100 steps) it gives the
 longer run-out (2.93 against 2.30 d0): the lift-off of the associated rule
 dissipates energy that the film otherwise keeps.
 """
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 import json
 import time as _time
 
@@ -63,7 +63,7 @@ from ..materials import Elastic, MohrCoulomb, TrescaField, davis, mohr_coulomb_r
 from ..operators import body_force_vector, discretise
 from ..pfem import alpha_shape, alpha_mesh, quality_remesh, thin_cloud, adaptive_alpha
 from ..pfem.alpha_shape import triangle_areas
-from ..pfem.particles import check_positions, check_spacing
+from ..pfem.particles import Particles, check_positions
 from ..pfem.mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from ..pfem.remesh import ParticleMesh
 from ..problems.contact import boundary_nodes, potential_contacts, with_friction_bound
@@ -159,14 +159,16 @@ class PFEMConfig:
         self.elastic = None if self.E is None else Elastic(self.E, self.nu)
 
 
-@dataclass
-class PFEMState:
+@dataclass(kw_only=True)
+class PFEMState(Particles):
     """Everything that carries over from one step to the next (and into a checkpoint).
 
-    step, time;  x, v, h : (n, 2), (n, 2), (n,) particle positions, velocities, spacing;
-    sigma_m : (n,) lagged, smoothed mean stress (sx + sy)/2 carried by the particles;
-    mesh_p, mesh_t : the current mesh (vertices moved to t_n), mesh_particle : particle
-    of each vertex;  v_dofs : (n_u,) P2 velocities on it;  sigma : (n_points, 4)
+    A :class:`~pfem_skfem.pfem.Particles` cloud (x, h, v, and the tags free_surface:
+    on the boundary of the last mesh or flying free, contact: pressed against a rigid
+    body in the last step), validated the same way, and:
+    step, time;  sigma_m : (n,) lagged, smoothed mean stress (sx + sy)/2 carried by the
+    particles;  mesh_p, mesh_t : the current mesh (vertices moved to t_n), mesh_particle :
+    particle of each vertex;  v_dofs : (n_u,) P2 velocities on it;  sigma : (n_points, 4)
     stresses at its stress points;  scales : (3,) the previous step's DynamicScales
     (nan before the first step);  area0 : area of the initial domain;  alpha : the
     current alpha;  history : dict of per-step lists;  stress0 : (n, 4) initial
@@ -176,9 +178,6 @@ class PFEMState:
 
     step: int
     time: float
-    x: np.ndarray
-    v: np.ndarray
-    h: np.ndarray
     sigma_m: np.ndarray
     mesh_p: np.ndarray = None
     mesh_t: np.ndarray = None
@@ -190,6 +189,30 @@ class PFEMState:
     alpha: float = np.nan
     history: dict = field(default_factory=dict)
     stress0: np.ndarray = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        self.sigma_m = np.asarray(self.sigma_m, dtype=float)
+        if self.sigma_m.shape != (self.n,):
+            raise ValueError(f"sigma_m must have shape ({self.n},), got {self.sigma_m.shape}")
+        if self.stress0 is not None:
+            self.stress0 = np.asarray(self.stress0, dtype=float)
+            if self.stress0.shape != (self.n, 4):
+                raise ValueError(f"stress must have shape ({self.n}, 4), got {self.stress0.shape}")
+
+    def subset(self, keep):
+        """The state restricted to the kept particles (boolean mask); the old mesh keeps
+        its own vertex data, with -1 for a vertex whose particle was dropped."""
+        keep = np.asarray(keep, dtype=bool)
+        mesh_particle = self.mesh_particle
+        if mesh_particle is not None:
+            index = np.full(len(keep), -1)
+            index[keep] = np.arange(int(keep.sum()))
+            mesh_particle = index[mesh_particle]
+        return replace(self, x=self.x[keep], v=self.v[keep], h=self.h[keep],
+                       free_surface=self.free_surface[keep], contact=self.contact[keep],
+                       sigma_m=self.sigma_m[keep], mesh_particle=mesh_particle,
+                       stress0=None if self.stress0 is None else self.stress0[keep])
 
 
 # -- initial state ------------------------------------------------------------------------
@@ -218,17 +241,8 @@ def initial_state(x, h, sigma_m=None, stress=None):
     """The state at t = 0: particles at rest with a lagged mean stress (zero by default)
     and, optionally, initial stresses (n, 4) at the particles (zero by default)."""
     x = check_positions(x)                       # ValueError for an empty or bad cloud
-    n = len(x)
-    h = check_spacing(h, n)
-    sm = np.zeros(n) if sigma_m is None else np.asarray(sigma_m, dtype=float)
-    if sm.shape != (n,):
-        raise ValueError(f"sigma_m must have shape ({n},), got {sm.shape}")
-    if stress is not None:
-        stress = np.asarray(stress, dtype=float)
-        if stress.shape != (n, 4):
-            raise ValueError(f"stress must have shape ({n}, 4), got {stress.shape}")
-    return PFEMState(step=0, time=0.0, x=x.copy(), v=np.zeros((n, 2)),
-                     h=h.copy(), sigma_m=sm,
+    sm = np.zeros(len(x)) if sigma_m is None else sigma_m
+    return PFEMState(step=0, time=0.0, x=x.copy(), h=np.array(h, dtype=float), sigma_m=sm,
                      stress0=stress)
 
 
@@ -403,16 +417,15 @@ def _adopt_added_nodes(state, pm):
     n = len(state.x)
     particle = pm.particle.copy()
     particle[added] = n + np.arange(len(xa))
-    new = PFEMState(**{f.name: getattr(state, f.name) for f in fields(PFEMState)})
-    new.x = np.vstack([state.x, xa])
-    new.v = np.vstack([state.v, va])
-    new.h = np.concatenate([state.h, ha])
-    new.sigma_m = np.concatenate([state.sigma_m, sa])
-    if state.stress0 is not None:             # first mesh: nearest particle's initial stress
+    stress0 = state.stress0
+    if stress0 is not None:                   # first mesh: nearest particle's initial stress
         from scipy.spatial import cKDTree
-        new.stress0 = np.vstack([state.stress0, state.stress0[cKDTree(state.x).query(xa)[1]]])
-    if state.mesh_particle is not None:
-        new.mesh_particle = state.mesh_particle
+        stress0 = np.vstack([stress0, stress0[cKDTree(state.x).query(xa)[1]]])
+    no = np.zeros(len(xa), dtype=bool)
+    new = replace(state, x=np.vstack([state.x, xa]), v=np.vstack([state.v, va]),
+                  h=np.concatenate([state.h, ha]), sigma_m=np.concatenate([state.sigma_m, sa]),
+                  free_surface=np.concatenate([state.free_surface, no]),
+                  contact=np.concatenate([state.contact, no]), stress0=stress0)
     return new, ParticleMesh(pm.mesh, particle)
 
 
@@ -599,6 +612,27 @@ def move(state, pm, disc, inc, config, sigma_m_vertices):
     return x, v, sm, h, projected
 
 
+def particle_tags(disc, pm, contacts, inc, n, weight):
+    """The tags of :class:`~pfem_skfem.pfem.Particles` after a step, for n particles.
+
+    free_surface : a vertex of a boundary edge of the step's mesh, or a particle in no
+    element (flying free, or new: the midside node of a stretched boundary edge);
+    contact : a vertex pressed against a rigid body, normal force p above 1e-6 ``weight``
+    (a particle's weight, rho g h^2).
+    """
+    free_surface = np.ones(n, dtype=bool)
+    free_surface[pm.particle] = False
+    free_surface[pm.particle[disc.mesh.boundary_nodes()]] = True
+    contact = np.zeros(n, dtype=bool)
+    if contacts is not None:
+        vertex_of = np.full(disc.n_u, -1)
+        vertex_of[vertex_dofs(disc)[:, 0]] = np.arange(disc.mesh.nvertices)
+        vertex = vertex_of[contacts.dofs[:, 0]]          # -1: a midside node
+        pressed = (vertex >= 0) & (inc.p > 1e-6 * weight)
+        contact[pm.particle[vertex[pressed]]] = True
+    return free_surface, contact
+
+
 # -- the step ----------------------------------------------------------------------------
 def pfem_step(state, config):
     """One PFEM step C^n -> C^{n+1} (Section 2.2); returns (new state, step record)."""
@@ -611,7 +645,7 @@ def pfem_step(state, config):
         if config.remesh == "quality":                     # keep the spacing near h
             keep = thin_cloud(state.x, state.h, fraction=0.4)
             if not keep.all():
-                state = _subset(state, keep)
+                state = state.subset(keep)
         shape = detect(state.x, state.h, alpha)
         area = shape.area
         if not np.isfinite(state.area0):
@@ -682,8 +716,10 @@ def pfem_step(state, config):
     history = {k: list(vals) for k, vals in state.history.items()}
     for k, val in record.items():
         history.setdefault(k, []).append(val)
+    free_surface, contact = particle_tags(
+        disc, pm, contacts, inc, len(x), config.rho * config.g * float(np.median(state.h)) ** 2)
     new = PFEMState(step=state.step + 1, time=state.time + config.dt, x=x, v=v, h=h_new,
-                    sigma_m=sm, mesh_p=mesh_p, mesh_t=disc.mesh.t.T.copy(),
+                    free_surface=free_surface, contact=contact, sigma_m=sm, mesh_p=mesh_p, mesh_t=disc.mesh.t.T.copy(),
                     mesh_particle=pm.particle.copy(), v_dofs=inc.v.copy(),
                     sigma=inc.sigma.copy(),
                     scales=np.array([inc.scales.stress, inc.scales.displacement,
@@ -693,24 +729,9 @@ def pfem_step(state, config):
     return new, record
 
 
-def _subset(state, keep):
-    """The state restricted to the kept particles (the mesh is dropped: remesh follows)."""
-    new = PFEMState(**{f.name: getattr(state, f.name) for f in fields(PFEMState)})
-    new.x, new.v, new.h, new.sigma_m = state.x[keep], state.v[keep], state.h[keep], \
-        state.sigma_m[keep]
-    if state.stress0 is not None:
-        new.stress0 = state.stress0[keep]
-    if state.mesh_particle is not None:       # old mesh keeps its own vertex data
-        index = np.full(len(keep), -1)
-        index[keep] = np.arange(int(keep.sum()))
-        new.mesh_particle = index[state.mesh_particle]
-    return new
-
-
 # -- checkpoints -----------------------------------------------------------------------
-_ARRAYS = ("x", "v", "h", "sigma_m", "mesh_p", "mesh_t", "mesh_particle", "v_dofs", "sigma",
-           "stress0",
-           "scales")
+_ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "mesh_p", "mesh_t",
+           "mesh_particle", "v_dofs", "sigma", "stress0", "scales")
 
 
 def save_checkpoint(path, state):
@@ -733,7 +754,7 @@ def step_fields(state):
     """Points, triangles and fields of the last step for VTU output.
 
     Point data: velocity (3 components, z = 0 for ParaView), lagged mean stress,
-    pressure p = -(sx + sy)/2 (smoothed, vertex);  cell data: element mean stress
+    pressure p = -(sx + sy)/2 (smoothed, vertex), the tags free_surface and contact (0/1);  cell data: element mean stress
     (sx, sy, sxy), equivalent plastic strain increment.
     """
     last = state._last
@@ -747,7 +768,9 @@ def step_fields(state):
     vel[:, :2] = state.v[pm.particle]
     sm = state.sigma_m[pm.particle]
     point_data = {"velocity": vel, "speed": np.linalg.norm(vel, axis=1),
-                  "pressure": -sm, "mean_stress": sm}
+                  "pressure": -sm, "mean_stress": sm,
+                  "free_surface": state.free_surface[pm.particle].astype(float),
+                  "contact": state.contact[pm.particle].astype(float)}
     cell_data = {"stress": np.column_stack([mean(inc.sigma[:, 0]), mean(inc.sigma[:, 1]),
                                             mean(inc.sigma[:, 3])]),
                  "plastic_strain_increment": mean(deps)}
