@@ -88,7 +88,7 @@ def lube_lagree(a):
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
              d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
-             nu=0.3, settle=4.0):
+             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True):
     """One column to t = 4 sqrt(h0/g), then on until it is at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
 
@@ -101,7 +101,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     state, config = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
                                     floor_fraction=floor, material=material, remesh=remesh,
                                     passes=passes, alpha=alpha, dt=t_end / steps,
-                                    contact=contact, E=E, nu=nu)
+                                    contact=contact, E=E, nu=nu,
+                                    refine_surface=refine_surface, bulge=bulge)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -220,6 +221,11 @@ def build_parser():
                    help="psi = 0 scheme of [80] or the plain Davis reduction")
     p.add_argument("--remesh", choices=("alpha", "quality"), default="alpha",
                    help="alpha-shape mesh or Triangle quality remesh (added nodes -> particles)")
+    p.add_argument("--refine-surface", type=float, default=2.0,
+                   help="a boundary edge longer than this many h gets its midside node as a "
+                        "particle (0: never)")
+    p.add_argument("--no-bulge", action="store_true",
+                   help="move the boundary particles as bare vertices (no bulge correction)")
     p.add_argument("--save-every", type=int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
     p.add_argument("--checkpoint-every", type=int, default=0,
@@ -243,6 +249,7 @@ def main(argv=None):
     vtu_dir = out if args.save_every else None
     cases = [dict(a=a, nx=args.nx, steps=args.steps, phi=phi, mu=args.mu, g=args.g,
                   rho=args.rho, material=args.material, remesh=args.remesh,
+                  refine_surface=args.refine_surface, bulge=not args.no_bulge,
                   passes=args.passes, alpha=args.alpha, floor=args.floor, outdir=vtu_dir,
                   contact=args.contact, E=args.E, nu=args.nu, settle=args.settle,
                   save_every=args.save_every, verbose=args.progress,
