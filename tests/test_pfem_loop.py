@@ -313,3 +313,14 @@ def test_state_rejects_mismatched_fields():
         initial_state(np.zeros((0, 2)), 1.0)
     with pytest.raises(ValueError, match="h"):
         initial_state(np.zeros((3, 2)), -1.0)
+
+
+def test_run_to_rest_stops_at_rest_or_after_max_steps():
+    from pfem_skfem.drivers.pfem_loop import run_to_rest
+    state, config = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
+    still, rest, taken = run_to_rest(state, config, 1e-3, 5)      # starts at rest
+    assert rest and taken == 0 and still.step == 0
+    state, _ = run(state, config, 1)                               # now collapsing
+    moving, rest, taken = run_to_rest(state, config, 1e-3, 2)
+    assert not rest and taken == 2 and moving.step == 3
+    assert np.abs(moving.v).max() >= 1e-3

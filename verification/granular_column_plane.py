@@ -45,7 +45,8 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers.pfem_loop import (config_summary, deposit_extent, granular_column,
-                                          load_checkpoint, run, step_fields, wall_height)
+                                          load_checkpoint, run, run_to_rest, step_fields,
+                                          wall_height)
 from pfem_skfem.report import Report, base_parser, positive, progress
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -131,15 +132,9 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    v_rest = REST_SPEED * np.sqrt(g * h0)
-    settle_steps = int(round(settle * steps / 4.0))
-    at_rest = lambda st: np.max(np.linalg.norm(st.v, axis=1)) < v_rest   # noqa: E731
-    extra = 0
-    while not at_rest(state) and extra < settle_steps:
-        state, _ = run(state, config, 1, series=series, save_every=save_every,
-                       verbose=verbose)
-        extra += 1
-    rest = at_rest(state)
+    state, rest, extra = run_to_rest(state, config, REST_SPEED * np.sqrt(g * h0),
+                                     int(round(settle * steps / 4.0)), series=series,
+                                     save_every=save_every, verbose=verbose)
     if extra:                                             # the deposit at rest, for Fig 6.12
         points, _, point_data, _ = step_fields(state)
         snaps[state.step] = {"points": points, "speed": point_data["speed"]}

@@ -720,7 +720,8 @@ def pfem_step(state, config):
     free_surface, contact = particle_tags(
         disc, pm, contacts, inc, len(x), config.rho * config.g * float(np.median(state.h)) ** 2)
     new = PFEMState(step=state.step + 1, time=state.time + config.dt, x=x, v=v, h=h_new,
-                    free_surface=free_surface, contact=contact, sigma_m=sm, mesh_p=mesh_p, mesh_t=disc.mesh.t.T.copy(),
+                    free_surface=free_surface, contact=contact, sigma_m=sm, mesh_p=mesh_p,
+                    mesh_t=disc.mesh.t.T.copy(),
                     mesh_particle=pm.particle.copy(), v_dofs=inc.v.copy(),
                     sigma=inc.sigma.copy(),
                     scales=np.array([inc.scales.stress, inc.scales.displacement,
@@ -755,8 +756,9 @@ def step_fields(state):
     """Points, triangles and fields of the last step for VTU output.
 
     Point data: velocity (3 components, z = 0 for ParaView), lagged mean stress,
-    pressure p = -(sx + sy)/2 (smoothed, vertex), the tags free_surface and contact (0/1);  cell data: element mean stress
-    (sx, sy, sxy), equivalent plastic strain increment.
+    pressure p = -(sx + sy)/2 (smoothed, vertex), the tags free_surface and contact
+    (0/1);  cell data: element mean stress (sx, sy, sxy), equivalent plastic strain
+    increment.
     """
     last = state._last
     disc, inc, deps, pm = last["disc"], last["inc"], last["deps"], last["pm"]
@@ -816,6 +818,20 @@ def run(state, config, steps, *, checkpoint=None, checkpoint_every=0, series=Non
         if on_step is not None:
             on_step(state, rec)
     return state, snaps
+
+
+def run_to_rest(state, config, speed, max_steps, **options):
+    """Advance ``state`` one step at a time until every particle is slower than ``speed``,
+    for at most ``max_steps`` steps (``options`` go to :func:`run`).
+
+    Returns (state, at_rest, steps taken).
+    """
+    at_rest = lambda st: bool(np.max(np.linalg.norm(st.v, axis=1)) < speed)   # noqa: E731
+    taken = 0
+    while not at_rest(state) and taken < max_steps:
+        state, _ = run(state, config, 1, **options)
+        taken += 1
+    return state, at_rest(state), taken
 
 
 def config_summary(config):
