@@ -90,6 +90,12 @@ def lube_lagree(a):
     return np.minimum(1.2 * a, 1.9 * a ** (2 / 3))
 
 
+def measure_deposit(state, alpha):
+    """(height at the wall, highest particle, toe) of the main body, not its splashes."""
+    top, toe, body = deposit_extent(state, alpha)
+    return wall_height(state, body), top, toe
+
+
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
              d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
@@ -127,8 +133,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     state, snaps = run(state, config, steps - state.step, series=series, save_every=save_every,
                        snapshots=snap_steps, verbose=verbose, checkpoint=checkpoint,
                        checkpoint_every=checkpoint_every)
-    top4, toe4, body = deposit_extent(state, alpha)       # the main body, not splashes
-    height4 = wall_height(state, body)
+    height4, top4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
@@ -139,8 +144,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
         points, _, point_data, _ = step_fields(state)
         snaps[state.step] = {"points": points, "speed": point_data["speed"]}
     seconds = time.perf_counter() - t0
-    top, toe, body = deposit_extent(state, alpha)
-    height = wall_height(state, body)
+    height, top, toe = measure_deposit(state, alpha) if extra else (height4, top4, toe4)
     hist = state.history
     ke = np.asarray(hist["kinetic_energy"])
     t_scale = np.sqrt(h0 / g)
