@@ -257,3 +257,97 @@ def davis(c, phi, psi):
     ph, ps = np.radians(phi), np.radians(psi)
     beta = np.cos(ps) * np.cos(ph) / (1 - np.sin(ps) * np.sin(ph))
     return beta * c, float(np.degrees(np.arctan(beta * np.tan(ph))))
+
+
+# -- materials of the PFEM runs: the cone of each step ------------------------------------
+@dataclass(frozen=True)
+class ZeroDilationMohrCoulomb:
+    """Mohr-Coulomb with zero dilation by the scheme of Krabbenhoft, Karim, Lyamin & Sloan
+    (2012), the thesis' [80]: each step solves an associated problem on the flow surface
+    of psi = 0, a Tresca-type cone whose radius is the Mohr-Coulomb strength at a known
+    (lagged) mean stress sigma_m = (sx + sy)/2, tension positive:
+
+    .. math::
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j, \\quad
+        k_j = \\max(2c\\cos\\phi - 2\\sin\\phi\\,\\sigma_{m,j},\\; k_{min})
+
+    Parameters
+    ----------
+    c : cohesion (>= 0);  phi : friction angle in degrees;  k_min : least radius, in units
+        of the problem's stress scale (a PFEM scene's rho g L), so that the model keeps
+        no absolute stress;  elastic : :class:`Elastic` for the elastoplastic variant
+        (None: rigid-plastic, C = 0 in (4.23)).
+    """
+
+    c: float = 0.0
+    phi: float = 30.0
+    k_min: float = 0.005
+    elastic: Elastic = None
+
+    name = "Mohr-Coulomb, zero dilation [80]"
+    lagged = True           # the cone depends on the mean stress: fixed-point passes help
+
+    def __post_init__(self):
+        MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)      # validates c and phi
+        _check_positive("k_min (least cone radius / stress scale)", self.k_min)
+
+    def radius(self, sigma_m, stress_scale=1.0):
+        """k_j at mean stresses ``sigma_m`` (:func:`mohr_coulomb_radius`)."""
+        return mohr_coulomb_radius(self.c, self.phi, sigma_m, self.k_min * stress_scale)
+
+    def cone(self, sigma_m, stress_scale=1.0):
+        """The step's criterion: :class:`TrescaField` of the radii at ``sigma_m``."""
+        return TrescaField(self.radius(sigma_m, stress_scale))
+
+    def strength_scale(self, sigma_m, stress_scale=1.0):
+        """A stress of the step (half the median radius), to scale the conic problem."""
+        return TrescaField(self.radius(sigma_m, stress_scale)).strength_scale()
+
+
+@dataclass(frozen=True)
+class DavisMohrCoulomb(ZeroDilationMohrCoulomb):
+    """Mohr-Coulomb with the Davis reduction for a dilation angle psi (:func:`davis`): an
+    associated cone of c* = beta c, tan(phi*) = beta tan(phi), held at the same least
+    radius 2 c* cos(phi*) >= k_min as :class:`ZeroDilationMohrCoulomb` (so that it keeps an
+    interior for c = 0). Its cone does not depend on the mean stress.
+    """
+
+    psi: float = 0.0
+
+    name = "Mohr-Coulomb, Davis reduction"
+    lagged = False
+
+    def __post_init__(self):
+        super().__post_init__()
+        davis(self.c, self.phi, self.psi)                         # validates psi
+
+    def cone(self, sigma_m=None, stress_scale=1.0):
+        c_star, phi_star = davis(self.c, self.phi, self.psi)
+        c_floor = self.k_min * stress_scale / (2 * np.cos(np.radians(phi_star)))
+        return MohrCoulomb(max(c_star, c_floor), phi_star)
+
+
+@dataclass(frozen=True)
+class CohesiveTresca:
+    """Undrained (Tresca) soil of cohesion c for a PFEM run, sqrt((sx-sy)^2 + 4 sxy^2) <= 2c:
+    no pressure term, so no least radius and no lagged mean stress (thesis 6.4.1).
+
+    Parameters
+    ----------
+    c : undrained shear strength (> 0);  elastic : :class:`Elastic` or None (rigid-plastic).
+    """
+
+    c: float
+    elastic: Elastic = None
+
+    name = "Tresca"
+    lagged = False
+
+    def __post_init__(self):
+        _check_positive("c (undrained shear strength)", self.c)
+
+    def cone(self, sigma_m=None, stress_scale=1.0):
+        return Tresca(self.c)
+
+    def strength_scale(self, sigma_m=None, stress_scale=1.0):
+        return self.c

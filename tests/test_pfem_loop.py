@@ -1,23 +1,35 @@
 """The PFEM loop of Ch 2.2 on the granular column of 6.4.3."""
-import importlib.util
 import json
-from pathlib import Path
 
 import numpy as np
+import pyvista as pv
 import pytest
+from skfem import Functional, MeshTri
+from skfem.helpers import grad
 
-from pfem_skfem.drivers.pfem_loop import (PFEMConfig, granular_column, load_checkpoint,
-                                          run, save_checkpoint, smoothed_mean_stress)
+from pfem_skfem.drivers.pfem_loop import (PFEMConfig, load_checkpoint, pfem_step, run,
+                                          run_to_rest, save_checkpoint)
+from pfem_skfem.fields import smoothed_mean_stress, vertex_dofs
+from pfem_skfem.io import TimeSeries
+from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.operators import discretise
+from pfem_skfem.pfem.alpha_shape import triangle_areas
+from pfem_skfem.pfem.state import PFEMState, initial_state
+from pfem_skfem.pfem.surface import bulge_correction
+from pfem_skfem.pfem.transfer import old_discretisation
+from pfem_skfem.problems.contact import LaggedFriction, RigidSegment
+from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.scene import Body, Region, Scene
+from verification import granular_column_plane as column_script
+from verification.granular_column_plane import granular_column
 
 G = 9.8
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_column_held_by_its_walls_stays_at_rest():
     # both walls and the base hold a rigid-plastic, zero-dilation column: no mechanism
-    state, config = granular_column(1.0, 6, right_wall=True)
-    state, _ = run(state, config, 4)
+    state, scene = granular_column(1.0, 6, right_wall=True)
+    state, _ = run(state, scene, 4)
     v_ref = np.sqrt(G * 1.0)
     assert state.step == 4
     assert np.max(np.abs(state.v)) < 1e-4 * v_ref
@@ -27,8 +39,8 @@ def test_column_held_by_its_walls_stays_at_rest():
 
 
 def short_collapse(**options):
-    state, config = granular_column(1.0, 8, dt=0.05 * np.sqrt(1.0 / G), **options)
-    state, _ = run(state, config, 20)          # to t/sqrt(h0/g) = 1
+    state, scene = granular_column(1.0, 8, dt=0.05 * np.sqrt(1.0 / G), **options)
+    state, _ = run(state, scene, 20)          # to t/sqrt(h0/g) = 1
     return state
 
 
@@ -50,11 +62,11 @@ def test_surface_particles_and_bulge_correction_reduce_the_area_loss():
 
 
 def test_resumed_run_reproduces_an_uninterrupted_one(tmp_path):
-    state, config = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G))
-    straight, _ = run(state, config, 4)
-    half, _ = run(granular_column(1.0, 6)[0], config, 2, checkpoint=tmp_path / "c.npz",
+    state, scene = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G))
+    straight, _ = run(state, scene, 4)
+    half, _ = run(granular_column(1.0, 6)[0], scene, 2, checkpoint=tmp_path / "c.npz",
                   checkpoint_every=2)
-    resumed, _ = run(load_checkpoint(tmp_path / "c.npz"), config, 2)
+    resumed, _ = run(load_checkpoint(tmp_path / "c.npz"), scene, 2)
     assert resumed.step == straight.step == 4
     np.testing.assert_array_equal(resumed.x, straight.x)
     np.testing.assert_array_equal(resumed.v, straight.v)
@@ -63,24 +75,24 @@ def test_resumed_run_reproduces_an_uninterrupted_one(tmp_path):
 
 
 def test_checkpoint_round_trip_is_exact(tmp_path):
-    state, config = granular_column(0.5, 5, dt=0.05 * np.sqrt(0.5 / G))
-    state, _ = run(state, config, 1)
+    state, scene = granular_column(0.5, 5, dt=0.05 * np.sqrt(0.5 / G))
+    state, _ = run(state, scene, 1)
     save_checkpoint(tmp_path / "s.npz", state)
     back = load_checkpoint(tmp_path / "s.npz")
-    for name in ("x", "v", "h", "sigma_m", "mesh_p", "mesh_t", "v_dofs", "sigma", "scales"):
+    for name in ("x", "v", "h", "sigma_m", "region", "mass", "mesh_p", "mesh_t", "v_dofs",
+                 "sigma"):
         np.testing.assert_array_equal(getattr(back, name), getattr(state, name))
+    assert back.scales == state.scales
     assert (back.step, back.time, back.area0) == (state.step, state.time, state.area0)
 
 
 def test_smoothed_mean_stress_is_exact_for_a_constant_field():
-    from skfem import MeshTri
     disc = discretise(MeshTri.init_symmetric().refined(2))
     sigma = np.tile([-3.0, -1.0, 0.0, 0.7], (disc.n_points, 1))
     np.testing.assert_allclose(smoothed_mean_stress(disc, sigma), -2.0, rtol=1e-12)
 
 
 def test_initial_state_rejects_bad_clouds():
-    from pfem_skfem.drivers.pfem_loop import initial_state
     with pytest.raises(ValueError, match="empty"):
         initial_state(np.empty((0, 2)), 0.1)
     with pytest.raises(ValueError, match="spacing"):
@@ -90,30 +102,27 @@ def test_initial_state_rejects_bad_clouds():
 
 
 def test_config_rejects_bad_values():
-    with pytest.raises(ValueError, match="material"):
-        PFEMConfig(material="granite")
+    with pytest.raises(ValueError, match="theta"):
+        PFEMConfig(theta=0.01)
     with pytest.raises(ValueError, match="dt"):
-        PFEMConfig(dt=0.0)
+        PFEMConfig(theta=ThetaMethod(0.0))
     with pytest.raises(ValueError, match="passes"):
         PFEMConfig(passes=0)
     with pytest.raises(ValueError, match="contact"):
         PFEMConfig(contact="glue")
     with pytest.raises(ValueError, match="backend"):
         PFEMConfig(backend="mosek")
-    with pytest.raises(ValueError, match="velocity_mapping"):
-        PFEMConfig(velocity_mapping="nearest")
+    with pytest.raises(ValueError, match="velocity"):
+        PFEMConfig(velocity="nearest")
+    with pytest.raises(ValueError, match="stress_mapping"):
+        PFEMConfig(stress_mapping="nearest")
     with pytest.raises(ValueError, match="passes >= 2"):
-        from pfem_skfem.problems.contact import RigidSegment
-        PFEMConfig(contact="zero-dilation", passes=1,
-                   bodies=(RigidSegment((0.0, 0.0), (1.0, 0.0)),))
+        PFEMConfig(contact=LaggedFriction(), passes=1)
 
 
 def test_verification_script_quick(tmp_path):
     # the CI size of the benchmark: a = 1, 10 across, 100 steps, then on to rest
-    spec = importlib.util.spec_from_file_location(
-        "granular_column_plane", ROOT / "verification" / "granular_column_plane.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = column_script
     out = tmp_path / "r.json"
     code = module.main(["--quick", "--json", str(out), "--no-figures", "--outdir", str(tmp_path)])
     result = json.loads(out.read_text())
@@ -127,22 +136,23 @@ def test_verification_script_quick(tmp_path):
 
 
 def test_run_writes_a_vtu_per_saved_step_and_a_pvd(tmp_path):
-    import pyvista as pv
-    from pfem_skfem.io import TimeSeries
-
-    state, config = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
+    state, scene = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
     series = TimeSeries(tmp_path, "column")
-    state, _ = run(state, config, 4, series=series, save_every=2)
-    assert [t for t, _ in series.entries] == pytest.approx([2 * config.dt, 4 * config.dt])
+    last = []
+    state, _ = run(state, scene, 4, series=series, save_every=2,
+                   on_step=lambda st, rec, result: last.append(result))
+    dt = scene.config.dt
+    assert [t for t, _ in series.entries] == pytest.approx([2 * dt, 4 * dt])
     grid = pv.read(series.entries[-1][1])
-    assert grid.n_points == len(state._last["pm"].particle)
+    pm = last[-1].pm
+    assert grid.n_points == len(pm.particle)
     for name in ("velocity", "pressure", "mean_stress"):
         assert name in grid.point_data
     for name in ("stress", "plastic_strain_increment"):
         assert name in grid.cell_data
     # the velocities written are the particles' velocities
     np.testing.assert_allclose(grid.point_data["velocity"][:, :2],
-                               state.v[state._last["pm"].particle])
+                               state.v[pm.particle])
 
 
 def test_strong_slab_slides_to_newton_through_the_whole_loop():
@@ -151,17 +161,17 @@ def test_strong_slab_slides_to_newton_through_the_whole_loop():
     v(t) = v0 - mu g t (theta2 = 1: the velocity is exact) and it stays on the base.
     (The associated cones of (5.12) lift it by mu |slip| per step, which raises the
     normal force of that step: first order in dt, so not exact here.)"""
-    contact = "zero-dilation"
-    from pfem_skfem.drivers.pfem_loop import grid_particles, initial_state, pfem_step
-    from pfem_skfem.problems.contact import RigidSegment
-    x, h = grid_particles(1.0, 0.2, 6)
     mu, v0, dt = 0.3, 3.0, 0.02
-    config = PFEMConfig(c=1e3, phi=0.0, floor=1.0, dt=dt, contact=contact,
-                        bodies=(RigidSegment((-10.0, 0.0), (30.0, 0.0), mu),))
-    state = initial_state(x, h)
+    slab = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 0.2), (0.0, 0.2)), CohesiveTresca(1e3),
+                  rho=2.0, h=0.2)
+    scene = Scene(regions=(slab,), bodies=(Body("base", RigidSegment((-10.0, 0.0),
+                                                                     (30.0, 0.0), mu)),),
+                  config=PFEMConfig(theta=ThetaMethod(dt), contact=LaggedFriction()))
+    state = scene.initial_state()
+    x = state.x.copy()
     state.v[:, 0] = v0
     for n in range(1, 11):
-        state, _ = pfem_step(state, config)
+        state, _, _ = pfem_step(state, scene)
         assert np.allclose(state.v[:, 0], v0 - mu * G * n * dt, rtol=0, atol=1e-6 * v0)
     assert np.abs(state.x[:, 1] - x[:, 1]).max() < 1e-7
 
@@ -169,11 +179,12 @@ def test_strong_slab_slides_to_newton_through_the_whole_loop():
 def test_elastoplastic_column_held_by_its_walls_stays_geostatic():
     """With E given, (4.23) keeps the C term; a column started in geostatic equilibrium
     (sy = -rho g (h0 - y), sx = K0 sy, inside the cone) between rough walls stays at rest."""
-    state, config = granular_column(1.0, 6, right_wall=True, E=1e4, nu=0.3)
-    assert config.elastic is not None and state.stress0 is not None
-    state, _ = run(state, config, 3)
+    state, scene = granular_column(1.0, 6, right_wall=True, E=1e4, nu=0.3)
+    assert scene.elastic is not None and state.stress0 is not None
+    last = []
+    state, _ = run(state, scene, 3, on_step=lambda st, rec, result: last.append(result))
     assert np.max(np.abs(state.v)) < 1e-4 * np.sqrt(G * 1.0)
-    disc = state._last["disc"]
+    disc = last[-1].disc
     y = disc.points[:, 1]
     sy = -2.0 * G * (1.0 - y)
     assert np.allclose(state.sigma[:, 1], sy, atol=1e-3 * 2.0 * G)
@@ -197,8 +208,8 @@ def test_backends_give_the_same_collapse():
     x0 = granular_column(1.0, 6)[0].x
     runs = {}
     for backend in ("cvxpy", "clarabel"):
-        state, config = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G), backend=backend)
-        runs[backend], _ = run(state, config, 5)
+        state, scene = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G), backend=backend)
+        runs[backend], _ = run(state, scene, 5)
     a, b = runs["cvxpy"], runs["clarabel"]
     assert a.x.shape == b.x.shape
     motion = np.abs(a.x[:len(x0)] - x0).max()
@@ -210,8 +221,6 @@ def test_backends_give_the_same_collapse():
 def test_old_discretisation_leaves_out_collapsed_triangles_and_keeps_the_field():
     """A moved mesh with a collapsed triangle: the map source drops it and carries the P2
     field (checked against the function at every dof location) and the other stresses."""
-    from skfem import MeshTri
-    from pfem_skfem.drivers.pfem_loop import PFEMState, old_discretisation
     mesh = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 4))
     p, t = mesh.p.T, mesh.t.T
     # a collapsed triangle on the bottom edge: (a, b, midpoint of ab)
@@ -241,8 +250,8 @@ def test_a_deposit_coming_to_rest_keeps_solving():
     displacement scale of this run shrank as the deposit came to rest, the scaled gaps
     g0 / u_ref grew without bound and Clarabel reported 'unbounded' at step 189."""
     a, steps = 0.5, 200
-    state, config = granular_column(a, 10, phi=35.0, dt=4 * np.sqrt(a / G) / steps)
-    state, _ = run(state, config, steps)
+    state, scene = granular_column(a, 10, phi=35.0, dt=4 * np.sqrt(a / G) / steps)
+    state, _ = run(state, scene, steps)
     ke = np.asarray(state.history["kinetic_energy"])
     assert ke[-1] < 0.05 * ke.max()                       # and the deposit is at rest
 
@@ -250,7 +259,6 @@ def test_a_deposit_coming_to_rest_keeps_solving():
 def _trapezoid_with_bulging_slope(s=1e-5):
     """A flat top (y = 1, 0 <= x <= 1) meets a slope down to (1.5, 0) at the crest (1, 1);
     a P2 displacement that bulges the slope only (zero on the top, base and left side)."""
-    from skfem import MeshTri
     m = MeshTri.init_tensor(np.linspace(0, 1, 7), np.linspace(0, 1, 7))
     x, y = m.p
     mesh = MeshTri(np.vstack([x * (1 + 0.5 * (1 - y)), y]), m.t)
@@ -263,9 +271,6 @@ def _trapezoid_with_bulging_slope(s=1e-5):
 
 def _p2_area(disc, du):
     """Exact area of the body displaced by the P2 field: the integral of det(I + grad du)."""
-    from skfem import Functional
-    from skfem.helpers import grad
-
     @Functional
     def jacobian(w):
         g = grad(w["u"])
@@ -274,8 +279,6 @@ def _p2_area(disc, du):
 
 
 def test_bulge_correction_restores_the_p2_area_and_keeps_a_crest_on_its_flat_top():
-    from pfem_skfem.drivers.pfem_loop import bulge_correction, vertex_dofs
-    from pfem_skfem.pfem.alpha_shape import triangle_areas
     disc, du = _trapezoid_with_bulging_slope()
     p = disc.mesh.p.T + du[vertex_dofs(disc)]
     shift = bulge_correction(disc, du)
@@ -295,8 +298,8 @@ def test_bulge_correction_restores_the_p2_area_and_keeps_a_crest_on_its_flat_top
 def test_state_tags_the_free_surface_and_the_contacts():
     # a column held by its walls: its outline is the free surface, and the particles on
     # the base and the walls (except the free top row) carry the column's weight
-    state, config = granular_column(1.0, 6, right_wall=True)
-    state, _ = run(state, config, 1)
+    state, scene = granular_column(1.0, 6, right_wall=True)
+    state, _ = run(state, scene, 1)
     x, h = state.x, state.h[0]
     on_outline = (x[:, 0] < 1e-9) | (x[:, 0] > 1 - 1e-9) | (x[:, 1] < 1e-9) | (x[:, 1] > 1 - 1e-9)
     np.testing.assert_array_equal(state.free_surface, on_outline)
@@ -306,7 +309,6 @@ def test_state_tags_the_free_surface_and_the_contacts():
 
 
 def test_state_rejects_mismatched_fields():
-    from pfem_skfem.drivers.pfem_loop import initial_state
     with pytest.raises(ValueError, match="sigma_m"):
         initial_state(np.zeros((3, 2)), 1.0, sigma_m=np.zeros(2))
     with pytest.raises(ValueError, match="empty"):
@@ -316,11 +318,10 @@ def test_state_rejects_mismatched_fields():
 
 
 def test_run_to_rest_stops_at_rest_or_after_max_steps():
-    from pfem_skfem.drivers.pfem_loop import run_to_rest
-    state, config = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
-    still, rest, taken = run_to_rest(state, config, 1e-3, 5)      # starts at rest
+    state, scene = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
+    still, rest, taken = run_to_rest(state, scene, 1e-3, 5)      # starts at rest
     assert rest and taken == 0 and still.step == 0
-    state, _ = run(state, config, 1)                               # now collapsing
-    moving, rest, taken = run_to_rest(state, config, 1e-3, 2)
+    state, _ = run(state, scene, 1)                               # now collapsing
+    moving, rest, taken = run_to_rest(state, scene, 1e-3, 2)
     assert not rest and taken == 2 and moving.step == 3
     assert np.abs(moving.v).max() >= 1e-3

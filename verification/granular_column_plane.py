@@ -44,10 +44,15 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers.pfem_loop import (config_summary, deposit_extent, granular_column,
-                                          load_checkpoint, run, run_to_rest, step_fields,
-                                          wall_height)
+from pfem_skfem.drivers.pfem_loop import (PFEMConfig, config_summary, load_checkpoint, run,
+                                          run_to_rest)
+from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
+from pfem_skfem.pfem import alpha_shape
+from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
+from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
+from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
 # Stated bound on |area change| (thesis Fig 6.15: 2-6 %). Measured at a = 1, 10 particles
@@ -72,6 +77,77 @@ REST_BOUND = 0.05         # with --settle 0: kinetic energy at t = 4 / its peak,
 # 10 across; the top at the wall by 0.14 % of h, 6 across, and 1e-7 h0, 10 across). The
 # height check allows 1 % of h above h0 at the wall.
 HEIGHT_TOLERANCE = 0.01
+
+
+MATERIALS = {"tresca-mc": ZeroDilationMohrCoulomb, "davis": DavisMohrCoulomb}
+CONTACTS = {"coulomb": CoulombCones, "zero-dilation": LaggedFriction}
+
+
+def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
+                    right_wall=False, floor_fraction=0.005, k0=None, E=None, nu=0.3,
+                    material="tresca-mc", contact="coulomb", remesh="alpha", quality_size=1.5,
+                    dt=None, theta1=1.0, theta2=1.0, alpha=1.6, t_end=None, **config):
+    """The plane granular column of thesis Fig 6.11 as a scene, and its initial state.
+
+    A column d0 wide and h0 = a d0 high, of particles on a square lattice (nx across),
+    rests on a rigid base y = 0 against a rigid wall x = 0; the right wall x = d0 is
+    removed at t = 0 unless ``right_wall``. Base and walls have friction ``mu`` (default
+    tan phi). The lagged mean stress starts geostatic with K0 = 1 - sin phi (Jaky) unless
+    ``k0`` is given (and so do the stresses of an elastoplastic column, ``E``).
+    ``floor_fraction`` is the least cone radius in units of rho g h0; ``material``
+    'tresca-mc' (the psi = 0 scheme of [80]) or 'davis'; ``contact`` 'coulomb' or
+    'zero-dilation'; dt defaults to 0.01 sqrt(h0/g). Other keywords go to
+    :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
+
+    Returns (state, scene).
+    """
+    if a <= 0:
+        raise ValueError(f"a (aspect ratio h0/d0) must be positive, got {a!r}")
+    h0 = a * d0
+    mu = np.tan(np.radians(phi)) if mu is None else mu
+    h = d0 / (nx - 1) if nx >= 2 else np.nan
+    if not nx >= 2:
+        raise ValueError(f"nx must be >= 2, got {nx!r}")
+    top = 20 * h0 + 10 * d0
+    elastic = None if E is None else Elastic(E, nu)
+    soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction, elastic=elastic)
+    column = Region(((0.0, 0.0), (d0, 0.0), (d0, h0), (0.0, h0)), soil, rho, h,
+                    stress=Geostatic(k0=k0), name="column")
+    bodies = (Body("base", RigidSegment((-top, 0.0), (top, 0.0), mu)),        # solid above
+              Body("left_wall", RigidSegment((0.0, top), (0.0, -h), mu)),     # solid right
+              Body("right_wall", RigidSegment((d0, -h), (d0, top), mu),       # solid left
+                   removed_at=np.inf if right_wall else 0.0))
+    dt = 0.01 * np.sqrt(h0 / g) if dt is None else dt
+    remesher = AlphaMesh() if remesh == "alpha" else QualityRemesh(quality_size)
+    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=CONTACTS[contact](),
+                          remesher=remesher, **config)
+    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
+                  t_end=t_end, length=h0, config=numerics)
+    return scene.initial_state(), scene
+
+
+def deposit_extent(state, alpha):
+    """Height and toe (largest x) of the main body: the detected body of largest area.
+
+    Particles splashed off the body (free, or in a small separate body) are left out,
+    as an experimentalist measures the deposit, not its outliers.
+    Returns (height, toe, main-body particle indices).
+    """
+    shape = alpha_shape(state.x, state.h, alpha)
+    main = int(np.argmax(shape.body_area))
+    idx = np.unique(shape.triangles[shape.body == main])
+    return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
+
+
+def wall_height(state, particles, wall_x=0.0):
+    """Height of the deposit at the wall x = ``wall_x``: the highest of ``particles`` within
+    one spacing h of it (Lube et al. 2005 and Lagree et al. 2011 measure the final height
+    there, where the deposit is thickest)."""
+    idx = np.asarray(particles)
+    near = idx[np.abs(state.x[idx, 0] - wall_x) <= state.h[idx]]
+    if near.size == 0:
+        raise ValueError(f"no particle of the deposit lies within one spacing of x = {wall_x}")
+    return float(state.x[near, 1].max())
 
 
 def lube_thesis(a):
@@ -109,7 +185,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     """
     h0 = a * d0
     t_end = 4.0 * np.sqrt(h0 / g)
-    state, config = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
+    state, scene = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
                                     floor_fraction=floor, material=material, remesh=remesh,
                                     passes=passes, alpha=alpha, dt=t_end / steps,
                                     contact=contact, E=E, nu=nu,
@@ -130,19 +206,19 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
             state = load_checkpoint(checkpoint)
             print(f"resuming {checkpoint} at step {state.step}", flush=True)
     t0 = time.perf_counter()
-    state, snaps = run(state, config, steps - state.step, series=series, save_every=save_every,
+    state, snaps = run(state, scene, steps - state.step, series=series, save_every=save_every,
                        snapshots=snap_steps, verbose=verbose, checkpoint=checkpoint,
                        checkpoint_every=checkpoint_every)
     height4, top4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    state, rest, extra = run_to_rest(state, config, REST_SPEED * np.sqrt(g * h0),
+    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
                                      int(round(settle * steps / 4.0)), series=series,
                                      save_every=save_every, verbose=verbose)
     if extra:                                             # the deposit at rest, for Fig 6.12
-        points, _, point_data, _ = step_fields(state)
-        snaps[state.step] = {"points": points, "speed": point_data["speed"]}
+        snaps[state.step] = {"points": state.x.copy(),
+                             "speed": np.linalg.norm(state.v, axis=1)}
     seconds = time.perf_counter() - t0
     height, top, toe = measure_deposit(state, alpha) if extra else (height4, top4, toe4)
     hist = state.history
@@ -174,7 +250,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
         "snapshots": {0: {"points": x0, "speed": np.zeros(len(x0))},
                       **{k: {"points": v["points"], "speed": v["speed"]}
                          for k, v in snaps.items()}},
-        "config": config_summary(config),
+        "config": config_summary(scene),
         "vtu": [str(path) for _, path in series.entries] if series is not None else [],
         "pvd": str(series.pvd_path) if series is not None else None,
     }

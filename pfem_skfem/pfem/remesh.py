@@ -168,3 +168,47 @@ def mesh_quality(mesh):
     return {"n_elements": int(len(t)), "min_angle": float(np.degrees(np.arccos(cos)).min()),
             "max_aspect": float(aspect.max()), "min_area": float(area.min()),
             "max_area": float(area.max())}
+
+
+def drop_degenerate(pm, h):
+    """Remove triangles of (near) zero area, below 1e-8 h^2, from a particle mesh
+    (collapsed slivers), with the vertices only they used."""
+    p, t = pm.mesh.p.T, pm.mesh.t.T
+    area = triangle_areas(p, t)
+    good = area > 1e-8 * np.min(h) ** 2
+    if good.all():
+        return pm
+    used = np.unique(t[good])
+    index = np.full(len(p), -1)
+    index[used] = np.arange(len(used))
+    return ParticleMesh(_as_mesh(p[used], index[t[good]]), pm.particle[used])
+
+
+@dataclass(frozen=True)
+class AlphaMesh:
+    """Remesher (a): the alpha-shape's own triangles, the particles as vertices (Fig 2.3 (c))."""
+
+    thins_cloud = False
+
+    def __call__(self, shape):
+        return drop_degenerate(alpha_mesh(shape), shape.h)
+
+
+@dataclass(frozen=True)
+class QualityRemesh:
+    """Remesher (b): Triangle refines the alpha-shape (Section 2.4); added nodes become
+    particles, so the cloud is thinned first (:func:`~pfem_skfem.pfem.particles.thin_cloud`,
+    particles closer than 0.4 h) to hold the spacing near h.
+
+    size : target element edge in units of h (:func:`quality_remesh`).
+    """
+
+    size: float = 1.5
+    thins_cloud = True
+
+    def __post_init__(self):
+        if not np.isfinite(self.size) or self.size <= 0:
+            raise ValueError(f"size (target edge / h) must be positive, got {self.size!r}")
+
+    def __call__(self, shape):
+        return drop_degenerate(quality_remesh(shape, size=self.size), shape.h)

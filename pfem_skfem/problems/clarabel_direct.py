@@ -75,7 +75,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     Arguments are the scaled data of that function (Bh (4n, n_u), Ah (n_r, n_u), Dh, Ch
     or None, the weights kappa, kappa_C, s_n, v_h, f_h, the free and prescribed dofs and
     u_P); ``criterion`` is already scaled; ``contact`` is None or a dict with G (n_u, 2 nc),
-    gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None.
+    gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None, slip (nc,)
+    scaled tangential motion of the body or None.
 
     Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
     the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
@@ -103,6 +104,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     if nc:
         parts.append(-contact["G"])
         c[sl_p] = contact["gap"]
+        if contact.get("slip") is not None:               # - (n^ . d) q: a moving body
+            c[sl_c] = -contact["slip"]
     K = sp.hstack(parts, format="csr")
     if P.size:
         c -= K[P].T @ u_P

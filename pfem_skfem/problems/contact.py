@@ -117,6 +117,8 @@ class ContactSet:
     dofs : (nc, 2) x and y displacement dofs of the node;  x : (nc, 2) its position;
     gap : (nc,) g0 at t_n (reduced by the body's prescribed motion over the step);
     normal : (nc, 2) n;  mu : (nc,) friction;  body : (nc,) index of the rigid body;
+    slip : (nc,) n^ . d, the body's own tangential motion d over the step (the slip of
+        the node relative to the body is n^ . (du - d)); None: zero;
     friction_bound : None (Coulomb, |q_j| <= mu_j p_j) or (nc,) known friction forces
         mu_j p~_j (zero dilation, |q_j| <= mu_j p~_j; see :func:`with_friction_bound`).
     """
@@ -130,6 +132,7 @@ class ContactSet:
     n_bodies: int = 1
     motion: list = field(default_factory=list)
     friction_bound: np.ndarray = None
+    slip: np.ndarray = None
 
     @property
     def size(self):
@@ -157,8 +160,9 @@ def potential_contacts(disc, bodies, search_distance, *, motions=None, displacem
     disc : Discretisation of the solid at t_n.
     bodies : sequence of rigid bodies (RigidPolyline, RigidSegment, RigidCircle).
     search_distance : nodes with g0 <= search_distance are potential contacts.
-    motions : optional (n_bodies, 2) prescribed translation of each body over the step;
-        the gap seen by the solid shrinks by n . motion.
+    motions : optional (n_bodies, 2) prescribed translation d of each body over the step;
+        the gap seen by the solid shrinks by n . d, and the slip is measured relative to
+        the body (``slip`` = n^ . d).
     displacement : optional (n_u,) displacements of the solid since its mesh was
         made; the nodes are taken at their displaced positions (time stepping on a
         fixed mesh).
@@ -181,10 +185,28 @@ def potential_contacts(disc, bodies, search_distance, *, motions=None, displacem
             raise ValueError(f"rigid body {k} ({type(body).__name__}) has no boundary node "
                              f"within the search distance {search_distance:g}")
         g = g0[near] - n[near] @ motions[k]
+        t = np.stack([-n[near, 1], n[near, 0]], axis=1)
         rows.append((dofs[near], x[near], g, n[near], np.full(near.sum(), body.mu),
-                     np.full(near.sum(), k)))
-    cat = [np.concatenate([r[i] for r in rows]) for i in range(6)]
-    return ContactSet(*cat, n_bodies=len(bodies), motion=list(motions))
+                     np.full(near.sum(), k), t @ motions[k]))
+    cat = [np.concatenate([r[i] for r in rows]) for i in range(7)]
+    slip = cat.pop()
+    return ContactSet(*cat, n_bodies=len(bodies), motion=list(motions),
+                      slip=slip if np.any(slip != 0) else None)
+
+
+def without_nodes(contacts, dofs):
+    """The contacts whose node has none of ``dofs`` (a held node is a support, not a contact);
+    None if no contact is left."""
+    keep = ~np.isin(contacts.dofs[:, 0], np.asarray(dofs, dtype=int))
+    if keep.all():
+        return contacts
+    if not keep.any():
+        return None
+    pick = lambda a: None if a is None else np.asarray(a)[keep]          # noqa: E731
+    return replace(contacts, dofs=contacts.dofs[keep], x=contacts.x[keep],
+                   gap=contacts.gap[keep], normal=contacts.normal[keep], mu=contacts.mu[keep],
+                   body=contacts.body[keep], friction_bound=pick(contacts.friction_bound),
+                   slip=pick(contacts.slip))
 
 
 def with_friction_bound(contacts, normal_force):
@@ -200,6 +222,37 @@ def with_friction_bound(contacts, normal_force):
     if not np.all(np.isfinite(p)) or np.any(p < 0):
         raise ValueError("normal_force must be finite and non-negative")
     return replace(contacts, friction_bound=contacts.mu * p)
+
+
+@dataclass(frozen=True)
+class CoulombCones:
+    """Contact rule: the associated Coulomb cones |q_j| <= mu_j p_j of (5.12), as in the
+    thesis (a sliding node lifts off by mu |slip| per step, which vanishes as dt -> 0)."""
+
+    passes_needed = 1
+
+    def start(self, contacts):
+        """The contacts of a step's first pass."""
+        return contacts
+
+    def update(self, contacts, normal_force):
+        """The contacts of the next pass, given the last pass's normal forces."""
+        return contacts
+
+
+@dataclass(frozen=True)
+class LaggedFriction:
+    """Contact rule without dilation: the first pass of a step is smooth, each later one
+    bounds the friction by mu times the previous pass's normal force,
+    |q_j| <= mu_j p~_j (:func:`with_friction_bound`; needs two passes or more)."""
+
+    passes_needed = 2
+
+    def start(self, contacts):
+        return with_friction_bound(contacts, np.zeros(contacts.size))
+
+    def update(self, contacts, normal_force):
+        return with_friction_bound(contacts, np.maximum(normal_force, 0.0))
 
 
 def contact_matrix(contacts, n_u):
@@ -253,6 +306,8 @@ def contact_terms(contacts, n_u, *, length_scale, force_scale=1.0):
     if (~rough).any():                               # smooth (or no normal force): q_j = 0
         cons.append(q[np.flatnonzero(~rough)] == 0)
     objective = -(contacts.gap / length_scale) @ p   # - sum g0_j p_j  (5.10)
+    if contacts.slip is not None:                    # + sum (n^_j . d) q_j: a moving body
+        objective = objective + (contacts.slip / length_scale) @ q
     return ContactTerms(p, q, contact_matrix(contacts, n_u), objective, cons)
 
 

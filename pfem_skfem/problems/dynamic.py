@@ -441,7 +441,8 @@ def _solve_direct(ops, criterion, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P,
         bound = contacts.friction_bound
         contact = {"G": contact_matrix(contacts, Bh.shape[1]), "gap": contacts.gap / u_ref,
                    "mu": contacts.mu,
-                   "bound": None if bound is None else np.asarray(bound) / contact_force}
+                   "bound": None if bound is None else np.asarray(bound) / contact_force,
+                   "slip": None if contacts.slip is None else contacts.slip / u_ref}
     out = solve_dynamic_step(
         Bh=Bh, Ah=Ah, Dh=(ops.D / d_ref).tocsr(),
         Ch=None if ops.C is None else (ops.C / c_ref).tocsr(), kappa=kappa, kappa_C=kappa_C,

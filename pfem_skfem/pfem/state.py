@@ -1,0 +1,150 @@
+"""The state of a PFEM run between steps, and its checkpoints (thesis Section 2.2).
+
+A :class:`PFEMState` is the particle cloud C^n with everything the next step needs
+from the last one (the mesh moved to t_n with its P2 velocities and stresses, the
+lagged mean stress, the solver's scales) and the run's bookkeeping (material
+discharged through outlets, the history of step records). A checkpoint stores it
+exactly, so a resumed run is bit-identical to an uninterrupted one.
+"""
+from dataclasses import dataclass, field, replace
+import json
+
+import numpy as np
+
+from ..problems.dynamic import DynamicScales
+from .particles import Particles, check_positions
+
+
+@dataclass(kw_only=True)
+class PFEMState(Particles):
+    """Everything that carries over from one step to the next (and into a checkpoint).
+
+    A :class:`~pfem_skfem.pfem.Particles` cloud (x, h, v, and the tags free_surface:
+    on the boundary of the last mesh or flying free, contact: pressed against a rigid
+    body in the last step), validated the same way, and:
+
+    Attributes
+    ----------
+    step, time : steps taken and time reached.
+    sigma_m : (n,) lagged, smoothed mean stress (sx + sy)/2 carried by the particles.
+    region : (n,) index of the material region of each particle (0 by default).
+    mass : (n,) mass of each particle (per unit length in plane strain); it is only
+        passed on, never created: particles added at the surface carry none, a thinned
+        particle hands its mass to its nearest neighbour, so the material inside plus
+        the material discharged is the initial mass at every step.
+    mesh_p, mesh_t : the current mesh (vertices moved to t_n); mesh_particle : particle
+        of each vertex (-1: a particle dropped since).
+    v_dofs : (n_u,) P2 velocities on it.  sigma : (n_points, 4) stresses at its stress points.
+    scales : the previous step's :class:`~pfem_skfem.problems.dynamic.DynamicScales`
+        (None before the first step).
+    area0 : area of the initial domain.  alpha : the current alpha.
+    discharged : {outlet name: [mass, particle count]} that left through each outlet.
+    history : {name: list}, one entry per step record (appended by the driver).
+    stress0 : (n, 4) initial stresses (sx, sy, sz, sxy) at the particles, interpolated
+        to the stress points of the first mesh (None: zero), which an elastoplastic
+        body needs to start in equilibrium.
+    """
+
+    step: int
+    time: float
+    sigma_m: np.ndarray
+    region: np.ndarray = None
+    mass: np.ndarray = None
+    mesh_p: np.ndarray = None
+    mesh_t: np.ndarray = None
+    mesh_particle: np.ndarray = None
+    v_dofs: np.ndarray = None
+    sigma: np.ndarray = None
+    scales: DynamicScales = None
+    area0: float = np.nan
+    alpha: float = np.nan
+    discharged: dict = field(default_factory=dict)
+    history: dict = field(default_factory=dict)
+    stress0: np.ndarray = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        self.sigma_m = np.asarray(self.sigma_m, dtype=float)
+        if self.sigma_m.shape != (self.n,):
+            raise ValueError(f"sigma_m must have shape ({self.n},), got {self.sigma_m.shape}")
+        self.region = (np.zeros(self.n, dtype=int) if self.region is None
+                       else np.asarray(self.region, dtype=int))
+        if self.region.shape != (self.n,):
+            raise ValueError(f"region must have shape ({self.n},), got {self.region.shape}")
+        self.mass = (np.zeros(self.n) if self.mass is None
+                     else np.asarray(self.mass, dtype=float))
+        if self.mass.shape != (self.n,) or np.any(self.mass < 0):
+            raise ValueError(f"mass must be ({self.n},) non-negative values")
+        if self.stress0 is not None:
+            self.stress0 = np.asarray(self.stress0, dtype=float)
+            if self.stress0.shape != (self.n, 4):
+                raise ValueError(f"stress must have shape ({self.n}, 4), got {self.stress0.shape}")
+
+    def subset(self, keep):
+        """The state restricted to the kept particles (boolean mask); the old mesh keeps
+        its own vertex data, with -1 for a vertex whose particle was dropped."""
+        keep = np.asarray(keep, dtype=bool)
+        mesh_particle = self.mesh_particle
+        if mesh_particle is not None:
+            index = np.full(len(keep), -1)
+            index[keep] = np.arange(int(keep.sum()))
+            mesh_particle = index[mesh_particle]
+        return replace(self, x=self.x[keep], v=self.v[keep], h=self.h[keep],
+                       free_surface=self.free_surface[keep], contact=self.contact[keep],
+                       sigma_m=self.sigma_m[keep], region=self.region[keep],
+                       mass=self.mass[keep], mesh_particle=mesh_particle,
+                       stress0=None if self.stress0 is None else self.stress0[keep])
+
+    def appended(self, x, v, h, sigma_m, region, mass=None):
+        """The state with new particles (new arrays), e.g. nodes added by a remesher."""
+        k = len(x)
+        no = np.zeros(k, dtype=bool)
+        return replace(self, x=np.vstack([self.x, x]), v=np.vstack([self.v, v]),
+                       h=np.concatenate([self.h, h]),
+                       sigma_m=np.concatenate([self.sigma_m, sigma_m]),
+                       region=np.concatenate([self.region, region]),
+                       mass=np.concatenate([self.mass, np.zeros(k) if mass is None else mass]),
+                       free_surface=np.concatenate([self.free_surface, no]),
+                       contact=np.concatenate([self.contact, no]))
+
+    @property
+    def total_mass(self):
+        """Mass of the particles of the cloud (inside the body, or flying free)."""
+        return float(self.mass.sum())
+
+
+def initial_state(x, h, sigma_m=None, stress=None, *, region=None, mass=None):
+    """The state at t = 0: particles at rest with a lagged mean stress (zero by default)
+    and, optionally, initial stresses (n, 4), region indices and masses per particle."""
+    x = check_positions(x)                       # ValueError for an empty or bad cloud
+    sm = np.zeros(len(x)) if sigma_m is None else sigma_m
+    return PFEMState(step=0, time=0.0, x=x.copy(), h=np.array(h, dtype=float), sigma_m=sm,
+                     stress0=stress, region=region, mass=mass)
+
+
+# -- checkpoints -----------------------------------------------------------------------
+_ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass", "mesh_p",
+           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0")
+
+
+def save_checkpoint(path, state):
+    """Write the state to ``path`` (np.savez): arrays exactly, history as JSON text."""
+    data = {k: getattr(state, k) for k in _ARRAYS if getattr(state, k) is not None}
+    sc = state.scales
+    scales = (np.full(3, np.nan) if sc is None
+              else np.array([sc.stress, sc.displacement, sc.dynamic_force]))
+    np.savez(path, step=state.step, time=state.time, area0=state.area0, alpha=state.alpha,
+             scales=scales, history=json.dumps(state.history),
+             discharged=json.dumps(state.discharged), **data)
+
+
+def load_checkpoint(path):
+    """A state written by :func:`save_checkpoint`."""
+    with np.load(path) as z:
+        kw = {k: z[k].copy() for k in _ARRAYS if k in z.files}
+        s = z["scales"]
+        scales = DynamicScales(*map(float, s)) if np.all(np.isfinite(s)) else None
+        discharged = json.loads(str(z["discharged"])) if "discharged" in z.files else {}
+        return PFEMState(step=int(z["step"]), time=float(z["time"]), area0=float(z["area0"]),
+                         alpha=float(z["alpha"]), scales=scales, discharged=discharged,
+                         history=json.loads(str(z["history"])), **kw)

@@ -1,0 +1,166 @@
+"""Step 2b of the PFEM loop (Section 2.2): the particles moved, and the free surface kept.
+
+The particles are the vertices of the six-node triangles (Section 2.3.1), so two
+things lose area although the psi = 0 flow is isochoric in each P2 element: moving
+only the vertices drops the bulge of every curved boundary edge, and the alpha-shape
+deletes the boundary triangles that a stretching free surface makes too large. The
+remedies: :func:`bulge_correction` shifts the boundary vertices so that the chords
+keep the area of the curved edges, and a boundary edge stretched beyond
+``refine_surface`` h hands its P2 midside node to the cloud as a new particle
+(:func:`move_particles`). :func:`particle_tags` sets the free-surface and contact tags.
+"""
+from dataclasses import replace
+
+import numpy as np
+
+from ..fields import vertex_dofs
+from ..problems.particle import free_particles_step
+
+
+def boundary_edges(disc, du):
+    """Boundary edges: end vertices a, b, midside dofs, the midside deviation
+    delta = du_mid - (du_a + du_b)/2 and the outward unit normal at t_n."""
+    mesh = disc.mesh
+    f = mesh.boundary_facets()
+    a, b = mesh.facets[:, f]
+    vd = vertex_dofs(disc)
+    fd = disc.basis_u.facet_dofs[:, f]
+    delta = du[fd].T - 0.5 * (du[vd[a]] + du[vd[b]])
+    p = mesh.p.T
+    t = p[b] - p[a]
+    n = np.column_stack([t[:, 1], -t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]
+    centroid = p[mesh.t[:, mesh.f2t[0, f]]].mean(axis=0)
+    n[np.einsum("id,id->i", n, 0.5 * (p[a] + p[b]) - centroid) < 0] *= -1   # outward
+    return a, b, fd, delta, n
+
+
+def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None):
+    """Shift of the boundary vertices that keeps the area the P2 displacement gives the body.
+
+    The particles are the vertices only, so moving them drops the bulge of each boundary
+    edge, the area (2/3) L (delta . n) between the curved P2 edge and its chord, with
+    delta = du_mid - (du_a + du_b)/2 and n the outward unit normal. The flow of the psi = 0
+    scheme is exactly isochoric in each P2 element (div du is linear and orthogonal to
+    the linear stresses), so the dropped bulge is a loss of area at every step, of first
+    order in du and independent of dt.
+
+    Each end of an edge puts back half of its bulge: a shift w_a of vertex a adds
+    (L_e / 2) (w_a . n_e) to edge e, so w_a should satisfy w_a . n_e = c_e with
+    c_e = (2/3) (delta_e . n_e) for both boundary edges e at a. Solved per vertex in the
+    least-squares sense with a small Tikhonov term (``regularisation``), which on a
+    straight boundary gives w_a = (c_1 + c_2)/2 n (the two equations coincide) and at a
+    corner the shift that leaves the edge without bulge unchanged: the crest of a slope
+    below a flat top moves along the top, not up. ``skip`` : (n_boundary_edges,) bool,
+    edges left out (those whose midside node becomes a particle); ``edges`` : the
+    :func:`boundary_edges` of (disc, du), if already computed.
+
+    Returns (n_vertices, 2) shifts (zero at interior vertices).
+    """
+    a, b, _, delta, n = boundary_edges(disc, du) if edges is None else edges
+    c = 2.0 / 3.0 * np.einsum("id,id->i", delta, n)
+    if skip is not None:
+        c = np.where(skip, 0.0, c)
+    nv = disc.mesh.nvertices
+    normal_matrix = np.zeros((nv, 2, 2))                  # sum_e n_e n_e^T at each vertex
+    rhs = np.zeros((nv, 2))                               # sum_e c_e n_e
+    nn = n[:, :, None] * n[:, None, :]
+    for end in (a, b):
+        np.add.at(normal_matrix, end, nn)
+        np.add.at(rhs, end, c[:, None] * n)
+    on = np.unique(np.concatenate([a, b]))
+    # the Tikhonov term in units of the vertex's own normal matrix (trace = edges at it)
+    lam = regularisation * np.trace(normal_matrix[on], axis1=1, axis2=2) / 2
+    shift = np.zeros((nv, 2))
+    shift[on] = np.linalg.solve(normal_matrix[on] + lam[:, None, None] * np.eye(2),
+                                rhs[on][..., None])[..., 0]
+    return shift
+
+
+def project_out_of_bodies(x, v, bodies, h):
+    """Particles found inside a rigid body put back on its surface, their normal velocity
+    (into the body) removed; returns x, v and the number that were deeper than 1e-3 h."""
+    projected = 0
+    for body in bodies:
+        g0, n = body.gap(x)
+        inside = g0 < 0
+        if inside.any():
+            x[inside] -= g0[inside, None] * n[inside]
+            vn = np.einsum("id,id->i", v[inside], n[inside])
+            v[inside] -= np.minimum(vn, 0)[:, None] * n[inside]
+            projected += int(np.sum(g0 < -1e-3 * h))
+    return x, v, projected
+
+
+def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bodies,
+                   refine_surface=2.0, bulge=True):
+    """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
+    in no element fly ballistically (theta-method free fall) and slide with friction on the
+    rigid bodies (:func:`~pfem_skfem.problems.particle.free_particles_step`).
+
+    Parameters
+    ----------
+    state : PFEMState at t_n;  pm, disc : the step's ParticleMesh and Discretisation;
+    inc : its DynamicIncrement;  sigma_m_vertices : the smoothed mean stress of the solution.
+    theta : ThetaMethod;  gravity : (2,) acceleration;  bodies : rigid bodies at t_{n+1}.
+    refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
+        new particle (0: never);  bulge : apply :func:`bulge_correction`.
+
+    Returns the moved state (new particles appended: midside nodes of stretched boundary
+    edges, with no mass) and the number of particles found inside a rigid body by more
+    than 1e-3 h (put back on its surface).
+    """
+    vd = vertex_dofs(disc)
+    x, v = state.x.copy(), state.v.copy()
+    sm = state.sigma_m.copy()
+    on_mesh = np.zeros(len(x), dtype=bool)
+    on_mesh[pm.particle] = True
+    x[pm.particle] += inc.du[vd]
+    # stretched boundary edges: their P2 midside node becomes a particle, so the free
+    # surface is not torn open by the alpha-shape (its triangles would be deleted)
+    edges = boundary_edges(disc, inc.du)
+    a, b, fd, _, _ = edges
+    pa, pb = pm.particle[a], pm.particle[b]
+    h_edge = 0.5 * (state.h[pa] + state.h[pb])
+    split = np.zeros(len(a), dtype=bool)
+    if refine_surface > 0:
+        split = np.linalg.norm(x[pa] - x[pb], axis=1) > refine_surface * h_edge
+    if bulge:
+        x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges)
+    new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
+    new_v = inc.v[fd[:, split]].T
+    v[pm.particle] = inc.v[vd]
+    sm[pm.particle] = sigma_m_vertices
+    free = ~on_mesh
+    if free.any():              # gravity and frictional contact with the walls, (5.2)
+        x[free], v[free] = free_particles_step(x[free], v[free], gravity, theta.dt,
+                                               theta.theta2, bodies)
+        sm[free] = 0.0
+    moved = replace(state, x=x, v=v, sigma_m=sm)
+    if split.any():
+        new_sm = 0.5 * (sm[pa[split]] + sm[pb[split]])
+        moved = moved.appended(new_x, new_v, h_edge[split], new_sm, state.region[pa[split]])
+    # no particle inside a rigid body: a node that was outside the contact search (or a
+    # free particle) and crossed a wall is put back on it with its normal velocity removed
+    x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))
+    return replace(moved, x=x, v=v), projected
+
+
+def particle_tags(disc, pm, contacts, inc, n, weight):
+    """The tags of :class:`~pfem_skfem.pfem.Particles` after a step, for n particles.
+
+    free_surface : a vertex of a boundary edge of the step's mesh, or a particle in no
+    element (flying free, or new: the midside node of a stretched boundary edge);
+    contact : a vertex pressed against a rigid body, normal force p above 1e-6 ``weight``
+    (a particle's weight, rho g h^2).
+    """
+    free_surface = np.ones(n, dtype=bool)
+    free_surface[pm.particle] = False
+    free_surface[pm.particle[disc.mesh.boundary_nodes()]] = True
+    contact = np.zeros(n, dtype=bool)
+    if contacts is not None:
+        vertex_of = np.full(disc.n_u, -1)
+        vertex_of[vertex_dofs(disc)[:, 0]] = np.arange(disc.mesh.nvertices)
+        vertex = vertex_of[contacts.dofs[:, 0]]          # -1: a midside node
+        pressed = (vertex >= 0) & (inc.p > 1e-6 * weight)
+        contact[pm.particle[vertex[pressed]]] = True
+    return free_surface, contact

@@ -1,0 +1,100 @@
+"""The step of a non-associated material as associated problems in fixed-point passes.
+
+The zero-dilation Mohr-Coulomb scheme of [80]
+(:class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb`) and the lagged contact
+friction (:class:`~pfem_skfem.problems.contact.LaggedFriction`) each replace a
+non-associated law by an associated one whose cone depends on a known quantity: the
+mean stress sigma_m, the normal contact force p~. Each pass of :func:`lagged_step`
+solves the dynamic step (4.23) + (5.12) with the cones of the previous pass's
+solution (the first pass: the lagged values carried by the particles); at a fixed
+point the associated problem is the non-associated one.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..fields import smoothed_mean_stress, vertex_to_points
+from .dynamic import dynamic_increment, estimate_scales
+
+
+@dataclass
+class LaggedStep:
+    """The last pass of :func:`lagged_step`.
+
+    Attributes
+    ----------
+    increment : its :class:`~pfem_skfem.problems.dynamic.DynamicIncrement`.
+    sigma_m : (n_vertices,) smoothed mean stress of its solution (for the next step).
+    contacts : the contact set it was solved with (None without contacts).
+    iterations, compile_time, solve_time : summed over the passes.
+    inaccurate : passes Clarabel ended 'AlmostSolved' (accepted, and counted).
+    """
+
+    increment: object
+    sigma_m: np.ndarray
+    contacts: object
+    iterations: int
+    compile_time: float
+    solve_time: float
+    inaccurate: int
+
+
+def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, sigma_m,
+                scales, *, passes, stress_scale, fixed=(), backend="clarabel"):
+    """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
+
+    Parameters
+    ----------
+    ops, f : the step's DynamicOperators and load vector (3.42).
+    contacts : ContactSet or None.  disc : the Discretisation.
+    material : a PFEM material (``cone(sigma_m, stress_scale)``, ``lagged``).
+    contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
+    v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
+    sigma_m : (n_vertices,) lagged mean stress at the vertices.
+    scales : the previous step's DynamicScales, or None (first step: from an elastic
+        predictor with the material's strength at sigma_m).
+    passes : number of passes when the material or the contact rule is lagged (else 1).
+    stress_scale : the scene's stress scale (the unit of the material's least radius).
+    fixed : dofs held at zero increment (a held phase).
+    backend : 'clarabel' or 'cvxpy' (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
+
+    Returns
+    -------
+    LaggedStep
+    """
+    lagged_contact = contacts is not None and contact_rule.passes_needed > 1
+    passes = int(passes) if material.lagged or lagged_contact else 1
+    free = np.setdiff1d(np.arange(disc.n_u), fixed)
+    if scales is None:           # first step: scales from the strength at the lagged sigma_m
+        k_scale = material.strength_scale(vertex_to_points(disc, sigma_m), stress_scale)
+        f_rhs = ops.theta.equilibrium_rhs(f, f, ops.B, sigma_n)
+        scales = estimate_scales(ops, f_rhs, v_n, sigma_n, free, _StrengthOnly(k_scale))
+    iterations, compile_time, solve_time, inaccurate = 0, 0.0, 0.0, 0
+    step_contacts = None if contacts is None else contact_rule.start(contacts)
+    sm = sigma_m
+    for _ in range(passes):
+        cone = material.cone(vertex_to_points(disc, sm), stress_scale)
+        # Clarabel's 'AlmostSolved' is accepted and counted in the step record
+        inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, contacts=step_contacts,
+                                fixed=fixed, scaling=scales, accept_inaccurate=True,
+                                backend=backend)
+        inaccurate += inc.info.status != "optimal"
+        iterations += inc.info.iterations
+        compile_time += inc.info.compile_time
+        solve_time += inc.info.solve_time
+        sm = smoothed_mean_stress(disc, inc.sigma)
+        if lagged_contact:
+            last_contacts = step_contacts
+            step_contacts = contact_rule.update(contacts, inc.p)
+    used = last_contacts if lagged_contact else step_contacts
+    return LaggedStep(inc, sm, used, iterations, compile_time, solve_time, inaccurate)
+
+
+@dataclass(frozen=True)
+class _StrengthOnly:
+    """What :func:`estimate_scales` reads of a criterion: its strength scale."""
+
+    value: float
+
+    def strength_scale(self):
+        return self.value

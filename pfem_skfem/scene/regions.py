@@ -1,0 +1,192 @@
+"""Material regions of a PFEM scene: polygons (with holes) filled with particles.
+
+Each region is a polygon with optional holes, a material (the cone of each step,
+:mod:`pfem_skfem.materials`), a density, a particle spacing h on a square or
+triangular lattice, and an initial stress (zero, or geostatic with a given K0).
+The lattice is fitted to the region's bounding box (its rows and columns reach both
+sides, so a rectangle is filled edge to edge), and each edge of the polygon that
+the lattice does not follow gets particles of its own at a spacing of about h, so
+that the alpha-shape finds the polygon again.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+from matplotlib.path import Path
+
+LATTICES = ("square", "triangular")
+
+
+def polygon_area(vertices):
+    """Signed area of a polygon (counter-clockwise positive)."""
+    x, y = np.asarray(vertices, dtype=float).T
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def _segments_cross(p, q, r, s):
+    """Whether the open segments pq and rs intersect properly (not at shared ends)."""
+    def orient(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    return (orient(p, q, r) * orient(p, q, s) < 0) and (orient(r, s, p) * orient(r, s, q) < 0)
+
+
+def check_polygon(vertices, name):
+    """(k, 2) float vertices of a simple polygon with k >= 3 and non-zero area, or ValueError
+    naming ``name``."""
+    v = np.asarray(vertices, dtype=float)
+    if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
+        raise ValueError(f"{name}: a polygon needs at least three (x, y) vertices, got shape "
+                         f"{v.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError(f"{name}: polygon vertices must be finite")
+    if abs(polygon_area(v)) <= 1e-12 * np.ptp(v, axis=0).max() ** 2:
+        raise ValueError(f"{name}: the polygon is empty (zero area)")
+    k = len(v)
+    for i in range(k):
+        for j in range(i + 2, k):
+            if i == 0 and j == k - 1:
+                continue                                  # neighbours through the closure
+            if _segments_cross(v[i], v[(i + 1) % k], v[j], v[(j + 1) % k]):
+                raise ValueError(f"{name}: the polygon intersects itself (edges {i} and {j})")
+    return v
+
+
+@dataclass(frozen=True)
+class Geostatic:
+    """Geostatic initial stress below a free surface at height ``top`` (None: the top of
+    the region): sy = -rho g (top - y), sx = K0 sy, sz = nu (sx + sy) (plane strain,
+    nu of the material's elasticity, else 0). K0 = None: Jaky's 1 - sin(phi)."""
+
+    k0: float = None
+    top: float = None
+
+
+@dataclass(frozen=True)
+class Region:
+    """A region of material filled with particles.
+
+    Parameters
+    ----------
+    polygon : (k, 2) outer boundary;  holes : polygons cut out of it.
+    material : the PFEM material (e.g. ZeroDilationMohrCoulomb, CohesiveTresca).
+    rho : density;  h : particle spacing;  lattice : 'square' or 'triangular'.
+    stress : None (zero initial stress) or :class:`Geostatic`.
+    name : for the records (mass of each region).
+    """
+
+    polygon: tuple
+    material: object
+    rho: float
+    h: float
+    lattice: str = "square"
+    holes: tuple = ()
+    stress: Geostatic = None
+    name: str = "material"
+
+    def __post_init__(self):
+        label = f"region {self.name!r}"
+        poly = check_polygon(self.polygon, label)
+        holes = tuple(tuple(map(tuple, check_polygon(hole, f"{label}, hole {i}")))
+                      for i, hole in enumerate(self.holes))
+        object.__setattr__(self, "polygon", tuple(map(tuple, poly)))
+        object.__setattr__(self, "holes", holes)
+        for key in ("rho", "h"):
+            value = getattr(self, key)
+            if not np.isfinite(value) or value <= 0:
+                raise ValueError(f"{label}: {key} must be positive, got {value!r}")
+        if self.lattice not in LATTICES:
+            raise ValueError(f"{label}: lattice must be one of {LATTICES}, got {self.lattice!r}")
+        if not hasattr(self.material, "cone"):
+            raise ValueError(f"{label}: material must be a PFEM material with a cone() "
+                             f"(e.g. ZeroDilationMohrCoulomb), got {self.material!r}")
+        if self.stress is not None and not isinstance(self.stress, Geostatic):
+            raise ValueError(f"{label}: stress must be None or Geostatic, got {self.stress!r}")
+
+    @property
+    def area(self):
+        """Area of the region: the polygon less its holes."""
+        return abs(polygon_area(self.polygon)) - sum(abs(polygon_area(h)) for h in self.holes)
+
+    def contains(self, x, tol=0.0):
+        """Points inside the polygon and outside its holes (``tol`` widens the polygon)."""
+        x = np.atleast_2d(x)
+        inside = _path(self.polygon).contains_points(x, radius=_signed(self.polygon, tol))
+        for hole in self.holes:
+            inside &= ~_path(hole).contains_points(x, radius=_signed(hole, -tol))
+        return inside
+
+    def particles(self):
+        """(n, 2) particles filling the region (lattice plus the edges it misses)."""
+        return fill_region(self)
+
+
+def _path(vertices):
+    return Path(np.vstack([vertices, vertices[:1]]), closed=True)
+
+
+def _signed(vertices, tol):
+    # matplotlib widens a counter-clockwise path for radius > 0, a clockwise one for < 0
+    return tol if polygon_area(vertices) > 0 else -tol
+
+
+def fitted_lattice(lo, hi, h, lattice):
+    """Lattice points of spacing about h over the box [lo, hi]: the first and last row and
+    column on the box's sides (a square lattice through linspace, as many points as
+    round(extent / h) + 1; a triangular one with rows h sqrt(3)/2 apart, every other row
+    shifted by half a spacing)."""
+    (x0, y0), (x1, y1) = lo, hi
+    nx = int(round((x1 - x0) / h)) + 1
+    if lattice == "square":
+        ny = int(round((y1 - y0) / h)) + 1
+        X, Y = np.meshgrid(np.linspace(x0, x1, max(nx, 2)), np.linspace(y0, y1, max(ny, 2)))
+        return np.column_stack([X.ravel(), Y.ravel()])
+    ny = int(round((y1 - y0) / (h * np.sqrt(3) / 2))) + 1
+    xs = np.linspace(x0, x1, max(nx, 2))
+    dx = xs[1] - xs[0]
+    rows = []
+    for j, y in enumerate(np.linspace(y0, y1, max(ny, 2))):
+        row = xs + (0.5 * dx if j % 2 else 0.0)
+        rows.append(np.column_stack([row[row <= x1 + 1e-9 * dx], np.full((row <= x1 + 1e-9 * dx).sum(), y)]))
+    return np.vstack(rows)
+
+
+def _edge_points(vertices, h):
+    """Points along each edge of a closed polygon, about h apart, ends included once."""
+    out = []
+    k = len(vertices)
+    for i in range(k):
+        a, b = np.asarray(vertices[i]), np.asarray(vertices[(i + 1) % k])
+        m = max(int(round(np.linalg.norm(b - a) / h)), 1)     # as the fitted lattice
+        s = np.arange(m) / m
+        out.append(a + s[:, None] * (b - a))
+    return np.vstack(out)
+
+
+def fill_region(region):
+    """Particles of a region: the fitted lattice inside (boundary included), and particles
+    along every polygon edge the lattice leaves more than 1e-6 h away; lattice points
+    closer than h/2 to an added edge particle are dropped."""
+    h = region.h
+    poly = np.asarray(region.polygon)
+    loops = [poly] + [np.asarray(hole) for hole in region.holes]
+    lo, hi = poly.min(axis=0), poly.max(axis=0)
+    grid = fitted_lattice(lo, hi, h, region.lattice)
+    grid = grid[region.contains(grid, tol=1e-9 * h)]
+    edges = np.vstack([_edge_points(loop, h) for loop in loops])
+    # an edge point the lattice already has (within 1e-6 h) is not added again
+    from scipy.spatial import cKDTree
+    if len(grid):
+        d, _ = cKDTree(grid).query(edges)
+        edges = edges[d > 1e-6 * h]
+    if len(edges) and len(grid):
+        d, _ = cKDTree(edges).query(grid)
+        grid = grid[d >= 0.5 * h]
+    x = np.vstack([grid, edges]) if len(edges) else grid
+    return x
+
+
+def geostatic_stress(x, top, rho, g, k0, nu=0.0):
+    """Geostatic stresses (n, 4) (sx, sy, sz, sxy): sy = -rho g (top - y), sx = k0 sy and
+    the plane-strain sz = nu (sx + sy)."""
+    sy = -rho * g * np.clip(top - x[:, 1], 0, None)
+    sx = k0 * sy
+    return np.column_stack([sx, sy, nu * (sx + sy), np.zeros_like(sy)])

@@ -1,0 +1,233 @@
+"""The scene: the one description every PFEM problem is given as.
+
+A :class:`Scene` holds the material regions (polygons filled with particles, each with
+its material, density and initial stress), the rigid bodies and their motions, the
+outlets, the phases (time intervals with their own boundary conditions), gravity, the
+alpha-shape parameter (adapted to keep the mass, Ch 8, as an option), the end time
+and the numerical configuration of the loop
+(:class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`). Everything is checked when the
+scene is made, before any step runs. Its own scales, a characteristic length L and
+the stress rho g L, are the units of every tolerance the engine uses.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..drivers.pfem_loop import PFEMConfig
+from ..pfem.state import initial_state
+from .bodies import Body
+from .outlets import Outlet
+from .regions import Geostatic, Region, geostatic_stress
+
+HOLDS = (None, "boundary", "free_surface")
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A time interval [previous phase's end, ``until``) with its own boundary conditions.
+
+    hold : None; 'boundary' (every boundary node of the mesh held still: zero
+        displacement increments); or 'free_surface' (the boundary nodes not within the
+        contact search of a rigid body), as the thesis holds the surface of the
+        Yangbaodi slide for its first 10 s to build the initial stresses (Ch 8).
+    """
+
+    until: float
+    hold: str = None
+    name: str = "phase"
+
+    def __post_init__(self):
+        if not (self.until > 0):
+            raise ValueError(f"phase {self.name!r}: until must be positive, got {self.until!r}")
+        if self.hold not in HOLDS:
+            raise ValueError(f"phase {self.name!r}: hold must be one of {HOLDS}, got {self.hold!r}")
+
+
+@dataclass(frozen=True)
+class Output:
+    """What a run writes: a VTU every ``every`` steps (0: none), a checkpoint every
+    ``checkpoint_every`` steps (0: none), into ``directory``."""
+
+    directory: str = "pfem_run"
+    every: int = 10
+    checkpoint_every: int = 0
+
+    def __post_init__(self):
+        for key in ("every", "checkpoint_every"):
+            if int(getattr(self, key)) < 0:
+                raise ValueError(f"output.{key} must be >= 0, got {getattr(self, key)!r}")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A PFEM problem: what is where, what moves how, and for how long.
+
+    Parameters
+    ----------
+    regions : one or more :class:`~pfem_skfem.scene.regions.Region`.
+    bodies : :class:`~pfem_skfem.scene.bodies.Body` objects (walls, bases, cylinders).
+    outlets : :class:`~pfem_skfem.scene.outlets.Outlet` objects.
+    phases : :class:`Phase` objects in increasing ``until`` (after the last: no hold).
+    gravity : (gx, gy) acceleration.
+    alpha : alpha-shape parameter alpha_0;  adaptive_alpha : alpha_n = m0 alpha_0 / m_n
+        (thesis Ch 8), clipped to [0.8, 1.5] alpha_0.
+    t_end : end time of a run (None: the caller says how many steps).
+    length : the characteristic length L (default: the height of the regions'
+        bounding box); the stress scale is rho g L (rho the largest density), or the
+        largest cohesion without gravity.
+    config : :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig` (time step, passes,
+        contact rule, remesher, mappings, backend).
+    output : :class:`Output`.
+    """
+
+    regions: tuple
+    bodies: tuple = ()
+    outlets: tuple = ()
+    phases: tuple = ()
+    gravity: tuple = (0.0, -9.8)
+    alpha: float = 1.6
+    adaptive_alpha: bool = False
+    t_end: float = None
+    length: float = None
+    config: PFEMConfig = field(default_factory=PFEMConfig)
+    output: Output = field(default_factory=Output)
+
+    def __post_init__(self):
+        regions = tuple(self.regions) if isinstance(self.regions, (list, tuple)) else (self.regions,)
+        if not regions:
+            raise ValueError("a scene needs at least one material region")
+        for r in regions:
+            if not isinstance(r, Region):
+                raise ValueError(f"regions must be Region objects, got {r!r}")
+        object.__setattr__(self, "regions", regions)
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "outlets", tuple(self.outlets))
+        object.__setattr__(self, "phases", tuple(self.phases))
+        self._check_names()
+        for b in self.bodies:
+            if not isinstance(b, Body):
+                raise ValueError(f"bodies must be Body objects, got {b!r}")
+        for o in self.outlets:
+            if not isinstance(o, Outlet):
+                raise ValueError(f"outlets must be Outlet objects, got {o!r}")
+        ends = [p.until for p in self.phases]
+        if any(not isinstance(p, Phase) for p in self.phases) or np.any(np.diff(ends) <= 0):
+            raise ValueError("phases must be Phase objects in increasing 'until'")
+        g = np.asarray(self.gravity, dtype=float)
+        if g.shape != (2,) or not np.all(np.isfinite(g)):
+            raise ValueError(f"gravity must be a finite (gx, gy), got {self.gravity!r}")
+        object.__setattr__(self, "gravity", tuple(map(float, g)))
+        if not (np.isfinite(self.alpha) and self.alpha > 0):
+            raise ValueError(f"alpha must be positive, got {self.alpha!r}")
+        if self.t_end is not None and not (self.t_end > 0):
+            raise ValueError(f"t_end must be positive, got {self.t_end!r}")
+        if self.length is None:
+            lo, hi = self._bounding_box()
+            object.__setattr__(self, "length", float(hi[1] - lo[1]) or float(np.ptp([lo, hi])))
+        if not (np.isfinite(self.length) and self.length > 0):
+            raise ValueError(f"length must be positive, got {self.length!r}")
+        elastic = {repr(getattr(r.material, "elastic", None)) for r in regions}
+        if len(elastic) > 1:
+            raise ValueError("every region must have the same elasticity (or none)")
+        if not self.stress_scale > 0:
+            raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
+        self._check_particles()
+
+    # -- checks ---------------------------------------------------------------------------
+    def _check_names(self):
+        for kind, items in (("region", self.regions), ("body", self.bodies),
+                            ("outlet", self.outlets)):
+            names = [item.name for item in items]
+            if len(set(names)) != len(names):
+                raise ValueError(f"{kind} names must be unique, got {names}")
+
+    def _bounding_box(self):
+        pts = np.vstack([np.asarray(r.polygon) for r in self.regions])
+        return pts.min(axis=0), pts.max(axis=0)
+
+    def _check_particles(self):
+        x, _, _ = self.particles()
+        h = min(r.h for r in self.regions)
+        for body in self.bodies:
+            if body.present(0.0):
+                g0, _ = body.shape.gap(x)
+                inside = g0 < -1e-6 * h
+                if inside.any():
+                    raise ValueError(f"body {body.name!r}: {int(inside.sum())} particle(s) lie "
+                                     f"inside it at t = 0 (deepest {-g0.min():.3g})")
+        for outlet in self.outlets:
+            if outlet.zone.contains(x).all():
+                raise ValueError(f"outlet {outlet.name!r} contains every particle at t = 0")
+
+    # -- scales ---------------------------------------------------------------------------
+    @property
+    def rho(self):
+        """The largest density of the regions."""
+        return max(r.rho for r in self.regions)
+
+    @property
+    def g(self):
+        """|gravity|."""
+        return float(np.hypot(*self.gravity))
+
+    @property
+    def stress_scale(self):
+        """rho g L, or without gravity the largest cohesion: the unit of stresses."""
+        s = self.rho * self.g * self.length
+        if s > 0:
+            return s
+        return max(getattr(r.material, "c", 0.0) for r in self.regions)
+
+    @property
+    def elastic(self):
+        return getattr(self.regions[0].material, "elastic", None)
+
+    # -- particles ------------------------------------------------------------------------
+    def particles(self):
+        """Particles of every region: positions (n, 2), spacings (n,), region indices (n,)."""
+        xs, hs, rs = [], [], []
+        for k, region in enumerate(self.regions):
+            x = region.particles()
+            xs.append(x)
+            hs.append(np.full(len(x), region.h))
+            rs.append(np.full(len(x), k))
+        return np.vstack(xs), np.concatenate(hs), np.concatenate(rs)
+
+    def initial_state(self):
+        """The state at t = 0: the particles at rest, each region's mass shared equally by
+        its particles, the lagged mean stress and (elastoplastic) the stresses from each
+        region's initial stress."""
+        x, h, region = self.particles()
+        mass = np.zeros(len(x))
+        sigma = np.zeros((len(x), 4))
+        for k, r in enumerate(self.regions):
+            mine = region == k
+            mass[mine] = r.rho * r.area / mine.sum()
+            if isinstance(r.stress, Geostatic):
+                phi = getattr(r.material, "phi", 0.0)
+                k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
+                top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
+                nu = getattr(self.elastic, "nu", 0.0)
+                sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
+        sigma_m = 0.5 * (sigma[:, 0] + sigma[:, 1])
+        stress = sigma if self.elastic is not None else None
+        h_arg = h[0] if np.all(h == h[0]) else h
+        return initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
+
+    # -- per step -------------------------------------------------------------------------
+    def phase_at(self, t):
+        """The phase a step starting at time t is in (None after the last)."""
+        for phase in self.phases:
+            if t < phase.until:
+                return phase
+        return None
+
+    def bodies_at(self, t_n, dt):
+        """The bodies present in the step t_n -> t_n + dt: (index, shape at t_n, translation
+        over the step)."""
+        out = []
+        for k, body in enumerate(self.bodies):
+            if body.present(t_n):
+                d_n = body.motion(t_n)
+                out.append((k, body.shape.translated(d_n), body.motion(t_n + dt) - d_n))
+        return out
