@@ -215,3 +215,18 @@ def test_regions_of_a_scene_keep_their_mass_and_tags():
     state, records = steps(scene, 2, state)
     assert records[-1]["mass_regions"] == pytest.approx({"lower": RHO * 0.3,
                                                          "upper": 2 * RHO * 0.2})
+
+
+def test_a_step_does_not_change_its_input():
+    """pfem_step returns a new state; the one it was given keeps every array and number."""
+    import copy
+    scene = moving_scene()
+    state, _ = run(scene.initial_state(), scene, 3)
+    before = copy.deepcopy(state)
+    pfem_step(state, scene)
+    for name in ("x", "v", "h", "sigma_m", "mass", "region", "mesh_p", "mesh_t",
+                 "mesh_particle", "v_dofs", "sigma", "free_surface", "contact"):
+        np.testing.assert_array_equal(getattr(state, name), getattr(before, name))
+    assert (state.step, state.time, state.area0, state.alpha, state.scales, state.discharged,
+            state.history) == (before.step, before.time, before.area0, before.alpha,
+                               before.scales, before.discharged, before.history)
