@@ -2,7 +2,8 @@
 
 Each region is a polygon with optional holes, a material (the cone of each step,
 :mod:`pfem_skfem.materials`), a density, a particle spacing h on a square or
-triangular lattice, and an initial stress (zero, or geostatic with a given K0).
+triangular lattice (or the nodes of a Triangle quality mesh of edge about h), and an
+initial stress (zero, or geostatic with a given K0).
 The lattice is fitted to the region's bounding box (its rows and columns reach both
 sides, so a rectangle is filled edge to edge), and each edge of the polygon that
 the lattice does not follow gets particles of its own at a spacing of about h, so
@@ -13,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from matplotlib.path import Path
 
-LATTICES = ("square", "triangular")
+LATTICES = ("square", "triangular", "triangle")
 
 
 def polygon_area(vertices):
@@ -68,7 +69,9 @@ class Region:
     ----------
     polygon : (k, 2) outer boundary;  holes : polygons cut out of it.
     material : the PFEM material (e.g. ZeroDilationMohrCoulomb, CohesiveTresca).
-    rho : density;  h : particle spacing;  lattice : 'square' or 'triangular'.
+    rho : density;  h : particle spacing;  lattice : 'square', 'triangular' or 'triangle'
+        (the nodes of a Triangle quality mesh of the polygon, edges about h; each hole's
+        vertex mean must lie inside the hole).
     stress : None (zero initial stress) or :class:`Geostatic`.
     name : for the records (mass of each region).
     """
@@ -161,10 +164,41 @@ def _edge_points(vertices, h):
     return np.vstack(out)
 
 
+def triangle_nodes(region):
+    """Nodes of a Triangle quality mesh (minimum angle 30 degrees) of the region with edges
+    about h, its boundary divided as :func:`_edge_points` does."""
+    from meshpy.triangle import MeshInfo, build
+
+    loops = [np.asarray(region.polygon)] + [np.asarray(hole) for hole in region.holes]
+    points, facets, seeds = [], [], []
+    for k, loop in enumerate(loops):
+        pts = _edge_points(loop, region.h)
+        start = len(points)
+        points += pts.tolist()
+        facets += [(start + i, start + (i + 1) % len(pts)) for i in range(len(pts))]
+        if k:
+            seed = loop.mean(axis=0)
+            if not _path(loop).contains_point(seed):
+                raise ValueError(f"region {region.name!r}: hole {k - 1} does not contain the "
+                                 "mean of its vertices (needed by lattice='triangle')")
+            seeds.append(tuple(seed))
+    info = MeshInfo()
+    info.set_points(points)
+    info.set_facets(facets)
+    if seeds:
+        info.set_holes(seeds)
+    target = np.sqrt(3) / 4 * region.h ** 2                      # equilateral, edge h
+    tri = build(info, max_volume=target, min_angle=30.0, allow_boundary_steiner=False)
+    return np.asarray(tri.points, dtype=float)
+
+
 def fill_region(region):
     """Particles of a region: the fitted lattice inside (boundary included), and particles
     along every polygon edge the lattice leaves more than 1e-6 h away; lattice points
-    closer than h/2 to an added edge particle are dropped."""
+    closer than h/2 to an added edge particle are dropped (lattice 'triangle': the nodes
+    of :func:`triangle_nodes`)."""
+    if region.lattice == "triangle":
+        return triangle_nodes(region)
     h = region.h
     poly = np.asarray(region.polygon)
     loops = [poly] + [np.asarray(hole) for hole in region.holes]
