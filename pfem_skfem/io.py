@@ -13,6 +13,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from .fields import element_mean, vertex_dofs
+
 _VTK_CELL_TYPE = {3: 5, 6: 22}   # VTK_TRIANGLE, VTK_QUADRATIC_TRIANGLE
 
 
@@ -193,3 +195,29 @@ class TimeSeries:
         self.entries.append((float(time), vtu))
         write_pvd(self.pvd_path, self.entries)
         return vtu
+
+
+# -- PFEM steps -----------------------------------------------------------------------------
+def step_fields(state, result):
+    """Points, triangles and fields of a step for VTU output.
+
+    Point data: velocity (3 components, z = 0 for ParaView), speed, smoothed mean stress
+    and pressure p = -(sx + sy)/2, the tags free_surface and contact (0/1), region;
+    cell data: element mean stress (sx, sy, sxy), equivalent plastic strain increment.
+    """
+    disc, inc = result.disc, result.increment
+    points = state.mesh_p
+    mp = state.mesh_particle
+    vel = np.zeros((len(points), 3))
+    vel[:, :2] = inc.v[vertex_dofs(disc)]               # a discharged vertex: the solution's
+    vel[mp >= 0, :2] = state.v[mp[mp >= 0]]             # the particles' (put out of walls)
+    sm = result.sigma_m
+    tag = lambda a: np.where(mp >= 0, a[np.maximum(mp, 0)], 0).astype(float)  # noqa: E731
+    stress = element_mean(disc, inc.sigma)
+    point_data = {"velocity": vel, "speed": np.linalg.norm(vel, axis=1),
+                  "pressure": -sm, "mean_stress": sm,
+                  "free_surface": tag(state.free_surface), "contact": tag(state.contact),
+                  "region": tag(state.region)}
+    cell_data = {"stress": stress[:, [0, 1, 3]],
+                 "plastic_strain_increment": element_mean(disc, result.plastic_strain)}
+    return points, disc.mesh.t.T, point_data, cell_data

@@ -5,9 +5,9 @@ One step from the cloud C^n to C^{n+1}, one call per stage, each timed::
     detect   (1a) alpha-shape of the particles          pfem.alpha_shape.alpha_shape
     remesh   (1b) mesh of the detected domain            pfem.remesh (AlphaMesh, QualityRemesh)
     map      (1c) velocities and stresses onto it        pfem.transfer.map_state
-    assemble      B, A, D (C), gravity, contacts, holds  operators, problems.contact
+    assemble      B, A, D (C), gravity, contacts, holds  pfem.assemble
     solve    (2a) (4.23) + (5.12), fixed-point passes    problems.nonassociated.lagged_step
-    move     (2b) particles moved, surface kept, outlets pfem.surface.move_particles
+    move     (2b) particles moved, surface kept, outlets pfem.surface, pfem.bookkeeping
 
 The problem is a :class:`~pfem_skfem.scene.Scene` (regions, rigid bodies and their
 motions, outlets, phases, gravity); :class:`PFEMConfig` holds the numerical choices.
@@ -21,19 +21,20 @@ import time as _time
 import numpy as np
 from skfem import MeshTri
 
-from ..fields import element_mean, plastic_strain_increment, vertex_dofs
-from ..operators import body_force_vector, discretise
-from ..operators_dynamic import gravity_vector
+from ..fields import plastic_strain_increment
+from ..io import step_fields
+from ..operators import discretise
 from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
-from ..pfem.alpha_shape import triangle_areas
+from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
+                             step_material, step_scales)
+from ..pfem.bookkeeping import discharge, hand_on_mass, step_record
 from ..pfem.remesh import AlphaMesh, ParticleMesh, QualityRemesh
 from ..pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpoint
 from ..pfem.surface import move_particles, particle_tags
 from ..pfem.transfer import Interpolation, L2Projection, adopt_added_nodes, map_state, \
     old_discretisation
-from ..problems.contact import CoulombCones, LaggedFriction, boundary_nodes, \
-    potential_contacts, without_nodes
-from ..problems.dynamic import BACKENDS, DynamicScales, ThetaMethod, dynamic_operators
+from ..problems.contact import CoulombCones, LaggedFriction, without_nodes
+from ..problems.dynamic import BACKENDS, ThetaMethod
 from ..problems.nonassociated import lagged_step
 
 __all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_to_rest",
@@ -151,73 +152,6 @@ class StageTimer:
             self.seconds[name] = self.seconds.get(name, 0.0) + _time.perf_counter() - t0
 
 
-# -- assemble ------------------------------------------------------------------------------
-def element_regions(state, pm):
-    """Region of each element: that of most of its vertices (the first vertex on a tie)."""
-    r = state.region[pm.particle[pm.mesh.t]]                 # (3, m)
-    majority = np.where(r[1] == r[2], r[1], r[0])
-    return majority
-
-
-def contact_set(disc, bodies, search):
-    """The potential contacts (5.12) of the bodies present in the step with a boundary node
-    within ``search``: (ContactSet or None, scene index of each body in it)."""
-    if not bodies:
-        return None, []
-    _, xb = boundary_nodes(disc)
-    near = [(k, shape, d) for k, shape, d in bodies if (shape.gap(xb)[0] <= search).any()]
-    if not near:
-        return None, []
-    contacts = potential_contacts(disc, [s for _, s, _ in near], search,
-                                  motions=np.array([d for _, _, d in near]))
-    return contacts, [k for k, _, _ in near]
-
-
-def held_dofs(disc, phase, contacts):
-    """Displacement dofs held still in a held phase (none otherwise)."""
-    if phase is None or phase.hold is None:
-        return np.zeros(0, dtype=int)
-    dofs, _ = boundary_nodes(disc)
-    if phase.hold == "free_surface" and contacts is not None:
-        dofs = dofs[~np.isin(dofs[:, 0], contacts.dofs[:, 0])]
-    return np.unique(dofs.ravel())
-
-
-class _MultiCone:
-    """The step's cone when regions have different materials: one Tresca-type radius per
-    stress point from each point's material (materials with a ``radius``)."""
-
-    def __init__(self, materials, point_region):
-        self.materials = materials
-        self.point_region = point_region
-
-    def cone(self, sigma_m, stress_scale):
-        from ..materials import TrescaField
-        k = np.empty(len(sigma_m))
-        for i, m in enumerate(self.materials):
-            mine = self.point_region == i
-            k[mine] = m.radius(sigma_m[mine], stress_scale)
-        return TrescaField(k)
-
-    def strength_scale(self, sigma_m, stress_scale):
-        return float(np.median(self.cone(sigma_m, stress_scale).k)) / 2
-
-    @property
-    def lagged(self):
-        return any(m.lagged for m in self.materials)
-
-
-def step_material(scene, disc, regions):
-    """The material object of the step (one region's, or a per-point combination)."""
-    materials = [r.material for r in scene.regions]
-    if len({repr(m) for m in materials}) == 1:
-        return materials[0]
-    if not all(hasattr(m, "radius") for m in materials):
-        raise ValueError("regions of different materials need materials with a radius "
-                         "(ZeroDilationMohrCoulomb, CohesiveTresca)")
-    return _MultiCone(materials, regions[disc.point_element])
-
-
 # -- the step ------------------------------------------------------------------------------
 def pfem_step(state, scene):
     """One PFEM step C^n -> C^{n+1} (Section 2.2) of ``scene``.
@@ -309,145 +243,6 @@ def pfem_step(state, scene):
                          held=len(fixed),
                          discharged_now=out_now)
     return new, record, result
-
-
-def assemble_operators(scene, disc, regions, theta):
-    """B, C, A, D, M of (4.23) and the gravity load (3.42), with each element's density."""
-    if len(scene.regions) == 1:
-        rho = scene.regions[0].rho
-        f = body_force_vector(disc, rho * np.asarray(scene.gravity))
-    else:
-        rho = np.array([r.rho for r in scene.regions])[regions]
-        f = (gravity_vector(disc, rho, scene.g, np.asarray(scene.gravity) / scene.g)
-             if scene.g > 0 else np.zeros(disc.n_u))
-    return dynamic_operators(disc, rho, theta, elastic=scene.elastic), f
-
-
-def step_scales(previous, scene, dt):
-    """The scales of the step: the previous step's magnitudes, but not below those of a
-    free-fall step. As a body comes to rest the displacement scale would otherwise shrink
-    step by step, the scaled gaps g0 / u_ref of (5.12) grow as much, and Clarabel reports
-    'unbounded' (measured: phi = 35, a = 0.5, step 189 of 200). None before the first step."""
-    if previous is None:
-        return None
-    return DynamicScales(previous.stress, max(previous.displacement, scene.g * dt ** 2),
-                         max(previous.dynamic_force, scene.rho * scene.g))
-
-
-def hand_on_mass(state, keep):
-    """The state without the particles not kept, each of which hands its mass to the
-    nearest kept particle (the material's mass is only ever passed on)."""
-    from scipy.spatial import cKDTree
-    mass = state.mass.copy()
-    gone = np.flatnonzero(~keep)
-    kept = np.flatnonzero(keep)
-    nearest = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
-    np.add.at(mass, nearest, mass[gone])
-    return replace(state, mass=mass).subset(keep)
-
-
-def discharge(state, outlets):
-    """Particles inside an outlet's zone leave the cloud; returns the state without them
-    and {outlet: [mass, particles]} discharged in this step (added to state.discharged)."""
-    totals = {name: list(v) for name, v in state.discharged.items()}
-    now = {}
-    keep = np.ones(state.n, dtype=bool)
-    for outlet in outlets:
-        out = keep & outlet.zone.contains(state.x)
-        now[outlet.name] = [float(state.mass[out].sum()), int(out.sum())]
-        total = totals.setdefault(outlet.name, [0.0, 0])
-        total[0] += now[outlet.name][0]
-        total[1] += now[outlet.name][1]
-        keep &= ~out
-    if keep.all():
-        return replace(state, discharged=totals), now
-    return replace(state.subset(keep), discharged=totals), now
-
-
-def body_loads(scene, contacts, contact_bodies, inc, t_n):
-    """Force (Fx, Fy) and moment about its reference point that the material exerts on
-    each body of the scene in the step (per unit length in plane strain; zero if apart)."""
-    forces = {b.name: [0.0, 0.0] for b in scene.bodies}
-    moments = {b.name: 0.0 for b in scene.bodies}
-    if contacts is None:
-        return forces, moments
-    on_body = -(contacts.normal * inc.p[:, None] + contacts.tangent * inc.q[:, None])
-    for j, k in enumerate(contact_bodies):
-        mine = contacts.body == j
-        body = scene.bodies[k]
-        arm = contacts.x[mine] - body.reference_at(t_n)
-        F = on_body[mine]
-        forces[body.name] = [float(F[:, 0].sum()), float(F[:, 1].sum())]
-        moments[body.name] = float(np.sum(arm[:, 0] * F[:, 1] - arm[:, 1] * F[:, 0]))
-    return forces, moments
-
-
-def region_amounts(scene, state, disc, regions):
-    """Mass of the particles of each region, and the area of the elements of each region."""
-    area_e = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)
-    mass = {r.name: float(state.mass[state.region == k].sum())
-            for k, r in enumerate(scene.regions)}
-    area = {r.name: float(area_e[regions == k].sum()) for k, r in enumerate(scene.regions)}
-    return mass, area
-
-
-def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
-                area, area0, alpha, projected, added, surface, thinned, phase, held,
-                discharged_now):
-    """The step's record for the history: geometry, mass bookkeeping, forces on the
-    bodies, energy, solver iterations and status, stage times."""
-    disc, pm, inc = result.disc, result.pm, result.increment
-    mass_regions, area_regions = region_amounts(scene, new, disc, regions)
-    forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
-                                 new.time - scene.config.dt)
-    speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)
-    mesh_area = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T).sum())
-    moved_area = float(triangle_areas(new.mesh_p, disc.mesh.t.T).sum())
-    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
-            "area": area, "mesh_area": mesh_area, "moved_area": moved_area,
-            "area_change": area / area0 - 1, "alpha": alpha,
-            "mass": new.total_mass, "mass_regions": mass_regions, "area_regions": area_regions,
-            "discharged": {k: v[0] for k, v in new.discharged.items()},
-            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
-            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
-            "forces": forces, "moments": moments,
-            "iterations": solved.iterations, "inaccurate": solved.inaccurate,
-            "status": inc.info.status, "elements": int(disc.mesh.nelements),
-            "particles": int(new.n), "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
-            "added": added, "surface_particles": surface, "thinned": thinned, "held_dofs": held, "projected": projected,
-            "max_speed": float(speed.max()),
-            "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
-            "max_plastic_strain_increment": float(result.plastic_strain.max()),
-            "seconds": _time.perf_counter() - t_start,
-            **{f"t_{k}": v for k, v in timer.seconds.items()},
-            "t_compile": solved.compile_time,        # inside t_solve: building the problem
-            "t_conic": solved.solve_time}            # inside t_solve: Clarabel itself
-
-
-# -- output --------------------------------------------------------------------------------
-def step_fields(state, result):
-    """Points, triangles and fields of a step for VTU output.
-
-    Point data: velocity (3 components, z = 0 for ParaView), speed, smoothed mean stress
-    and pressure p = -(sx + sy)/2, the tags free_surface and contact (0/1), region;
-    cell data: element mean stress (sx, sy, sxy), equivalent plastic strain increment.
-    """
-    disc, inc = result.disc, result.increment
-    points = state.mesh_p
-    mp = state.mesh_particle
-    vel = np.zeros((len(points), 3))
-    vel[:, :2] = inc.v[vertex_dofs(disc)]               # a discharged vertex: the solution's
-    vel[mp >= 0, :2] = state.v[mp[mp >= 0]]             # the particles' (put out of walls)
-    sm = result.sigma_m
-    tag = lambda a: np.where(mp >= 0, a[np.maximum(mp, 0)], 0).astype(float)  # noqa: E731
-    stress = element_mean(disc, inc.sigma)
-    point_data = {"velocity": vel, "speed": np.linalg.norm(vel, axis=1),
-                  "pressure": -sm, "mean_stress": sm,
-                  "free_surface": tag(state.free_surface), "contact": tag(state.contact),
-                  "region": tag(state.region)}
-    cell_data = {"stress": stress[:, [0, 1, 3]],
-                 "plastic_strain_increment": element_mean(disc, result.plastic_strain)}
-    return points, disc.mesh.t.T, point_data, cell_data
 
 
 # -- runs ----------------------------------------------------------------------------------

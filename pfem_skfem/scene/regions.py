@@ -9,7 +9,7 @@ sides, so a rectangle is filled edge to edge), and each edge of the polygon that
 the lattice does not follow gets particles of its own at a spacing of about h, so
 that the alpha-shape finds the polygon again.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.path import Path

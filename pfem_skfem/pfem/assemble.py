@@ -1,0 +1,102 @@
+"""The assemble stage of a PFEM step: what the step's cone program is made of.
+
+The operators of (4.23) with each element's density (the region of most of its
+vertices), the gravity load, the potential contacts (5.12) of the rigid bodies present
+in the step (with their motion over it), the dofs a held phase keeps still, the cone
+of each stress point's material, and the scales of the conic problem.
+"""
+import numpy as np
+
+from ..materials import TrescaField
+from ..operators import body_force_vector
+from ..operators_dynamic import gravity_vector
+from ..problems.contact import boundary_nodes, potential_contacts
+from ..problems.dynamic import DynamicScales, dynamic_operators
+
+
+def element_regions(state, pm):
+    """Region of each element: that of most of its vertices (the first vertex on a tie)."""
+    r = state.region[pm.particle[pm.mesh.t]]                 # (3, m)
+    majority = np.where(r[1] == r[2], r[1], r[0])
+    return majority
+
+
+def contact_set(disc, bodies, search):
+    """The potential contacts (5.12) of the bodies present in the step with a boundary node
+    within ``search``: (ContactSet or None, scene index of each body in it)."""
+    if not bodies:
+        return None, []
+    _, xb = boundary_nodes(disc)
+    near = [(k, shape, d) for k, shape, d in bodies if (shape.gap(xb)[0] <= search).any()]
+    if not near:
+        return None, []
+    contacts = potential_contacts(disc, [s for _, s, _ in near], search,
+                                  motions=np.array([d for _, _, d in near]))
+    return contacts, [k for k, _, _ in near]
+
+
+def held_dofs(disc, phase, contacts):
+    """Displacement dofs held still in a held phase (none otherwise)."""
+    if phase is None or phase.hold is None:
+        return np.zeros(0, dtype=int)
+    dofs, _ = boundary_nodes(disc)
+    if phase.hold == "free_surface" and contacts is not None:
+        dofs = dofs[~np.isin(dofs[:, 0], contacts.dofs[:, 0])]
+    return np.unique(dofs.ravel())
+
+
+class _MultiCone:
+    """The step's cone when regions have different materials: one Tresca-type radius per
+    stress point from each point's material (materials with a ``radius``)."""
+
+    def __init__(self, materials, point_region):
+        self.materials = materials
+        self.point_region = point_region
+
+    def cone(self, sigma_m, stress_scale):
+        k = np.empty(len(sigma_m))
+        for i, m in enumerate(self.materials):
+            mine = self.point_region == i
+            k[mine] = m.radius(sigma_m[mine], stress_scale)
+        return TrescaField(k)
+
+    def strength_scale(self, sigma_m, stress_scale):
+        return float(np.median(self.cone(sigma_m, stress_scale).k)) / 2
+
+    @property
+    def lagged(self):
+        return any(m.lagged for m in self.materials)
+
+
+def step_material(scene, disc, regions):
+    """The material object of the step (one region's, or a per-point combination)."""
+    materials = [r.material for r in scene.regions]
+    if len({repr(m) for m in materials}) == 1:
+        return materials[0]
+    if not all(hasattr(m, "radius") for m in materials):
+        raise ValueError("regions of different materials need materials with a radius "
+                         "(ZeroDilationMohrCoulomb, CohesiveTresca)")
+    return _MultiCone(materials, regions[disc.point_element])
+
+
+def assemble_operators(scene, disc, regions, theta):
+    """B, C, A, D, M of (4.23) and the gravity load (3.42), with each element's density."""
+    if len(scene.regions) == 1:
+        rho = scene.regions[0].rho
+        f = body_force_vector(disc, rho * np.asarray(scene.gravity))
+    else:
+        rho = np.array([r.rho for r in scene.regions])[regions]
+        f = (gravity_vector(disc, rho, scene.g, np.asarray(scene.gravity) / scene.g)
+             if scene.g > 0 else np.zeros(disc.n_u))
+    return dynamic_operators(disc, rho, theta, elastic=scene.elastic), f
+
+
+def step_scales(previous, scene, dt):
+    """The scales of the step: the previous step's magnitudes, but not below those of a
+    free-fall step. As a body comes to rest the displacement scale would otherwise shrink
+    step by step, the scaled gaps g0 / u_ref of (5.12) grow as much, and Clarabel reports
+    'unbounded' (measured: phi = 35, a = 0.5, step 189 of 200). None before the first step."""
+    if previous is None:
+        return None
+    return DynamicScales(previous.stress, max(previous.displacement, scene.g * dt ** 2),
+                         max(previous.dynamic_force, scene.rho * scene.g))

@@ -1,0 +1,105 @@
+"""Bookkeeping of a PFEM step: where the material's mass goes, the forces on the bodies,
+and the step's record for the history (thesis Ch 8: the mass is watched; 6.4.1: the
+force on the cylinder).
+
+A particle's mass is only ever passed on (:func:`hand_on_mass`) or discharged through an
+outlet (:func:`discharge`), so the material inside plus the material discharged is the
+initial mass at every step; the area of the mesh is reported beside it.
+"""
+import time as _time
+
+import numpy as np
+from dataclasses import replace
+
+from ..fields import vertex_dofs
+from .alpha_shape import triangle_areas
+
+
+def hand_on_mass(state, keep):
+    """The state without the particles not kept, each of which hands its mass to the
+    nearest kept particle (the material's mass is only ever passed on)."""
+    from scipy.spatial import cKDTree
+    mass = state.mass.copy()
+    gone = np.flatnonzero(~keep)
+    kept = np.flatnonzero(keep)
+    nearest = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
+    np.add.at(mass, nearest, mass[gone])
+    return replace(state, mass=mass).subset(keep)
+
+
+def discharge(state, outlets):
+    """Particles inside an outlet's zone leave the cloud; returns the state without them
+    and {outlet: [mass, particles]} discharged in this step (added to state.discharged)."""
+    totals = {name: list(v) for name, v in state.discharged.items()}
+    now = {}
+    keep = np.ones(state.n, dtype=bool)
+    for outlet in outlets:
+        out = keep & outlet.zone.contains(state.x)
+        now[outlet.name] = [float(state.mass[out].sum()), int(out.sum())]
+        total = totals.setdefault(outlet.name, [0.0, 0])
+        total[0] += now[outlet.name][0]
+        total[1] += now[outlet.name][1]
+        keep &= ~out
+    if keep.all():
+        return replace(state, discharged=totals), now
+    return replace(state.subset(keep), discharged=totals), now
+
+
+def body_loads(scene, contacts, contact_bodies, inc, t_n):
+    """Force (Fx, Fy) and moment about its reference point that the material exerts on
+    each body of the scene in the step (per unit length in plane strain; zero if apart)."""
+    forces = {b.name: [0.0, 0.0] for b in scene.bodies}
+    moments = {b.name: 0.0 for b in scene.bodies}
+    if contacts is None:
+        return forces, moments
+    on_body = -(contacts.normal * inc.p[:, None] + contacts.tangent * inc.q[:, None])
+    for j, k in enumerate(contact_bodies):
+        mine = contacts.body == j
+        body = scene.bodies[k]
+        arm = contacts.x[mine] - body.reference_at(t_n)
+        F = on_body[mine]
+        forces[body.name] = [float(F[:, 0].sum()), float(F[:, 1].sum())]
+        moments[body.name] = float(np.sum(arm[:, 0] * F[:, 1] - arm[:, 1] * F[:, 0]))
+    return forces, moments
+
+
+def region_amounts(scene, state, disc, regions):
+    """Mass of the particles of each region, and the area of the elements of each region."""
+    area_e = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)
+    mass = {r.name: float(state.mass[state.region == k].sum())
+            for k, r in enumerate(scene.regions)}
+    area = {r.name: float(area_e[regions == k].sum()) for k, r in enumerate(scene.regions)}
+    return mass, area
+
+
+def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
+                area, area0, alpha, projected, added, surface, thinned, phase, held,
+                discharged_now):
+    """The step's record for the history: geometry, mass bookkeeping, forces on the
+    bodies, energy, solver iterations and status, stage times."""
+    disc, inc = result.disc, result.increment
+    mass_regions, area_regions = region_amounts(scene, new, disc, regions)
+    forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
+                                 new.time - scene.config.dt)
+    speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)
+    mesh_area = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T).sum())
+    moved_area = float(triangle_areas(new.mesh_p, disc.mesh.t.T).sum())
+    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
+            "area": area, "mesh_area": mesh_area, "moved_area": moved_area,
+            "area_change": area / area0 - 1, "alpha": alpha,
+            "mass": new.total_mass, "mass_regions": mass_regions, "area_regions": area_regions,
+            "discharged": {k: v[0] for k, v in new.discharged.items()},
+            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
+            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
+            "forces": forces, "moments": moments,
+            "iterations": solved.iterations, "inaccurate": solved.inaccurate,
+            "status": inc.info.status, "elements": int(disc.mesh.nelements),
+            "particles": int(new.n), "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
+            "added": added, "surface_particles": surface, "thinned": thinned, "held_dofs": held, "projected": projected,
+            "max_speed": float(speed.max()),
+            "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
+            "max_plastic_strain_increment": float(result.plastic_strain.max()),
+            "seconds": _time.perf_counter() - t_start,
+            **{f"t_{k}": v for k, v in timer.seconds.items()},
+            "t_compile": solved.compile_time,        # inside t_solve: building the problem
+            "t_conic": solved.solve_time}            # inside t_solve: Clarabel itself
