@@ -1,5 +1,6 @@
 """Scenes: regions filled with particles, motions of rigid bodies, outlets, phases."""
 import numpy as np
+from scipy.spatial import cKDTree
 import pytest
 
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
@@ -65,3 +66,19 @@ def test_outlet_zones():
         [True, False]
     zone = PolygonZone(((0, 0), (1, 0), (1, 1), (0, 1)))
     assert zone.contains([[0.5, 0.5], [1.5, 0.5]]).tolist() == [True, False]
+
+
+def test_touching_regions_share_their_edge_without_duplicates():
+    """A fine region (h/2) beside a coarse one: one particle per place on the common edge,
+    one body for the alpha-shape, the area of both, each region's mass its own."""
+    coarse = Region(((0, 0), (1, 0), (1, 1), (0, 1)), SAND, 2.0, 0.1, name="coarse")
+    fine = Region(((1, 0), (1.5, 0), (1.5, 1), (1, 1)), SAND, 2.0, 0.05, name="fine")
+    scene = Scene(regions=(coarse, fine))
+    x, h, region = scene.particles()
+    pairs = cKDTree(x).query_pairs(0.02)
+    assert len(pairs) == 0
+    shape = alpha_shape(x, h, 1.3)
+    assert len(shape.body_area) == 1
+    assert shape.area == pytest.approx(1.5, rel=1e-9)
+    state = scene.initial_state()
+    assert state.mass[state.region == 1].sum() == pytest.approx(2.0 * 0.5, rel=1e-12)

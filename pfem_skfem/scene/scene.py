@@ -184,10 +184,19 @@ class Scene:
 
     # -- particles ------------------------------------------------------------------------
     def particles(self):
-        """Particles of every region: positions (n, 2), spacings (n,), region indices (n,)."""
+        """Particles of every region: positions (n, 2), spacings (n,), region indices (n,).
+
+        Regions that touch share their common edge: a region's particle closer than half
+        a spacing to one of an earlier region is left out (the edge keeps the earlier
+        region's particles), so a refined region can be set beside a coarse one.
+        """
+        from scipy.spatial import cKDTree
         xs, hs, rs = [], [], []
         for k, region in enumerate(self.regions):
             x = region.particles()
+            if xs:
+                d, i = cKDTree(np.vstack(xs)).query(x)
+                x = x[d >= 0.5 * np.minimum(region.h, np.concatenate(hs)[i])]
             xs.append(x)
             hs.append(np.full(len(x), region.h))
             rs.append(np.full(len(x), k))
