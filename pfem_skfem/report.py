@@ -14,12 +14,12 @@ Every script under ``verification/`` has the same shape::
         report.data = dict(...)            # in-memory results for figures(...)
         return report
 
+    def figures(args, **data):             # from report.data; skipped by --no-figures
+        ...
+
     def main(argv=None):
         args = build_parser().parse_args(argv)     # --quick applied, options checked
-        report = run(args)
-        if not args.no_figures:
-            figures(args, **report.data)
-        return report.finish(args)
+        return run(args).finish(args, figures)     # figures, table, --json, exit code
 
 so that tests, the book and the benchmarks call ``run`` in-process
 (``from verification import strip_footing``) and ``pfem-skfem verify`` runs the
@@ -179,8 +179,23 @@ class Report:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(self.as_json(), indent=2))
 
-    def finish(self, args):
-        """Print the table, write the JSON named by ``--json``; return the exit code."""
+    def finish(self, args, figures=None):
+        """Draw the figures, print the table, write ``--json``; return the exit code.
+
+        Parameters
+        ----------
+        args : argparse.Namespace
+            The parsed options (``--no-figures``, ``--json``).
+        figures : callable, optional
+            ``figures(args, **self.data)``, called unless ``--no-figures``.
+
+        Returns
+        -------
+        int
+            0 when every quantity passes, 1 otherwise.
+        """
+        if figures is not None and not getattr(args, "no_figures", False):
+            figures(args, **self.data)
         print(self.table())
         if getattr(args, "json", None):
             self.write_json(args.json)

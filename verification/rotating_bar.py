@@ -143,10 +143,7 @@ def figures(args, theta, steps, strains):
 
 def main(argv=None):
     args = build_parser().parse_args(argv)
-    report = run(args)
-    if not args.no_figures:
-        figures(args, **report.data)
-    return report.finish(args)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

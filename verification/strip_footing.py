@@ -278,10 +278,7 @@ def figures(args, models, curves, limits, mc, su, elastic):
 
 def main(argv=None):
     args = build_parser().parse_args(argv)
-    report = run(args)
-    if not args.no_figures:
-        figures(args, **report.data)
-    return report.finish(args)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

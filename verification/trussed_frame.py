@@ -361,10 +361,7 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
 
 def main(argv=None):
     args = build_parser().parse_args(argv)
-    report = run(args)
-    if not args.no_figures:
-        figures(args, **report.data)
-    return report.finish(args)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":
