@@ -22,7 +22,7 @@ Every script under ``verification/`` has the same shape::
         return run(args).finish(args, figures)     # figures, table, --json, exit code
 
 so that tests, the book and the benchmarks call ``run`` in-process
-(``from verification import strip_footing``) and ``pfem-skfem verify`` runs the
+(``from verification import strip_footing``; :func:`run_script`) and ``pfem-skfem verify`` runs the
 same script in a subprocess. :meth:`Report.finish` prints the table, writes
 ``--json PATH`` and returns the exit code; :func:`pyplot`, :func:`figure_dir` and
 :func:`save_figure` hold the figure boilerplate.
@@ -258,6 +258,24 @@ def base_parser(description, quick=None, check=None):
     p.add_argument("--no-figures", action="store_true", help="skip figures")
     p.add_argument("--progress", action="store_true", help="progress output on stderr")
     return p
+
+
+def run_script(script, *argv):
+    """A verification script in-process: ``script.run`` on its parsed ``argv``.
+
+    Parameters
+    ----------
+    script : module
+        A script of ``verification/`` (``from verification import strip_footing``).
+    *argv : str
+        Its command-line options, e.g. ``"--quick", "--no-figures"``.
+
+    Returns
+    -------
+    Report
+        With ``report.data`` holding the in-memory results.
+    """
+    return script.run(script.build_parser().parse_args(list(argv)))
 
 
 def positive(name):

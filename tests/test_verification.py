@@ -1,7 +1,7 @@
 """Every verification script at its ``--quick`` size, in-process, against its references.
 
 Each case runs ``run(build_parser().parse_args(["--quick", "--no-figures", *extra]))``
-once. All of the report's checks must pass, and the physically meaningful quantities,
+once (:func:`pfem_skfem.report.run_script`). All of the report's checks must pass, and the physically meaningful quantities,
 named here, must lie where the literature or a closed form stated *here* puts them
 (not the script's own reference), so that a renamed, missing or mis-referenced
 quantity fails. A few cases check more physics on the run's results.
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.report import HARNESS_OPTIONS, Report
+from pfem_skfem.report import HARNESS_OPTIONS, Report, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
@@ -122,7 +122,7 @@ def quick_args(name, *extra):
 
 @pytest.mark.parametrize("name, extra, expected, physics", CASES, ids=[c[0] for c in CASES])
 def test_quick_case_meets_its_references(name, extra, expected, physics):
-    report = script(name).run(quick_args(name, *extra))
+    report = run_script(script(name), "--quick", "--no-figures", *extra)
     failed = [(q.name, q.value, q.reference, q.tolerance) for q in report.quantities
               if not q.passed]
     assert report.passed, f"{name}: {failed}"
