@@ -69,29 +69,6 @@ from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot,
 QUICK = dict(steps=[25, 50, 100, 200])
 
 
-def check(args):
-    """Options that cannot go together (a usage error), or None."""
-    if any(n < 1 for n in args.steps) or len(set(args.steps)) < 2:
-        return "--steps needs at least two distinct positive integers"
-    return None
-
-
-def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--D", type=positive("--D"), default=100.0, help="horizontal span (mm)")
-    p.add_argument("--H", type=positive("--H"), default=100.0, help="height (mm)")
-    p.add_argument("--E", type=positive("--E"), default=210e3,
-                   help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
-    p.add_argument("--V", type=positive("--V"), default=100.0, help="bar volume (mm^3)")
-    p.add_argument("--u", type=positive("--u"), default=5.0,
-                   help="final downward displacement in units of L")
-    p.add_argument("--steps", type=int, nargs="+", default=[100, 200, 400, 800],
-                   help="numbers of increments")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
-    return p
-
-
 def exact_force(u, D, H, E, V):
     """Downward force holding the end at downward displacement u: (6.4) with u -> -u."""
     L = np.hypot(D, H)
@@ -124,6 +101,29 @@ def strain_error_coefficient(D, H, u_total, n_quad=20001):
 def fit_order(n, err):
     """Slope p of log err = -p log N + c (least squares)."""
     return -np.polyfit(np.log(n), np.log(err), 1)[0]
+
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    if any(n < 1 for n in args.steps) or len(set(args.steps)) < 2:
+        return "--steps needs at least two distinct positive integers"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--D", type=positive("--D"), default=100.0, help="horizontal span (mm)")
+    p.add_argument("--H", type=positive("--H"), default=100.0, help="height (mm)")
+    p.add_argument("--E", type=positive("--E"), default=210e3,
+                   help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
+    p.add_argument("--V", type=positive("--V"), default=100.0, help="bar volume (mm^3)")
+    p.add_argument("--u", type=positive("--u"), default=5.0,
+                   help="final downward displacement in units of L")
+    p.add_argument("--steps", type=int, nargs="+", default=[100, 200, 400, 800],
+                   help="numbers of increments")
+    p.add_argument("--tol", type=float, default=None,
+                   help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
+    return p
 
 
 def run(args):

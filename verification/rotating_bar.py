@@ -43,6 +43,27 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progre
 QUICK = dict(steps=[4, 8, 16, 32])
 
 
+def rotated_strain(n_increments, theta, L0=1.0, E=210e3, A=1.0):
+    """Strain of the bar after a rigid rotation theta (radians) in N increments (B.12).
+
+    Returns (strain, x) with x the (N+1, 2, 2) node positions.
+    """
+    x0 = np.array([[0.0, 0.0], [L0, 0.0]])
+
+    def path(k):  # total displacement of node 2 on the circle after increment k
+        a = theta * k / n_increments
+        return np.array([L0 * np.cos(a) - L0, L0 * np.sin(a)])
+
+    hist = truss_displacement_control(x0, [[0, 1]], A, E, fixed=[0, 1], prescribed=[2, 3],
+                                      n_increments=n_increments, path=path)
+    return hist.sigma[-1, 0] / E, hist.x
+
+
+def fit_order(n, err):
+    """Slope p of log|err| = -p log N + c (least squares)."""
+    return -np.polyfit(np.log(n), np.log(np.abs(err)), 1)[0]
+
+
 def check(args):
     """Options that cannot go together (a usage error), or None."""
     if any(n < 1 for n in args.steps):
@@ -65,27 +86,6 @@ def build_parser():
     p.add_argument("--steps", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
                    help="numbers of increments N")
     return p
-
-
-def rotated_strain(n_increments, theta, L0=1.0, E=210e3, A=1.0):
-    """Strain of the bar after a rigid rotation theta (radians) in N increments (B.12).
-
-    Returns (strain, x) with x the (N+1, 2, 2) node positions.
-    """
-    x0 = np.array([[0.0, 0.0], [L0, 0.0]])
-
-    def path(k):  # total displacement of node 2 on the circle after increment k
-        a = theta * k / n_increments
-        return np.array([L0 * np.cos(a) - L0, L0 * np.sin(a)])
-
-    hist = truss_displacement_control(x0, [[0, 1]], A, E, fixed=[0, 1], prescribed=[2, 3],
-                                      n_increments=n_increments, path=path)
-    return hist.sigma[-1, 0] / E, hist.x
-
-
-def fit_order(n, err):
-    """Slope p of log|err| = -p log N + c (least squares)."""
-    return -np.polyfit(np.log(n), np.log(np.abs(err)), 1)[0]
 
 
 def run(args):

@@ -78,27 +78,6 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progre
 QUICK = dict(uV=20.0, steps=100)
 
 
-def check(args):
-    """Options that cannot go together (a usage error), or None."""
-    return "--steps must be a positive integer" if args.steps < 1 else None
-
-
-def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
-    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
-                   help="yield stress (N/mm^2)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
-    p.add_argument("--uV", type=positive("--uV"), default=65.0,
-                   help="vertical displacement of the loaded point (mm)")
-    p.add_argument("--steps", type=int, default=650, help="number of increments")
-    p.add_argument("--width", type=positive("--width"), default=4.0,
-                   help="depth w of the trussed members = panel length (mm)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
-    return p
-
-
 # -- geometry --------------------------------------------------------------------------
 
 def trussed_frame(span=120.0, height=120.0, w=4.0, load_x=24.0):
@@ -262,6 +241,29 @@ def exact_truss(x0, bars, area0, E, sigma_s, fixed, prescribed, path, n_incremen
         us.append(target[0]), Fs.append(forces(xv)[prescribed][0])
         xs.append(xv.reshape(-1, 2).copy())
     return np.array(us), np.array(Fs), np.array(xs)
+
+
+# -- the benchmark ----------------------------------------------------------------------
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    return "--steps must be a positive integer" if args.steps < 1 else None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
+    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
+                   help="yield stress (N/mm^2)")
+    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
+    p.add_argument("--uV", type=positive("--uV"), default=65.0,
+                   help="vertical displacement of the loaded point (mm)")
+    p.add_argument("--steps", type=int, default=650, help="number of increments")
+    p.add_argument("--width", type=positive("--width"), default=4.0,
+                   help="depth w of the trussed members = panel length (mm)")
+    p.add_argument("--tol", type=float, default=None,
+                   help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
+    return p
 
 
 def run(args):
