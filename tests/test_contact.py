@@ -123,8 +123,8 @@ def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
 def test_buried_pipe_dynamic_step_adds_only_the_inertia_of_the_soil():
     """The thesis' dynamic step (theta1 = theta2 = 1, from rest) at a slow pipe speed: the
     quasi-static resistance to 1e-3, and not less (inertia resists). The quasi-static
-    benchmark itself runs in tests/test_verification.py."""
-    model = buried_pipe.pipe_model(700)
+    benchmark itself runs in tests/test_verification.py; this holds on any mesh."""
+    model = buried_pipe.pipe_model(300)
     F, _, _ = buried_pipe.pipe_resistance(model, su=50.0, rho=2.0, g=9.8)
     F_dyn, _, _ = buried_pipe.pipe_resistance(model, su=50.0, rho=2.0, g=9.8, dt=1.0)
     assert F_dyn == pytest.approx(F, rel=1e-3)
