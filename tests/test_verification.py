@@ -121,8 +121,9 @@ def quick_args(name, *extra):
 
 
 @pytest.mark.parametrize("name, extra, expected, physics", CASES, ids=[c[0] for c in CASES])
-def test_quick_case_meets_its_references(name, extra, expected, physics):
-    report = run_script(script(name), "--quick", "--no-figures", *extra)
+def test_quick_case_meets_its_references(name, extra, expected, physics, tmp_path):
+    report = run_script(script(name), "--quick", "--no-figures", "--outdir", str(tmp_path),
+                        *extra)
     failed = [(q.name, q.value, q.reference, q.tolerance) for q in report.quantities
               if not q.passed]
     assert report.passed, f"{name}: {failed}"
