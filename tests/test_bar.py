@@ -1,8 +1,4 @@
 """The bar element (B.1)-(B.9), the truss SOCP (B.12) and large deformation by increments (6.2-6.3)."""
-import importlib.util
-import json
-from pathlib import Path
-
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spl
@@ -10,8 +6,8 @@ import scipy.sparse.linalg as spl
 from pfem_skfem.problems.bar import (assemble_bar_B, bar_geometry, internal_forces,
                                      stiffness_matrix, truss_displacement_control,
                                      truss_increment)
+from verification import inclined_rod
 
-ROOT = Path(__file__).resolve().parents[1]
 E = 210e3
 
 
@@ -195,51 +191,9 @@ def test_internal_forces_balance():
     assert abs(np.sum(x[:, 0] * R[:, 1] - x[:, 1] * R[:, 0])) < 1e-12
 
 
-# -- verification scripts at --quick size ---------------------------------------------------
-
-def run_script(name, tmp_path, *extra):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "verification" / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    out = tmp_path / f"{name}.json"
-    code = mod.main(["--quick", "--json", str(out), "--no-figures", *extra])
-    data = json.loads(out.read_text())
-    return code, {q["name"]: q for q in data["quantities"]}, data
-
-
-def test_rotating_bar_quick(tmp_path):
-    code, q, _ = run_script("rotating_bar", tmp_path)
-    assert code == 0
-    assert abs(q["order"]["value"] - 1) < 0.02
-    theta = np.pi / 2
-    assert q["strain_N32"]["value"] == pytest.approx(32 * (np.cos(theta / 32) - 1), rel=1e-6)
-
-
-def test_inclined_rod_quick(tmp_path):
-    code, q, data = run_script("inclined_rod", tmp_path)
-    assert code == 0
-    assert abs(q["order"]["value"] - 1) < 0.05
-    # error halves when N doubles; at N = 200 below 4 % of the peak force of (6.4)
-    err = np.array(data["extra"]["max_rel_error"])
-    np.testing.assert_allclose(err[:-1] / err[1:], 2.0, rtol=0.05)
-    assert q["max_rel_error"]["value"] < 0.04
-
-
-def test_trussed_frame_quick(tmp_path):
-    code, q, data = run_script("trussed_frame", tmp_path)
-    assert code == 0
-    assert data["extra"]["n_bars"] == 238
-    assert q["max_rel_diff_force"]["value"] < 0.04
-    assert q["max_stress_over_yield"]["value"] <= 1 + 1e-6
-
-
 def test_without_geometry_update_the_rod_is_wrong():
     """Control: pure small deformation (no update) cannot follow (6.4); with the update the
     same 50 increments are within 15 % of the peak force (the 1/N error of (6.3'))."""
-    spec = importlib.util.spec_from_file_location("inclined_rod",
-                                                  ROOT / "verification" / "inclined_rod.py")
-    rod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(rod)
     D = H = 100.0
     V, L = 100.0, np.hypot(100.0, 100.0)
     x0 = np.array([[0.0, 0.0], [D, H]])
@@ -249,7 +203,7 @@ def test_without_geometry_update_the_rod_is_wrong():
                                           n_increments=50, displacement=[-5 * L],
                                           incompressible=True, update_geometry=update)
         u, F = np.linspace(0, 5 * L, 51), -hist.reactions_updated[:, 3]
-        Fex = rod.exact_force(u, D, H, E, V)
+        Fex = inclined_rod.exact_force(u, D, H, E, V)
         errors[update] = np.abs(F - Fex).max() / np.abs(Fex).max()
     assert errors[True] < 0.15
     assert errors[False] > 1.0

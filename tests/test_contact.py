@@ -10,6 +10,7 @@ from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.contact import (RigidCircle, RigidSegment, potential_contacts,
                                          resultants)
 from pfem_skfem.problems.static import static_increment
+from verification import buried_pipe, sliding_box
 
 RHO_G = 20.0           # unit weight [kN/m3]
 
@@ -119,31 +120,15 @@ def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
                          contacts=contacts)
 
 
-def test_buried_pipe_quick_lies_between_the_bounds_and_nothing_penetrates(tmp_path):
-    import importlib.util
-    import json
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "verification" / "buried_pipe.py"
-    spec = importlib.util.spec_from_file_location("buried_pipe", path)
-    bp = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bp)
-    model = bp.pipe_model(700)
-    F, res, contacts = bp.pipe_resistance(model, su=50.0, rho=2.0, g=9.8)
-    gap = contacts.gap + np.einsum("jd,jd->j", contacts.normal, res.du[contacts.dofs])
-    assert gap.min() > -1e-9 * model["r"]                      # no penetration
-    assert np.all(res.p >= -1e-9 * F) and np.abs(res.q).max() < 1e-9 * F   # smooth
-    # weightless flow-around bounds 9.14-9.20; a coarse mixed mesh is a few % above
-    buoyancy = 2.0 * 9.8 * np.pi * 0.5 ** 2 / 2
-    nc = (F - buoyancy) / (0.5 * 50.0)
-    assert 9.14 <= nc <= 9.40
-    # the thesis' dynamic step (theta1 = theta2 = 1, from rest) at a slow pipe speed
-    # adds only the soil's inertia: the quasi-static resistance to 1e-3
-    F_dyn, _, _ = bp.pipe_resistance(model, su=50.0, rho=2.0, g=9.8, dt=1.0)
+def test_buried_pipe_dynamic_step_adds_only_the_inertia_of_the_soil():
+    """The thesis' dynamic step (theta1 = theta2 = 1, from rest) at a slow pipe speed: the
+    quasi-static resistance to 1e-3, and not less (inertia resists). The quasi-static
+    benchmark itself runs in tests/test_verification.py; this holds on any mesh."""
+    model = buried_pipe.pipe_model(300)
+    F, _, _ = buried_pipe.pipe_resistance(model, su=50.0, rho=2.0, g=9.8)
+    F_dyn, _, _ = buried_pipe.pipe_resistance(model, su=50.0, rho=2.0, g=9.8, dt=1.0)
     assert F_dyn == pytest.approx(F, rel=1e-3)
-    assert F_dyn >= F * (1 - 1e-6)                                 # inertia resists
-    out = tmp_path / "pipe.json"
-    assert bp.main(["--quick", "--no-figures", "--json", str(out)]) == 0
-    assert json.loads(out.read_text())["case"] == "buried_pipe"
+    assert F_dyn >= F * (1 - 1e-6)
 
 
 # -- contact in the dynamic problem (5.12) -----------------------------------
@@ -167,26 +152,10 @@ def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight()
 
 def test_fe_block_slides_like_the_rigid_particle():
     """(5.12) on a rigid-plastic block reproduces (5.9) for the rigid particle."""
-    import importlib.util
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "verification" / "sliding_box.py"
-    spec = importlib.util.spec_from_file_location("sliding_box", path)
-    sb = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(sb)
-    fe, _ = sb.slide_fe(0.98, 0.1, 9.8, 10, 1.0, 0.5)
-    particle, _ = sb.slide(0.98, 0.1, 9.8, 10, 1.0, 0.5)
+    fe, _ = sliding_box.slide_fe(0.98, 0.1, 9.8, 10, 1.0, 0.5)
+    particle, _ = sliding_box.slide(0.98, 0.1, 9.8, 10, 1.0, 0.5)
     assert np.allclose(fe, particle, rtol=1e-6, atol=1e-8)
     assert fe[:, 1].min() > -1e-9                       # never below the floor
-
-
-def _sliding_box():
-    import importlib.util
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "verification" / "sliding_box.py"
-    spec = importlib.util.spec_from_file_location("sliding_box", path)
-    sb = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(sb)
-    return sb
 
 
 @pytest.mark.parametrize("steps", [5, 10])
@@ -194,8 +163,8 @@ def test_zero_dilation_contact_slides_the_fe_block_to_newton_without_lift(steps)
     """|q| <= mu p~ with p~ from a smooth first pass: the travel v0^2/(2 mu g) of Newton's law
     (exact for theta = 1/2 when the box stops at a step's end) and no lift-off at any dt."""
     v0, mu, g = 0.98, 0.1, 9.8
-    path, _ = _sliding_box().slide_fe(v0, mu, g, steps, v0 / (mu * g), 0.5,
-                                      contact="zero-dilation")
+    path, _ = sliding_box.slide_fe(v0, mu, g, steps, v0 / (mu * g), 0.5,
+                                   contact="zero-dilation")
     assert path[-1, 0] == pytest.approx(v0 ** 2 / (2 * mu * g), rel=1e-6)
     assert np.abs(path[:, 1]).max() < 1e-7 * v0
 

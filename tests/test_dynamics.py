@@ -1,8 +1,4 @@
 """Dynamics (thesis Ch 4): operators (4.21), identity (4.26)-(4.27), the SOCP (4.23)."""
-import importlib.util
-import json
-from pathlib import Path
-
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spl
@@ -17,22 +13,7 @@ from pfem_skfem.operators_dynamic import (assemble_A, assemble_D, block_cholesky
                                           gravity_vector, mass_matrix, r_basis)
 from pfem_skfem.problems.dynamic import (ThetaMethod, dynamic_increment, dynamic_operators)
 
-ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
-
-
-def _script(name):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "verification" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def _run_quick(name, tmp_path):
-    out = tmp_path / f"{name}.json"
-    code = _script(name).main(["--quick", "--json", str(out), "--no-figures"])
-    result = json.loads(out.read_text())
-    return code, {q["name"]: q for q in result["quantities"]}
 
 
 @pytest.fixture(scope="module")
@@ -168,25 +149,6 @@ def test_rigid_plastic_shear_flow_ends_in_rigid_rotation():
     assert np.diff(hist.kinetic).max() <= 1e-9 * K0
     assert np.abs(hist.kinetic + hist.dissipation - K0).max() <= 1e-8 * K0
     assert hist.kinetic[-1] / K0 == pytest.approx(0.5, rel=0.01)
-
-
-# -- verification scripts at --quick size -------------------------------------
-def test_cantilever_quick(tmp_path):
-    """Standard-FE agreement, quasi-static tip, damping, energy conservation (Fig 4.3-4.4)."""
-    code, q = _run_quick("cantilever", tmp_path)
-    assert code == 0, {k: v["pass"] for k, v in q.items()}
-    assert q["max_rel_diff_vs_standard_fe"]["value"] <= 1e-6
-    assert q["energy_drift"]["value"] <= 1e-6
-    assert q["tip_quasi_static"]["rel_error"] <= 0.02
-
-
-def test_plastic_vibration_quick(tmp_path):
-    """A yielding body dissipates energy and never gains any."""
-    code, q = _run_quick("plastic_vibration", tmp_path)
-    assert code == 0, {k: v["pass"] for k, v in q.items()}
-    assert q["plastic_dissipation_fraction"]["value"] > 0.05
-    assert q["max_energy_increase"]["value"] <= 1e-7
-    assert q["energy_balance_residual"]["value"] <= 1e-6
 
 
 # -- bad input ----------------------------------------------------------------

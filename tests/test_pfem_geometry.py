@@ -1,8 +1,4 @@
 """PFEM geometry (thesis Ch 2): alpha-shape detection, remeshing, state mapping."""
-import importlib.util
-import json
-from pathlib import Path
-
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -16,7 +12,6 @@ from pfem_skfem.pfem.mapping import interpolate, locate, map_nodal, map_stress
 from pfem_skfem.pfem.particles import Particles
 from pfem_skfem.pfem.remesh import alpha_mesh, mesh_quality, quality_remesh
 
-ROOT = Path(__file__).resolve().parents[1]
 SQ3 = np.sqrt(3.0)
 
 
@@ -292,20 +287,6 @@ def test_mapping_bad_input():
         map_stress(old, sigma, new, method="ida", c=0)
     with pytest.raises(ValueError, match="rows"):
         map_stress(old, sigma[:-1], new)
-
-
-# -- the verification script ----------------------------------------------------------
-def test_verification_alpha_shape_quick(tmp_path):
-    spec = importlib.util.spec_from_file_location("v_alpha", ROOT / "verification" / "alpha_shape.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    out = tmp_path / "r.json"
-    assert module.main(["--quick", "--json", str(out), "--no-figures"]) == 0
-    q = {x["name"]: x for x in json.loads(out.read_text())["quantities"]}
-    assert all(x["pass"] for x in q.values())
-    assert q["lowest alpha, 2 bodies"]["value"] <= 0.9
-    assert q["highest alpha, 2 bodies"]["value"] >= 1.3
-    assert q["bodies at alpha=1.5"]["value"] == 1
 
 
 def test_nodal_spacing_of_a_lattice_is_its_edge_length():

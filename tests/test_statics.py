@@ -1,8 +1,4 @@
 """Statics: the element, the operators (3.41)-(3.43), the SOCP (3.45) and limit analysis."""
-import importlib.util
-import json
-from pathlib import Path
-
 import cvxpy as cp
 import numpy as np
 import pytest
@@ -16,8 +12,7 @@ from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundar
                                   stress_mass, traction_vector)
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.static import limit_analysis, static_increment
-
-ROOT = Path(__file__).resolve().parents[1]
+from verification import strip_footing
 
 
 def unstructured_square(n=4):
@@ -159,10 +154,7 @@ def test_displacement_control_reaches_the_collapse_load_and_no_more():
 
 def test_kkt_conditions_of_the_footing_increment():
     """(3.47): C ds = B du at elastic points; plastic strain along grad F, multiplier >= 0."""
-    spec = importlib.util.spec_from_file_location("sf", ROOT / "verification" / "strip_footing.py")
-    sf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(sf)
-    model = sf.footing_model(120)
+    model = strip_footing.footing_model(120)
     el, crit = Elastic(1e5, 0.3), Tresca(100.0)
     B, C, disc = model["B"], assemble_C(model["disc"], el), model["disc"]
     fp = model["footing"]
@@ -250,22 +242,6 @@ def test_load_beyond_collapse_reports_infeasible():
         static_increment(assemble_B(disc), assemble_C(disc, Elastic(100.0, 0.3)), f,
                          np.zeros((disc.n_points, 4)), Tresca(2.0), fixed=fixed)
     assert err.value.status == cp.INFEASIBLE
-
-
-# -- the benchmark at quick size ----------------------------------------------
-def test_strip_footing_quick(tmp_path):
-    spec = importlib.util.spec_from_file_location("sf", ROOT / "verification" / "strip_footing.py")
-    sf = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(sf)
-    out = tmp_path / "footing.json"
-    code = sf.main(["--quick", "--json", str(out), "--no-figures", "--phi", "20"])
-    data = json.loads(out.read_text())
-    q = {d["name"]: d for d in data["quantities"]}
-    assert code == 0
-    # Prandtl within 5 % on the ~400-element quick mesh; the mixed element overshoots
-    assert q["Nc"]["rel_error"] < 0.05
-    assert q["Nc_MC_phi20"]["rel_error"] < 0.075
-    assert abs(q["Nc"]["value"] - q["Nc_limit_analysis"]["value"]) < 0.01 * q["Nc"]["value"]
 
 
 def test_tresca_field_is_mohr_coulomb_at_the_lagged_mean_stress():

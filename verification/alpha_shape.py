@@ -32,8 +32,10 @@ from scipy.spatial import ConvexHull
 
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
+QUICK = dict(alpha_step=0.1)
 SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"
 PANELS = (None, 1.3, 0.5, 0.4, 1.5, 100.0)          # the panels of Fig 2.4
 
@@ -69,8 +71,8 @@ def sweep(points, h, alphas):
     return rows
 
 
-def main(argv=None):
-    p = base_parser(__doc__.splitlines()[0])
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--h", type=positive("h"), default=1.0, help="characteristic spacing h")
     p.add_argument("--radius", type=positive("radius"), default=6.0,
                    help="radius of the disc cluster (units of h)")
@@ -78,12 +80,18 @@ def main(argv=None):
                    help="gap between the clusters (units of h)")
     p.add_argument("--size", type=positive("size"), default=0.8,
                    help="target element edge of the meshes whose vertices form the cloud (units of h)")
-    args = p.parse_args(argv)
+    p.add_argument("--alpha-step", type=positive("alpha-step"), default=0.02,
+                   help="spacing of the sweep over 0.3 <= alpha <= 2 (the panels of Fig 2.4 "
+                        "and a few large values are added)")
+    return p
+
+
+def run(args):
+    """The alpha sweep of the two clusters against the statements of Sec 2.3.2."""
     h = args.h
     points, exact = two_clusters(h, args.radius * h, args.gap * h, args.size)
     hull = ConvexHull(points).volume
-    step = 0.1 if args.quick else 0.02
-    alphas = np.round(np.concatenate([np.arange(0.3, 2.0 + 1e-9, step),
+    alphas = np.round(np.concatenate([np.arange(0.3, 2.0 + 1e-9, args.alpha_step),
                                       [0.4, 0.5, 0.9, 1.3, 1.5, 3.0, 5.0, 10.0, 100.0]]), 4)
     alphas = np.unique(alphas)
     rows = sweep(points, h, alphas)
@@ -95,9 +103,7 @@ def main(argv=None):
     for r in rows:
         print(f"{r['alpha']:7.2f} {r['bodies']:7d} {r['holes']:6d} {r['area']:10.4f} {r['free']:5d}")
 
-    report = Report("alpha_shape (Fig 2.4)", {"h": h, "radius": args.radius, "gap": args.gap,
-                                              "size": args.size, "n_particles": len(points),
-                                              "quick": args.quick})
+    report = Report("alpha_shape (Fig 2.4)", args, n_particles=len(points))
     # the reasonable boundaries: two bodies, no void, enclosing exactly the two polygons
     reasonable = [r for r in rows if r["bodies"] == 2 and r["holes"] == 0
                   and abs(r["area"] - exact) <= 1e-9 * exact]
@@ -121,24 +127,16 @@ def main(argv=None):
     report.extra["sweep"] = rows
     report.extra["exact_area"] = exact
     report.extra["hull_area"] = hull
-
-    if not args.no_figures:
-        figures(points, h, rows, args.outdir)
-    return report.finish(args)
+    report.data = dict(points=points, rows=rows)
+    return report
 
 
-def figures(points, h, rows, outdir):
+def figures(args, points, rows):
     """Fig 2.4 panels and the sweep of bodies, holes and area against alpha."""
-    from pathlib import Path
-
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
 
-    out = Path(outdir) / "alpha_shape"
-    out.mkdir(parents=True, exist_ok=True)
+    plt, h = pyplot(), args.h
+    out = figure_dir(args, "alpha_shape")
     fig, axes = plt.subplots(3, 2, figsize=(8, 9.5))
     for ax, a in zip(axes.ravel(), PANELS):
         if a is None:
@@ -147,9 +145,7 @@ def figures(points, h, rows, outdir):
             s = alpha_shape(points, h, a)
             plot_alpha_shape(ax, s, point_size=2,
                              title=f"alpha = {a:g}: {s.n_bodies} bodies, {s.n_holes} holes")
-    fig.tight_layout()
-    fig.savefig(out / "alpha_shape_fig2_4.png", dpi=130)
-    plt.close(fig)
+    save_figure(fig, out / "alpha_shape_fig2_4.png", dpi=130)
 
     a = np.array([r["alpha"] for r in rows])
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.4))
@@ -159,9 +155,12 @@ def figures(points, h, rows, outdir):
     ax[0].axvspan(0.9, 1.3, color="0.9")
     ax[1].semilogx(a, [r["area"] for r in rows], "o-", ms=3)
     ax[1].set_xlabel("alpha"), ax[1].set_ylabel("area")
-    fig.tight_layout()
-    fig.savefig(out / "alpha_shape_sweep.png", dpi=130)
-    plt.close(fig)
+    save_figure(fig, out / "alpha_shape_sweep.png", dpi=130)
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

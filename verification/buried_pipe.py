@@ -35,7 +35,6 @@ come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -44,8 +43,10 @@ from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
+QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
 
 
@@ -92,8 +93,13 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 
 
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    return "--mu must be >= 0" if args.mu < 0 else None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--r", type=positive("r"), default=0.5, help="pipe radius [m]")
     p.add_argument("--su", type=positive("su"), default=50.0, help="undrained strength [kPa]")
     p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
@@ -111,14 +117,9 @@ def build_parser():
     return p
 
 
-def main(argv=None):
-    args = build_parser().parse_args(argv)
-    if args.quick and args.elements == build_parser().get_default("elements"):
-        args.elements = [700]
-    if args.mu < 0:
-        raise SystemExit("--mu must be >= 0")
-    report = Report("buried_pipe", {k: v for k, v in vars(args).items()
-                                    if k not in ("json", "outdir", "no_figures", "progress")})
+def run(args):
+    """Pipe resistance on each mesh, net of the buoyancy, against the bounds and the thesis."""
+    report = Report("buried_pipe", args)
     buoyancy = args.rho * args.g * np.pi * args.r ** 2 / 2 / (args.r * args.su)
     rows, last = [], None
     for n in sorted(args.elements):
@@ -148,26 +149,20 @@ def main(argv=None):
                         np.inf, "contact law (5.5): p >= 0")
     report.extra = {"convergence": [dict(elements=a, nc_raw=b, nc_net=c, seconds=d)
                                     for a, b, c, d in rows], "buoyancy_term": buoyancy}
-    if not args.no_figures:
-        figures(args, rows, last)
-    return report.finish(args)
+    report.data = dict(rows=rows, last=last)
+    return report
 
 
 def figures(args, rows, last):
     """Mesh convergence and the failure mode (Fig 5.5: mechanism speed, plastic zone)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
-    out = Path(args.outdir) / "buried_pipe"
-    out.mkdir(parents=True, exist_ok=True)
     model, res, contacts = last
     disc = model["disc"]
     m = disc.mesh
     ux, uy = disc.basis_u.nodal_dofs                   # x and y dofs of each vertex
     xy = disc.basis_u.doflocs[:, ux]
     speed = np.hypot(res.du[ux], res.du[uy]) / (0.01 * args.r)
-    fig, ax = plt.subplots(1, 2, figsize=(11, 5))
+    fig, ax = pyplot().subplots(1, 2, figsize=(11, 5))
     tri = Triangulation(xy[0], xy[1], m.t.T)
     tp = ax[0].tripcolor(tri, speed, shading="gouraud", cmap="magma")
     ax[0].set_xlim(0, 2.5)
@@ -182,9 +177,12 @@ def figures(args, rows, last):
     ax[1].set_xlabel("elements")
     ax[1].set_ylabel("Nc = F / (r Su)")
     ax[1].legend()
-    fig.tight_layout()
-    fig.savefig(out / "buried_pipe.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "buried_pipe") / "buried_pipe.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

@@ -31,7 +31,6 @@ come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 from skfem import MeshTri
@@ -44,7 +43,10 @@ from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundar
                                   traction_vector)
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
+
+QUICK = dict(nx=20, ny=2, t_end=10.0)
 
 
 def load_factor(t, t_ramp=1.0, t_hold=6.0):
@@ -108,8 +110,24 @@ def build(args):
     return disc, fixed, free, f_unit, tip
 
 
-def parser():
-    p = base_parser(__doc__.splitlines()[0])
+def time_steps(args):
+    """Number of time steps: --steps, or t_end / dt."""
+    return args.steps or int(round(args.t_end / args.dt))
+
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    if args.nx < 1 or args.ny < 1:
+        return "--nx and --ny must be positive"
+    if time_steps(args) < 1:
+        return f"--steps must be positive, got {time_steps(args)!r}"
+    if args.g < 0:
+        return f"--g must be >= 0, got {args.g!r}"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--length", type=positive("--length"), default=10.0, help="beam length L (m)")
     p.add_argument("--height", type=positive("--height"), default=1.0, help="beam depth h (m)")
     p.add_argument("--nx", type=int, default=50, help="element columns (2 nx ny triangles)")
@@ -135,30 +153,19 @@ def parser():
     return p
 
 
-def main(argv=None):
-    args = parser().parse_args(argv)
-    if args.quick:
-        args.nx, args.ny = 20, 2
-        args.t_end = min(args.t_end, 10.0)
-    if args.nx < 1 or args.ny < 1:
-        raise ValueError("--nx and --ny must be positive")
+def run(args):
+    """The two dynamic runs against standard FE, the static SOCP and beam theory."""
     elastic = Elastic(args.E, args.nu)
     disc, fixed, free, f_unit, tip = build(args)
-    n_steps = args.steps or int(round(args.t_end / args.dt))
-    if n_steps < 1:
-        raise ValueError(f"--steps must be positive, got {n_steps!r}")
+    n_steps = time_steps(args)
     t_unload = 2 * args.t_ramp + args.t_hold
-
-    if args.g < 0:
-        raise ValueError(f"--g must be >= 0, got {args.g!r}")
     weight = gravity_vector(disc, args.rho, args.g) if args.g > 0 else np.zeros(disc.n_u)
 
     def load(t):
         return args.F * load_factor(t, args.t_ramp, args.t_hold) * f_unit + weight
 
-    report = Report("cantilever (thesis 4.6, Fig 4.3-4.4)",
-                    {**{k: v for k, v in vars(args).items() if k not in ("json", "outdir")},
-                     "elements": disc.mesh.nelements, "steps": n_steps})
+    report = Report("cantilever (thesis 4.6, Fig 4.3-4.4)", args,
+                    elements=disc.mesh.nelements, steps=n_steps)
     # (b) quasi-static deflection: static SOCP (elastic: strength far above the stresses)
     B, C = assemble_B(disc), assemble_C(disc, elastic)
     sigma_beam = 6 * args.F * args.length / args.height ** 2     # root bending stress
@@ -225,20 +232,14 @@ def main(argv=None):
                     **{f"tip_{k}_fe": r["ref"].tolist() for k, r in runs.items()},
                     "energy_undamped": und.energy.tolist()},
     }
-    if not args.no_figures:
-        figures(args, runs, tip_static, Path(args.outdir))
-    return report.finish(args)
+    report.data = dict(runs=runs, tip_static=tip_static)
+    return report
 
 
-def figures(args, runs, tip_static, outdir):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    outdir = outdir / "cantilever"
-    outdir.mkdir(parents=True, exist_ok=True)
+def figures(args, runs, tip_static):
+    """Load history (Fig 4.2), tip against standard FE (Fig 4.3), damping (Fig 4.4)."""
     t = runs["undamped"]["hist"].times
-    fig, ax = plt.subplots(1, 3, figsize=(15, 3.8))
+    fig, ax = pyplot().subplots(1, 3, figsize=(15, 3.8))
     ax[0].plot(t, args.F * load_factor(t, args.t_ramp, args.t_hold), "k")
     ax[0].set(xlabel="time (s)", ylabel="force F (kN)", title="load history (Fig 4.2)")
     u = runs["undamped"]
@@ -258,9 +259,12 @@ def figures(args, runs, tip_static, outdir):
     ax[2].set(xlabel="time (s)", ylabel="tip - quasi-static path (mm)",
               title="with and without damping (Fig 4.4)")
     ax[2].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(outdir / "cantilever.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "cantilever") / "cantilever.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

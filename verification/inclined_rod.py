@@ -60,30 +60,13 @@ Usage::
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
-from pathlib import Path
 
 import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
 
 QUICK = dict(steps=[25, 50, 100, 200])
-
-
-def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
-    p.add_argument("--D", type=positive("--D"), default=100.0, help="horizontal span (mm)")
-    p.add_argument("--H", type=positive("--H"), default=100.0, help="height (mm)")
-    p.add_argument("--E", type=positive("--E"), default=210e3,
-                   help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
-    p.add_argument("--V", type=positive("--V"), default=100.0, help="bar volume (mm^3)")
-    p.add_argument("--u", type=positive("--u"), default=5.0,
-                   help="final downward displacement in units of L")
-    p.add_argument("--steps", type=int, nargs="+", default=[100, 200, 400, 800],
-                   help="numbers of increments")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
-    return p
 
 
 def exact_force(u, D, H, E, V):
@@ -93,7 +76,7 @@ def exact_force(u, D, H, E, V):
     return -E * V * (H - u) / l ** 2 * np.log(l / L)
 
 
-def run(n_increments, D, H, E, V, u_total, progress_label=None):
+def push_rod(n_increments, D, H, E, V, u_total, progress_label=None):
     """Incremental SOCP run; returns u, F at the end of each increment, F as solved, history."""
     L = np.hypot(D, H)
     x0 = np.array([[0.0, 0.0], [D, H]])
@@ -120,24 +103,41 @@ def fit_order(n, err):
     return -np.polyfit(np.log(n), np.log(err), 1)[0]
 
 
-def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.quick and args.steps == parser.get_default("steps"):
-        args.steps = QUICK["steps"]
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
     if any(n < 1 for n in args.steps) or len(set(args.steps)) < 2:
-        parser.error("--steps needs at least two distinct positive integers")
+        return "--steps needs at least two distinct positive integers"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--D", type=positive("--D"), default=100.0, help="horizontal span (mm)")
+    p.add_argument("--H", type=positive("--H"), default=100.0, help="height (mm)")
+    p.add_argument("--E", type=positive("--E"), default=210e3,
+                   help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
+    p.add_argument("--V", type=positive("--V"), default=100.0, help="bar volume (mm^3)")
+    p.add_argument("--u", type=positive("--u"), default=5.0,
+                   help="final downward displacement in units of L")
+    p.add_argument("--steps", type=int, nargs="+", default=[100, 200, 400, 800],
+                   help="numbers of increments")
+    p.add_argument("--tol", type=float, default=None,
+                   help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
+    return p
+
+
+def run(args):
+    """The rod pushed with each number of increments against (6.4); error and its order."""
     D, H, E, V = args.D, args.H, args.E, args.V
     L = np.hypot(D, H)
     EA = E * V / L
     steps = np.array(sorted(set(args.steps)))
-    report = Report("inclined_rod", {k: v for k, v in vars(args).items()
-                                     if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("inclined_rod", args)
     runs, err, err_solved, err_far = {}, [], [], []
     print(f"{'N':>6s} {'max|dF|/max|F|':>15s} {'(as solved)':>12s} {'pointwise, |F|>=F_max/2':>24s}")
     for n in steps:
-        u, F, F_solved, hist = run(int(n), D, H, E, V, args.u * L,
-                                f"N = {n}" if args.progress else None)
+        u, F, F_solved, hist = push_rod(int(n), D, H, E, V, args.u * L,
+                                        f"N = {n}" if args.progress else None)
         Fex = exact_force(u, D, H, E, V)
         scale = np.abs(Fex).max()
         far = np.abs(Fex) >= 0.5 * scale           # well away from the sign changes of F
@@ -163,22 +163,16 @@ def main(argv=None):
                     "pointwise_rel_error_far_from_sign_changes": err_far,
                     "curves": {str(n): {"u_over_L": (u / L).tolist(), "F_over_EA": (F / EA).tolist()}
                                for n, (u, F) in runs.items()}}
-    if not args.no_figures:
-        figures(args, runs, steps, err)
-    return report.finish(args)
+    report.data = dict(runs=runs, steps=steps, err=err)
+    return report
 
 
 def figures(args, runs, steps, err):
     """Fig 6.3 (F/EA against u/L for each N and (6.4)) and the error against N."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "inclined_rod"
-    out.mkdir(parents=True, exist_ok=True)
     D, H, E, V = args.D, args.H, args.E, args.V
     L = np.hypot(D, H)
     EA = E * V / L
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.3))
+    fig, (a1, a2) = pyplot().subplots(1, 2, figsize=(11, 4.3))
     for n, (u, F) in runs.items():
         a1.plot(u / L, F / EA, lw=1, label=f"{n} increments")
     uu = np.linspace(0, args.u * L, 600)
@@ -193,9 +187,12 @@ def figures(args, runs, steps, err):
     a2.set_xlabel("increments N")
     a2.legend()
     a2.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "inclined_rod.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "inclined_rod") / "inclined_rod.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

@@ -25,7 +25,6 @@ Usage::
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
-from pathlib import Path
 
 import numpy as np
 from skfem import MeshTri
@@ -34,11 +33,13 @@ from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
 from pfem_skfem.operators import boundary_dofs, discretise
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
-from pfem_skfem.report import Report, base_parser, positive
+from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
+
+QUICK = dict(nx=20, ny=2, steps=30)
 
 
-def parser():
-    p = base_parser(__doc__.splitlines()[0])
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--length", type=positive("--length"), default=10.0, help="beam length L (m)")
     p.add_argument("--height", type=positive("--height"), default=1.0, help="beam depth (m)")
     p.add_argument("--nx", type=int, default=40, help="element columns (2 nx ny triangles)")
@@ -57,10 +58,8 @@ def parser():
     return p
 
 
-def main(argv=None):
-    args = parser().parse_args(argv)
-    if args.quick:
-        args.nx, args.ny, args.steps = 20, 2, 30
+def run(args):
+    """Free vibration, elastic and elastoplastic: the energy balance of each."""
     mesh = MeshTri.init_tensor(np.linspace(0, args.length, args.nx + 1),
                                np.linspace(0, args.height, args.ny + 1))
     disc = discretise(mesh)
@@ -73,9 +72,8 @@ def main(argv=None):
     v0[y_dofs] = args.V * (disc.basis_u.doflocs[0, y_dofs] / args.length) ** 2
     no_load = lambda t: np.zeros(disc.n_u)                         # noqa: E731
 
-    report = Report("vibrating cantilever, elastic vs elastoplastic (thesis Ch 4)",
-                    {**{k: v for k, v in vars(args).items() if k not in ("json", "outdir")},
-                     "elements": mesh.nelements})
+    report = Report("vibrating cantilever, elastic vs elastoplastic (thesis Ch 4)", args,
+                    elements=mesh.nelements)
     runs = {}
     for name, criterion in (("elastic", None), ("elastoplastic", Tresca(args.su))):
         runs[name] = integrate(ops, no_load, args.steps, criterion=criterion, fixed=fixed,
@@ -101,23 +99,26 @@ def main(argv=None):
                     "energy_elastoplastic": pl.energy.tolist(),
                     "dissipation": pl.dissipation.tolist(),
                     "iterations_mean": float(np.mean(pl.iterations))}
-    if not args.no_figures:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        out = Path(args.outdir) / "plastic_vibration"
-        out.mkdir(parents=True, exist_ok=True)
-        fig, ax = plt.subplots(figsize=(6, 3.5))
-        ax.plot(el.times, el.energy / K0, "C0", label="elastic: K + W")
-        ax.plot(pl.times, pl.energy / K0, "C3", label="elastoplastic: K + W")
-        ax.plot(pl.times, pl.dissipation / K0, "C3--", label="plastic dissipation D")
-        ax.plot(pl.times, (pl.energy + pl.dissipation) / K0, "k:", label="K + W + D")
-        ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy")
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(out / "plastic_vibration.png", dpi=120)
-        plt.close(fig)
-    return report.finish(args)
+    report.data = dict(el=el, pl=pl)
+    return report
+
+
+def figures(args, el, pl):
+    """Energies of both runs and the plastic dissipation against time."""
+    K0 = el.energy[0]
+    fig, ax = pyplot().subplots(figsize=(6, 3.5))
+    ax.plot(el.times, el.energy / K0, "C0", label="elastic: K + W")
+    ax.plot(pl.times, pl.energy / K0, "C3", label="elastoplastic: K + W")
+    ax.plot(pl.times, pl.dissipation / K0, "C3--", label="plastic dissipation D")
+    ax.plot(pl.times, (pl.energy + pl.dissipation) / K0, "k:", label="K + W + D")
+    ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy")
+    ax.legend(fontsize=8)
+    save_figure(fig, figure_dir(args, "plastic_vibration") / "plastic_vibration.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

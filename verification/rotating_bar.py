@@ -33,27 +33,14 @@ Usage::
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
-from pathlib import Path
 
 import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
 QUICK = dict(steps=[4, 8, 16, 32])
-
-
-def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
-    p.add_argument("--theta", type=float, default=90.0,
-                   help="total rotation theta (degrees)")
-    p.add_argument("--L0", type=positive("--L0"), default=1.0, help="bar length")
-    p.add_argument("--E", type=positive("--E"), default=210e3,
-                   help="Young's modulus (only scales the stress)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="cross-sectional area")
-    p.add_argument("--steps", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
-                   help="numbers of increments N")
-    return p
 
 
 def rotated_strain(n_increments, theta, L0=1.0, E=210e3, A=1.0):
@@ -77,19 +64,35 @@ def fit_order(n, err):
     return -np.polyfit(np.log(n), np.log(np.abs(err)), 1)[0]
 
 
-def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.quick and args.steps == parser.get_default("steps"):
-        args.steps = QUICK["steps"]
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
     if any(n < 1 for n in args.steps):
-        parser.error("--steps must be positive integers")
+        return "--steps must be positive integers"
+    if not 0 < abs(np.radians(args.theta)) <= np.pi:
+        return "--theta must lie in (0, 180] degrees"
+    if len({n for n in args.steps if n >= 4}) < 2:
+        return "--steps needs at least two values >= 4 to fit the order"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--theta", type=float, default=90.0,
+                   help="total rotation theta (degrees)")
+    p.add_argument("--L0", type=positive("--L0"), default=1.0, help="bar length")
+    p.add_argument("--E", type=positive("--E"), default=210e3,
+                   help="Young's modulus (only scales the stress)")
+    p.add_argument("--A", type=positive("--A"), default=1.0, help="cross-sectional area")
+    p.add_argument("--steps", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
+                   help="numbers of increments N")
+    return p
+
+
+def run(args):
+    """The strain after each number of increments against (6.1)-(6.3), and its order."""
     theta = np.radians(args.theta)
-    if not 0 < abs(theta) <= np.pi:
-        parser.error("--theta must lie in (0, 180] degrees")
     steps = np.array(sorted(set(args.steps)))
-    report = Report("rotating_bar", {k: v for k, v in vars(args).items()
-                                     if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("rotating_bar", args)
     strains = []
     print(f"{'N':>6s} {'eps (SOCP)':>14s} {'N(cos(t/N)-1)':>14s} {'-t^2/(2N)':>14s} "
           f"{'N*eps':>10s}")
@@ -108,23 +111,16 @@ def main(argv=None):
     report.add(f"strain_scheme_N{n_max}", strains[-1], n_max * (np.cos(theta / n_max) - 1),
                "(6.1)-(6.3) N (cos(theta/N) - 1)", 1e-6)
     fit = steps >= 4
-    if fit.sum() < 2:
-        parser.error("--steps needs at least two values >= 4 to fit the order")
     report.add("order", fit_order(steps[fit], strains[fit]), 1.0, "(6.3) strain ~ 1/N", 0.02)
     report.extra = {"N": steps.tolist(), "strain": strains.tolist(),
                     "leading_order": (-theta ** 2 / (2 * steps)).tolist()}
-    if not args.no_figures:
-        figures(args, theta, steps, strains)
-    return report.finish(args)
+    report.data = dict(theta=theta, steps=steps, strains=strains)
+    return report
 
 
 def figures(args, theta, steps, strains):
     """The spurious strain against N (log-log) and the bar's path for the coarsest N."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "rotating_bar"
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
     nn = np.geomspace(steps[0], steps[-1], 100)
     a1.loglog(steps, -strains, "o", label="SOCP (B.12), updated geometry")
@@ -142,9 +138,12 @@ def figures(args, theta, steps, strains):
     a2.set_aspect("equal")
     a2.set_title(f"N = {n0} increments (Fig 6.1)")
     a2.legend()
-    fig.tight_layout()
-    fig.savefig(out / "rotating_bar.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "rotating_bar") / "rotating_bar.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

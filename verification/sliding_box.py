@@ -30,13 +30,14 @@ Usage::
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
-from pathlib import Path
 
 import numpy as np
 
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.particle import rigid_particle_step
-from pfem_skfem.report import Report, base_parser, positive
+from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
+
+QUICK = dict(steps=[10, 20, 40])
 
 
 def slide(v0, mu, g, steps, total_time, theta, *, width=0.2, mass=1.0):
@@ -97,8 +98,17 @@ def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=
     return np.array(path), None
 
 
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    if min(args.steps) < 1:
+        return "--steps must be positive"
+    if args.contact != "associated" and args.body != "fe":
+        return "--contact zero-dilation needs --body fe"
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--v0", type=positive("v0"), default=0.98, help="initial speed [m/s]")
     p.add_argument("--mu", type=positive("mu"), default=0.1, help="friction coefficient")
     p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
@@ -114,18 +124,11 @@ def build_parser():
     return p
 
 
-def main(argv=None):
-    args = build_parser().parse_args(argv)
-    if args.quick and args.steps == build_parser().get_default("steps"):
-        args.steps = [10, 20, 40]
-    if min(args.steps) < 1:
-        raise SystemExit("--steps must be positive")
+def run(args):
+    """Slide the box with each number of steps; travel against Newton, lift against dt."""
     total = args.time or args.v0 / (args.mu * args.g)
     travel_ref = args.v0 ** 2 / (2 * args.mu * args.g)
-    report = Report("sliding_box", {k: v for k, v in vars(args).items()
-                                    if k not in ("json", "outdir", "no_figures", "progress")})
-    if args.contact != "associated" and args.body != "fe":
-        raise SystemExit("--contact zero-dilation needs --body fe")
+    report = Report("sliding_box", args)
     runs = {}
     print(f"{'steps':>6s} {'dt [s]':>8s} {'travel [m]':>11s} {'error':>9s} "
           f"{'max lift [m]':>13s} {'final lift [m]':>15s}")
@@ -158,18 +161,13 @@ def main(argv=None):
     report.extra = {"runs": {str(n): {"dt": total / n, "travel": runs[n][0][-1, 0],
                                       "max_lift": runs[n][0][:, 1].max(),
                                       "final_lift": runs[n][0][-1, 1]} for n in runs}}
-    if not args.no_figures:
-        figures(args, runs, total, travel_ref)
-    return report.finish(args)
+    report.data = dict(runs=runs, total=total, travel_ref=travel_ref)
+    return report
 
 
 def figures(args, runs, total, travel_ref):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "sliding_box"
-    out.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    """Travel against time beside Newton's law, and the lift-off (Fig 5.3)."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(11, 4))
     t_exact = np.linspace(0, total, 200)
     a = args.mu * args.g
     x_exact = np.where(t_exact < args.v0 / a, args.v0 * t_exact - 0.5 * a * t_exact ** 2,
@@ -186,9 +184,12 @@ def figures(args, runs, total, travel_ref):
     ax[1].set_ylabel("separation from the plane [mm]")
     ax[1].set_title("artificial dilation (Fig 5.3)")
     ax[1].legend()
-    fig.tight_layout()
-    fig.savefig(out / "sliding_box.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "sliding_box") / "sliding_box.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

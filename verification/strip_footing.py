@@ -28,10 +28,8 @@ Usage::
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
-import importlib.util
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -40,7 +38,11 @@ from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress,
+                               pyplot, save_figure)
+
+QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
+             mc_increments=10)
 
 
 def prandtl_nc(phi_deg):
@@ -119,7 +121,7 @@ def nc_limit(model, criterion, *, c, B=1.0):
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
     p.add_argument("--nu", type=float, default=0.49, help="Poisson's ratio")
     p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
@@ -141,21 +143,12 @@ def build_parser():
     return p
 
 
-QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
-             mc_increments=10)
-
-
-def main(argv=None):
-    args = build_parser().parse_args(argv)
-    if args.quick:
-        for key, value in QUICK.items():
-            if getattr(args, key) == build_parser().get_default(key):
-                setattr(args, key, value)
+def run(args):
+    """Tresca curves and limit analyses on each mesh, then the Mohr-Coulomb sweep."""
     elastic = Elastic(args.E, args.nu)
     su = args.c
     t_start = time.perf_counter()
-    report = Report("strip_footing", {k: v for k, v in vars(args).items()
-                                      if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("strip_footing", args)
     nc_ref = prandtl_nc(0.0)
     curves, limits, models = {}, {}, {}
     for n_el in sorted(args.elements):
@@ -212,18 +205,15 @@ def main(argv=None):
                          for phi, d in mc.items()},
         "wall_time_s": time.perf_counter() - t_start,
     }
-    if not args.no_figures:
-        figures(args, models, curves, limits, mc, su, elastic)
-    return report.finish(args)
+    report.data = dict(models=models, curves=curves, limits=limits, mc=mc, su=su,
+                       elastic=elastic)
+    return report
 
 
 def figures(args, models, curves, limits, mc, su, elastic):
     """Fig 3.4, 3.5, 3.6, 3.7 and a picture of the plastic zone at collapse."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "strip_footing"
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
+    out = figure_dir(args, "strip_footing")
     nc_ref = prandtl_nc(0)
     coarse, fine = min(args.elements), max(args.elements)
 
@@ -243,9 +233,7 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.set_ylabel("bearing capacity Nc")
         a.set_ylim(0, 1.3 * nc_ref)
         a.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "nc_settlement.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "nc_settlement.png")
 
     fig, ax = plt.subplots(1, len(models), figsize=(4 * len(models), 3.5))
     for a, n_el in zip(np.atleast_1d(ax), sorted(models)):   # Fig 3.5: meshes
@@ -255,9 +243,7 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.set_xlim(0, 2.0)
         a.set_ylim(-1.5, 0.05)
         a.set_title(f"{m.t.shape[1]} elements (detail)")
-    fig.tight_layout()
-    fig.savefig(out / "meshes.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "meshes.png")
 
     if mc:                                          # Fig 3.7
         phis = sorted(mc)
@@ -269,9 +255,7 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.set_xlabel("friction angle [deg]")
         a.set_ylabel("Nc")
         a.legend()
-        fig.tight_layout()
-        fig.savefig(out / "nc_phi.png", dpi=120)
-        plt.close(fig)
+        save_figure(fig, out / "nc_phi.png")
 
     # plastic zone at collapse on the finest mesh: yield ratio of the last increment
     model = models[fine]
@@ -289,8 +273,13 @@ def figures(args, models, curves, limits, mc, su, elastic):
         fig, a = plt.subplots(figsize=(6, 4))     # no off-screen OpenGL: matplotlib instead
         viz.plot_field(a, points, cells, np.minimum(per_element, 1.0), label="yield ratio")
         a.set_aspect("equal")
-        fig.savefig(out / "plastic_zone.png", dpi=120)
-        plt.close(fig)
+        save_figure(fig, out / "plastic_zone.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
+
 
 if __name__ == "__main__":
     sys.exit(main())

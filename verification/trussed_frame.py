@@ -67,31 +67,15 @@ come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
 QUICK = dict(uV=20.0, steps=100)
-
-
-def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
-    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
-    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
-                   help="yield stress (N/mm^2)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
-    p.add_argument("--uV", type=positive("--uV"), default=65.0,
-                   help="vertical displacement of the loaded point (mm)")
-    p.add_argument("--steps", type=int, default=650, help="number of increments")
-    p.add_argument("--width", type=positive("--width"), default=4.0,
-                   help="depth w of the trussed members = panel length (mm)")
-    p.add_argument("--tol", type=float, default=None,
-                   help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
-    return p
 
 
 # -- geometry --------------------------------------------------------------------------
@@ -259,20 +243,35 @@ def exact_truss(x0, bars, area0, E, sigma_s, fixed, prescribed, path, n_incremen
     return np.array(us), np.array(Fs), np.array(xs)
 
 
-def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.quick:
-        for key, value in QUICK.items():
-            if getattr(args, key) == parser.get_default(key):
-                setattr(args, key, value)
-    if args.steps < 1:
-        parser.error("--steps must be a positive integer")
+# -- the benchmark ----------------------------------------------------------------------
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    return "--steps must be a positive integer" if args.steps < 1 else None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
+    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
+                   help="yield stress (N/mm^2)")
+    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
+    p.add_argument("--uV", type=positive("--uV"), default=65.0,
+                   help="vertical displacement of the loaded point (mm)")
+    p.add_argument("--steps", type=int, default=650, help="number of increments")
+    p.add_argument("--width", type=positive("--width"), default=4.0,
+                   help="depth w of the trussed members = panel length (mm)")
+    p.add_argument("--tol", type=float, default=None,
+                   help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
+    return p
+
+
+def run(args):
+    """The SOCP run (B.12) with updated geometry against the exact large-strain solver."""
     frame = trussed_frame(w=args.width)
     fixed, prescribed = boundary(frame)
     x0, bars = frame["x"], frame["bars"]
-    report = Report("trussed_frame", {k: v for k, v in vars(args).items()
-                                      if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("trussed_frame", args)
     print(f"frame: {len(x0)} nodes, {len(bars)} bars; u_V = {args.uV} mm in {args.steps} "
           "increments")
     path = lambda k: np.array([-args.uV * k / args.steps])  # noqa: E731
@@ -315,25 +314,19 @@ def main(argv=None):
                     "n_nodes": len(x0), "n_bars": len(bars), "bars_yielded": int(yielded.sum()),
                     "time_socp_s": t_socp, "time_reference_s": t_ref,
                     "mean_solver_iterations": float(np.mean(hist.iterations))}
-    if not args.no_figures:
-        figures(args, frame, hist, u, F, u_ref, F_ref, x_ref)
-    return report.finish(args)
+    report.data = dict(frame=frame, hist=hist, u=u, F=F, u_ref=u_ref, F_ref=F_ref, x_ref=x_ref)
+    return report
 
 
 def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
     """Fig 6.4 (geometry), 6.5 (deformed shapes at 20, 40, 60 mm) and 6.6 (F against u_V)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
-    out = Path(args.outdir) / "trussed_frame"
-    out.mkdir(parents=True, exist_ok=True)
     bars = frame["bars"]
 
     def draw(ax, x, color, lw=0.6, label=None):
         ax.add_collection(LineCollection(x[bars], colors=color, linewidths=lw, label=label))
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
+    fig, axes = pyplot().subplots(1, 3, figsize=(15, 4.8))
     ax = axes[0]
     draw(ax, frame["x"], "k")
     for n in frame["pins"]:
@@ -365,9 +358,12 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
     ax.set_ylabel("force F (N)")
     ax.set_title("Fig 6.6: load-displacement")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "trussed_frame.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, figure_dir(args, "trussed_frame") / "trussed_frame.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,1 @@
+"""Timing scripts, importable from the repository root (``from benchmarks import static_step``)."""
