@@ -74,12 +74,13 @@ EXAMPLES = ("column",)
 
 
 class SceneFileError(ValueError):
-    """A bad scene file: ``key`` is the TOML key path, ``line`` its line (None if unknown)."""
+    """A bad scene file: ``key`` is the TOML key path, ``line`` its line (None if unknown),
+    ``detail`` what is wrong, ``source`` the file's name (None for a text)."""
 
-    def __init__(self, key, line, message):
-        where = key or "(top level)"
-        super().__init__(f"{where} (line {line}): {message}" if line else f"{where}: {message}")
-        self.key, self.line, self.detail = key, line, message
+    def __init__(self, key, line, detail, source=None):
+        where = ", ".join(w for w in (source, f"line {line}" if line else None) if w)
+        super().__init__(f"{where + ': ' if where else ''}{key or '(top level)'}: {detail}")
+        self.key, self.line, self.detail, self.source = key, line, detail, source
 
 
 def key_path(path):
@@ -374,7 +375,7 @@ class _Context:
                         hits.append((m.start(), path + (key, int(m.group(1)))))
         plain = re.sub(r"'[^']*'", "''", message)    # names are not keys
         for key in table:
-            m = re.search(rf"(?<![\w.]){re.escape(key)}(?![\w])", plain)
+            m = re.search(rf"(?<!\w){re.escape(key)}(?!\w)", plain)
             if m:
                 hits.append((m.start(), path + (key,)))
         return min(hits)[1] if hits else path
@@ -410,7 +411,7 @@ def load_scene(path):
     try:
         return scene_from_toml(Path(path).read_text())
     except SceneFileError as err:
-        raise SceneFileError(err.key, err.line, f"{path}: {err.detail}") from None
+        raise SceneFileError(err.key, err.line, err.detail, source=str(path)) from None
 
 
 # -- writing --------------------------------------------------------------------------------
