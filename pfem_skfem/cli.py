@@ -178,7 +178,7 @@ def cmd_run(args):
 def _run(args):
     from dataclasses import replace
     from .scene import Output
-    from .scene.files import EXAMPLES, example_text, load_scene, scene_to_toml
+    from .scene.files import EXAMPLES, example_text, load_scene
 
     if args.example:
         if args.example not in EXAMPLES:
@@ -275,8 +275,10 @@ def _advance(scene, out, last, resume, quiet):
             sys.stderr.write("\n")
         what = ("interrupted" if isinstance(err, KeyboardInterrupt) else
                 f"solver failed ({err}; status {err.status})")
-        print(f"pfem-skfem run: {what} in step {done[0].step + 1}; steps 1-{done[0].step} "
-              f"are in {out}/ (--resume continues from step {done[0].step})", file=sys.stderr)
+        n = done[0].step
+        kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
+        print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
+              f"from step {n})", file=sys.stderr)
         return 3 if isinstance(err, SolverError) else 130
     save_checkpoint(checkpoint, state)
     _write_history(history, records)

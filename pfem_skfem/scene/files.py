@@ -62,7 +62,7 @@ from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
     RigidSegment
 from ..problems.dynamic import ThetaMethod
-from .bodies import Body, ConstantVelocity, Fixed, FunctionMotion, PiecewiseLinear
+from .bodies import Body, ConstantVelocity, Fixed, PiecewiseLinear
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
