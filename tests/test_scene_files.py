@@ -36,7 +36,8 @@ def rich_scene():
     block = Region(((0, 0), (2, 0), (2, 1), (0, 1)), soil, 1.5, 0.25, lattice="triangular",
                    holes=(((0.5, 0.25), (0.75, 0.25), (0.75, 0.5)),),
                    stress=Geostatic(k0=0.5, top=1.0), name="block")
-    cap = Region(((0, 1), (2, 1), (2, 1.5), (0, 1.5)), soil, 2.0, 0.25, name="cap")
+    top = tuple((x, 1.5) for x in np.linspace(2, 0, 9))      # a long list: one point a line
+    cap = Region(((0, 1), (2, 1)) + top, soil, 2.0, 0.25, name="cap")
     bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),
               Body("slope", RigidPolyline(((4, 3), (1, 3.5), (-2, 3)), 0.1),
                    motion=ConstantVelocity((0.5, -0.25)), removed_at=2.0),
@@ -89,6 +90,8 @@ def test_round_trip(name):
     text = scene_to_toml(scene)
     assert scene_from_toml(text) == scene
     assert scene_to_toml(scene_from_toml(text)) == text
+    if name == "rich":
+        assert "polygon = [\n    [0.0, 1.0],\n" in text
 
 
 def test_the_round_trip_writes_every_type_of_the_schema():
