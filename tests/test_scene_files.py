@@ -194,6 +194,8 @@ BAD_FILES = [
     ("phases out of order", ("", PHASES), "phases", "[[phases]]\nuntil = 1.0", "increasing"),
     ("a Python function", ("", FUNCTION), "bodies[3].motion.type", 'type = "FunctionMotion"',
      "Python function"),
+    ("a table, not an array", ("[[regions]]", "[regions]"), "regions", "[regions]",
+     "must be an array of tables"),
     ("syntax", ("rho = 2.0 ", "rho = = 2.0 "), "", "rho = = 2.0", "TOML syntax"),
 ]
 
