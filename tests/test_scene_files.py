@@ -317,3 +317,23 @@ def test_a_solver_failure_exits_3_and_keeps_the_last_step(tmp_path, monkeypatch,
     assert "solver failed" in err and "MaxIterations" in err and "step 2" in err
     assert load_checkpoint(tmp_path / "o" / "checkpoint.npz").step == 1
     assert len(json.loads((tmp_path / "o" / "history.json").read_text())) == 1
+
+
+@pytest.mark.parametrize("t_end, dt, steps", [(0.02, 0.003194382824999699, 7),
+                                              (0.1, 0.01, 10),  # 10.000000000000002
+                                              (0.3, 0.1, 3),        # 2.9999999999999996
+                                              (0.001, 0.01, 1)])
+def test_steps_until_t_end_round_up_but_not_round_off(t_end, dt, steps):
+    assert cli.steps_until(t_end, dt) == steps
+
+
+def test_the_progress_bar_writes_the_first_step_and_a_line_a_tenth_off_a_terminal():
+    import io
+    stream = io.StringIO()
+    bar = cli.ProgressBar(5, 25, stream=stream)
+    for i in range(1, 21):
+        bar(i, 20, {"time": 0.01 * (5 + i), "iterations": 40})
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 11 and lines[0].startswith("step 6/25 [#")
+    assert lines[-1].startswith("step 25/25 [" + "#" * 24 + "] 100%")
+    assert "t = 0.25" in lines[-1] and "it = 40" in lines[-1]
