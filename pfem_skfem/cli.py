@@ -3,6 +3,11 @@
 Runs the verification scripts (one per thesis benchmark, in ``verification/``),
 each in its own process, shows progress, prints one summary table and exits
 non-zero if a case misses its tolerance or fails to run.
+
+``pfem-skfem run SCENE.toml [--steps N] [--out DIR] [--resume]`` runs a scene written
+as a TOML file (:mod:`pfem_skfem.scene.files`) and writes its VTU/PVD series, the step
+records (``history.json``), the scene as run (``scene.toml``) and a checkpoint into an
+output folder; ``pfem-skfem run --example column [PATH]`` writes a commented example.
 """
 import argparse
 from concurrent.futures import ThreadPoolExecutor
@@ -104,6 +109,185 @@ def cmd_verify(args):
     return 1 if failed else 0
 
 
+# -- run: a scene file -----------------------------------------------------------------
+class ProgressBar:
+    """A one-line progress bar on ``stream`` (stderr): step, time, iterations, s/step, ETA.
+    Redrawn in place on a terminal; elsewhere (a log file) a line every tenth of the run."""
+
+    def __init__(self, first, last, stream=None, width=24):
+        self.first, self.last, self.width = first, last, width
+        self.stream = sys.stderr if stream is None else stream
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.t0 = time.perf_counter()
+        self.shown = -1
+
+    def __call__(self, i, n, record):
+        step = self.first + i
+        total = self.last - self.first
+        frac = i / total if total else 1.0
+        per = (time.perf_counter() - self.t0) / max(i, 1)
+        bar = "#" * int(frac * self.width)
+        line = (f"step {step}/{self.last} [{bar:{self.width}s}] {frac:4.0%}  "
+                f"t = {record['time']:.4g}  it = {record['iterations']}  {per:.2f} s/step  "
+                f"ETA {per * (n - i):.0f} s")
+        if self.tty:
+            self.stream.write("\r" + line + ("\n" if i == n else ""))
+        elif int(10 * frac) > self.shown or i == n:
+            self.shown = int(10 * frac)
+            self.stream.write(line + "\n")
+        self.stream.flush()
+
+
+def steps_until(t_end, dt):
+    """Steps of dt to reach t_end: t_end / dt rounded up (to the nearest within 1e-9)."""
+    import math
+    n = t_end / dt
+    near = round(n)
+    return max(1, near if abs(n - near) <= 1e-9 * max(1.0, n) else math.ceil(n))
+
+
+def _pvd_entries(pvd, until):
+    """(time, file) of a PVD's steps at times <= ``until`` (the checkpoint's)."""
+    import xml.etree.ElementTree as ET
+    if not pvd.exists():
+        return []
+    entries = []
+    for ds in ET.parse(pvd).getroot().iter("DataSet"):
+        t = float(ds.get("timestep"))
+        if t <= until * (1 + 1e-12):
+            entries.append((t, pvd.parent / ds.get("file")))
+    return entries
+
+
+def _write_history(path, records):
+    path.write_text(json.dumps(records, indent=1) + "\n")
+
+
+class RunError(Exception):
+    """A run that cannot start: the message says why (exit code 2)."""
+
+
+def cmd_run(args):
+    try:
+        return _run(args)
+    except RunError as err:
+        print(f"pfem-skfem run: error: {err}", file=sys.stderr)
+        return 2
+
+
+def _run(args):
+    from dataclasses import replace
+    from .scene import Output
+    from .scene.files import EXAMPLES, example_text, load_scene
+
+    if args.example:
+        if args.example not in EXAMPLES:
+            raise RunError(f"no example {args.example!r}; examples: {', '.join(EXAMPLES)}")
+        text = example_text(args.example)
+        if args.scene == "-":
+            sys.stdout.write(text)
+            return 0
+        path = Path(args.scene or f"{args.example}.toml")
+        if path.exists():
+            raise RunError(f"{path} exists; not overwritten")
+        path.write_text(text)
+        print(f"wrote {path}; run it with: pfem-skfem run {path}")
+        return 0
+    if not args.scene:
+        raise RunError("give a scene file (pfem-skfem run SCENE.toml), or --example column")
+    path = Path(args.scene)
+    if not path.is_file():
+        raise RunError(f"no scene file {path}")
+    try:
+        scene = load_scene(path)
+    except ValueError as err:                        # a located SceneFileError
+        raise RunError(str(err)) from None
+    out = Path(args.out or scene.output.directory)
+    every = scene.output.every if args.every is None else args.every
+    checkpoint_every = (scene.output.checkpoint_every if args.checkpoint_every is None
+                        else args.checkpoint_every)
+    if every < 0 or checkpoint_every < 0:
+        raise RunError("--every and --checkpoint-every must be >= 0")
+    scene = replace(scene, output=Output(str(out), every, checkpoint_every))
+    if args.steps is not None:
+        if args.steps < 1:
+            raise RunError(f"--steps must be >= 1, got {args.steps}")
+        last = args.steps
+    elif scene.t_end is not None:
+        last = steps_until(scene.t_end, scene.config.dt)
+    else:
+        raise RunError(f"{path}: the scene has no t_end: give --steps N")
+    return _advance(scene, out, last, args.resume, args.no_progress)
+
+
+def _advance(scene, out, last, resume, quiet):
+    """Run ``scene`` to step ``last`` in folder ``out`` (from its checkpoint if ``resume``)."""
+    from dataclasses import replace
+    from .drivers.pfem_loop import load_checkpoint, run, save_checkpoint
+    from .io import TimeSeries
+    from .problems.conic import SolverError
+    from .scene.files import load_scene, scene_to_toml
+
+    checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
+    series = TimeSeries(out, "scene") if scene.output.every else None
+    if resume:
+        if not checkpoint.is_file() or not copy.is_file():
+            raise RunError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
+        ran = load_scene(copy)
+        # the numbers of the run must be the same; its length and output may change
+        if replace(ran, t_end=None, output=scene.output) != replace(scene, t_end=None):
+            raise RunError(f"the scene differs from the one run in {out}/scene.toml: "
+                           "resume only the same scene (t_end and [output] may change)")
+        state = load_checkpoint(checkpoint)
+        records = [r for r in json.loads(history.read_text()) if r["step"] <= state.step] \
+            if history.is_file() else []
+        if series is not None:
+            series.entries = _pvd_entries(series.pvd_path, state.time)
+    else:
+        out.mkdir(parents=True, exist_ok=True)
+        state, records = scene.initial_state(), []
+    if series is not None:                           # VTU files of steps not in the series
+        for old in out.glob("scene_*.vtu"):
+            if int(old.stem.rsplit("_", 1)[1]) >= len(series.entries):
+                old.unlink()
+    copy.write_text(scene_to_toml(scene, header="the scene as run by pfem-skfem run"))
+    first = state.step
+    if first >= last:
+        print(f"{out}/ is already at step {first} (>= {last}): nothing to run")
+        return 0
+    done = [state]
+
+    def on_step(st, record, result):
+        records.append(record)
+        done[0] = st
+        if scene.output.checkpoint_every and st.step % scene.output.checkpoint_every == 0:
+            _write_history(history, records)         # with the checkpoint just written
+
+    bar = None if quiet else ProgressBar(first, last)
+    try:
+        state, _ = run(state, scene, last - first, checkpoint=checkpoint,
+                       checkpoint_every=scene.output.checkpoint_every, series=series,
+                       save_every=scene.output.every, on_step=on_step, progress=bar)
+    except (SolverError, KeyboardInterrupt) as err:
+        save_checkpoint(checkpoint, done[0])         # the last step completed, to resume
+        _write_history(history, records)
+        if bar is not None and bar.tty:
+            sys.stderr.write("\n")
+        what = ("interrupted" if isinstance(err, KeyboardInterrupt) else
+                f"solver failed ({err}; status {err.status})")
+        n = done[0].step
+        kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
+        print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
+              f"from step {n})", file=sys.stderr)
+        return 3 if isinstance(err, SolverError) else 130
+    save_checkpoint(checkpoint, state)
+    _write_history(history, records)
+    vtus = f"scene.pvd ({len(series.entries)} VTU), " if series is not None else ""
+    print(f"steps {first + 1}-{state.step} (t = {state.time:.6g}) written to {out}/: {vtus}"
+          "history.json, scene.toml, checkpoint.npz")
+    return 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="pfem-skfem", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -120,6 +304,24 @@ def main(argv=None):
     v.set_defaults(func=cmd_verify)
     ls = sub.add_parser("list", help="list the verification cases")
     ls.set_defaults(func=lambda a: print("\n".join(available_cases())) or 0)
+    r = sub.add_parser("run", help="run a scene file (TOML); --example column writes one",
+                       description="Run a PFEM scene written as a TOML file: a progress bar "
+                       "on stderr; the VTU/PVD series, history.json, scene.toml and "
+                       "checkpoint.npz in the output folder.")
+    r.add_argument("scene", nargs="?", help="the scene file (with --example: where to write "
+                   "it, default NAME.toml; '-' for stdout)")
+    r.add_argument("--example", metavar="NAME", help="write the commented example NAME "
+                   "(column) instead of running")
+    r.add_argument("--steps", type=int, help="run until step N (default: until t_end)")
+    r.add_argument("--out", help="output folder (default: the file's output.directory)")
+    r.add_argument("--resume", action="store_true",
+                   help="continue from the output folder's checkpoint")
+    r.add_argument("--every", type=int, help="a VTU every K steps (0: none; default: "
+                   "output.every)")
+    r.add_argument("--checkpoint-every", type=int, help="a checkpoint every K steps "
+                   "(default: output.checkpoint_every; one is always written at the end)")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.set_defaults(func=cmd_run)
     args = parser.parse_args(argv)
     if getattr(args, "jobs", 1) < 1:
         parser.error("--jobs must be at least 1")
