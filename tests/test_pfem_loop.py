@@ -1,6 +1,4 @@
 """The PFEM loop of Ch 2.2 on the granular column of 6.4.3."""
-import json
-
 import numpy as np
 import pyvista as pv
 import pytest
@@ -20,7 +18,6 @@ from pfem_skfem.pfem.transfer import old_discretisation
 from pfem_skfem.problems.contact import LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.scene import Body, Region, Scene
-from verification import granular_column_plane as column_script
 from verification.granular_column_plane import granular_column
 
 G = 9.8
@@ -118,21 +115,6 @@ def test_config_rejects_bad_values():
         PFEMConfig(stress_mapping="nearest")
     with pytest.raises(ValueError, match="passes >= 2"):
         PFEMConfig(contact=LaggedFriction(), passes=1)
-
-
-def test_verification_script_quick(tmp_path):
-    # the CI size of the benchmark: a = 1, 10 across, 100 steps, then on to rest
-    module = column_script
-    out = tmp_path / "r.json"
-    code = module.main(["--quick", "--json", str(out), "--no-figures", "--outdir", str(tmp_path)])
-    result = json.loads(out.read_text())
-    q = {x["name"]: x for x in result["quantities"]}
-    assert code == 0, [x for x in result["quantities"] if not x["pass"]]
-    assert q["a1_phi31_h_inf_over_h0"]["value"] < 1.0             # the column came down
-    assert q["a1_phi31_t_rest"]["value"] <= 8.0                   # and stopped
-    assert q["a1_phi31_volume_change_max"]["value"] < module.VOLUME_BOUND
-    case = result["extra"]["cases"][0]
-    assert case["at_rest"] and case["final_max_speed_over_sqrt_gh0"] < module.REST_SPEED
 
 
 def test_run_writes_a_vtu_per_saved_step_and_a_pvd(tmp_path):

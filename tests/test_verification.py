@@ -22,7 +22,7 @@ from pfem_skfem.report import HARNESS_OPTIONS, Report, run_script
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
-NOT_YET = {"granular_column_plane"}         # converted to the harness separately (issue 12)
+NOT_YET = set()
 
 
 class Between:
@@ -81,7 +81,18 @@ def frame_has_the_bars_of_fig_6_4(report):
     assert report.extra["n_bars"] == 238
 
 
+def column_comes_to_rest(report):
+    """The collapsed column is at rest (every particle slower than REST_SPEED sqrt(g h0))."""
+    from verification.granular_column_plane import REST_SPEED
+    case = report.extra["cases"][0]
+    assert case["at_rest"] and case["final_max_speed_over_sqrt_gh0"] < REST_SPEED
+
+
 CASES = [
+    ("granular_column_plane", [], {"a1_phi31_h_inf_over_h0": Between(0, 1.0),   # came down
+                                   "a1_phi31_t_rest": Between(0, 8.0),          # and stopped
+                                   "a1_phi31_volume_change_max": Between(0, 0.10)},
+     column_comes_to_rest),
     ("alpha_shape", [], {"lowest alpha, 2 bodies": Between(0, 0.9),
                          "highest alpha, 2 bodies": Between(1.3, 1.5),
                          "area at alpha=1.3": approx(two_polygons_area(), rel=1e-9),

@@ -44,17 +44,19 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers.pfem_loop import (PFEMConfig, config_summary, load_checkpoint, run,
-                                          run_to_rest)
+from pfem_skfem.drivers import pfem_loop
+from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, load_checkpoint, run_to_rest
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
+QUICK = dict(a=[1.0], nx=10, steps=100)
 # Stated bound on |area change| (thesis Fig 6.15: 2-6 %). Measured at a = 1, 10 particles
 # across, 100 steps: 15.9 % with the particles moved as bare vertices (the dropped bulge
 # of the P2 boundary edges and the alpha-shape's deletions), 2.4 % with the surface
@@ -206,9 +208,9 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
             state = load_checkpoint(checkpoint)
             print(f"resuming {checkpoint} at step {state.step}", flush=True)
     t0 = time.perf_counter()
-    state, snaps = run(state, scene, steps - state.step, series=series, save_every=save_every,
-                       snapshots=snap_steps, verbose=verbose, checkpoint=checkpoint,
-                       checkpoint_every=checkpoint_every)
+    state, snaps = pfem_loop.run(state, scene, steps - state.step, series=series,
+                                 save_every=save_every, snapshots=snap_steps, verbose=verbose,
+                                 checkpoint=checkpoint, checkpoint_every=checkpoint_every)
     height4, top4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
@@ -269,7 +271,7 @@ def run_cases(cases, workers):
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--a", type=positive("a"), nargs="+", default=list(ASPECTS),
                    help="aspect ratios h0/d0")
     p.add_argument("--phi", type=positive("phi"), nargs="+", default=[31.0],
@@ -315,16 +317,8 @@ def build_parser():
     return p
 
 
-def main(argv=None):
-    args = build_parser().parse_args(argv)
-    if args.quick:
-        parser = build_parser()
-        if args.a == parser.get_default("a"):
-            args.a = [1.0]
-        if args.nx == parser.get_default("nx"):
-            args.nx = 10
-        if args.steps == parser.get_default("steps"):
-            args.steps = 100
+def run(args):
+    """The sweep, the time-step and mesh studies of ``args``; the Report of their checks."""
     out = Path(args.outdir) / "granular_column_plane"
     vtu_dir = out if args.save_every else None
     cases = [dict(a=a, nx=args.nx, steps=args.steps, phi=phi, mu=args.mu, g=args.g,
@@ -344,9 +338,7 @@ def main(argv=None):
     dt_study = results[len(cases):len(cases) + len(study)]
     mesh_study = results[len(cases) + len(study):]
 
-    report = Report("granular_column_plane",
-                    {k: v for k, v in vars(args).items()
-                     if k not in ("json", "outdir", "no_figures", "progress", "workers")})
+    report = Report("granular_column_plane", args)
     print("final deposit (at rest), against the fits of Lube et al.; then the deposit at "
           "t/sqrt(h0/g) = 4, where the thesis stops")
     print(f"{'a':>5s} {'phi':>4s} {'h/d0':>7s} {'thesis':>7s} {'dev':>7s} "
@@ -408,9 +400,13 @@ def main(argv=None):
     report.extra = {"cases": [_summary(r) for r in sweep],
                     "time_step_study": [_summary(r) for r in dt_study],
                     "mesh_study": [_summary(r) for r in mesh_study]}
-    if not args.no_figures:
-        figures(out, sweep, dt_study, mesh_study)
-    return report.finish(args)
+    report.data = dict(sweep=sweep, dt_study=dt_study, mesh_study=mesh_study)
+    return report
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
@@ -421,14 +417,6 @@ def _summary(r):
     every = max(1, len(r["t_bar"]) // 100)
     return {k: v for k, v in r.items() if k not in ("snapshots",) + HISTORIES} | \
         {k: r[k][::every] for k in HISTORIES}
-
-
-def _save(fig, path):
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def render_deposits(out, rows):
@@ -444,14 +432,11 @@ def render_deposits(out, rows):
                        scalars="plastic_strain_increment", window_size=(1000, 500))
 
 
-def figures(out, sweep, dt_study, mesh_study=()):
+def figures(args, sweep, dt_study, mesh_study=()):
     """Fig 6.12 (snapshots), 6.13 (deposit vs a with the fits), 6.15 (volume change) beside
     the kinetic energy of each case coming to rest."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
+    out = figure_dir(args, "granular_column_plane")
     rows = sorted(sweep, key=lambda r: (r["phi"], r["a"]))
     # one row a case: t = 0, 1, 4 and, if it went on, the deposit at rest
     fig, axes = plt.subplots(len(rows), 4, figsize=(14, 1.5 * len(rows) + 0.8), squeeze=False)
@@ -470,7 +455,7 @@ def figures(out, sweep, dt_study, mesh_study=()):
         for j in range(len(frames), 4):
             axes[i, j].axis("off")
     fig.suptitle("granular columns (dots: particles, colour: speed), cf. Fig 6.12")
-    _save(fig, out / "snapshots.png")
+    save_figure(fig, out / "snapshots.png")
 
     a_fit = np.linspace(0.2, 8, 200)
     h_fit, r_fit = lube_thesis(a_fit)
@@ -489,7 +474,7 @@ def figures(out, sweep, dt_study, mesh_study=()):
         x.set_xlabel("a = h0 / d0")
         x.legend(fontsize=8)
     fig.suptitle("final deposit vs aspect ratio, cf. Fig 6.13")
-    _save(fig, out / "deposit_vs_a.png")
+    save_figure(fig, out / "deposit_vs_a.png")
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     for r in (dt_study or rows):
@@ -506,7 +491,7 @@ def figures(out, sweep, dt_study, mesh_study=()):
     for x in ax:
         x.set_xlabel("t / sqrt(h0/g)")
         x.legend(fontsize=7)
-    _save(fig, out / "volume_change.png")
+    save_figure(fig, out / "volume_change.png")
     render_deposits(out, rows)
     (out / "summary.json").write_text(json.dumps(
         {"cases": [_summary(r) for r in sweep], "time_step_study": [_summary(r) for r in dt_study],

@@ -6,12 +6,17 @@ A scene is handed whole to the engine (:mod:`pfem_skfem.drivers.pfem_loop`)::
                   bodies=[Body("base", RigidSegment(a, b, mu))],
                   config=PFEMConfig(theta=ThetaMethod(dt)))
     state, _ = run(scene.initial_state(), scene, steps)
+
+The same scene as a TOML file: :func:`scene_to_toml` / :func:`scene_from_toml`
+(``pfem-skfem run SCENE.toml`` runs one).
 """
 from .bodies import Body, ConstantVelocity, Fixed, FunctionMotion, Motion, PiecewiseLinear
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region, fill_region, geostatic_stress, polygon_area
 from .scene import Output, Phase, Scene
+from .files import SceneFileError, load_scene, scene_from_toml, scene_to_toml
 
 __all__ = ["Body", "ConstantVelocity", "Fixed", "FunctionMotion", "Motion", "PiecewiseLinear",
            "HalfPlane", "Outlet", "PolygonZone", "Geostatic", "Region", "fill_region",
-           "geostatic_stress", "polygon_area", "Output", "Phase", "Scene"]
+           "geostatic_stress", "polygon_area", "Output", "Phase", "Scene", "SceneFileError",
+           "load_scene", "scene_from_toml", "scene_to_toml"]
