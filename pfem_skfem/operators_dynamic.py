@@ -44,7 +44,7 @@ def _mass_intorder(disc):
 
 def _volume_weight(basis, disc):
     """The weight of dV at the quadrature points of ``basis``: 1 or 2 pi r."""
-    return disc.geometry.weight(basis.global_coordinates().value)
+    return disc.geometry.weight(np.array(basis.global_coordinates()))
 
 
 def element_density(disc, rho):

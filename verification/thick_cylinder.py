@@ -152,7 +152,7 @@ def build_parser():
                    help="elements across the wall of the limit-analysis meshes")
     p.add_argument("--nr-elastic", type=int, default=64,
                    help="elements across the wall of the elastic check")
-    p.add_argument("--u-bore", type=positive("u_bore"), default=0.05,
+    p.add_argument("--u-bore", type=positive("u_bore"), default=0.02,
                    help="final bore displacement of the elastoplastic curves [m]")
     p.add_argument("--increments", type=int, default=20,
                    help="increments of the elastoplastic curves")
