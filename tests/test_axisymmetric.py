@@ -337,3 +337,129 @@ def test_thick_cylinder_quick():
     assert abs(q["p_limit_mohr_coulomb"].value / refs["mohr_coulomb"] - 1) < 1e-3
     assert q["u_r_elastic_max_rel_error"].value < 1e-6
     assert abs(q["p_elastic"].value / q["p_elastic"].reference - 1) < 1e-6
+
+
+# -- dynamics: (7.29) and (7.30) ---------------------------------------------
+def granular_cylinder(nr=4, nz=6, r0=0.5, h0=1.0, wall=False, mu=np.tan(np.radians(30))):
+    """A cylinder r <= r0, 0 <= z <= h0 on a rigid base (7.30); optionally a smooth wall at r0."""
+    from pfem_skfem.problems.contact import RigidSegment, potential_contacts
+    mesh = MeshTri.init_tensor(np.linspace(0, r0, nr + 1), np.linspace(0, h0, nz + 1))
+    disc = discretise(mesh, AXISYMMETRIC)
+    base = RigidSegment((-1.0, 0.0), (r0 + 1.0, 0.0), mu=mu)
+    contacts = potential_contacts(disc, [base], search_distance=1e-9 * h0)
+    fixed = boundary_dofs(disc, lambda x: x[0] > r0 - 1e-9, 0) if wall else np.zeros(0, int)
+    return disc, contacts, fixed
+
+
+def gravity_step(disc, contacts, fixed, criterion, backend, rho=2.0, g=9.8, dt=None):
+    from pfem_skfem.problems.axisymmetric import dynamic_step_axisymmetric
+    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    dt = dt or 0.01 * np.sqrt(1.0 / g)
+    ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0))
+    f = gravity_vector(disc, rho, g)
+    return dynamic_step_axisymmetric(disc, ops, f, f, np.zeros((disc.n_points, 4)),
+                                     np.zeros(disc.n_u), criterion, fixed=fixed,
+                                     contacts=contacts, backend=backend), ops
+
+
+@pytest.mark.parametrize("criterion", [drucker_prager_match(0.0, 30.0),
+                                       MohrCoulombAxisymmetric(0.0, 30.0)],
+                         ids=["dp_7_10", "mohr_coulomb_3_cones"])
+def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion):
+    """(7.30) for a collapsing granular cylinder on a rough base: the cvxpy statement and
+    the direct Clarabel assembly give the same step. Unique in a rigid-plastic step: du,
+    the dynamic forces r (strictly concave objective in r), the resultant base force;
+    the stresses need not be unique, so each is checked admissible instead."""
+    disc, contacts, fixed = granular_cylinder()
+    ref, _ = gravity_step(disc, contacts, fixed, criterion, "cvxpy")
+    out, _ = gravity_step(disc, contacts, fixed, criterion, "clarabel")
+    assert out.info.status == ref.info.status == "optimal"
+    assert np.abs(out.du - ref.du).max() < 1e-5 * np.abs(ref.du).max()
+    assert np.abs(out.r - ref.r).max() < 1e-5 * np.abs(ref.r).max()
+    assert abs(out.p.sum() / ref.p.sum() - 1) < 1e-6
+    assert abs(out.q.sum() - ref.q.sum()) < 1e-6 * ref.p.sum()
+    for res in (ref, out):
+        assert criterion.F(res.sigma).max() < 1e-6 * np.abs(res.sigma).max()
+        assert np.all(res.du[axis_dofs(disc)] == 0)             # u_r = 0 on the axis
+
+
+@pytest.mark.parametrize("backend", ["cvxpy", "clarabel"])
+def test_confined_granular_cylinder_carries_its_weight(backend):
+    """A rigid-plastic granular cylinder in a smooth-walled container on a rough base is at
+    rest under gravity: the base reaction (ring forces of (7.30)) is rho g pi r0^2 h0."""
+    r0, h0, rho, g = 0.5, 1.0, 2.0, 9.8
+    disc, contacts, fixed = granular_cylinder(r0=r0, h0=h0, wall=True)
+    step, _ = gravity_step(disc, contacts, fixed, MohrCoulombAxisymmetric(0.0, 30.0), backend,
+                           rho=rho, g=g)
+    weight = rho * g * np.pi * r0 ** 2 * h0
+    assert abs(step.p.sum() / weight - 1) < 1e-6
+    dt = 0.01 * np.sqrt(h0 / g)
+    assert np.abs(step.du).max() < 1e-6 * g * dt ** 2              # at rest: no motion
+
+
+def test_free_granular_cylinder_base_reaction_is_weight_plus_inertia():
+    """Summing the vertical rows of (7.30): sum p - int r_z dV = rho g pi r0^2 h0 (the rigid
+    translation has no strain), with the 2 pi r weight in gravity, A and the ring forces."""
+    r0, h0, rho, g = 0.5, 1.0, 2.0, 9.8
+    disc, contacts, fixed = granular_cylinder(r0=r0, h0=h0)
+    step, ops = gravity_step(disc, contacts, fixed, drucker_prager_match(0.0, 30.0), "cvxpy",
+                             rho=rho, g=g)
+    _, uz = radial_axial_dofs(disc)
+    inertia = (ops.A.T @ step.r)[uz].sum()
+    weight = rho * g * np.pi * r0 ** 2 * h0
+    assert abs((step.p.sum() - inertia) / weight - 1) < 1e-6
+    assert step.p.sum() < weight                                # it starts to fall
+
+
+def test_elastic_history_equals_the_theta_method_of_the_same_mesh():
+    """Elastic (7.29) over 12 steps (theta1 = theta2 = 1/2) against the theta-method of
+    (7.13) written as one linear solve per step, with K = B^T C^-1 B and scikit-fem's
+    r-weighted consistent mass: the same discrete system, so to solver accuracy."""
+    from pfem_skfem.problems.axisymmetric import dynamic_step_axisymmetric
+    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    mesh = MeshTri.init_tensor(np.linspace(0, 0.5, 4), np.linspace(0, 1.0, 7))
+    disc = discretise(mesh, AXISYMMETRIC)
+    el, rho = Elastic(3e3, 0.3), 1.0
+    th1, th2, dt, n_steps = 0.5, 0.5, 0.02, 12
+    ops = dynamic_operators(disc, rho, ThetaMethod(dt, th1, th2), el)
+    fixed = with_axis(disc, np.concatenate([boundary_dofs(disc, lambda x: x[1] < 1e-9, 0),
+                                            boundary_dofs(disc, lambda x: x[1] < 1e-9, 1)]))
+    top = boundary_facets(disc, lambda x: x[1] > 1 - 1e-9)
+    side = boundary_facets(disc, lambda x: x[0] > 0.5 - 1e-9)
+    f_top, f_side = traction_vector(disc, top, (0.0, -1.0)), traction_vector(disc, side, (-1, 0))
+    load = lambda t: min(t / (4 * dt), 1.0) * (f_top + 0.5 * f_side)     # noqa: E731
+    # reference: [M/(th2 dt^2) + th1 K] du = M v/(th2 dt) + f_th - K u
+    free = np.setdiff1d(np.arange(disc.n_u), fixed)
+    B, C = assemble_B(disc), assemble_C(disc, el)
+    K = (B.T @ sp.csr_matrix(np.linalg.inv(C.toarray())) @ B).tocsr()
+    M = consistent_mass(disc, rho)
+    lhs = (M / (th2 * dt ** 2) + th1 * K)[free][:, free].toarray()
+    u_ref, v_ref = np.zeros(disc.n_u), np.zeros(disc.n_u)
+    u, v, sigma = np.zeros(disc.n_u), np.zeros(disc.n_u), np.zeros((disc.n_points, 4))
+    scales, diffs, peak = None, [], 0.0
+    for i in range(n_steps):
+        f_n, f_next = load(i * dt), load((i + 1) * dt)
+        rhs = M @ v_ref / (th2 * dt) + th1 * f_next + (1 - th1) * f_n - K @ u_ref
+        du_ref = np.zeros(disc.n_u)
+        du_ref[free] = np.linalg.solve(lhs, rhs[free])
+        v_ref = (du_ref / dt - (1 - th2) * v_ref) / th2
+        u_ref = u_ref + du_ref
+        step = dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma, v, None, fixed=fixed,
+                                         scaling=scales)
+        u, v, sigma, scales = u + step.du, step.v, step.sigma, step.scales
+        peak = max(peak, np.abs(u_ref).max())
+        diffs.append(np.abs(u - u_ref).max())
+    assert max(diffs) < 1e-6 * peak, max(diffs) / peak
+
+
+def test_circular_footing_quick():
+    foot = load_script("circular_footing")
+    args = foot.build_parser().parse_args(["--quick", "--no-figures"])
+    for key, value in foot.QUICK.items():
+        setattr(args, key, value)
+    report = foot.run(args)
+    q = {x.name: x for x in report.quantities}
+    assert report.passed, [x.name for x in report.quantities if not x.passed]
+    assert 5.69 <= q["Nc_smooth_limit"].value <= 5.69 * 1.03     # Shield 1955, from above
+    assert 5.69 <= q["Nc_dp_7_10"].value <= 6.57                  # the (7.10) bound
+    assert q["Nc_rough_over_smooth"].value >= 1.0
