@@ -498,3 +498,25 @@ def mohr_coulomb_pair_radii(c, phi, sigma, floor):
     sums = np.stack([2 * s, s + R + st, st + s - R])
     sn, co = np.sin(np.radians(phi)), np.cos(np.radians(phi))
     return np.maximum(2 * c * co - sn * sums, floor)
+
+
+def zero_dilation_cone(criterion, sigma, floor):
+    """The flow surface with zero dilation of ``criterion`` at the lagged stresses ``sigma``.
+
+    The scheme of [80] (Krabbenhoft, Karim, Lyamin & Sloan 2012): the friction is
+    carried as a stress-dependent cohesion frozen at known stresses, so the
+    associated problem on the returned cone has psi = 0 flow and, once the stresses
+    stop changing, the original strength.
+
+    * :class:`DruckerPrager` (e.g. (7.10)) -> :class:`VonMisesField`, radii k - alpha I1;
+    * :class:`MohrCoulombAxisymmetric` -> :class:`TrescaField3`, radii
+      2c cos(phi) - (s_i + s_j) sin(phi) per principal pair.
+
+    ``floor`` > 0 bounds the radii below (stresses near or beyond the apex).
+    """
+    if isinstance(criterion, DruckerPrager):
+        return VonMisesField(drucker_prager_radius(criterion, sigma, floor))
+    if isinstance(criterion, MohrCoulombAxisymmetric):
+        return TrescaField3(mohr_coulomb_pair_radii(criterion.c, criterion.phi, sigma, floor))
+    raise ValueError(f"no zero-dilation cone for {type(criterion).__name__}: use a "
+                     "DruckerPrager or MohrCoulombAxisymmetric criterion")

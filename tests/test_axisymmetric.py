@@ -335,6 +335,12 @@ def test_thick_cylinder_quick():
     assert abs(q["p_limit_tresca"].value / (200 * np.log(2)) - 1) < 1e-3
     assert abs(q["p_limit_dp_compression_phi0"].value / (400 / np.sqrt(3) * np.log(2)) - 1) < 1e-3
     assert abs(q["p_limit_mohr_coulomb"].value / refs["mohr_coulomb"] - 1) < 1e-3
+    # zero dilation ([80]): Mohr-Coulomb unchanged; (7.10) behaves like phi' = asin(3 alpha)
+    assert abs(q["p_limit_mohr_coulomb_psi0"].value / refs["mohr_coulomb"] - 1) < 1e-3
+    dp = drucker_prager_match(100.0, 30.0)
+    assert abs(q["p_limit_dp_7_10_phi30_psi0"].value
+               / cyl.dp_zero_dilation_pressure(1.0, 2.0, dp) - 1) < 1e-3
+    assert np.isclose(np.degrees(np.arcsin(3 * dp.alpha)), 43.85, atol=0.01)
     assert q["u_r_elastic_max_rel_error"].value < 1e-6
     assert abs(q["p_elastic"].value / q["p_elastic"].reference - 1) < 1e-6
 

@@ -17,12 +17,19 @@ ch. V; research notes ``chapters-6-8.md`` section 4.7):
 * collapse, the Drucker-Prager cone of (7.10) at phi = 0 (von Mises, k = 2c/sqrt3,
   s_zz the mean of s_rr and s_tt): p = (4/sqrt3) c ln(b/a);
 * collapse, Mohr-Coulomb (s_tt major, s_rr minor):
-  p = c cot(phi) [(b/a)^(2 sin(phi)/(1 + sin(phi))) - 1].
+  p = c cot(phi) [(b/a)^(2 sin(phi)/(1 + sin(phi))) - 1];
+  the same with zero dilation (the scheme of [80]): the radial problem is
+  statically determinate, the flow rule does not enter;
+* collapse, the (7.10) cone at phi > 0 with zero dilation: the flow potential
+  sqrt(J2) keeps s_zz the mean of s_rr and s_tt, where (7.10) reads
+  R + 3 alpha s <= k, Mohr-Coulomb with sin(phi') = 3 alpha, c' = k / cos(phi'):
+  the formula above with (c', phi') (phi = 30: phi' = 43.85 deg).
 
 Runs: on each mesh (``--nr`` elements across the wall, one layer of square cells
 split in two triangles) the rigid-plastic limit analysis (one SOCP, prescribed
 bore velocity); on the finest the elastoplastic pressure-displacement curve (3.45)
-to its plateau; on ``--nr-elastic`` the elastic range against Lame.
+to its plateau and the zero-dilation limit analyses (fixed-point passes); on
+``--nr-elastic`` the elastic range against Lame.
 
 Usage::
 
@@ -40,7 +47,8 @@ from pfem_skfem.drivers.incremental import displacement_control
 from pfem_skfem.materials import (Elastic, MohrCoulombAxisymmetric, TrescaAxisymmetric,
                                   drucker_prager_match)
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
-from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
+from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
+                                              zero_dilation)
 from pfem_skfem.report import Report, base_parser, positive, progress
 
 
@@ -52,6 +60,24 @@ def collapse_pressures(a, b, c, phi):
             "dp_compression_phi0": 4 / np.sqrt(3) * c * np.log(b / a),
             "dp_plane_strain_phi0": 2 * c * np.log(b / a),
             "mohr_coulomb": mc}
+
+
+def dp_zero_dilation_pressure(a, b, dp):
+    """Collapse pressure of a Drucker-Prager cone with zero dilation (s_zz the mean)."""
+    sin_phi = 3 * dp.alpha
+    if not 0 < sin_phi < 1:
+        raise ValueError(f"3 alpha must lie in (0, 1), got {sin_phi!r}")
+    c_eq = dp.k / np.sqrt(1 - sin_phi ** 2)
+    return c_eq * np.sqrt(1 - sin_phi ** 2) / sin_phi * (
+        (b / a) ** (2 * sin_phi / (1 + sin_phi)) - 1)
+
+
+def zero_dilation_pressure(model, criterion, c):
+    """Limit analysis with zero dilation: fixed-point passes of [80]; (p, passes)."""
+    res, changes = zero_dilation(lambda cone: limit_pressure(model, cone)[1], criterion,
+                                 floor=1e-3 * c,
+                                 measure=lambda r: bore_pressure(model, r.reactions))
+    return bore_pressure(model, res.reactions), len(changes)
 
 
 def lame(r, p, a, b, elastic):
@@ -152,7 +178,7 @@ def build_parser():
                    help="elements across the wall of the limit-analysis meshes")
     p.add_argument("--nr-elastic", type=int, default=64,
                    help="elements across the wall of the elastic check")
-    p.add_argument("--u-bore", type=positive("u_bore"), default=0.02,
+    p.add_argument("--u-bore", type=positive("u_bore"), default=0.03,
                    help="final bore displacement of the elastoplastic curves [m]")
     p.add_argument("--increments", type=int, default=20,
                    help="increments of the elastoplastic curves")
@@ -204,6 +230,18 @@ def run(args):
         report.add(f"p_plateau_{key}", p[-1], ref,
                    f"{src[key]} (elastoplastic plateau, nr = {meshes[-1]})", args.tol)
 
+    # zero dilation (the scheme of [80]) on the finest mesh
+    mc, dp = crits["mohr_coulomb"], drucker_prager_match(args.c, args.phi)
+    p_mc0, passes_mc = zero_dilation_pressure(finest, mc, args.c)
+    p_dp0, passes_dp = zero_dilation_pressure(finest, dp, args.c)
+    report.add("p_limit_mohr_coulomb_psi0", p_mc0, refs["mohr_coulomb"],
+               f"{src['mohr_coulomb']} (zero dilation, {passes_mc} passes)", args.tol)
+    ref_dp0 = dp_zero_dilation_pressure(args.a, args.b, dp)
+    report.add(f"p_limit_dp_7_10_phi{args.phi:g}_psi0", p_dp0, ref_dp0,
+               f"(7.10) at phi = {args.phi:g}, zero dilation: Mohr-Coulomb with "
+               f"sin(phi') = 3 alpha ({passes_dp} passes)", args.tol)
+    p_dp_assoc = limit_pressure(finest, dp)[0]
+
     el = elastic_check(cylinder_model(args.a, args.b, args.nr_elastic), elastic,
                        crits["tresca"], 1e-3 * args.u_bore)
     el_coarse = elastic_check(cylinder_model(args.a, args.b, args.nr_elastic // 2), elastic,
@@ -224,6 +262,7 @@ def run(args):
     report.extra = {
         "meshes": meshes, "limit_pressure": {k: list(map(float, v)) for k, v in limits.items()},
         "reference": refs, "observed_order": orders,
+        "dp_7_10_associated_limit_pressure": float(p_dp_assoc),
         "elastic": {k: float(el[k]) for k in ("p", "p_ref", "u_error", "sigma_error")},
         "wall_time_s": time.perf_counter() - t0}
     report.curves, report.elastic = curves, el

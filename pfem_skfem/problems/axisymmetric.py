@@ -107,3 +107,53 @@ def dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma_n, v_n, criterion=No
     return dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion,
                              fixed=with_axis(disc, fixed, prescribed), prescribed=prescribed,
                              du_prescribed=du_prescribed, contacts=contacts, **kwargs)
+
+
+def zero_dilation(solve_pass, criterion, *, floor, measure=None, passes=40, relaxation=0.5,
+                  rtol=1e-8):
+    """Zero-dilation flow by the scheme of [80]: fixed-point passes of an associated problem.
+
+    Pass 0 solves ``solve_pass(criterion)`` (associated flow) and takes its stresses
+    as the lagged stresses; every further pass solves the problem on
+    :func:`~pfem_skfem.materials.zero_dilation_cone` of ``criterion`` at the lagged
+    stresses, which then move a fraction ``relaxation`` towards the new ones, until
+    ``measure`` changes by less than ``rtol`` (relative) or ``passes`` are done.
+    The stresses themselves are no measure of convergence: those of a rigid-plastic
+    solution need not be unique (the intermediate principal stress). Without
+    relaxation (``relaxation=1``) the passes were measured to oscillate.
+
+    Parameters
+    ----------
+    solve_pass : callable(cone) -> a result with ``sigma`` (n_points, 4) and
+        ``info.objective``, e.g. a :func:`static_increment_axisymmetric` or
+        :func:`dynamic_step_axisymmetric` with everything but the criterion fixed.
+    criterion : the yield criterion (DruckerPrager or MohrCoulombAxisymmetric).
+    floor : smallest cone radius (a stress; keep it relative to the problem's stresses).
+    measure : callable(result) -> float, the quantity whose convergence ends the
+        passes (a load, a reaction); by default the norm of the reactions.
+    relaxation : in (0, 1], the step of the lagged stresses towards each pass's.
+
+    Returns
+    -------
+    (result, changes) : the last pass's result and the relative change of
+    ``measure`` at each pass.
+    """
+    from ..materials import zero_dilation_cone
+
+    if int(passes) != passes or passes < 1:
+        raise ValueError(f"passes must be a positive integer, got {passes!r}")
+    if not 0 < relaxation <= 1:
+        raise ValueError(f"relaxation must lie in (0, 1], got {relaxation!r}")
+    measure = measure or (lambda result: float(np.linalg.norm(result.reactions)))
+    res = solve_pass(criterion)
+    lagged = res.sigma
+    changes = []
+    for _ in range(int(passes)):
+        new = solve_pass(zero_dilation_cone(criterion, lagged, floor))
+        old_value, value = measure(res), measure(new)
+        changes.append(abs(value - old_value) / max(abs(value), 1e-300))
+        res = new
+        lagged = relaxation * new.sigma + (1 - relaxation) * lagged
+        if changes[-1] < rtol:
+            break
+    return res, changes
