@@ -437,7 +437,7 @@ def test_elastic_history_equals_the_theta_method_of_the_same_mesh():
     # reference: [M/(th2 dt^2) + th1 K] du = M v/(th2 dt) + f_th - K u
     free = np.setdiff1d(np.arange(disc.n_u), fixed)
     B, C = assemble_B(disc), assemble_C(disc, el)
-    K = (B.T @ sp.csr_matrix(np.linalg.inv(C.toarray())) @ B).tocsr()
+    K = (B.T @ sp.csr_matrix(np.linalg.inv(C.toarray())) @ B).tocsr()   # small: dense inverse
     M = consistent_mass(disc, rho)
     lhs = (M / (th2 * dt ** 2) + th1 * K)[free][:, free].toarray()
     u_ref, v_ref = np.zeros(disc.n_u), np.zeros(disc.n_u)
@@ -469,3 +469,40 @@ def test_circular_footing_quick():
     assert 5.69 <= q["Nc_smooth_limit"].value <= 5.69 * 1.03     # Shield 1955, from above
     assert 5.69 <= q["Nc_dp_7_10"].value <= 6.57                  # the (7.10) bound
     assert q["Nc_rough_over_smooth"].value >= 1.0
+
+
+def test_elastic_history_tends_to_the_standard_displacement_fe():
+    """Against the standard axisymmetric displacement element (stiffness with u_r / r
+    integrated exactly) the mixed element differs by its discretisation of the hoop
+    strain: the theta-method histories converge to each other at order ~2 in h."""
+    from scipy.sparse.linalg import splu
+    from pfem_skfem.problems.dynamic import block_inverse
+    el, rho, th, dt, n_steps = Elastic(3e3, 0.3), 1.0, 0.5, 0.02, 8
+    diffs = []
+    for n in (1, 2, 4):
+        mesh = MeshTri.init_tensor(np.linspace(0, 0.5, 3 * n + 1), np.linspace(0, 1.0, 6 * n + 1))
+        disc = discretise(mesh, AXISYMMETRIC)
+        fixed = with_axis(disc, np.concatenate([
+            boundary_dofs(disc, lambda x: x[1] < 1e-9, 0),
+            boundary_dofs(disc, lambda x: x[1] < 1e-9, 1)]))
+        top = boundary_facets(disc, lambda x: x[1] > 1 - 1e-9)
+        f0 = traction_vector(disc, top, (0.0, -1.0))
+        free = np.setdiff1d(np.arange(disc.n_u), fixed)
+        B, C = assemble_B(disc), assemble_C(disc, el)
+        K_mixed = B.T @ block_inverse(C, 4) @ B
+        M = consistent_mass(disc, rho)
+        histories = []
+        for K in (K_mixed, stiffness_matrix(disc, el)):
+            lhs = splu((M / (th * dt ** 2) + th * K).tocsc()[free][:, free].tocsc())
+            u, v, hist = np.zeros(disc.n_u), np.zeros(disc.n_u), []
+            for i in range(n_steps):
+                load = th * min((i + 1) / 4, 1) + (1 - th) * min(i / 4, 1)
+                rhs = M @ v / (th * dt) + load * f0 - K @ u
+                du = np.zeros(disc.n_u)
+                du[free] = lhs.solve(rhs[free])
+                v, u = (du / dt - (1 - th) * v) / th, u + du
+                hist.append(u)
+            histories.append(np.array(hist))
+        diffs.append(np.abs(histories[0] - histories[1]).max() / np.abs(histories[1]).max())
+    orders = np.log2(np.array(diffs[:-1]) / np.array(diffs[1:]))
+    assert diffs[-1] < 1e-4 and np.all(orders > 1.5), (diffs, orders)
