@@ -243,6 +243,8 @@ def stiffness_matrix(disc, elastic):
     Plane strain: scikit-fem's linear_elasticity. Axisymmetry: int eps(v)^T E eps(u)
     2 pi r dA with the hoop strain u_r / r (the standard displacement element, not
     B^T C^-1 B: the hoop strain is not linear, so the stress space does not hold it).
+    Its entries for u_r dofs on the axis are quadrature values of a divergent integral
+    (u_r v_r / r); those dofs must be fixed (:func:`axis_dofs`).
     """
     if disc.geometry.axisymmetric:
         return _axisymmetric_stiffness(elastic).assemble(
