@@ -25,10 +25,13 @@ from .dynamic import dynamic_increment
 from .static import limit_analysis, static_increment
 
 
-def _check_axisymmetric(disc):
+def _check_axisymmetric(disc, B=None):
     if not getattr(disc.geometry, "axisymmetric", False):
         raise ValueError("disc must be an axisymmetric discretisation: "
                          "discretise(mesh, geometry='axisymmetric')")
+    if B is not None and B.shape != (4 * disc.n_points, disc.n_u):
+        raise ValueError(f"B has shape {B.shape}, the discretisation needs "
+                         f"{(4 * disc.n_points, disc.n_u)}: assemble it from the same disc")
 
 
 def with_axis(disc, fixed, prescribed=()):
@@ -60,6 +63,7 @@ def static_increment_axisymmetric(disc, B, C, f, sigma_n, criterion, *, fixed,
     -------
     StaticIncrement
     """
+    _check_axisymmetric(disc, B)
     return static_increment(B, C, f, sigma_n, criterion,
                             fixed=with_axis(disc, fixed, prescribed), prescribed=prescribed,
                             du_prescribed=du_prescribed, **kwargs)
@@ -79,6 +83,7 @@ def limit_analysis_axisymmetric(disc, B, f_live, criterion, *, fixed, **kwargs):
     -------
     LimitLoad
     """
+    _check_axisymmetric(disc, B)
     return limit_analysis(B, f_live, criterion, fixed=with_axis(disc, fixed), **kwargs)
 
 
@@ -104,6 +109,7 @@ def dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma_n, v_n, criterion=No
     -------
     DynamicIncrement
     """
+    _check_axisymmetric(disc, ops.B)
     return dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion,
                              fixed=with_axis(disc, fixed, prescribed), prescribed=prescribed,
                              du_prescribed=du_prescribed, contacts=contacts, **kwargs)
