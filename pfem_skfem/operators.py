@@ -19,7 +19,7 @@ from skfem import Basis, BilinearForm, FacetBasis, LinearForm, MeshTri
 from skfem.helpers import dot
 
 from .elements import STRESS_INTORDER, displacement_element, stress_element
-from .geometry import PLANE_STRAIN, as_geometry, check_axisymmetric_mesh
+from .geometry import PLANE_STRAIN, Geometry, as_geometry, check_axisymmetric_mesh
 
 
 @dataclass
@@ -29,7 +29,7 @@ class Discretisation:
     mesh: MeshTri
     basis_u: Basis
     basis_s: Basis
-    geometry: object = PLANE_STRAIN
+    geometry: Geometry = PLANE_STRAIN
 
     @property
     def n_u(self):
