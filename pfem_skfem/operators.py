@@ -3,6 +3,13 @@
 Ordering. Displacement dofs are scikit-fem's (``basis_u``). The stress vector is
 ordered point-major as in (3.28): entry ``4 p + k`` is component k in
 (sx, sy, sz, sxy) at stress point p, so a stress field reshapes to (n_points, 4).
+
+Geometry. A :class:`Discretisation` carries a :class:`~pfem_skfem.geometry.Geometry`:
+plane strain (the default) or axisymmetry (thesis (7.24)-(7.28)), where x is the
+radius r, y the axis z, the out-of-plane stress the hoop stress s_tt, the strain
+gains eps_tt = u_r / r and every integral the weight 2 pi r, with the quadrature
+raised by one order (see :mod:`pfem_skfem.geometry`). The plane-strain forms are
+the same code as before the geometry existed.
 """
 from dataclasses import dataclass
 
@@ -12,6 +19,7 @@ from skfem import Basis, BilinearForm, FacetBasis, LinearForm, MeshTri
 from skfem.helpers import dot
 
 from .elements import STRESS_INTORDER, displacement_element, stress_element
+from .geometry import PLANE_STRAIN, Geometry, as_geometry, check_axisymmetric_mesh
 
 
 @dataclass
@@ -21,6 +29,7 @@ class Discretisation:
     mesh: MeshTri
     basis_u: Basis
     basis_s: Basis
+    geometry: Geometry = PLANE_STRAIN
 
     @property
     def n_u(self):
@@ -39,7 +48,8 @@ class Discretisation:
 
     @property
     def weights(self):
-        """Integration weight of each stress point (a third of its element's area)."""
+        """Integration weight of each stress point (a third of its element's area;
+        in axisymmetry times 2 pi r at the point)."""
         return stress_mass(self).diagonal()
 
     @property
@@ -51,6 +61,7 @@ class Discretisation:
 
     @property
     def area(self):
+        """Sum of the stress-point weights: the area, or in axisymmetry the volume."""
         return float(self.weights.sum())
 
 
@@ -70,17 +81,24 @@ def check_mesh(mesh):
         raise ValueError(f"mesh is degenerate: {int(bad.sum())} triangle(s) have zero area")
 
 
-def discretise(mesh):
-    """Bases of the thesis element (Fig 3.1) on a triangle mesh.
+def discretise(mesh, geometry=PLANE_STRAIN):
+    """Bases of the thesis element (Fig 3.1, Fig 7.3) on a triangle mesh.
 
     Parameters
     ----------
     mesh : skfem.MeshTri (straight-sided) or skfem.MeshTri2 (curved, P2 geometry).
+    geometry : :data:`~pfem_skfem.geometry.PLANE_STRAIN` (default) or
+        :data:`~pfem_skfem.geometry.AXISYMMETRIC` (or their names 'plane',
+        'axisymmetric'); in axisymmetry x is the radius and the mesh must lie in
+        x >= 0 without crossing the axis (ValueError otherwise).
     """
+    geometry = as_geometry(geometry)
     check_mesh(mesh)
+    if geometry.axisymmetric:
+        check_axisymmetric_mesh(mesh.p, mesh.t, getattr(mesh, "doflocs", None))
     basis_u = Basis(mesh, displacement_element(), intorder=STRESS_INTORDER)
     basis_s = basis_u.with_element(stress_element())
-    return Discretisation(mesh, basis_u, basis_s)
+    return Discretisation(mesh, basis_u, basis_s, geometry)
 
 
 # -- forms -------------------------------------------------------------------
@@ -89,25 +107,59 @@ def _mass(u, v, w):
     return u * v
 
 
-def _strain_row(k):
-    """Bilinear form q * eps_k(u): eps = (du_x/dx, du_y/dy, 0, du_x/dy + du_y/dx) (3.24)."""
+@BilinearForm
+def _mass_axi(u, v, w):
+    return u * v * (2 * np.pi * w.x[0])
+
+
+def _strain_row(k, geometry=PLANE_STRAIN):
+    """Bilinear form q * eps_k(u) dV.
+
+    Plane strain (3.24): eps = (du_x/dx, du_y/dy, 0, du_x/dy + du_y/dx), dV = dA.
+    Axisymmetry (7.6)-(7.8): eps = (du_r/dr, du_z/dz, u_r / r, du_r/dz + du_z/dr),
+    dV = 2 pi r dA; the hoop row is written q u_r 2 pi (the r cancels exactly).
+    """
+    if not geometry.axisymmetric:
+        @BilinearForm
+        def form(u, q, w):
+            g = u.grad
+            return q * (g[0][0], g[1][1], 0 * g[0][0], g[0][1] + g[1][0])[k]
+        return form
 
     @BilinearForm
-    def form(u, q, w):
+    def form_axi(u, q, w):
         g = u.grad
-        return q * (g[0][0], g[1][1], 0 * g[0][0], g[0][1] + g[1][0])[k]
-
-    return form
+        two_pi_r = 2 * np.pi * w.x[0]
+        return q * (two_pi_r * g[0][0], two_pi_r * g[1][1], 2 * np.pi * u[0],
+                    two_pi_r * (g[0][1] + g[1][0]))[k]
+    return form_axi
 
 
 def stress_mass(disc):
-    """Mass matrix of the scalar stress basis; diagonal because its nodes are the Gauss points."""
+    """Mass matrix of the scalar stress basis; diagonal because its nodes are the Gauss points.
+
+    In axisymmetry it is the r-weighted mass integrated by the same 3-point rule:
+    diagonal, w_p = (element area / 3) 2 pi r_p, whose row sums are exact
+    (w_p = int N_p 2 pi r dA, a quadratic integrand).
+    """
+    if disc.geometry.axisymmetric:
+        return _mass_axi.assemble(disc.basis_s).tocsr()
     return _mass.assemble(disc.basis_s).tocsr()
 
 
 def assemble_B(disc):
-    """B = int N_sigma^T B_u dV (3.41), shape (4 n_points, n_u), rows point-major."""
-    rows = [_strain_row(k).assemble(disc.basis_u, disc.basis_s) for k in range(4)]
+    """B = int N_sigma^T B_u dV (3.41), (7.25), shape (4 n_points, n_u), rows point-major.
+
+    In axisymmetry the integrand (degree 3 with the weight r) is integrated exactly
+    at quadrature order 3.
+    """
+    geometry = disc.geometry
+    basis_u, basis_s = disc.basis_u, disc.basis_s
+    if geometry.axisymmetric:
+        basis_u = Basis(disc.mesh, disc.basis_u.elem,
+                        intorder=geometry.intorder(STRESS_INTORDER))
+        basis_s = basis_u.with_element(stress_element())
+    rows = [_strain_row(k, geometry).assemble(basis_u, basis_s) for k in range(4)]
     n = disc.n_points
     order = (np.arange(4)[None, :] * n + np.arange(n)[:, None]).ravel()  # 4p+k <- k n + p
     return sp.vstack(rows).tocsr()[order]
@@ -124,8 +176,14 @@ def assemble_C(disc, elastic):
 
 
 def body_force_vector(disc, b):
-    """int N_u^T b dV (first term of (3.42)) for a constant body force b = (bx, by)."""
+    """int N_u^T b dV (first term of (3.42), (7.26)) for a constant body force b = (bx, by)."""
     b = np.asarray(b, dtype=float)
+    if disc.geometry.axisymmetric:
+        @LinearForm
+        def load_axi(v, w):
+            return (b[0] * v[0] + b[1] * v[1]) * (2 * np.pi * w.x[0])
+        return load_axi.assemble(Basis(disc.mesh, disc.basis_u.elem,
+                                       intorder=disc.geometry.intorder(STRESS_INTORDER)))
 
     @LinearForm
     def load(v, w):
@@ -138,27 +196,40 @@ def traction_vector(disc, facets, t):
     """int N_u^T t dS (second term of (3.42)) for a traction t on the given facets.
 
     ``t`` is a constant (tx, ty) or a callable of the coordinates x (2, ...) returning it.
+    In axisymmetry dS = 2 pi r ds (second term of (7.26)).
     """
+    geometry = disc.geometry
     fb = FacetBasis(disc.mesh, disc.basis_u.elem, facets=np.asarray(facets),
-                    intorder=4)
+                    intorder=geometry.intorder(4))
 
     @LinearForm
     def load(v, w):
         tt = t(w.x) if callable(t) else np.asarray(t, dtype=float)
         return tt[0] * v[0] + tt[1] * v[1]
 
-    return load.assemble(fb)
+    @LinearForm
+    def load_axi(v, w):
+        tt = t(w.x) if callable(t) else np.asarray(t, dtype=float)
+        return (tt[0] * v[0] + tt[1] * v[1]) * (2 * np.pi * w.x[0])
+
+    return (load_axi if geometry.axisymmetric else load).assemble(fb)
 
 
 def consistent_mass(disc, rho):
     """Consistent mass matrix int rho N_u^T N_u dV of the P2 displacement basis."""
     _check_rho(rho)
+    geometry = disc.geometry
 
     @BilinearForm
     def mass(u, v, w):
         return rho * dot(u, v)
 
-    return mass.assemble(Basis(disc.mesh, disc.basis_u.elem, intorder=4)).tocsr()
+    @BilinearForm
+    def mass_axi(u, v, w):
+        return rho * dot(u, v) * (2 * np.pi * w.x[0])
+
+    return (mass_axi if geometry.axisymmetric else mass).assemble(
+        Basis(disc.mesh, disc.basis_u.elem, intorder=geometry.intorder(4))).tocsr()
 
 
 def _check_rho(rho):
@@ -167,10 +238,39 @@ def _check_rho(rho):
 
 
 def stiffness_matrix(disc, elastic):
-    """Standard P2 plane-strain stiffness (scikit-fem's linear_elasticity); a reference only."""
+    """Standard P2 stiffness; a reference only.
+
+    Plane strain: scikit-fem's linear_elasticity. Axisymmetry: int eps(v)^T E eps(u)
+    2 pi r dA with the hoop strain u_r / r (the standard displacement element, not
+    B^T C^-1 B: the hoop strain is not linear, so the stress space does not hold it).
+    Its entries for u_r dofs on the axis are quadrature values of a divergent integral
+    (u_r v_r / r); those dofs must be fixed (:func:`axis_dofs`).
+    """
+    if disc.geometry.axisymmetric:
+        return _axisymmetric_stiffness(elastic).assemble(
+            Basis(disc.mesh, disc.basis_u.elem, intorder=6)).tocsr()
     from skfem.models.elasticity import linear_elasticity
     return linear_elasticity(elastic.lame_lambda, elastic.shear_modulus).assemble(
         Basis(disc.mesh, disc.basis_u.elem, intorder=4)).tocsr()
+
+
+def _axisymmetric_stiffness(elastic):
+    """Standard axisymmetric elasticity form (7.6)-(7.8), isotropic, strains (rr, zz, tt, rz)."""
+    lam, mu = elastic.lame_lambda, elastic.shear_modulus
+
+    def strain(u, r):
+        g = u.grad
+        return g[0][0], g[1][1], u[0] / r, g[0][1] + g[1][0]
+
+    @BilinearForm
+    def form(u, v, w):
+        r = w.x[0]
+        eu, ev = strain(u, r), strain(v, r)
+        tr_u, tr_v = eu[0] + eu[1] + eu[2], ev[0] + ev[1] + ev[2]
+        normal = eu[0] * ev[0] + eu[1] * ev[1] + eu[2] * ev[2]
+        return (lam * tr_u * tr_v + 2 * mu * normal + mu * eu[3] * ev[3]) * (2 * np.pi * r)
+
+    return form
 
 
 # -- boundary dofs ------------------------------------------------------------
@@ -196,3 +296,19 @@ def boundary_dofs(disc, where, component):
 def dof_coordinates(disc):
     """Coordinates (2, n_u) of every displacement dof."""
     return disc.basis_u.doflocs
+
+
+def axis_dofs(disc):
+    """Radial dofs u_r of every node (corner or midside) on the axis r = 0.
+
+    The weak form of axisymmetry does not forbid u_r != 0 there; a body of
+    revolution needs u_r = 0 on its axis, so add these to the fixed dofs. Empty in
+    plane strain and for meshes away from the axis.
+    """
+    if not disc.geometry.axisymmetric:
+        return np.zeros(0, dtype=int)
+    x = disc.basis_u.doflocs
+    scale = float(np.ptp(disc.mesh.p, axis=1).max()) or 1.0
+    radial = disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]
+    dofs = np.concatenate(radial)
+    return np.sort(dofs[np.abs(x[0, dofs]) <= 1e-12 * scale])

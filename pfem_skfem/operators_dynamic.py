@@ -13,6 +13,10 @@ per element (scikit-fem's ``element_dofs`` are contiguous), so
 With rho~ constant in each element, A^T D^-1 A = int rho~ N_u^T N_u dV, the
 consistent mass matrix (4.26)-(4.27), because the discontinuous P2 space contains
 the continuous one.
+
+In axisymmetry ((7.27)-(7.28), ``disc.geometry``) every integral carries 2 pi r and
+the quadrature rises by one order (degree 5); the identity holds unchanged, the
+weight being part of the measure dV.
 """
 import numpy as np
 import scipy.sparse as sp
@@ -30,7 +34,17 @@ def r_element():
 
 def r_basis(disc):
     """scikit-fem basis of the dynamic forces r on the mesh of ``disc``."""
-    return Basis(disc.mesh, r_element(), intorder=MASS_INTORDER)
+    return Basis(disc.mesh, r_element(), intorder=_mass_intorder(disc))
+
+
+def _mass_intorder(disc):
+    """MASS_INTORDER, raised by one in axisymmetry (the weight r)."""
+    return disc.geometry.intorder(MASS_INTORDER)
+
+
+def _volume_weight(basis, disc):
+    """The weight of dV at the quadrature points of ``basis``: 1 or 2 pi r."""
+    return disc.geometry.weight(np.array(basis.global_coordinates()))
 
 
 def element_density(disc, rho):
@@ -51,6 +65,11 @@ def assemble_A(disc, basis_r=None):
     """A = int N_r^T N_u dV (4.21), shape (n_r, n_u): r^T A du = int r . du dV."""
     basis_r = basis_r or r_basis(disc)
     basis_u = basis_r.with_element(disc.basis_u.elem)
+    if disc.geometry.axisymmetric:                  # (7.28)
+        @BilinearForm
+        def coupling_axi(u, r, w):
+            return dot(u, r) * (2 * np.pi * w.x[0])
+        return coupling_axi.assemble(basis_u, basis_r).tocsr()
 
     @BilinearForm
     def coupling(u, r, w):
@@ -73,6 +92,9 @@ def assemble_D(disc, rho_tilde, basis_r=None):
     def weighted_mass(r, q, w):
         return w.inv_rho * dot(r, q)
 
+    if disc.geometry.axisymmetric:                  # (7.27), N_r on both sides
+        inv_rho_q = _per_element(basis_r, inv_rho) * _volume_weight(basis_r, disc)
+        return weighted_mass.assemble(basis_r, inv_rho=inv_rho_q).tocsr()
     return weighted_mass.assemble(basis_r, inv_rho=_per_element(basis_r, inv_rho)).tocsr()
 
 
@@ -110,12 +132,15 @@ def block_cholesky(D, basis_r):
 def mass_matrix(disc, rho):
     """Consistent mass int rho N_u^T N_u dV with rho a number or one value per element."""
     rho_e = element_density(disc, rho)
-    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=MASS_INTORDER)
+    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=_mass_intorder(disc))
 
     @BilinearForm
     def mass(u, v, w):
         return w.rho * dot(u, v)
 
+    if disc.geometry.axisymmetric:
+        rho_q = _per_element(basis, rho_e) * _volume_weight(basis, disc)
+        return mass.assemble(basis, rho=rho_q).tocsr()
     return mass.assemble(basis, rho=_per_element(basis, rho_e)).tocsr()
 
 
@@ -125,12 +150,15 @@ def gravity_vector(disc, rho, g, direction=(0.0, -1.0)):
     if not np.isfinite(g) or g < 0:
         raise ValueError(f"g (gravitational acceleration) must be >= 0, got {g!r}")
     e = np.asarray(direction, dtype=float)
-    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=MASS_INTORDER)
+    basis = Basis(disc.mesh, disc.basis_u.elem, intorder=_mass_intorder(disc))
 
     @LinearForm
     def weight(v, w):
         return w.rho * g * (e[0] * v[0] + e[1] * v[1])
 
+    if disc.geometry.axisymmetric:
+        rho_q = _per_element(basis, rho_e) * _volume_weight(basis, disc)
+        return weight.assemble(basis, rho=rho_q)
     return weight.assemble(basis, rho=_per_element(basis, rho_e))
 
 

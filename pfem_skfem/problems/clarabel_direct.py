@@ -14,7 +14,8 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
   (the sign flipped: Clarabel minimises);
 * the zero cone is equilibrium B_F^T sigma + A_F^T r' - G_F (p, q) = f'_F;
 * each yield cone rho_j = D_j sigma_j + d_j (the criterion's ``cone_vector``, affine,
-  read off numerically) is s = b - A x with A = -D_j, b = d_j;
+  read off numerically) is s = b - A x with A = -D_j, b = d_j; a criterion with
+  ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones;
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
 
@@ -36,17 +37,20 @@ _STATUS = {"Solved": "optimal", "AlmostSolved": "optimal_inaccurate",
            "DualInfeasible": "unbounded", "AlmostDualInfeasible": "unbounded_inaccurate"}
 
 def cone_matrices(criterion, n):
-    """The affine cone map of a yield criterion at n points: D (n, m, 4), d (n, m).
+    """The affine cone map of a yield criterion at n points: D (K n, m, 4), d (K n, m).
 
     rho_j = D_j sigma_j + d_j with rho_1 >= ||rho_2..m|| (the criterion's
-    ``cone_vector``, evaluated at zero and at the four unit stresses).
+    ``cone_vector``, evaluated at zero and at the four unit stresses); K is the
+    criterion's ``n_cones`` (1 for the plane-strain cones), cone j acting on the
+    stresses of point j mod n.
     """
     zero = np.zeros(n)
+    size = n * getattr(criterion, "n_cones", 1)
 
     def rho(*s):
         t, X = criterion.cone_vector(*s)
-        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in [t, *X]],
-                        axis=1)
+        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (size,))
+                         for v in [t, *X]], axis=1)
 
     d = rho(zero, zero, zero, zero)
     columns = []
@@ -58,12 +62,15 @@ def cone_matrices(criterion, n):
 
 
 def _yield_block(criterion, n):
-    """Rows of A and b for the yield cones, one SOC(m) per stress point (point-major x)."""
+    """Rows of A and b for the yield cones, one SOC(m) per cone (point-major x)."""
     D, d = cone_matrices(criterion, n)
-    m = D.shape[1]
-    rows = (np.arange(n)[:, None, None] * m + np.arange(m)[None, :, None]).repeat(4, axis=2)
-    cols = (np.arange(n)[:, None, None] * 4 + np.arange(4)[None, None, :]).repeat(m, axis=1)
-    A = sp.csr_matrix((-D.ravel(), (rows.ravel(), cols.ravel())), shape=(n * m, 4 * n))
+    n_cones, m = D.shape[0], D.shape[1]
+    point = np.arange(n_cones) % n
+    rows = (np.arange(n_cones)[:, None, None] * m
+            + np.arange(m)[None, :, None]).repeat(4, axis=2)
+    cols = (point[:, None, None] * 4 + np.arange(4)[None, None, :]).repeat(m, axis=1)
+    A = sp.csr_matrix((-D.ravel(), (rows.ravel(), cols.ravel())),
+                      shape=(n_cones * m, 4 * n))
     return A, d.ravel(), m
 
 
@@ -130,7 +137,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     A_yield, b_yield, m = _yield_block(criterion, n)
     rows_A.append(sp.hstack([A_yield, sp.csr_matrix((A_yield.shape[0], n_x - 4 * n))]))
     rows_b.append(b_yield)
-    cones += [clarabel.SecondOrderConeT(m)] * n
+    n_cones = A_yield.shape[0] // m
+    cones += [clarabel.SecondOrderConeT(m)] * n_cones
     if nc and rough.size:              # mu_j p_j -+ q_j >= 0  (or k_j -+ q_j >= 0)
         i = np.arange(rough.size)
         r = np.concatenate([i, rough.size + i])
@@ -166,5 +174,5 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
                      solve_time=wall, objective=-float(sol.obj_val))
     return {"s": x[sl_s], "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
-            "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n * m:m],
+            "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n_cones * m:m],
             "info": info}

@@ -50,6 +50,7 @@ from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element
                                  mass_matrix, r_basis)
 from .conic import SolveInfo, prescribed_values, solve, split_dofs
 from .contact import contact_matrix, contact_terms
+from .static import point_multipliers
 
 
 @dataclass(frozen=True)
@@ -366,8 +367,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         reactions -= contact_matrix(contacts, n_u) @ np.concatenate([p_c, q_c])
         p_c, q_c = th.theta1 * p_c, th.theta1 * q_c       # forces of the momentum balance
     reactions[free] = 0.0
-    multiplier = (sol["dual_yield"] * length * u_ref if criterion is not None
-                  else np.zeros(n))
+    multiplier = (point_multipliers(sol["dual_yield"], n) * length * u_ref
+                  if criterion is not None else np.zeros(n))
     info = sol["info"]
     s_max, u_max, r_max = np.abs(sigma).max(), np.abs(du).max(), np.abs(r).max()
     scales = DynamicScales(                     # keep the old scale where the field vanished

@@ -27,7 +27,8 @@ class StaticIncrement:
     du : (n_u,) displacement increments (prescribed values on prescribed dofs);
     reactions : (n_u,) B^T sigma - f, the support reactions (zero on free dofs);
     plastic_multiplier : (n_points,) integrated plastic multipliers (area x strain;
-        divide by the stress-point weights for a value per unit volume);
+        divide by the stress-point weights for a value per unit volume; summed over
+        the cones of a criterion with several cones per point);
     info : solver report.
     """
 
@@ -155,8 +156,18 @@ def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, clos
         p, q = ct.p.value * force, ct.q.value * force
         reactions -= ct.G @ np.concatenate([p, q])
     reactions[free] = 0.0
-    multiplier = np.asarray(yield_cone.dual_value[0]).ravel() * sc.length * u_ref
+    multiplier = point_multipliers(yield_cone.dual_value[0], n) * sc.length * u_ref
     return StaticIncrement(sigma, du, reactions, multiplier, info, p, q)
+
+
+def point_multipliers(dual, n):
+    """Yield-cone duals as one value per stress point (summed over a criterion's cones).
+
+    Criteria with several cones per point (``n_cones``, cone-major order, e.g. exact
+    Mohr-Coulomb in axisymmetry) give n_cones x n duals; one cone gives them as they are.
+    """
+    dual = np.asarray(dual).ravel()
+    return dual if dual.size == n else dual.reshape(-1, n).sum(axis=0)
 
 
 @dataclass
