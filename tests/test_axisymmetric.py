@@ -1,7 +1,5 @@
 """Axisymmetry (thesis Ch 7): operators (7.24)-(7.28), cones (7.10) and exact Mohr-Coulomb,
 static, limit and dynamic problems, and the verification scripts at --quick size."""
-import importlib.util
-from pathlib import Path
 
 import cvxpy as cp
 import numpy as np
@@ -20,17 +18,10 @@ from pfem_skfem.operators import (assemble_B, assemble_C, axis_dofs, body_force_
                                   stiffness_matrix, stress_mass, traction_vector)
 from pfem_skfem.operators_dynamic import (assemble_A, assemble_D, gravity_vector, mass_matrix,
                                           r_basis)
+from verification import thick_cylinder
 from pfem_skfem.problems.axisymmetric import (limit_analysis_axisymmetric,
                                               static_increment_axisymmetric, with_axis)
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-def load_script(name):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "verification" / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def perturbed_block(n=3, r0=0.0, seed=0):
@@ -314,7 +305,7 @@ def test_limit_analysis_under_pressure_is_bounded_by_the_rigid_bore():
     """Thick cylinder: the load-controlled limit analysis (uniform pressure on the bore)
     lies between the closed form and the displacement-controlled one (a rigid bore: its
     stress fields are admissible for the latter, so p_load <= p_disp on the same mesh)."""
-    cyl = load_script("thick_cylinder")
+    cyl = thick_cylinder
     model = cyl.cylinder_model(1.0, 2.0, 8)
     disc = model["disc"]
     bore = boundary_facets(disc, lambda x: x[0] < 1 + 1e-9)
@@ -324,26 +315,6 @@ def test_limit_analysis_under_pressure_is_bounded_by_the_rigid_bore():
     p_disp, _ = cyl.limit_pressure(model, crit)
     assert 2 * np.log(2) <= lim.load_factor <= p_disp * (1 + 1e-7)
     assert p_disp <= 2 * np.log(2) * 1.001
-
-
-def test_thick_cylinder_quick():
-    cyl = load_script("thick_cylinder")
-    report = cyl.run(cyl.build_parser().parse_args(["--quick", "--no-figures"] + [
-        "--nr", *map(str, cyl.QUICK["nr"]), "--increments", str(cyl.QUICK["increments"])]))
-    q = {x.name: x for x in report.quantities}
-    assert report.passed, [x.name for x in report.quantities if not x.passed]
-    refs = cyl.collapse_pressures(1.0, 2.0, 100.0, 30.0)
-    assert abs(q["p_limit_tresca"].value / (200 * np.log(2)) - 1) < 1e-3
-    assert abs(q["p_limit_dp_compression_phi0"].value / (400 / np.sqrt(3) * np.log(2)) - 1) < 1e-3
-    assert abs(q["p_limit_mohr_coulomb"].value / refs["mohr_coulomb"] - 1) < 1e-3
-    # zero dilation ([80]): Mohr-Coulomb unchanged; (7.10) behaves like phi' = asin(3 alpha)
-    assert abs(q["p_limit_mohr_coulomb_psi0"].value / refs["mohr_coulomb"] - 1) < 1e-3
-    dp = drucker_prager_match(100.0, 30.0)
-    assert abs(q["p_limit_dp_7_10_phi30_psi0"].value
-               / cyl.dp_zero_dilation_pressure(1.0, 2.0, dp) - 1) < 1e-3
-    assert np.isclose(np.degrees(np.arcsin(3 * dp.alpha)), 43.85, atol=0.01)
-    assert q["u_r_elastic_max_rel_error"].value < 1e-6
-    assert abs(q["p_elastic"].value / q["p_elastic"].reference - 1) < 1e-6
 
 
 # -- dynamics: (7.29) and (7.30) ---------------------------------------------
@@ -457,19 +428,6 @@ def test_elastic_history_equals_the_theta_method_of_the_same_mesh():
         peak = max(peak, np.abs(u_ref).max())
         diffs.append(np.abs(u - u_ref).max())
     assert max(diffs) < 1e-6 * peak, max(diffs) / peak
-
-
-def test_circular_footing_quick():
-    foot = load_script("circular_footing")
-    args = foot.build_parser().parse_args(["--quick", "--no-figures"])
-    for key, value in foot.QUICK.items():
-        setattr(args, key, value)
-    report = foot.run(args)
-    q = {x.name: x for x in report.quantities}
-    assert report.passed, [x.name for x in report.quantities if not x.passed]
-    assert 5.69 <= q["Nc_smooth_limit"].value <= 5.69 * 1.03     # Shield 1955, from above
-    assert 5.69 <= q["Nc_dp_7_10"].value <= 6.57                  # the (7.10) bound
-    assert q["Nc_rough_over_smooth"].value >= 1.0
 
 
 def test_elastic_history_tends_to_the_standard_displacement_fe():

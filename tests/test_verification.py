@@ -88,7 +88,35 @@ def column_comes_to_rest(report):
     assert case["at_rest"] and case["final_max_speed_over_sqrt_gh0"] < REST_SPEED
 
 
+def thick_cylinder_mohr_coulomb(c=100.0, phi=30.0, b_over_a=2.0):
+    """p = c cot(phi) [(b/a)^(2 sin phi / (1 + sin phi)) - 1] (Hill 1950; research file 4.7)."""
+    s = np.sin(np.radians(phi))
+    return c / np.tan(np.radians(phi)) * (b_over_a ** (2 * s / (1 + s)) - 1)
+
+
+def thick_cylinder_zero_dilation(report):
+    """With zero dilation ([80]) Mohr-Coulomb keeps its collapse pressure, and the (7.10)
+    cone behaves as Mohr-Coulomb of sin phi' = 3 alpha (phi' = 43.85 deg at phi = 30)."""
+    from pfem_skfem.materials_axisymmetric import drucker_prager_match
+    from verification.thick_cylinder import dp_zero_dilation_pressure
+    dp = drucker_prager_match(100.0, 30.0)
+    assert np.degrees(np.arcsin(3 * dp.alpha)) == approx(43.85, abs=0.01)
+    assert report.quantity("p_limit_dp_7_10_phi30_psi0").value == \
+        approx(dp_zero_dilation_pressure(1.0, 2.0, dp), rel=1e-3)
+
+
 CASES = [
+    ("thick_cylinder", [], {"p_limit_tresca": approx(200 * np.log(2), rel=1e-3),
+                            "p_limit_dp_compression_phi0": approx(400 / np.sqrt(3) * np.log(2),
+                                                                  rel=1e-3),
+                            "p_limit_mohr_coulomb": approx(thick_cylinder_mohr_coulomb(), rel=1e-3),
+                            "p_limit_mohr_coulomb_psi0": approx(thick_cylinder_mohr_coulomb(),
+                                                                rel=1e-3),
+                            "u_r_elastic_max_rel_error": Between(0, 1e-6)},
+     thick_cylinder_zero_dilation),
+    ("circular_footing", [], {"Nc_smooth_limit": Between(5.69, 5.69 * 1.03),  # Shield, above
+                              "Nc_dp_7_10": Between(5.69, 6.57),              # the (7.10) bound
+                              "Nc_rough_over_smooth": Between(1.0, np.inf)}, None),
     ("granular_column_plane", [], {"a1_phi31_h_inf_over_h0": Between(0, 1.0),   # came down
                                    "a1_phi31_t_rest": Between(0, 8.0),          # and stopped
                                    "a1_phi31_volume_change_max": Between(0, 0.10)},

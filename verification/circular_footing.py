@@ -35,7 +35,6 @@ Usage::
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -46,7 +45,8 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)
@@ -122,8 +122,16 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, c):
     return hist.factors * settlement, bearing_factor(model, hist.reactions, c), hist
 
 
+def check(args):
+    """A usage error for a friction angle out of range."""
+    for phi in args.phi or []:
+        if not 0 < phi < 90:
+            return f"--phi values must lie in (0, 90) degrees, got {phi}"
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--R", type=positive("R"), default=0.5, help="footing radius [m]")
     p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
     p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
@@ -153,8 +161,7 @@ def run(args):
     t0 = time.perf_counter()
     c, elastic = args.c, Elastic(args.E, args.nu)
     tresca, dp = TrescaAxisymmetric(c), drucker_prager_match(c, 0.0, "compression-meridian")
-    report = Report("circular_footing", {k: v for k, v in vars(args).items()
-                                         if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("circular_footing", args)
     meshes = sorted(args.elements)
     lim = {key: [] for key in ("smooth", "rough", "dp_smooth")}
     models, curves = {}, {}
@@ -213,20 +220,17 @@ def run(args):
                                                     "Nc": curves[n][1].tolist()}
                    for n in meshes},
         "mohr_coulomb_limit": mc, "wall_time_s": time.perf_counter() - t0}
-    report.models, report.curves = models, curves
+    report.data = dict(models=models, curves=curves)
     return report
 
 
-def figures(args, report):
+def figures(args, models, curves):
     """Nc-settlement curves (like Fig 3.4), the meshes' detail, the plastic zone at collapse."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "circular_footing"
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
+    out = figure_dir(args, "circular_footing")
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    for n, (s, nc, _) in report.curves.items():
-        ax.plot(s, nc, "o-", ms=3, label=f"{report.models[n]['n_elements']} elements")
+    for n, (s, nc, _) in curves.items():
+        ax.plot(s, nc, "o-", ms=3, label=f"{models[n]['n_elements']} elements")
     ref = NC_ROUGH if args.rough else NC_SMOOTH
     ax.axhline(ref, color="k", ls="--", lw=1,
                label="6.05 (Eason & Shield, rough)" if args.rough else "5.69 (Shield, smooth)")
@@ -234,12 +238,10 @@ def figures(args, report):
     ax.set_ylabel("Nc = F / (pi R^2 c)")
     ax.set_ylim(0, 1.25 * ref)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out / "nc_settlement.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "nc_settlement.png")
 
-    n = max(report.models)
-    model, hist = report.models[n], report.curves[n][2]
+    n = max(models)
+    model, hist = models[n], curves[n][2]
     disc = model["disc"]
     ratio = TrescaAxisymmetric(args.c).yield_ratio(hist.sigma)
     per_element = np.zeros(disc.mesh.nelements)
@@ -256,25 +258,12 @@ def figures(args, report):
     a.set_xlabel("r [m]")
     a.set_ylabel("z [m]")
     a.set_title("plastic zone at collapse (yield ratio 1 = plastic)")
-    fig.tight_layout()
-    fig.savefig(out / "plastic_zone.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "plastic_zone.png")
 
 
 def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.quick:
-        for key, value in QUICK.items():
-            if getattr(args, key) == parser.get_default(key):
-                setattr(args, key, value)
-    for phi in args.phi or []:
-        if not 0 < phi < 90:
-            parser.error(f"--phi values must lie in (0, 90) degrees, got {phi}")
-    report = run(args)
-    if not args.no_figures:
-        figures(args, report)
-    return report.finish(args)
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":

@@ -38,7 +38,6 @@ Usage::
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 from skfem import MeshTri
@@ -50,7 +49,8 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
-from pfem_skfem.report import Report, base_parser, positive, progress
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+                               save_figure)
 
 
 def collapse_pressures(a, b, c, phi):
@@ -166,8 +166,17 @@ LABELS = {"tresca": "Tresca (3 cones)", "dp_compression_phi0": "DP (7.10), phi =
           "mohr_coulomb": "Mohr-Coulomb (3 cones)"}
 
 
+def check(args):
+    """A usage error for an empty wall or a friction angle out of range."""
+    if not args.a < args.b:
+        return f"--a must be smaller than --b, got a = {args.a}, b = {args.b}"
+    if not 0 < args.phi < 90:
+        return f"--phi must lie in (0, 90) degrees, got {args.phi}"
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0])
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--a", type=positive("a"), default=1.0, help="inner radius [m]")
     p.add_argument("--b", type=positive("b"), default=2.0, help="outer radius [m]")
     p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
@@ -197,8 +206,7 @@ def run(args):
     elastic = Elastic(args.E, args.nu)
     refs = collapse_pressures(args.a, args.b, args.c, args.phi)
     crits = criteria(args.c, args.phi)
-    report = Report("thick_cylinder", {k: v for k, v in vars(args).items()
-                                       if k not in ("json", "outdir", "no_figures", "progress")})
+    report = Report("thick_cylinder", args)
     meshes = sorted(args.nr)
     limits = {key: [] for key in crits}
     models = {nr: cylinder_model(args.a, args.b, nr) for nr in meshes}
@@ -266,20 +274,17 @@ def run(args):
         "dp_7_10_associated_limit_pressure": float(p_dp_assoc),
         "elastic": {k: float(el[k]) for k in ("p", "p_ref", "u_error", "sigma_error")},
         "wall_time_s": time.perf_counter() - t0}
-    report.curves, report.elastic = curves, el
+    report.data = dict(report=report, curves=curves, elastic=el)
     return report
 
 
-def figures(args, report):
+def figures(args, report, curves, elastic):
     """Pressure-displacement curves, convergence of the limit pressures, elastic stresses."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    out = Path(args.outdir) / "thick_cylinder"
-    out.mkdir(parents=True, exist_ok=True)
+    plt = pyplot()
+    out = figure_dir(args, "thick_cylinder")
     refs = report.extra["reference"]
     fig, ax = plt.subplots(1, 3, figsize=(14, 4))
-    for i, (key, (s, p)) in enumerate(report.curves.items()):
+    for i, (key, (s, p)) in enumerate(curves.items()):
         ax[0].plot(s / args.a, p / args.c, f"C{i}-", label=LABELS[key])
         ax[0].axhline(refs[key] / args.c, color=f"C{i}", ls="--", lw=0.8)
     ax[0].set_xlabel("bore displacement / a")
@@ -291,7 +296,7 @@ def figures(args, report):
     ax[1].set_xlabel("elements across the wall")
     ax[1].set_ylabel("limit pressure / closed form - 1")
     ax[1].legend(fontsize=7)
-    el = report.elastic
+    el = elastic
     order = np.argsort(el["r"])
     for k, name in ((0, "s_rr"), (2, "s_tt"), (1, "s_zz")):
         ax[2].plot(el["r"][order], el["sigma_ref"][order, k], "k-", lw=0.8)
@@ -299,26 +304,12 @@ def figures(args, report):
     ax[2].set_xlabel("r")
     ax[2].set_ylabel("stress (elastic check; lines: Lame)")
     ax[2].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out / "thick_cylinder.png", dpi=120)
-    plt.close(fig)
+    save_figure(fig, out / "thick_cylinder.png")
 
 
 def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.quick:
-        for key, value in QUICK.items():
-            if getattr(args, key) == parser.get_default(key):
-                setattr(args, key, value)
-    if not args.a < args.b:
-        parser.error(f"--a must be smaller than --b, got a = {args.a}, b = {args.b}")
-    if not 0 < args.phi < 90:
-        parser.error(f"--phi must lie in (0, 90) degrees, got {args.phi}")
-    report = run(args)
-    if not args.no_figures:
-        figures(args, report)
-    return report.finish(args)
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
 
 
 if __name__ == "__main__":
