@@ -112,7 +112,8 @@ CASES = [
                             "p_limit_mohr_coulomb": approx(thick_cylinder_mohr_coulomb(), rel=1e-3),
                             "p_limit_mohr_coulomb_psi0": approx(thick_cylinder_mohr_coulomb(),
                                                                 rel=1e-3),
-                            "u_r_elastic_max_rel_error": Between(0, 1e-6)},
+                            "u_r_elastic_max_rel_error": Between(0, 1e-6),          # Lame
+                            "sigma_elastic_max_rel_error": Between(0, 1e-6)},
      thick_cylinder_zero_dilation),
     ("circular_footing", [], {"Nc_smooth_limit": Between(5.69, 5.69 * 1.03),  # Shield, above
                               "Nc_dp_7_10": Between(5.69, 6.57),              # the (7.10) bound

@@ -186,7 +186,7 @@ def build_parser():
     p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio")
     p.add_argument("--nr", type=int, nargs="+", default=[8, 16, 32],
                    help="elements across the wall of the limit-analysis meshes")
-    p.add_argument("--nr-elastic", type=int, default=64,
+    p.add_argument("--nr-elastic", type=int, default=512,
                    help="elements across the wall of the elastic check")
     p.add_argument("--u-bore", type=positive("u_bore"), default=0.03,
                    help="final bore displacement of the elastoplastic curves [m]")
@@ -261,11 +261,10 @@ def run(args):
                1e-6)
     report.add_interval("u_r_elastic_max_rel_error", el["u_error"], 0.0, 1e-6,
                         f"Lame u_r at every node, nr = {args.nr_elastic}")
-    # stresses: a linear field per element against 1/r^2, O(h^2) at the points
-    report.add_interval("sigma_elastic_max_rel_error", el["sigma_error"], 0.0,
-                        5e-4 * (64 / args.nr_elastic) ** 2,
-                        f"Lame stresses at every stress point, nr = {args.nr_elastic} "
-                        "(linear stresses per element: O(h^2))")
+    # stresses: a linear field per element against 1/r^2 converges as O(h^2) at the points;
+    # the wall is one layer of elements (u_z = 0), so 512 across is a 1,024-triangle strip
+    report.add_interval("sigma_elastic_max_rel_error", el["sigma_error"], 0.0, 1e-6,
+                        f"Lame stresses at every stress point, nr = {args.nr_elastic}")
     report.add_interval("sigma_elastic_order", np.log2(el_coarse["sigma_error"] / el["sigma_error"]),
                         1.5, 3.0, "observed order of the stress error (nr/2 -> nr)")
     report.extra = {
