@@ -22,7 +22,7 @@ Usage::
     python verification/alpha_shape.py --quick --json results/alpha_shape.json   # seconds
     python verification/alpha_shape.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -32,8 +32,8 @@ from scipy.spatial import ConvexHull
 
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float, progress,
+                               pyplot, save_figure)
 
 QUICK = dict(alpha_step=0.1)
 SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"
@@ -73,14 +73,14 @@ def sweep(points, h, alphas):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--h", type=positive("h"), default=1.0, help="characteristic spacing h")
-    p.add_argument("--radius", type=positive("radius"), default=6.0,
+    p.add_argument("--h", type=positive_float, default=1.0, help="characteristic spacing h")
+    p.add_argument("--radius", type=positive_float, default=6.0,
                    help="radius of the disc cluster (units of h)")
-    p.add_argument("--gap", type=positive("gap"), default=2.6,
+    p.add_argument("--gap", type=positive_float, default=2.6,
                    help="gap between the clusters (units of h)")
-    p.add_argument("--size", type=positive("size"), default=0.8,
+    p.add_argument("--size", type=positive_float, default=0.8,
                    help="target element edge of the meshes whose vertices form the cloud (units of h)")
-    p.add_argument("--alpha-step", type=positive("alpha-step"), default=0.02,
+    p.add_argument("--alpha-step", type=positive_float, default=0.02,
                    help="spacing of the sweep over 0.3 <= alpha <= 2 (the panels of Fig 2.4 "
                         "and a few large values are added)")
     return p

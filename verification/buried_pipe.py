@@ -30,7 +30,7 @@ Usage::
     python verification/buried_pipe.py --quick --json results/buried_pipe.json   # seconds
     python verification/buried_pipe.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -43,8 +43,8 @@ from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               positive_float, positive_int, progress, pyplot, save_figure)
 
 QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
@@ -93,26 +93,21 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 
 
-def check(args):
-    """Options that cannot go together (a usage error), or None."""
-    return "--mu must be >= 0" if args.mu < 0 else None
-
-
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--r", type=positive("r"), default=0.5, help="pipe radius [m]")
-    p.add_argument("--su", type=positive("su"), default=50.0, help="undrained strength [kPa]")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--mu", type=float, default=0.0, help="pipe-soil friction (0: smooth)")
-    p.add_argument("--width", type=positive("width"), default=10.0, help="half width [m]")
-    p.add_argument("--height", type=positive("height"), default=15.0, help="column [m]")
-    p.add_argument("--depth", type=positive("depth"), default=7.5,
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p.add_argument("--r", type=positive_float, default=0.5, help="pipe radius [m]")
+    p.add_argument("--su", type=positive_float, default=50.0, help="undrained strength [kPa]")
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=nonnegative_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--mu", type=nonnegative_float, default=0.0, help="pipe-soil friction (0: smooth)")
+    p.add_argument("--width", type=positive_float, default=10.0, help="half width [m]")
+    p.add_argument("--height", type=positive_float, default=15.0, help="column [m]")
+    p.add_argument("--depth", type=positive_float, default=7.5,
                    help="depth of the pipe centre [m]")
-    p.add_argument("--dt", type=float, default=None,
+    p.add_argument("--dt", type=positive_float, default=None,
                    help="solve one dynamic step (4.23) of this length [s] (theta1 = theta2 "
                         "= 1, from rest) instead of the quasi-static step")
-    p.add_argument("--elements", type=int, nargs="+", default=[700, 1400, 2812],
+    p.add_argument("--elements", type=positive_int, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
     return p
 

@@ -45,8 +45,9 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress, pyplot, save_figure)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)
@@ -122,33 +123,25 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, c):
     return hist.factors * settlement, bearing_factor(model, hist.reactions, c), hist
 
 
-def check(args):
-    """A usage error for a friction angle out of range."""
-    for phi in args.phi or []:
-        if not 0 < phi < 90:
-            return f"--phi values must lie in (0, 90) degrees, got {phi}"
-    return None
-
-
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--R", type=positive("R"), default=0.5, help="footing radius [m]")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.49, help="Poisson's ratio")
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p.add_argument("--R", type=positive_float, default=0.5, help="footing radius [m]")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
     p.add_argument("--rough", action="store_true",
                    help="rough footing: the soil under it moves with it (u_r = 0)")
-    p.add_argument("--elements", type=int, nargs="+", default=[300, 1000, 3000],
+    p.add_argument("--elements", type=positive_int, nargs="+", default=[300, 1000, 3000],
                    help="approximate element counts of the three graded meshes")
-    p.add_argument("--settlement", type=positive("settlement"), default=0.03,
+    p.add_argument("--settlement", type=positive_float, default=0.03,
                    help="final footing displacement of the Nc-settlement curves [m]")
-    p.add_argument("--increments", type=int, default=20,
+    p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of each Nc-settlement curve")
-    p.add_argument("--phi", type=float, nargs="*", default=[10, 20, 30],
+    p.add_argument("--phi", type=friction_angle, nargs="*", default=[10, 20, 30],
                    help="friction angles of the Mohr-Coulomb footings [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=int, default=1000,
+    p.add_argument("--mc-elements", type=positive_int, default=1000,
                    help="elements of the Mohr-Coulomb meshes")
-    p.add_argument("--tol", type=float, default=None,
+    p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance on the smooth Nc (default 2%%, 3%% with --quick)")
     return p
 

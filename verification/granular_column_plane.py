@@ -32,7 +32,7 @@ Usage::
     python verification/granular_column_plane.py --quick --json results/granular_column_plane.json   # seconds
     python verification/granular_column_plane.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import json
@@ -51,8 +51,10 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+                               nonnegative_float, nonnegative_int, poisson_ratio,
+                               positive_float, positive_int, progress, pyplot, save_figure,
+                               workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -272,47 +274,47 @@ def run_cases(cases, workers):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--a", type=positive("a"), nargs="+", default=list(ASPECTS),
+    p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios h0/d0")
-    p.add_argument("--phi", type=positive("phi"), nargs="+", default=[31.0],
+    p.add_argument("--phi", type=friction_angle, nargs="+", default=[31.0],
                    help="friction angles [deg] (the thesis: 31 and 35)")
-    p.add_argument("--mu", type=float, default=None,
+    p.add_argument("--mu", type=nonnegative_float, default=None,
                    help="base and wall friction coefficient (default tan phi)")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
-    p.add_argument("--nx", type=int, default=20, help="particles across the column width d0")
-    p.add_argument("--steps", type=int, default=400,
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--nx", type=positive_int, default=20, help="particles across the column width d0")
+    p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
-    p.add_argument("--settle", type=float, default=4.0,
+    p.add_argument("--settle", type=nonnegative_float, default=4.0,
                    help="after t/sqrt(h0/g) = 4, go on for at most this long (same units) "
                         "until the deposit is at rest (0: stop at 4, as the thesis)")
-    p.add_argument("--time-steps", type=int, nargs="*", default=[],
+    p.add_argument("--time-steps", type=positive_int, nargs="*", default=[],
                    help="time-step study for a = 1 (Fig 6.14-6.15), e.g. 100 200 400")
-    p.add_argument("--mesh-study", type=int, nargs="*", default=[],
+    p.add_argument("--mesh-study", type=positive_int, nargs="*", default=[],
                    help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
     p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")
-    p.add_argument("--E", type=positive("E"), default=None,
+    p.add_argument("--E", type=positive_float, default=None,
                    help="Young's modulus [kPa] of an elastoplastic material (default: rigid-plastic)")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio (with --E)")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
-    p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
-    p.add_argument("--floor", type=positive("floor"), default=0.005,
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio (with --E)")
+    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
+    p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
     p.add_argument("--material", choices=("tresca-mc", "davis"), default="tresca-mc",
                    help="psi = 0 scheme of [80] or the plain Davis reduction")
     p.add_argument("--remesh", choices=("alpha", "quality"), default="alpha",
                    help="alpha-shape mesh or Triangle quality remesh (added nodes -> particles)")
-    p.add_argument("--refine-surface", type=float, default=2.0,
+    p.add_argument("--refine-surface", type=nonnegative_float, default=2.0,
                    help="a boundary edge longer than this many h gets its midside node as a "
                         "particle (0: never)")
     p.add_argument("--no-bulge", action="store_true",
                    help="move the boundary particles as bare vertices (no bulge correction)")
-    p.add_argument("--save-every", type=int, default=0,
+    p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--checkpoint-every", type=int, default=0,
+    p.add_argument("--checkpoint-every", type=nonnegative_int, default=0,
                    help="save the state every this many steps (0: never); a rerun resumes")
-    p.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
                    help="parallel processes for the sweep")
     return p
 

@@ -25,7 +25,7 @@ Usage::
     python verification/strip_footing.py --quick --json results/strip_footing.json   # seconds
     python verification/strip_footing.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -38,8 +38,9 @@ from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress,
-                               pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress, pyplot, save_figure)
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
@@ -122,23 +123,23 @@ def nc_limit(model, criterion, *, c, B=1.0):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.49, help="Poisson's ratio")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--B", type=positive("B"), default=1.0, help="footing width [m]")
-    p.add_argument("--settlement", type=positive("settlement"), default=0.06,
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--B", type=positive_float, default=1.0, help="footing width [m]")
+    p.add_argument("--settlement", type=positive_float, default=0.06,
                    help="final footing displacement for Tresca [m]")
-    p.add_argument("--elements", type=int, nargs="+", default=[107, 390, 1144],
+    p.add_argument("--elements", type=positive_int, nargs="+", default=[107, 390, 1144],
                    help="approximate element counts of the graded meshes")
-    p.add_argument("--increments", type=int, nargs="+", default=[5, 10, 100],
+    p.add_argument("--increments", type=positive_int, nargs="+", default=[5, 10, 100],
                    help="numbers of increments of the Nc-settlement curves")
-    p.add_argument("--phi", type=float, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
+    p.add_argument("--phi", type=friction_angle, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
                    help="friction angles of the Mohr-Coulomb sweep [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=int, default=None,
+    p.add_argument("--mc-elements", type=positive_int, default=None,
                    help="elements of the Mohr-Coulomb meshes (default: the finest)")
-    p.add_argument("--mc-increments", type=int, default=20,
+    p.add_argument("--mc-increments", type=positive_int, default=20,
                    help="increments of each Mohr-Coulomb curve")
-    p.add_argument("--tol-tresca", type=float, default=None,
+    p.add_argument("--tol-tresca", type=nonnegative_float, default=None,
                    help="tolerance on the Tresca plateau (default 1%%, 5%% with --quick)")
     return p
 

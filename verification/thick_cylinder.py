@@ -49,8 +49,9 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress, pyplot, save_figure)
 
 
 def collapse_pressures(a, b, c, phi):
@@ -167,32 +168,30 @@ LABELS = {"tresca": "Tresca (3 cones)", "dp_compression_phi0": "DP (7.10), phi =
 
 
 def check(args):
-    """A usage error for an empty wall or a friction angle out of range."""
+    """A usage error for an empty wall (--a not below --b), or None."""
     if not args.a < args.b:
         return f"--a must be smaller than --b, got a = {args.a}, b = {args.b}"
-    if not 0 < args.phi < 90:
-        return f"--phi must lie in (0, 90) degrees, got {args.phi}"
     return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--a", type=positive("a"), default=1.0, help="inner radius [m]")
-    p.add_argument("--b", type=positive("b"), default=2.0, help="outer radius [m]")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--phi", type=positive("phi"), default=30.0,
+    p.add_argument("--a", type=positive_float, default=1.0, help="inner radius [m]")
+    p.add_argument("--b", type=positive_float, default=2.0, help="outer radius [m]")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--phi", type=friction_angle, default=30.0,
                    help="friction angle of the Mohr-Coulomb run [deg]")
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio")
-    p.add_argument("--nr", type=int, nargs="+", default=[8, 16, 32],
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
+    p.add_argument("--nr", type=positive_int, nargs="+", default=[8, 16, 32],
                    help="elements across the wall of the limit-analysis meshes")
-    p.add_argument("--nr-elastic", type=int, default=512,
+    p.add_argument("--nr-elastic", type=positive_int, default=512,
                    help="elements across the wall of the elastic check")
-    p.add_argument("--u-bore", type=positive("u_bore"), default=0.03,
+    p.add_argument("--u-bore", type=positive_float, default=0.03,
                    help="final bore displacement of the elastoplastic curves [m]")
-    p.add_argument("--increments", type=int, default=20,
+    p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of the elastoplastic curves")
-    p.add_argument("--tol", type=float, default=0.01,
+    p.add_argument("--tol", type=nonnegative_float, default=0.01,
                    help="tolerance on the collapse pressures (relative)")
     return p
 

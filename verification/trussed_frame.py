@@ -62,7 +62,7 @@ Usage::
     python verification/trussed_frame.py --quick --json results/trussed_frame.json   # seconds
     python verification/trussed_frame.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -72,8 +72,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               positive_float, positive_int, progress, pyplot, save_figure)
 
 QUICK = dict(uV=20.0, steps=100)
 
@@ -252,16 +252,16 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
-    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
+    p.add_argument("--E", type=positive_float, default=210e3, help="Young's modulus (N/mm^2)")
+    p.add_argument("--sigma_s", type=positive_float, default=2500.0,
                    help="yield stress (N/mm^2)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
-    p.add_argument("--uV", type=positive("--uV"), default=65.0,
+    p.add_argument("--A", type=positive_float, default=1.0, help="initial bar area (mm^2)")
+    p.add_argument("--uV", type=positive_float, default=65.0,
                    help="vertical displacement of the loaded point (mm)")
-    p.add_argument("--steps", type=int, default=650, help="number of increments")
-    p.add_argument("--width", type=positive("--width"), default=4.0,
+    p.add_argument("--steps", type=positive_int, default=650, help="number of increments")
+    p.add_argument("--width", type=positive_float, default=4.0,
                    help="depth w of the trussed members = panel length (mm)")
-    p.add_argument("--tol", type=float, default=None,
+    p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
     return p
 
