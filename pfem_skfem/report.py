@@ -414,7 +414,8 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
     tqdm.tqdm
     """
     from tqdm import tqdm
-    disable = args is not None and not getattr(args, "progress", True)
+    disable = options.pop("disable", False) or (args is not None
+                                                and not getattr(args, "progress", True))
     tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
     options.setdefault("mininterval", 0.5 if tty else 20.0)
     return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr,

@@ -44,7 +44,7 @@ from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, d
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, progress, pyplot, save_figure)
+                               positive_float, positive_int, progress_bar, pyplot, save_figure)
 
 QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
@@ -117,15 +117,16 @@ def run(args):
     report = Report("buried_pipe", args)
     buoyancy = args.rho * args.g * np.pi * args.r ** 2 / 2 / (args.r * args.su)
     rows, last = [], None
-    for n in sorted(args.elements):
+    bar = progress_bar(sorted(args.elements), args=args, unit="mesh", desc="buried pipe")
+    for n in bar:
+        bar.set_description(f"buried pipe, about {n} elements")
         t0 = time.perf_counter()
         model = pipe_model(n, width=args.width, height=args.height, depth=args.depth, r=args.r)
         F, res, contacts = pipe_resistance(model, su=args.su, rho=args.rho, g=args.g,
                                            mu=args.mu, dt=args.dt)
         nc_raw = F / (args.r * args.su)
         rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
-        progress(f"{model['n_elements']:6d} elements: F/(r Su) = {nc_raw:.4f}, net of buoyancy "
-                 f"{nc_raw - buoyancy:.4f}  ({rows[-1][3]:.1f} s)")
+        bar.set_postfix_str(f"F/(r Su) = {nc_raw:.4f}, net of buoyancy {nc_raw - buoyancy:.4f}")
         last = (model, res, contacts)
     print(f"{'elements':>8s} {'F/(r Su)':>10s} {'Nc (net)':>10s} {'vs 9.20':>8s}")
     for n_el, raw, net, _ in rows:

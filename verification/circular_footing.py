@@ -47,7 +47,7 @@ from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discreti
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
                                nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress, pyplot, save_figure)
+                               positive_int, progress_bar, pyplot, save_figure)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)
@@ -158,7 +158,10 @@ def run(args):
     meshes = sorted(args.elements)
     lim = {key: [] for key in ("smooth", "rough", "dp_smooth")}
     models, curves = {}, {}
+    bar = progress_bar(total=len(meshes) + len(args.phi or []), args=args, unit="mesh",
+                       desc="circular footing")
     for n in meshes:
+        bar.set_description(f"circular footing, {n} elements: limit analyses and the curve")
         smooth = footing_model(n, R=args.R)
         rough = footing_model(n, R=args.R, rough=True)
         models[n] = rough if args.rough else smooth
@@ -167,9 +170,9 @@ def run(args):
         lim["dp_smooth"].append(nc_limit(smooth, dp, c)[0])
         s, nc, hist = nc_curve(models[n], elastic, tresca, args.settlement, args.increments, c)
         curves[n] = (s, nc, hist)
-        progress(f"{smooth['n_elements']} elements: Nc smooth {lim['smooth'][-1]:.4f}, rough "
-                 f"{lim['rough'][-1]:.4f}, (7.10) {lim['dp_smooth'][-1]:.4f}; curve end "
-                 f"{nc[-1]:.4f}")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc smooth {lim['smooth'][-1]:.4f}, rough {lim['rough'][-1]:.4f}, "
+                            f"(7.10) {lim['dp_smooth'][-1]:.4f}; curve end {nc[-1]:.4f}")
     n_el = [models[n]["n_elements"] for n in meshes]
     tol = args.tol if args.tol is not None else (0.03 if args.quick else 0.02)
     smooth_nc, rough_nc = np.array(lim["smooth"]), np.array(lim["rough"])
@@ -199,12 +202,14 @@ def run(args):
 
     mc = {}
     for phi in args.phi or []:
+        bar.set_description(f"circular footing, Mohr-Coulomb phi = {phi:g}")
         model = footing_model(args.mc_elements, R=args.R, phi=phi, rough=args.rough)
         value = nc_limit(model, MohrCoulombAxisymmetric(c, phi), c)[0]
         mc[f"{phi:g}"] = dict(Nc=float(value), strip_3_49=float(strip_nc(phi)),
                               elements=model["n_elements"])
-        progress(f"Mohr-Coulomb phi = {phi:g}: Nc = {value:.3f} (strip (3.49): "
-                 f"{strip_nc(phi):.3f}; {model['n_elements']} elements)")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc = {value:.3f} (strip (3.49): {strip_nc(phi):.3f})")
+    bar.close()
     report.extra = {
         "elements": n_el, "Nc_limit_smooth": smooth_nc.tolist(),
         "Nc_limit_rough": rough_nc.tolist(), "Nc_limit_dp_7_10": dp_nc.tolist(),

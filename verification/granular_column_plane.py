@@ -39,7 +39,7 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -53,8 +53,8 @@ from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegme
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
                                nonnegative_float, nonnegative_int, poisson_ratio,
-                               positive_float, positive_int, progress, pyplot, save_figure,
-                               workers)
+                               positive_float, positive_int, progress, progress_bar, pyplot,
+                               save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -210,16 +210,25 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
             state = load_checkpoint(checkpoint)
             print(f"resuming {checkpoint} at step {state.step}", flush=True)
     t0 = time.perf_counter()
+    rest_steps = int(round(settle * steps / 4.0))
+    bar = progress_bar(total=steps - state.step + rest_steps, disable=not verbose, unit="step",
+                       desc=f"column a = {a:g}, phi = {phi:g}, {nx} across")
+
+    def tick(i, n, record):
+        bar.set_postfix_str(f"t/sqrt(h0/g) = {record['time'] / np.sqrt(h0 / g):.2f}",
+                            refresh=False)
+        bar.update(1)
     state, snaps = pfem_loop.run(state, scene, steps - state.step, series=series,
-                                 save_every=save_every, snapshots=snap_steps, verbose=verbose,
+                                 save_every=save_every, snapshots=snap_steps, progress=tick,
                                  checkpoint=checkpoint, checkpoint_every=checkpoint_every)
     height4, top4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
-                                     int(round(settle * steps / 4.0)), series=series,
-                                     save_every=save_every, verbose=verbose)
+    bar.set_description(f"column a = {a:g}, phi = {phi:g}, {nx} across, until at rest")
+    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0), rest_steps,
+                                     series=series, save_every=save_every, progress=tick)
+    bar.close()
     if extra:                                             # the deposit at rest, for Fig 6.12
         snaps[state.step] = {"points": state.x.copy(),
                              "speed": np.linalg.norm(state.v, axis=1)}
@@ -268,8 +277,17 @@ def run_cases(cases, workers):
     """Cases (dicts of run_case keywords) in parallel processes, one per worker."""
     if workers <= 1 or len(cases) == 1:
         return [run_case(**c) for c in cases]
+    verbose = any(c.get("verbose") for c in cases)   # one bar over the cases, none per step
+    cases = [dict(c, verbose=False) for c in cases]
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(_run_kw, cases))
+        futures = {pool.submit(_run_kw, c): i for i, c in enumerate(cases)}
+        results = [None] * len(cases)
+        with progress_bar(total=len(cases), disable=not verbose, unit="case",
+                          desc=f"columns on {workers} workers") as bar:
+            for done in as_completed(futures):
+                results[futures[done]] = done.result()
+                bar.update(1)
+        return results
 
 
 def build_parser():

@@ -40,7 +40,7 @@ from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discret
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
                                nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress, pyplot, save_figure)
+                               positive_int, progress_bar, pyplot, save_figure)
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
@@ -152,19 +152,24 @@ def run(args):
     report = Report("strip_footing", args)
     nc_ref = prandtl_nc(0.0)
     curves, limits, models = {}, {}, {}
+    # one bar over the solves, weighted by their increments: the time left is meaningful
+    work = (len(args.elements) * (1 + sum(args.increments))
+            + len(args.phi or []) * (1 + args.mc_increments))
+    bar = progress_bar(total=work, args=args, desc="strip footing", unit="increment")
     for n_el in sorted(args.elements):
         model = footing_model(n_el, B=args.B)
         models[n_el] = model
+        bar.set_description(f"Tresca, {model['n_elements']} el, limit analysis")
         limits[n_el] = nc_limit(model, Tresca(su), c=su, B=args.B)[0]
-        progress(f"mesh {model['n_elements']} elements: limit-analysis Nc = "
-                 f"{limits[n_el]:.4f} (Prandtl {nc_ref:.4f})")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc limit {limits[n_el]:.4f} (Prandtl {nc_ref:.4f})")
         for n_inc in sorted(args.increments):
-            label = f"{model['n_elements']} el, {n_inc} inc" if args.progress else None
+            bar.set_description(f"Tresca, {model['n_elements']} el, {n_inc} increments")
             s, nc, _ = nc_curve(model, elastic, Tresca(su), args.settlement, n_inc, c=su,
-                                B=args.B, progress_label=label)
+                                B=args.B)
+            bar.update(n_inc)
+            bar.set_postfix_str(f"Nc {nc[-1]:.4f} (Prandtl {nc_ref:.4f})")
             curves[n_el, n_inc] = (s, nc)
-            progress(f"mesh {model['n_elements']} elements, {n_inc} increments: "
-                     f"final Nc = {nc[-1]:.4f}")
 
     finest = max(args.elements), max(args.increments)
     tol = args.tol_tresca if args.tol_tresca is not None else (0.05 if args.quick else 0.01)
@@ -184,6 +189,7 @@ def run(args):
             crit = MohrCoulomb(su, phi)
             ref = prandtl_nc(phi)
             model = footing_model(n_mc, B=args.B, phi=phi)
+            bar.set_description(f"Mohr-Coulomb phi = {phi:g}, {model['n_elements']} el")
             lim = nc_limit(model, crit, c=su, B=args.B)[0]
             # settle far enough to reach the plateau: scale with the collapse load
             settle = args.settlement * ref / nc_ref
@@ -191,11 +197,12 @@ def run(args):
                                 B=args.B)
             mc[phi] = dict(limit=lim, plateau=nc[-1], reference=ref, s=s, nc=nc,
                            elements=model["n_elements"])
-            progress(f"Mohr-Coulomb phi = {phi:g}: plateau {nc[-1]:.3f}, limit {lim:.3f}, "
-                     f"Prandtl {ref:.3f} ({model['n_elements']} elements)")
+            bar.update(1 + args.mc_increments)
+            bar.set_postfix_str(f"Nc {nc[-1]:.3f}, limit {lim:.3f} (Prandtl {ref:.3f})")
             tol_phi = (0.03 if phi <= 30 else 0.08) * (2.5 if args.quick else 1.0)
             report.add(f"Nc_MC_phi{phi:g}", nc[-1], ref, "(3.49) Prandtl-Reissner", tol_phi)
             report.add(f"Nc_MC_limit_phi{phi:g}", lim, ref, "(3.49) Prandtl-Reissner", tol_phi)
+    bar.close()
 
     report.extra = {
         "curves": {f"{k[0]}el_{k[1]}inc": {"settlement": v[0].tolist(), "Nc": v[1].tolist()}

@@ -51,7 +51,7 @@ from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, wit
                                               zero_dilation)
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
                                nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress, pyplot, save_figure)
+                               positive_int, progress_bar, pyplot, save_figure)
 
 
 def collapse_pressures(a, b, c, phi):
@@ -209,11 +209,14 @@ def run(args):
     meshes = sorted(args.nr)
     limits = {key: [] for key in crits}
     models = {nr: cylinder_model(args.a, args.b, nr) for nr in meshes}
+    bar = progress_bar(total=len(meshes) * len(crits) + len(crits), args=args, unit="solve",
+                       desc="thick cylinder")
     for nr in meshes:
+        bar.set_description(f"thick cylinder, limit analyses, {nr} across")
         for key, crit in crits.items():
             limits[key].append(limit_pressure(models[nr], crit)[0])
-        progress(f"nr = {nr}: " + ", ".join(f"{k} {limits[k][-1] / refs[k] - 1:+.2e}"
-                                            for k in crits))
+            bar.update(1)
+        bar.set_postfix_str(", ".join(f"{k} {limits[k][-1] / refs[k] - 1:+.1e}" for k in crits))
     src = {"tresca": "2 c ln(b/a)", "dp_compression_phi0": "(4/sqrt3) c ln(b/a)",
            "dp_plane_strain_phi0": "2 c ln(b/a)",
            "mohr_coulomb": "c cot(phi) [(b/a)^(2 sin(phi)/(1+sin(phi))) - 1]"}
@@ -233,11 +236,15 @@ def run(args):
             report.add_interval(f"p_limit_{key}_error_ratio", shrink, 0.0, 0.9,
                                 "error of the next finer mesh / error (< 1: converging)")
             orders[key] = float(-np.polyfit(np.log(meshes), np.log(np.abs(err)), 1)[0])
+        bar.set_description(f"thick cylinder, {LABELS[key]} curve, {meshes[-1]} across")
         s, p, _ = pressure_curve(finest, elastic, crit, args.u_bore, args.increments)
         curves[key] = (s, p)
+        bar.update(1)
+        bar.set_postfix_str(f"plateau {p[-1] / ref - 1:+.1e}")
         report.add(f"p_plateau_{key}", p[-1], ref,
                    f"{src[key]} (elastoplastic plateau, nr = {meshes[-1]})", args.tol)
 
+    bar.close()
     # zero dilation (the scheme of [80]) on the finest mesh
     mc, dp = crits["mohr_coulomb"], drucker_prager_match(args.c, args.phi)
     p_mc0, passes_mc = zero_dilation_pressure(finest, mc, args.c)
