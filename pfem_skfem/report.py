@@ -438,8 +438,104 @@ def figure_dir(args, name):
     return out
 
 
+FIGURE_PIXELS = ((400, 2600), (250, 2000))
+"""The (min, max) width and height of a saved figure in pixels."""
+SMALLEST_FONT = 7.0
+"""Tick labels and axis labels at least this many points (at the saved dpi: readable)."""
+
+
+def figure_problems(fig, dpi=120):
+    """What makes ``fig`` hard to read, before it is saved; an empty list when nothing.
+
+    Every figure has a title (an axes title or ``suptitle``) and a saved size within
+    :data:`FIGURE_PIXELS`, no wider than 4.5 times its height; every visible axes
+    with data has x and y labels (a colour bar: its label), and its tick labels are
+    at least :data:`SMALLEST_FONT` points.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    dpi : float
+        The resolution it will be saved at.
+
+    Returns
+    -------
+    list of str
+    """
+    problems = []
+    w, h = fig.get_size_inches() * dpi
+    (w0, w1), (h0, h1) = FIGURE_PIXELS
+    if not (w0 <= w <= w1 and h0 <= h <= h1) or w > 4.5 * h:
+        problems.append(f"size {w:.0f} x {h:.0f} px (want {w0}-{w1} x {h0}-{h1}, "
+                        "at most 4.5:1)")
+    suptitle = fig._suptitle.get_text() if getattr(fig, "_suptitle", None) else ""
+    axes = [ax for ax in fig.get_axes() if ax.get_visible()]
+    if not suptitle and not any(ax.get_title() or ax.get_title("left") for ax in axes):
+        problems.append("no title: say what the figure shows (set_title or suptitle)")
+    for i, ax in enumerate(axes):
+        name = f"axes {i + 1} ({ax.get_title() or 'untitled'})"
+        is_colorbar = hasattr(ax, "_colorbar") or ax.get_label() == "<colorbar>"
+        if not ax.axison:
+            continue
+        if is_colorbar:
+            if not (ax.get_ylabel() or ax.get_xlabel()):
+                problems.append(f"{name}: a colour bar without a label")
+            continue
+        if not (ax.lines or ax.collections or ax.images or ax.patches or ax.texts):
+            continue
+        for axis, label in (("x", ax.get_xlabel()), ("y", ax.get_ylabel())):
+            if not label.strip():
+                problems.append(f"{name}: no {axis} label")
+        for tick in ax.get_xticklabels() + ax.get_yticklabels():
+            if tick.get_visible() and tick.get_fontsize() < SMALLEST_FONT:
+                problems.append(f"{name}: tick labels of {tick.get_fontsize():g} pt")
+                break
+    return problems
+
+
+def inspect_figures(script, argv, outdir):
+    """Draw ``script``'s figures at ``argv`` (a quick run) and report what is hard to read.
+
+    Runs the case in-process, then its ``figures`` with every :func:`save_figure`
+    checked by :func:`figure_problems` before it saves; the other pictures it writes
+    (pyvista PNGs) are checked for their size.
+
+    Returns
+    -------
+    (Report, dict)
+        The report, and for each file written, the list of its problems.
+    """
+    import matplotlib.image as mpimg
+
+    args = script.build_parser().parse_args(["--quiet", *argv, "--outdir", str(outdir)])
+    report = script.run(args)
+    found = {}
+    original = getattr(script, "save_figure", None)
+
+    def checked(fig, path, dpi=120):
+        found[str(path)] = figure_problems(fig, dpi)
+        save_figure(fig, path, dpi)
+
+    script.save_figure = checked
+    try:
+        script.figures(args, **report.data)
+    finally:
+        if original is not None:
+            script.save_figure = original
+    (w0, w1), (h0, h1) = FIGURE_PIXELS
+    for png in sorted(Path(outdir).rglob("*.png")):
+        if str(png) in found:
+            continue
+        h, w = mpimg.imread(png).shape[:2]
+        found[str(png)] = ([] if w0 <= w <= w1 and h0 <= h <= h1 else
+                           [f"picture of {w} x {h} px"])
+    return report, found
+
+
 def save_figure(fig, path, dpi=120):
-    """Lay out ``fig``, write it to ``path`` and close it."""
-    fig.tight_layout()
+    """Lay out ``fig`` (unless it has a layout engine), write it to ``path`` and close it."""
+    engine = getattr(fig, "get_layout_engine", lambda: None)()
+    if engine is None or type(engine).__name__ == "PlaceHolderLayoutEngine":
+        fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     pyplot().close(fig)

@@ -164,15 +164,22 @@ def figures(args, rows, last):
     ax[0].set_xlim(0, 2.5)
     ax[0].set_ylim(-args.depth - 1.5, -args.depth + 1.5)
     ax[0].set_aspect("equal")
-    ax[0].set_title("Fig 5.5: mechanism speed / pipe speed")
-    fig.colorbar(tp, ax=ax[0])
+    ax[0].set_title(f"Fig 5.5: mechanism around the pipe ({model['n_elements']} elements)")
+    ax[0].set_xlabel("x [m]")
+    ax[0].set_ylabel("y [m]")
+    fig.colorbar(tp, ax=ax[0], label="speed / pipe speed")
     n_el = [r[0] for r in rows]
-    ax[1].plot(n_el, [r[2] for r in rows], "o-", label="ours (net of buoyancy)")
-    ax[1].axhspan(LOWER_RH, UPPER, color="g", alpha=0.2, label="9.14-9.20 bounds")
-    ax[1].axhline(THESIS, color="r", ls="--", label="thesis 9.29")
+    nc = [r[2] for r in rows]
+    ax[1].plot(n_el, nc, "o-", ms=7, zorder=3, label="ours (net of buoyancy)")
+    ax[1].axhspan(LOWER_RH, UPPER, color="g", alpha=0.2,
+                  label="9.14 (Randolph & Houlsby) - 9.20 (upper bound)")
+    ax[1].axhline(THESIS, color="r", ls="--", label="thesis 9.29 (2,812 elements)")
+    ax[1].set_xlim(0, 1.15 * max(n_el))
+    ax[1].set_ylim(min(8.6, min(nc) - 0.3), max(9.6, max(nc) + 0.1))
     ax[1].set_xlabel("elements")
     ax[1].set_ylabel("Nc = F / (r Su)")
-    ax[1].legend()
+    ax[1].set_title("pipe resistance against the mesh")
+    ax[1].legend(loc="lower right", fontsize=8)
     save_figure(fig, figure_dir(args, "buried_pipe") / "buried_pipe.png")
 
 

@@ -235,6 +235,7 @@ def figures(args, models, curves):
     ax.set_xlabel("footing settlement [m]")
     ax.set_ylabel("Nc = F / (pi R^2 c)")
     ax.set_ylim(0, 1.25 * ref)
+    ax.set_title(f"{'rough' if args.rough else 'smooth'} circular footing, Tresca")
     ax.legend(fontsize=8)
     save_figure(fig, out / "nc_settlement.png")
 

@@ -448,8 +448,11 @@ def render_deposits(out, rows):
         if not r.get("vtu"):
             continue
         for label, vtu in (("mid", r["vtu"][len(r["vtu"]) // 4]), ("final", r["vtu"][-1])):
+            when = "mid-run" if label == "mid" else "final deposit"
             render_png(vtu, out / f"pyvista_a{r['a']:g}_phi{r['phi']:g}_{label}.png",
-                       scalars="plastic_strain_increment", window_size=(1000, 500))
+                       scalars="plastic_strain_increment", window_size=(1200, 600),
+                       title=f"column a = {r['a']:g}, phi = {r['phi']:g}, {when}",
+                       bar_title="plastic strain increment")
 
 
 def figures(args, sweep, dt_study, mesh_study=()):
@@ -458,24 +461,32 @@ def figures(args, sweep, dt_study, mesh_study=()):
     plt = pyplot()
     out = figure_dir(args, "granular_column_plane")
     rows = sorted(sweep, key=lambda r: (r["phi"], r["a"]))
-    # one row a case: t = 0, 1, 4 and, if it went on, the deposit at rest
-    fig, axes = plt.subplots(len(rows), 4, figsize=(14, 1.5 * len(rows) + 0.8), squeeze=False)
-    for i, r in enumerate(rows):
-        frames = sorted(r["snapshots"])
-        for j, k in enumerate(frames[:4]):
+    # one figure a case, 2 x 2: t = 0, 1, 4 and, if it went on, the deposit at rest
+    for r in rows:
+        frames = sorted(r["snapshots"])[:4]
+        width = 1.2 + max(r["runout_over_d0"], 0) + 0.3
+        height = max(r["a"], 1.0) * 1.15
+        panel_h = float(np.clip(5.0 * height / width, 1.6, 5.0))
+        fig, axes = plt.subplots(2, 2, figsize=(11, 2 * panel_h + 1.2), squeeze=False,
+                                 sharex=True, sharey=True, layout="constrained")
+        speed_max = max(float(np.max(r["snapshots"][k]["speed"])) for k in frames) or 1.0
+        for ax, k in zip(axes.ravel(), frames):
             s = r["snapshots"][k]
-            ax = axes[i, j]
-            ax.scatter(s["points"][:, 0], s["points"][:, 1], c=s["speed"], s=2, cmap="viridis")
+            sc = ax.scatter(s["points"][:, 0], s["points"][:, 1], c=s["speed"], s=4,
+                            cmap="viridis", vmin=0, vmax=speed_max)
             ax.set_aspect("equal")
-            ax.set_xlim(-0.1, 1.2 + max(r["runout_over_d0"], 0) + 0.2)
+            ax.set_xlim(-0.1, width)
+            ax.set_ylim(-0.05, height)
             rest = " (at rest)" if k == frames[-1] and k > r["steps"] else ""
-            ax.set_title(f"a = {r['a']:g}, phi = {r['phi']:g}, t = {4 * k / r['steps']:.1f}{rest}",
-                         fontsize=7)
-            ax.tick_params(labelsize=6)
-        for j in range(len(frames), 4):
-            axes[i, j].axis("off")
-    fig.suptitle("granular columns (dots: particles, colour: speed), cf. Fig 6.12")
-    save_figure(fig, out / "snapshots.png")
+            ax.set_title(f"t / sqrt(h0/g) = {4 * k / r['steps']:.1f}{rest}", fontsize=10)
+            ax.set_xlabel("x / d0")
+            ax.set_ylabel("y / d0")
+        for ax in axes.ravel()[len(frames):]:
+            ax.axis("off")
+        fig.colorbar(sc, ax=axes, label="particle speed [m/s]", shrink=0.8)
+        fig.suptitle(f"granular column a = {r['a']:g}, phi = {r['phi']:g}: particles "
+                     "coloured by speed (cf. Fig 6.12)")
+        save_figure(fig, out / f"snapshots_a{r['a']:g}_phi{r['phi']:g}.png")
 
     a_fit = np.linspace(0.2, 8, 200)
     h_fit, r_fit = lube_thesis(a_fit)

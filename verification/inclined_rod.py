@@ -186,6 +186,8 @@ def figures(args, runs, steps, err):
     a2.loglog(steps, err, "o-", label="max|F - F_exact| / max|F_exact|")
     a2.loglog(steps, err[0] * steps[0] / steps, "k:", label="1/N")
     a2.set_xlabel("increments N")
+    a2.set_ylabel("max relative error of F")
+    a2.set_title("error against the increments (order 1)")
     a2.legend()
     a2.grid(True, which="both", alpha=0.3)
     save_figure(fig, figure_dir(args, "inclined_rod") / "inclined_rod.png")

@@ -113,7 +113,8 @@ def figures(args, el, pl):
     ax.plot(pl.times, pl.energy / K0, "C3", label="elastoplastic: K + W")
     ax.plot(pl.times, pl.dissipation / K0, "C3--", label="plastic dissipation D")
     ax.plot(pl.times, (pl.energy + pl.dissipation) / K0, "k:", label="K + W + D")
-    ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy")
+    ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy",
+           title="energy balance of the vibrating beam: K + W + D = K0")
     ax.legend(fontsize=8)
     save_figure(fig, figure_dir(args, "plastic_vibration") / "plastic_vibration.png")
 

@@ -127,6 +127,7 @@ def figures(args, theta, steps, strains):
     a1.loglog(nn, theta ** 2 / (2 * nn), "-", label=r"$\theta^2/(2N)$ (6.3)")
     a1.set_xlabel("increments N")
     a1.set_ylabel(r"spurious strain $-\varepsilon$")
+    a1.set_title(f"spurious strain of a rigid rotation by {np.degrees(theta):g} deg")
     a1.legend()
     a1.grid(True, which="both", alpha=0.3)
     n0 = int(min(n for n in steps if n >= 4))
@@ -136,7 +137,9 @@ def figures(args, theta, steps, strains):
     for k in range(x.shape[0]):
         a2.plot(x[k, :, 0], x[k, :, 1], "-o", ms=3, color=plt.cm.viridis(k / (x.shape[0] - 1)))
     a2.set_aspect("equal")
-    a2.set_title(f"N = {n0} increments (Fig 6.1)")
+    a2.set_xlabel("x (units of L0)")
+    a2.set_ylabel("y (units of L0)")
+    a2.set_title(f"the bar's positions, N = {n0} increments (Fig 6.1)")
     a2.legend()
     save_figure(fig, figure_dir(args, "rotating_bar") / "rotating_bar.png")
 

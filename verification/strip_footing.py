@@ -250,7 +250,9 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.set_aspect("equal")
         a.set_xlim(0, 2.0)
         a.set_ylim(-1.5, 0.05)
-        a.set_title(f"{m.t.shape[1]} elements (detail)")
+        a.set_title(f"Fig 3.5: {m.t.shape[1]} elements (detail)")
+        a.set_xlabel("x [m]")
+        a.set_ylabel("y [m]")
     save_figure(fig, out / "meshes.png")
 
     if mc:                                          # Fig 3.7
@@ -260,8 +262,9 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.plot(fine_phi, [prandtl_nc(p) for p in fine_phi], "k-", label="Prandtl (3.49)")
         a.plot(phis, [mc[p]["plateau"] for p in phis], "o", label="elastoplastic plateau")
         a.plot(phis, [mc[p]["limit"] for p in phis], "x", label="limit analysis")
-        a.set_xlabel("friction angle [deg]")
-        a.set_ylabel("Nc")
+        a.set_xlabel("friction angle phi [deg]")
+        a.set_ylabel("bearing capacity Nc")
+        a.set_title("Fig 3.7: Mohr-Coulomb footing against (3.49)")
         a.legend()
         save_figure(fig, out / "nc_phi.png")
 
@@ -277,10 +280,16 @@ def figures(args, models, curves, limits, mc, su, elastic):
     points, cells = io.mesh_arrays(disc.mesh)
     vtu = out / "plastic_zone.vtu"
     io.write_vtu(vtu, points, cells, cell_data={"yield_ratio": np.minimum(per_element, 1.0)})
-    if not viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio"):
+    title = (f"plastic zone at collapse (Tresca, {model['n_elements']} elements): "
+             "1 = at yield")
+    if not viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio",
+                          title=title, bar_title="yield ratio"):
         fig, a = plt.subplots(figsize=(6, 4))     # no off-screen OpenGL: matplotlib instead
         viz.plot_field(a, points, cells, np.minimum(per_element, 1.0), label="yield ratio")
         a.set_aspect("equal")
+        a.set_xlabel("x [m]")
+        a.set_ylabel("y [m]")
+        a.set_title(title)
         save_figure(fig, out / "plastic_zone.png")
 
 

@@ -294,20 +294,23 @@ def figures(args, report, curves, elastic):
         ax[0].axhline(refs[key] / args.c, color=f"C{i}", ls="--", lw=0.8)
     ax[0].set_xlabel("bore displacement / a")
     ax[0].set_ylabel("p / c")
+    ax[0].set_title("pressure-expansion curves (dashed: closed forms)")
     ax[0].legend(fontsize=7)
     meshes = report.extra["meshes"]
     for i, (key, p) in enumerate(report.extra["limit_pressure"].items()):
         ax[1].loglog(meshes, np.array(p) / refs[key] - 1, f"C{i}o-", label=LABELS[key])
     ax[1].set_xlabel("elements across the wall")
     ax[1].set_ylabel("limit pressure / closed form - 1")
+    ax[1].set_title("limit analysis converging from above")
     ax[1].legend(fontsize=7)
     el = elastic
     order = np.argsort(el["r"])
     for k, name in ((0, "s_rr"), (2, "s_tt"), (1, "s_zz")):
         ax[2].plot(el["r"][order], el["sigma_ref"][order, k], "k-", lw=0.8)
         ax[2].plot(el["r"][order], el["sigma"][order, k], ".", ms=3, label=name)
-    ax[2].set_xlabel("r")
-    ax[2].set_ylabel("stress (elastic check; lines: Lame)")
+    ax[2].set_xlabel("r [m]")
+    ax[2].set_ylabel("stress [kPa]")
+    ax[2].set_title("elastic stresses (lines: Lame)")
     ax[2].legend(fontsize=7)
     save_figure(fig, out / "thick_cylinder.png")
 

@@ -331,25 +331,36 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
     draw(ax, frame["x"], "k")
     for n in frame["pins"]:
         ax.plot(*frame["x"][n], "^", color="tab:red", ms=8)
-    ax.annotate("", xy=frame["x"][frame["load"]], xytext=frame["x"][frame["load"]] + [0, 15],
-                arrowprops=dict(arrowstyle="->", color="tab:blue"))
+    tip = frame["x"][frame["load"]]
+    ax.annotate("u_V", xy=tip, xytext=tip + [0, 15], ha="center", va="bottom",
+                color="tab:blue", arrowprops=dict(arrowstyle="->", color="tab:blue"))
+    ax.plot([], [], "^", color="tab:red", label="pins")
     ax.set_title(f"Fig 6.4: {len(frame['x'])} nodes, {len(bars)} bars")
     ax.set_aspect("equal")
     ax.autoscale()
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo - 2, max(hi, tip[1] + 25))      # room for the load arrow below the title
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(loc="lower right", fontsize=8)
     ax = axes[1]
-    draw(ax, frame["x"], "0.8", 0.4)
+    draw(ax, frame["x"], "0.75", 0.5, "initial shape")
     for target, c in zip((20.0, 40.0, 60.0), ("tab:blue", "tab:orange", "tab:green")):
         if target > u[-1] + 1e-9:
             continue
         i = int(np.argmin(np.abs(u - target)))
         draw(ax, hist.x[i], c, 0.7, f"SOCP, {target:g} mm")
-        ax.add_collection(LineCollection(x_ref[i][bars][::3], colors="k", linewidths=0.3,
-                                         linestyles=":"))
+        ax.add_collection(LineCollection(x_ref[i][bars][::3], colors="k", linewidths=0.9,
+                                         linestyles=(0, (1, 2))))
         ax.plot(*x_ref[i][frame["load"]], "x", color="k", ms=6)
+    ax.plot([], [], color="k", lw=0.9, ls=(0, (1, 2)), label="exact solver (every third bar)")
+    ax.plot([], [], "x", color="k", label="exact solver, loaded node")
     ax.set_aspect("equal")
     ax.autoscale()
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
     ax.legend(loc="lower right", fontsize=8)
-    ax.set_title("Fig 6.5: deformed shapes (dotted, x: exact solver)")
+    ax.set_title("Fig 6.5: deformed shapes at u_V = 20, 40, 60 mm")
     ax = axes[2]
     ax.plot(u, F, "-", label="mathematical programming (B.12), updated geometry")
     ax.plot(u_ref[::max(1, len(u) // 40)], F_ref[::max(1, len(u) // 40)], "o", ms=4,
