@@ -178,7 +178,7 @@ def _render(vtu_path, png_path, scalars=None, cmap="viridis", clim=None,
     if axes:
         plotter.show_bounds(xtitle=f"x [{units}]", ytitle=f"y [{units}]", ztitle="",
                             location="outer", ticks="outside", color="black",
-                            font_size=12, show_zaxis=False, show_zlabels=False,
+                            font_size=16, show_zaxis=False, show_zlabels=False,
                             use_2d=True)
     plotter.reset_camera()
     plotter.camera.zoom(1.05 if axes else 1.2)   # room for the axes and the colour bar
