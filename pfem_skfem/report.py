@@ -57,6 +57,7 @@ angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``:
 ``poisson_ratio``          a number in (-1, 0.5)
 ``fraction``               a number in [0, 1]
 ``theta_weight``           a theta-method weight in [1/2, 1] (4.4)
+``element_count``          an integer >= 4 (the approximate element count of a mesh)
 ``in_range(low, high)``    any other interval (``low_open``, ``high_open``,
                            ``integer``, ``unit``)
 ``positive(name)``         the older spelling of ``positive_float``
@@ -379,6 +380,7 @@ poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
                          what="a Poisson's ratio in (-1, 0.5)")
 fraction = in_range(0, 1, what="a fraction in [0, 1]")
 theta_weight = in_range(0.5, 1, what="a theta-method weight in [1/2, 1]")
+element_count = in_range(4, integer=True, what="a number of elements >= 4")
 
 
 def positive(name=None):

@@ -30,7 +30,8 @@ BAD = {
     "alpha_shape": [(["--h", "0"], "--h"), (["--alpha-step", "-0.1"], "--alpha-step"),
                     (["--radius", "x"], "--radius")],
     "buried_pipe": [(["--elements", "0"], "--elements"), (["--mu", "-0.1"], "--mu"),
-                    (["--r", "-1"], "--r"), (["--dt", "0"], "--dt"), (["--g", "-9.8"], "--g")],
+                    (["--r", "-1"], "--r"), (["--dt", "0"], "--dt"), (["--g", "-9.8"], "--g"),
+                    (["--elements", "3"], "--elements"), (["--depth", "20"], "--depth")],
     "cantilever": [(["--nx", "0"], "--nx"), (["--nu", "0.5"], "--nu"),
                    (["--theta1", "0.3"], "--theta1"), (["--steps", "-1"], "--steps"),
                    (["--dt", "0"], "--dt"), (["--g", "-1"], "--g"),
@@ -40,7 +41,7 @@ BAD = {
                          (["--tol", "-1"], "--tol")],
     "granular_column_plane": [(["--phi", "95"], "--phi"), (["--steps", "0"], "--steps"),
                               (["--settle", "-1"], "--settle"), (["--workers", "0"], "--workers"),
-                              (["--nx", "0"], "--nx"), (["--nu", "-1"], "--nu"),
+                              (["--nx", "1"], "--nx"), (["--nu", "-1"], "--nu"),
                               (["--mu", "-0.5"], "--mu"), (["--save-every", "-1"], "--save-every"),
                               (["--a", "0"], "--a"), (["--time-steps", "0"], "--time-steps")],
     "inclined_rod": [(["--steps", "0", "10"], "--steps"), (["--steps", "10", "10"], "--steps"),
@@ -55,12 +56,13 @@ BAD = {
                       (["--phi", "95"], "--phi"), (["--nu", "0.6"], "--nu"),
                       (["--increments", "0"], "--increments"),
                       (["--mc-increments", "0"], "--mc-increments"),
-                      (["--tol-tresca", "-0.1"], "--tol-tresca"), (["--c", "nan"], "--c")],
+                      (["--tol-tresca", "-0.1"], "--tol-tresca"), (["--c", "nan"], "--c"),
+                      (["--elements", "1"], "--elements"), (["--mc-elements", "2"], "--mc-elements")],
     "thick_cylinder": [(["--phi", "90"], "--phi"), (["--nu", "0.5"], "--nu"),
                        (["--nr", "0"], "--nr"), (["--a", "2", "--b", "1"], "--a"),
-                       (["--increments", "0"], "--increments")],
+                       (["--increments", "0"], "--increments"), (["--phi", "45"], "--phi")],
     "trussed_frame": [(["--steps", "0"], "--steps"), (["--uV", "-1"], "--uV"),
-                      (["--tol", "-1"], "--tol")],
+                      (["--tol", "-1"], "--tol"), (["--width", "7"], "--width")],
 }
 CASES = [(name, argv, option) for name, rows in BAD.items() for argv, option in rows]
 
@@ -105,7 +107,7 @@ def test_the_script_exits_with_code_2_from_the_command_line():
     proc = subprocess.run([sys.executable, str(ROOT / "verification" / "strip_footing.py"),
                            "--elements", "0"], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
-    assert "argument --elements: must be a positive integer, got '0'" in proc.stderr
+    assert "argument --elements: must be a number of elements >= 4, got '0'" in proc.stderr
 
 
 @pytest.mark.parametrize("argv, option", [
@@ -131,6 +133,7 @@ def test_the_cli_checks_its_options(argv, option, capsys):
     (rep.poisson_ratio, ["-0.9", "0", "0.499"], ["-1", "0.5", "0.6"]),
     (rep.fraction, ["0", "0.5", "1"], ["-0.1", "1.1"]),
     (rep.theta_weight, ["0.5", "1"], ["0.49", "1.01"]),
+    (rep.element_count, ["4", "1000"], ["3", "0"]),
 ])
 def test_validators_accept_their_range_and_refuse_the_rest(validator, good, bad):
     import argparse

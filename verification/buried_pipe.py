@@ -43,8 +43,9 @@ from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, progress_bar, pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               nonnegative_float, positive_float, progress_bar, pyplot,
+                               save_figure)
 
 QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
@@ -93,8 +94,16 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 
 
+def check(args):
+    """The pipe inside the column (a usage error naming the options), or None."""
+    if not (args.r < args.depth < args.height - args.r) or args.r >= args.width:
+        return (f"the pipe (--r {args.r:g} at --depth {args.depth:g}) must lie inside the "
+                f"column (--height {args.height:g}, --width {args.width:g})")
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--r", type=positive_float, default=0.5, help="pipe radius [m]")
     p.add_argument("--su", type=positive_float, default=50.0, help="undrained strength [kPa]")
     p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
@@ -107,7 +116,7 @@ def build_parser():
     p.add_argument("--dt", type=positive_float, default=None,
                    help="solve one dynamic step (4.23) of this length [s] (theta1 = theta2 "
                         "= 1, from rest) instead of the quasi-static step")
-    p.add_argument("--elements", type=positive_int, nargs="+", default=[700, 1400, 2812],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
     return p
 

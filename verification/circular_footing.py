@@ -45,9 +45,10 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
-                               nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               friction_angle, nonnegative_float, poisson_ratio,
+                               positive_float, positive_int, progress_bar, pyplot,
+                               save_figure)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)
@@ -131,7 +132,7 @@ def build_parser():
     p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
     p.add_argument("--rough", action="store_true",
                    help="rough footing: the soil under it moves with it (u_r = 0)")
-    p.add_argument("--elements", type=positive_int, nargs="+", default=[300, 1000, 3000],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[300, 1000, 3000],
                    help="approximate element counts of the three graded meshes")
     p.add_argument("--settlement", type=positive_float, default=0.03,
                    help="final footing displacement of the Nc-settlement curves [m]")
@@ -139,7 +140,7 @@ def build_parser():
                    help="increments of each Nc-settlement curve")
     p.add_argument("--phi", type=friction_angle, nargs="*", default=[10, 20, 30],
                    help="friction angles of the Mohr-Coulomb footings [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=positive_int, default=1000,
+    p.add_argument("--mc-elements", type=element_count, default=1000,
                    help="elements of the Mohr-Coulomb meshes")
     p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance on the smooth Nc (default 2%%, 3%% with --quick)")

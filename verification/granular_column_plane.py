@@ -51,7 +51,7 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, poisson_ratio,
                                positive_float, positive_int, progress, progress_bar, pyplot,
                                save_figure, workers)
@@ -290,6 +290,9 @@ def run_cases(cases, workers):
         return results
 
 
+PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
+
+
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
@@ -300,7 +303,7 @@ def build_parser():
                    help="base and wall friction coefficient (default tan phi)")
     p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
     p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--nx", type=positive_int, default=20, help="particles across the column width d0")
+    p.add_argument("--nx", type=PARTICLES_ACROSS, default=20, help="particles across the column width d0")
     p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
     p.add_argument("--settle", type=nonnegative_float, default=4.0,
@@ -308,7 +311,7 @@ def build_parser():
                         "until the deposit is at rest (0: stop at 4, as the thesis)")
     p.add_argument("--time-steps", type=positive_int, nargs="*", default=[],
                    help="time-step study for a = 1 (Fig 6.14-6.15), e.g. 100 200 400")
-    p.add_argument("--mesh-study", type=positive_int, nargs="*", default=[],
+    p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
                    help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
     p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")

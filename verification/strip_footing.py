@@ -38,9 +38,10 @@ from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
-                               nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               friction_angle, nonnegative_float, poisson_ratio,
+                               positive_float, positive_int, progress_bar, pyplot,
+                               save_figure)
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
@@ -129,13 +130,13 @@ def build_parser():
     p.add_argument("--B", type=positive_float, default=1.0, help="footing width [m]")
     p.add_argument("--settlement", type=positive_float, default=0.06,
                    help="final footing displacement for Tresca [m]")
-    p.add_argument("--elements", type=positive_int, nargs="+", default=[107, 390, 1144],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[107, 390, 1144],
                    help="approximate element counts of the graded meshes")
     p.add_argument("--increments", type=positive_int, nargs="+", default=[5, 10, 100],
                    help="numbers of increments of the Nc-settlement curves")
     p.add_argument("--phi", type=friction_angle, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
                    help="friction angles of the Mohr-Coulomb sweep [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=positive_int, default=None,
+    p.add_argument("--mc-elements", type=element_count, default=None,
                    help="elements of the Mohr-Coulomb meshes (default: the finest)")
     p.add_argument("--mc-increments", type=positive_int, default=20,
                    help="increments of each Mohr-Coulomb curve")

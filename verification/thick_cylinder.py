@@ -167,10 +167,17 @@ LABELS = {"tresca": "Tresca (3 cones)", "dp_compression_phi0": "DP (7.10), phi =
           "mohr_coulomb": "Mohr-Coulomb (3 cones)"}
 
 
+# 3 alpha < 1 for the (7.10) compression-meridian cone: sin phi < 3 / (2 sqrt3 + 1)
+PHI_MAX_ZERO_DILATION = float(np.degrees(np.arcsin(3 / (2 * np.sqrt(3) + 1))))
+
+
 def check(args):
     """A usage error for an empty wall (--a not below --b), or None."""
     if not args.a < args.b:
         return f"--a must be smaller than --b, got a = {args.a}, b = {args.b}"
+    if not 3 * drucker_prager_match(args.c, args.phi).alpha < 1:
+        return (f"--phi {args.phi:g}: the (7.10) cone has 3 alpha >= 1, no zero-dilation "
+                f"reference; take --phi below {PHI_MAX_ZERO_DILATION:.1f} degrees")
     return None
 
 

@@ -247,7 +247,13 @@ def exact_truss(x0, bars, area0, E, sigma_s, fixed, prescribed, path, n_incremen
 
 def check(args):
     """Options that cannot go together (a usage error), or None."""
-    return "--steps must be a positive integer" if args.steps < 1 else None
+    if args.steps < 1:
+        return "--steps must be a positive integer"
+    try:
+        trussed_frame(w=args.width)
+    except ValueError as err:
+        return f"--width {args.width:g}: {err}"
+    return None
 
 
 def build_parser():
