@@ -232,8 +232,12 @@ def run_cases(cases, workers):
 
 
 def check(args):
-    if not args.walls:
-        return "--walls needs smooth, rough or both"
+    if not (args.walls or args.dt_study or args.B_study):
+        return "nothing to run: give --walls, --dt-study or --B-study"
+    hs = args.h_study or args.h
+    if args.B_study and hs > min(args.B_study) / 1.5:
+        return (f"--h-study {hs:g} leaves fewer than 1.5 spacings across the outlet "
+                f"{min(args.B_study):g}")
     if args.B >= args.W or any(b >= args.W for b in args.B_study):
         return "--B (and --B-study) must be narrower than the bin --W"
     if args.h > args.B / 1.5:
