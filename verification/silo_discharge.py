@@ -271,7 +271,7 @@ def build_parser():
     p.add_argument("--B-study", type=float, nargs="*", default=[0.04, 0.08, 0.16],
                    help="outlet widths [m] of the scaling study (smooth, on the silo of "
                         "--H-study; the hopper keeps its half-angle)")
-    p.add_argument("--H-study", type=positive("H-study"), default=0.3,
+    p.add_argument("--H-study", type=positive("H-study"), default=0.2,
                    help="fill height [m] of the bin in the outlet study")
     p.add_argument("--h-study", type=positive("h-study"), default=None,
                    help="particle spacing [m] in the outlet study (default --h)")
