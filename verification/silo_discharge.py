@@ -435,6 +435,8 @@ def figures(args, runs, dt_runs, outlet_runs):
         plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    if not runs + dt_runs:
+        plt.close(fig)
     for r in runs + dt_runs:
         ls = "-" if r in runs else ":"
         ax.plot(r["t"], 1e4 * np.asarray(r["V"]) / 1000, ls,
@@ -446,17 +448,27 @@ def figures(args, runs, dt_runs, outlet_runs):
         ax.axvspan(*THESIS_T_EMPTY_BAND, color="C0", alpha=0.1,
                    label="thesis: smooth empty ~5 s (band 4-6.5 s)")
         ax.axvline(2 * THESIS_T_EMPTY, color="C1", ls="--", lw=1, label="thesis: rough ~2 x 5 s")
-    ax.set_ylim(0, None)
-    ax.set_xlabel("time t [s]")
-    ax.set_ylabel("volume in silo [1000 cm2 per unit thickness]")
-    ax.set_title("volume in the silo against time (cf. Fig 6.19); thin: linear fits 20-80 %")
-    ax.legend(fontsize=7)
-    save_figure(fig, out / "volume_vs_time.png")
+    if runs + dt_runs:
+        ax.set_ylim(0, None)
+        ax.set_xlabel("time t [s]")
+        ax.set_ylabel("volume in silo [1000 cm2 per unit thickness]")
+        ax.set_title("volume in the silo against time (cf. Fig 6.19); thin: linear fits 20-80 %")
+        ax.legend(fontsize=7)
+        save_figure(fig, out / "volume_vs_time.png")
 
     if len(outlet_runs) >= 2:
         B = np.array([r["B"] for r in outlet_runs])
         Q = np.array([r["Q"] for r in outlet_runs])
-        fig, ax = plt.subplots(figsize=(5, 4))
+        fig, (ax0, ax) = plt.subplots(1, 2, figsize=(10, 4))
+        for r in outlet_runs:
+            ax0.plot(r["t"], np.asarray(r["V"]) / r["V0"], label=f"B = {100 * r['B']:g} cm")
+        ax0.axhspan(1 - LINEAR_WINDOW[1], 1 - LINEAR_WINDOW[0], color="k", alpha=0.08,
+                    label="fitted window (20-80 % out)")
+        ax0.set_xlabel("time t [s]")
+        ax0.set_ylabel("V / V0")
+        ax0.set_title(f"outlet study: silo filled {100 * outlet_runs[0]['H']:g} cm above the "
+                      "hopper", fontsize=9)
+        ax0.legend(fontsize=8)
         ax.loglog(100 * B, 1e4 * Q, "o", label="PFEM, smooth")
         bb = np.geomspace(B.min() / 1.2, B.max() * 1.2, 20)
         mid = np.exp(np.mean(np.log(Q / B ** 1.5)))
