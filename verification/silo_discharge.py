@@ -1,4 +1,4 @@
-"""Discharge of a plane silo (thesis 6.4.4, Fig 6.16-6.19): the rate through the outlet, its time-step convergence and Beverloo's scaling.
+"""Silo discharge (thesis 6.4.4, Fig 6.16-6.19): the rate through an outlet, Beverloo's scaling.
 
 A plane-strain silo, a bin W = 50 cm wide filled H = 100 cm high above a hopper
 Hh = 35 cm high that narrows to an outlet B = 8 cm wide, holds cohesionless material
@@ -44,9 +44,12 @@ B^(3/2)) is reported (the thesis' 6015 cm2 in 5 s gives about 1.7).
 
 Usage::
 
-    python verification/silo_discharge.py --quick --json results/silo_discharge.json   # < 1 min
-    python verification/silo_discharge.py --walls smooth --dt-study --B-study          # one silo
-    python verification/silo_discharge.py --help                                       # every option
+    python verification/silo_discharge.py --quick --json results/silo_discharge.json  # < 1 min
+    python verification/silo_discharge.py --h 0.04 --dt 0.02 --dt-study 0.04 0.01 --B-study
+        # the thesis' silo, 2 particles across the outlet: both walls, 3 time steps (16 min)
+    python verification/silo_discharge.py --walls --dt-study --h 0.04 --h-study 0.02
+        # the outlet study alone: B = 4, 8, 16 cm on a silo filled 20 cm (11 min)
+    python verification/silo_discharge.py --help                                      # every option
 
 The full thesis size (h = 2 cm, 1,600 particles, dt = 0.005-0.04 s, both walls, the
 outlet study) is some thousands of steps of 1-7 s here: hours on two cores.
