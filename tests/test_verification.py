@@ -147,6 +147,10 @@ CASES = [
     ("trussed_frame", [], {"max_rel_diff_force": Between(0, 0.04),
                            "max_stress_over_yield": Between(0, 1 + 1e-6)},
      frame_has_the_bars_of_fig_6_4),
+    ("silo_discharge", ["--workers", "1"],
+     {"smooth_dt0.04_mass_balance": Between(0, 1e-12),           # inside + out = initial
+      "smooth_dt0.04_linearity_R2": Between(0.9, 1.0),           # Beverloo: constant rate
+      "Q_smooth_over_rough": Between(1.0, np.inf)}, None),       # thesis 6.4.4
     ("strip_footing", ["--phi", "20"], {"Nc": approx(2 + np.pi, rel=0.05),
                                         "Nc_limit_analysis": approx(2 + np.pi, rel=0.05),
                                         "Nc_MC_phi20": approx(prandtl_reissner(20), rel=0.075)},
