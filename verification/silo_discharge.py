@@ -68,8 +68,10 @@ from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
+                               nonnegative_float, nonnegative_int, positive, positive_float,
+                               positive_int, progress, pyplot, save_figure)
+from pfem_skfem.report import workers as worker_count
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -261,17 +263,17 @@ def build_parser():
     p.add_argument("--Hh", type=positive("Hh"), default=THESIS["Hh"], help="hopper height [m]")
     p.add_argument("--B", type=positive("B"), default=THESIS["B"], help="outlet width [m]")
     p.add_argument("--rho", type=positive("rho"), default=1.5, help="density [t/m3]")
-    p.add_argument("--c", type=float, default=0.0, help="cohesion [kPa]")
-    p.add_argument("--phi", type=positive("phi"), default=31.0, help="friction angle [deg]")
+    p.add_argument("--c", type=nonnegative_float, default=0.0, help="cohesion [kPa]")
+    p.add_argument("--phi", type=friction_angle, default=31.0, help="friction angle [deg]")
     p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
     p.add_argument("--walls", nargs="*", choices=("smooth", "rough"), default=["smooth", "rough"],
                    help="wall-solid interfaces: smooth mu = 0, rough mu = tan phi")
     p.add_argument("--h", type=positive("h"), default=0.02,
                    help="particle spacing [m] (0.02: 4 across the outlet, 1,600 particles)")
     p.add_argument("--dt", type=positive("dt"), default=0.01, help="time step [s]")
-    p.add_argument("--dt-study", type=float, nargs="*", default=[0.04, 0.02, 0.005],
+    p.add_argument("--dt-study", type=positive_float, nargs="*", default=[0.04, 0.02, 0.005],
                    help="further time steps [s] for the smooth silo (Fig 6.19)")
-    p.add_argument("--B-study", type=float, nargs="*", default=[0.04, 0.08, 0.16],
+    p.add_argument("--B-study", type=positive_float, nargs="*", default=[0.04, 0.08, 0.16],
                    help="outlet widths [m] of the scaling study (smooth, on the silo of "
                         "--H-study; the hopper keeps its half-angle)")
     p.add_argument("--H-study", type=positive("H-study"), default=0.2,
@@ -281,22 +283,22 @@ def build_parser():
     p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
     p.add_argument("--floor", type=positive("floor"), default=0.005,
                    help="least cone radius, as a fraction of rho g (Hh + H)")
-    p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--outlet-depth", type=float, default=0.0,
                    help="the outlet plane lies this far below the orifice [m]")
     p.add_argument("--t-max", type=positive("t-max"), default=14.0,
                    help="longest simulated time [s] of a run")
     p.add_argument("--empty", type=positive("empty"), default=0.02,
                    help="a silo is empty when V < empty V0 (the discharge time)")
-    p.add_argument("--r2-min", type=positive("r2-min"), default=0.97,
+    p.add_argument("--r2-min", type=fraction, default=0.97,
                    help="least R^2 of the linear fit of V(t) over 20-80 %% discharged")
     p.add_argument("--snapshots-smooth", type=float, nargs="*",
                    default=[0.0, 1.0, 2.0, 3.5, 4.0, 4.5], help="times [s] (Fig 6.17)")
     p.add_argument("--snapshots-rough", type=float, nargs="*",
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
-    p.add_argument("--save-every", type=int, default=0,
+    p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--workers", type=int, default=min(2, os.cpu_count() or 1),
+    p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),
                    help="parallel processes for the runs")
     return p
 
