@@ -101,9 +101,12 @@ def critical_taper(phi, phi_b, beta=0.0):
         return 0.5 * (r - a) if branch == 0 else 0.5 * (np.pi - r - a)
 
     eps = 1e-12
-    roots = [brentq(lambda a: a + b - (psi_b[k] - psi_0(a, k)), -p + eps, p - eps)
-             for k in (0, 1)]
-    return tuple(float(np.degrees(r)) for r in roots)
+    lower = lambda a: a + b - (psi_b[0] - psi_0(a, 0))              # noqa: E731
+    upper = lambda a: a + b - (psi_b[1] - psi_0(a, 1))              # noqa: E731
+    lo = 0.0 if lower(0.0) == 0 else brentq(lower, -p + eps, p - eps)
+    # the upper branch may not cross below phi (rough bases): then the slope of repose bounds
+    hi = brentq(upper, -p + eps, p - eps) if upper(-p + eps) * upper(p - eps) < 0 else p
+    return float(np.degrees(lo)), float(np.degrees(hi))
 
 
 def dahlen_F(psi, phi):
@@ -424,9 +427,10 @@ def run(args):
           f"(s h0 = {args.s * args.h0 * 1e4:.1f})")
     report.extra |= {"layer": {"particles": r["particles"], "elements": r["elements"],
                                "seconds": r["seconds"], "geometry": geo, "popup": pop,
-                               "s": r["s"][::max(1, args.steps // 100)],
-                               "wall_force": r["wall_force"][::max(1, args.steps // 100)],
-                               "profile": {"x": xc, "top": top}, "pvd": r["pvd"]}}
+                               "s": r["s"][::max(1, args.steps // 100)].tolist(),
+                               "wall_force": r["wall_force"][::max(1, args.steps // 100)].tolist(),
+                               "profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()},
+                               "pvd": r["pvd"]}}
     report.data = dict(stability=rows, layer=r | {"profile": (xc, top), "geometry": geo})
     return report
 
