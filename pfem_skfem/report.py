@@ -99,6 +99,9 @@ class Quantity:
 
 
 def _plain(v):
+    """A JSON value for ``v``: numpy scalars and arrays as Python numbers and lists."""
+    if isinstance(v, np.ndarray):
+        return v.tolist()
     if isinstance(v, (np.floating, np.integer)):
         v = v.item()
     if isinstance(v, float) and not math.isfinite(v):

@@ -108,6 +108,15 @@ def thick_cylinder_zero_dilation(report):
 
 
 CASES = [
+    ("cylinder_soil", [], {"F_V_penetration": Between(15, 23),        # DNV-RP-F114, thesis 18
+                           "F_H_steady": Between(6, 12),              # thesis 9
+                           "F_V_steady": Between(4, 11),              # thesis 7.5, downward
+                           "area_change_max": Between(0, 0.05)}, None),
+    ("accretionary_wedge", [], {"taper15_plastic_max": Between(0, 1e-2),   # Buiter Exp 1
+                                "taper3_plastic_max": Between(1, np.inf),  # below alpha_c
+                                "area_change_max": Between(0, 0.03),
+                                "first_bands_popup": 1,
+                                "surface_slope_deg": Between(5.375 - 2, 28.89)}, None),
     ("thick_cylinder", [], {"p_limit_tresca": approx(200 * np.log(2), rel=1e-3),
                             "p_limit_dp_compression_phi0": approx(400 / np.sqrt(3) * np.log(2),
                                                                   rel=1e-3),
@@ -219,3 +228,14 @@ def test_report_keeps_the_parameters_and_drops_the_harness_options():
     assert Report("c", argparse.Namespace(a=1.0)).params == {"a": 1.0}
     with pytest.raises(KeyError, match="no quantity 'missing'"):
         report.quantity("missing")
+
+
+def test_report_extras_with_arrays_write_as_json(tmp_path):
+    """Extra results may hold numpy arrays and scalars (a case's histories): they are written
+    as lists and numbers (an array used to end the JSON with 'Circular reference')."""
+    import json
+    report = Report("case", {})
+    report.extra = {"history": np.arange(3.0), "nested": {"peak": np.float64(2.5)}}
+    report.write_json(tmp_path / "r.json")
+    assert json.loads((tmp_path / "r.json").read_text())["extra"] == \
+        {"history": [0.0, 1.0, 2.0], "nested": {"peak": 2.5}}

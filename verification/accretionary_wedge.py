@@ -1,0 +1,517 @@
+"""A sand layer shortened by a moving wall builds an accretionary wedge (thesis 6.4.2, Fig 6.10).
+
+A layer of cohesionless material h0 = 8 cm high and L = 140 cm long (phi = 30 deg,
+psi = 0 by the scheme of [80], rho = 2 t/m3, g = 9.8 m/s2) rests on a rigid base of
+friction tan 15 deg; its left wall (friction tan 30 deg) is pushed 16 cm into it in
+1,000 quasi-static steps; alpha = 1.4. The PFEM engine
+(:mod:`pfem_skfem.drivers.pfem_loop`) runs it with the wall a
+:class:`~pfem_skfem.scene.Body` moving at constant velocity. The thesis' data
+contradict each other (0.4 cm/s x 0.16 s x 1,000 steps = 64 cm, not 16 cm); its
+snapshots run to 16 cm, which controls: 0.016 cm a step. The problem is
+rate-independent, so the step's displacement is what matters; the default time step
+0.16 s (wall speed 0.1 cm/s) keeps the acceleration of the layer at the start,
+du / dt^2, under 0.1 % of g. Units: kN, m, t, s.
+
+References
+----------
+* Critical taper theory for a dry cohesionless wedge on a base of friction angle phi_b
+  (Dahlen 1984, JGR 89:10125; Lehner 1986, JGR 91:793): the surface slope alpha and
+  base dip beta of a wedge at the verge of failure everywhere satisfy
+  alpha + beta = psi_b - psi_0 with psi_b = (arcsin(sin phi_b / sin phi) - phi_b) / 2
+  and psi_0 = (arcsin(sin alpha / sin phi) - alpha) / 2 (the angles of the largest
+  compressive stress to base and surface; the other roots of the arcsines give the
+  upper branch). For phi = 30, phi_b = 15, beta = 0: alpha_c = 5.375 deg (lower, the
+  compressive critical taper) and 28.89 deg (upper); between, the wedge is stable: it
+  slides on its base without deforming. Computed here for any phi, phi_b
+  (:func:`critical_taper`) and checked against Dahlen's identity tan(alpha) = F(psi_0),
+  mu_b = F(psi_b), F(psi) = tan 2psi / (csc phi sec 2psi - 1).
+* Mass balance (incompressible flow, psi = 0): the material the wall pushes in, s h0 per
+  unit length, lifts the surface; a triangular wedge of taper alpha then reaches
+  L_w = sqrt(2 A_up / tan alpha) from the wall (A_up the uplifted area, s h0 if the layer
+  keeps its area): 52 cm for s = 16 cm at alpha_c.
+* Buiter et al. (2016), J. Struct. Geol. 92:140, Exp 1 (the classic test of wedge
+  models): a wedge inside the stable field translates without deforming;
+  ``--stability-test --taper DEG --base-friction DEG`` is that test on a pre-built
+  triangular wedge pushed by a smooth wall (below alpha_c it deforms instead).
+* Thesis 6.4.2 (qualitative): a V-shaped pop-up at the wall first; then new bands farther
+  out in a sequence Mary et al. call chaotic (not asserted here).
+
+Usage::
+
+    python verification/accretionary_wedge.py --quick --json results/accretionary_wedge.json
+    python verification/accretionary_wedge.py --stability-test --taper 15
+    python verification/accretionary_wedge.py --stability-test --taper 3
+    python verification/accretionary_wedge.py --h 0.005 --steps 1000 --save-every 20   # thesis size
+    python verification/accretionary_wedge.py --help                                    # every option
+
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+come from :func:`pfem_skfem.report.base_parser`.
+"""
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+from pfem_skfem.drivers import pfem_loop
+from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
+from pfem_skfem.fields import element_mean
+from pfem_skfem.materials import ZeroDilationMohrCoulomb
+from pfem_skfem.pfem import alpha_shape
+from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
+from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+                               nonnegative_float, nonnegative_int, positive, positive_int, progress,
+                               pyplot, save_figure)
+from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
+
+QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
+CONTACTS = {"coulomb": CoulombCones, "zero-dilation": LaggedFriction}
+SNAP_S = (0.004, 0.08, 0.10, 0.12, 0.14, 0.16)          # Fig 6.10
+# Stability test: a wedge "slides without deforming" when the largest equivalent plastic
+# strain increment of the last step is below RIGID x the imposed strain du / H, and
+# "deforms" when it is above DEFORMS x du / H (a band a few elements wide takes all of
+# the wall's motion: du / (few h) >> du / H).
+RIGID = 1e-2
+DEFORMS = 1.0
+
+
+# -- critical taper ----------------------------------------------------------------------------
+def critical_taper(phi, phi_b, beta=0.0):
+    """The critical surface slopes (lower, upper) [deg] of a dry cohesionless wedge (Dahlen 1984,
+    Lehner 1986): alpha + beta = psi_b - psi_0 on the compressive branch.
+
+    Parameters
+    ----------
+    phi : internal friction angle [deg];  phi_b : base friction angle [deg], < phi;
+    beta : dip of the base [deg] (0: horizontal).
+
+    Returns
+    -------
+    (alpha_lower, alpha_upper) : between them the wedge is stable (slides undeformed).
+    """
+    p, pb, b = np.radians([phi, phi_b, beta])
+    if not 0 <= pb < p < np.pi / 2:
+        raise ValueError(f"need 0 <= phi_b < phi < 90 deg, got phi = {phi}, phi_b = {phi_b}")
+    s = np.arcsin(np.sin(pb) / np.sin(p))
+    psi_b = (0.5 * (s - pb), 0.5 * (np.pi - s - pb))          # sin(2 psi_b + phi_b) = sin phi_b / sin phi
+
+    def psi_0(a, branch):                                    # sin(2 psi_0 + a) = sin a / sin phi
+        r = np.arcsin(np.sin(a) / np.sin(p))
+        return 0.5 * (r - a) if branch == 0 else 0.5 * (np.pi - r - a)
+
+    eps = 1e-12
+    lower = lambda a: a + b - (psi_b[0] - psi_0(a, 0))              # noqa: E731
+    upper = lambda a: a + b - (psi_b[1] - psi_0(a, 1))              # noqa: E731
+    lo = 0.0 if lower(0.0) == 0 else brentq(lower, -p + eps, p - eps)
+    # the upper branch may not cross below phi (rough bases): then the slope of repose bounds
+    hi = brentq(upper, -p + eps, p - eps) if upper(-p + eps) * upper(p - eps) < 0 else p
+    return float(np.degrees(lo)), float(np.degrees(hi))
+
+
+def dahlen_F(psi, phi):
+    """Dahlen's F(psi, phi) = tan 2psi / (csc phi sec 2psi - 1) [radians]."""
+    return np.tan(2 * psi) / (1 / (np.sin(phi) * np.cos(2 * psi)) - 1)
+
+
+def dahlen_residual(alpha, phi, phi_b):
+    """|tan alpha - F(psi_0)| + |tan phi_b - F(psi_b)| at a critical taper (0 to round-off)."""
+    a, p, pb = np.radians([alpha, phi, phi_b])
+    psi0 = 0.5 * (np.arcsin(np.sin(a) / np.sin(p)) - a)
+    psib = a + psi0
+    return float(abs(np.tan(a) - dahlen_F(psi0, p)) + abs(np.tan(pb) - dahlen_F(psib, p)))
+
+
+def wedge_length(area_up, alpha):
+    """Length from the wall of a triangular wedge of taper alpha [deg] holding area_up."""
+    return float(np.sqrt(2 * area_up / np.tan(np.radians(alpha))))
+
+
+# -- scenes ------------------------------------------------------------------------------------
+def soil(phi, k_min):
+    return ZeroDilationMohrCoulomb(c=0.0, phi=phi, k_min=k_min)
+
+
+def layer_scene(*, h0=0.08, L=1.4, h=0.01, phi=30.0, rho=2.0, g=9.8, mu_wall=None, phi_b=15.0,
+                s=0.16, steps=1000, dt=0.16, alpha=1.4, k_min=0.005, contact="zero-dilation",
+                passes=3, lattice="triangular", theta1=1.0, theta2=1.0):
+    """The layer of thesis 6.4.2 pushed by its left wall by ``s`` in ``steps`` steps."""
+    mu_wall = np.tan(np.radians(phi)) if mu_wall is None else mu_wall
+    layer = Region(((0.0, 0.0), (L, 0.0), (L, h0), (0.0, h0)), soil(phi, k_min), rho, h,
+                   lattice=lattice, stress=Geostatic(), name="sand")
+    big = 10 * L
+    bodies = (Body("base", RigidSegment((-big, 0.0), (big, 0.0), np.tan(np.radians(phi_b)))),
+              Body("wall", RigidSegment((0.0, big), (0.0, -h), mu_wall),
+                   ConstantVelocity((s / (steps * dt), 0.0))),
+              Body("end", RigidSegment((L, -h), (L, big), 0.0)))     # the far end: smooth
+    rule = CONTACTS[contact]()
+    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=rule,
+                          passes=max(passes, rule.passes_needed))
+    return Scene(regions=(layer,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=h0,
+                 t_end=steps * dt, config=numerics)
+
+
+def taper_scene(*, taper=15.0, H=0.05, layers=8, phi=30.0, phi_b=15.0, rho=2.0, g=9.8,
+                du=1.6e-4, dt=0.16, alpha=1.4, k_min=0.005, contact="zero-dilation", passes=3,
+                lattice="triangular"):
+    """A pre-built triangular wedge (height H at a smooth wall, surface slope ``taper``) on a
+    base of friction tan(phi_b), pushed by the wall by ``du`` a step."""
+    length = H / np.tan(np.radians(taper))
+    wedge = Region(((0.0, 0.0), (length, 0.0), (0.0, H)), soil(phi, k_min), rho, H / layers,
+                   lattice=lattice, stress=Geostatic(), name="wedge")
+    big = 10 * length
+    bodies = (Body("base", RigidSegment((-big, 0.0), (big, 0.0), np.tan(np.radians(phi_b)))),
+              Body("wall", RigidSegment((0.0, big), (0.0, -H / layers), 0.0),
+                   ConstantVelocity((du / dt, 0.0))))
+    rule = CONTACTS[contact]()
+    numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=rule,
+                          passes=max(passes, rule.passes_needed))
+    return Scene(regions=(wedge,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=H,
+                 config=numerics)
+
+
+# -- the stability test ------------------------------------------------------------------------
+def stability_test(taper, phi_b=15.0, phi=30.0, steps=6, layers=8, H=0.05, du=1.6e-4,
+                   **options):
+    """Push a pre-built wedge ``steps`` steps; returns the measures of its last step.
+
+    plastic_max / plastic_mean : largest and mean equivalent plastic strain increment,
+    in units of the imposed strain du / H;  wall_force_over_mu_b_W : the wall's push over
+    the base friction of the whole wedge mu_b W (1 when it slides as one block).
+    """
+    scene = taper_scene(taper=taper, H=H, layers=layers, phi=phi, phi_b=phi_b, du=du, **options)
+    state = scene.initial_state()
+    t0 = time.perf_counter()
+    history = []
+    for _ in range(steps):
+        state, record, result = pfem_loop.pfem_step(state, scene)
+        history.append(result.plastic_strain / (du / H))
+    weight = scene.regions[0].rho * 9.8 * scene.regions[0].area
+    push = -record["forces"]["wall"][0]
+    return {"taper": taper, "phi": phi, "phi_b": phi_b, "steps": steps,
+            "particles": int(state.n),
+            "plastic_max": float(history[-1].max()), "plastic_mean": float(history[-1].mean()),
+            "plastic_max_history": [float(hst.max()) for hst in history],
+            "wall_force_over_mu_b_W": float(push / (np.tan(np.radians(phi_b)) * weight)),
+            "seconds": time.perf_counter() - t0, "x": state.x.copy(),
+            "last": (result.disc.mesh.p.T.copy(), result.disc.mesh.t.T.copy(),
+                     element_mean(result.disc, history[-1]))}
+
+
+# -- the layer: measures -----------------------------------------------------------------------
+def surface_profile(x, h, alpha, bins):
+    """Height of the material's upper boundary at the centres of ``bins`` (the highest
+    particle of the main body in each bin; nan where empty)."""
+    shape = alpha_shape(x, h, alpha)
+    main = int(np.argmax(shape.body_area))
+    pts = x[np.unique(shape.triangles[shape.body == main])]
+    k = np.digitize(pts[:, 0], bins) - 1
+    top = np.full(len(bins) - 1, np.nan)
+    for i in range(len(bins) - 1):
+        if np.any(k == i):
+            top[i] = pts[k == i, 1].max()
+    return 0.5 * (bins[1:] + bins[:-1]), top
+
+
+def wedge_geometry(xc, top, x_wall, h0, spacing):
+    """The thickened wedge from the surface profile: its crest (highest point), its front
+    (the first x past the crest where the surface is back within a spacing of h0), the
+    area lifted above h0 between wall and front, and the mean surface slope [deg] away from
+    the wall: a straight-line fit over the middle two thirds from the crest to the front."""
+    ok = np.isfinite(top) & (xc > x_wall)
+    xc, top = xc[ok], top[ok]
+    crest = int(np.argmax(top))
+    beyond = np.flatnonzero((top <= h0 + spacing) & (np.arange(len(top)) > crest))
+    front = xc[beyond[0]] if beyond.size else xc[-1]
+    inside = xc <= front
+    area_up = float(np.trapezoid(np.clip(top[inside] - h0, 0, None), xc[inside]))
+    span = front - xc[crest]
+    mid = (xc >= xc[crest] + span / 6) & (xc <= front - span / 6)
+    slope = -np.polyfit(xc[mid], top[mid], 1)[0] if mid.sum() >= 2 else np.nan
+    return {"front": float(front), "length": float(front - x_wall), "area_up": area_up,
+            "crest_x": float(xc[crest]), "crest": float(top[crest]),
+            "slope_deg": float(np.degrees(np.arctan(slope)))}
+
+
+def popup(points, cells, deps, h0, x_wall, fraction=0.5):
+    """A V of two bands rooted near the base of the wall, from the plastic strain field.
+
+    The elements straining more than ``fraction`` of the largest increment form the bands;
+    their lowest point (within 2 h0 of the wall) is the root; the straining elements on
+    either side of it are fitted by straight lines y(x). A pop-up: a back thrust rising
+    towards the wall (dy/dx < 0) and a forward thrust rising away from it (dy/dx > 0),
+    both dipping between 15 and 75 deg.
+    Returns dict(root_x, root_y, back_dip, fore_dip, is_popup).
+    """
+    centre = points[cells].mean(axis=1)
+    hot = deps > fraction * deps.max()
+    near = hot & (centre[:, 0] < x_wall + 2.5 * h0)
+    c = centre[near]
+    out = {"root_x": np.nan, "root_y": np.nan, "back_dip": np.nan, "fore_dip": np.nan,
+           "is_popup": False}
+    if len(c) < 4:
+        return out
+    low = c[c[:, 1] <= c[:, 1].min() + 0.25 * h0]
+    root = low.mean(axis=0)
+    out["root_x"], out["root_y"] = float(root[0] - x_wall), float(root[1])
+    left, right = c[c[:, 0] < root[0]], c[c[:, 0] > root[0]]
+    dips = []
+    for side in (left, right):
+        if len(side) >= 2 and np.ptp(side[:, 0]) > 0:
+            slope = np.polyfit(side[:, 0], side[:, 1], 1)[0]
+            dips.append(float(np.degrees(np.arctan(slope))))
+        else:
+            dips.append(np.nan)
+    out["back_dip"], out["fore_dip"] = -dips[0], dips[1]
+    out["is_popup"] = bool(np.isfinite(dips).all() and 15 <= -dips[0] <= 75 and 15 <= dips[1] <= 75
+                           and root[1] < 0.5 * h0)
+    return out
+
+
+def run_layer(*, outdir=None, save_every=0, show_progress=False, **options):
+    """The thesis' layer shortened by s; returns histories, snapshots and the final state."""
+    scene = layer_scene(**options)
+    s, steps = options["s"], options["steps"]
+    du = s / steps
+    state = scene.initial_state()
+    snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
+    series = None
+    if outdir is not None and save_every:
+        from pfem_skfem.io import TimeSeries
+        case_dir = Path(outdir) / f"h{options['h']:g}_n{steps}"
+        case_dir.mkdir(parents=True, exist_ok=True)
+        series = TimeSeries(case_dir, "wedge")
+    bar = None
+    if show_progress:
+        def bar(i, n, rec):
+            if i % 10 == 0 or i == n:
+                progress(f"step {i}/{n}: wall {-rec['forces']['wall'][0]:.4f} kN/m, "
+                         f"dA = {rec['area_change']:+.2%}, {rec['seconds']:.1f} s")
+    t0 = time.perf_counter()
+    state, snaps = pfem_loop.run(state, scene, steps, series=series, save_every=save_every,
+                                 snapshots=set(snap), progress=bar)
+    hist = state.history
+    return {"scene": scene, "state": state, "du": du,
+            "s": np.arange(1, steps + 1) * du,
+            "wall_force": -np.array([f["wall"][0] for f in hist["forces"]]),
+            "area_change": np.asarray(hist["area_change"]),
+            "status": list(hist["status"]),
+            "snapshots": {snap[k]: v for k, v in sorted(snaps.items())},
+            "seconds": time.perf_counter() - t0,
+            "seconds_per_step": float(np.mean(hist["seconds"])),
+            "particles": int(state.n), "elements": int(np.median(hist["elements"])),
+            "config": config_summary(scene),
+            "pvd": str(series.pvd_path) if series is not None else None}
+
+
+# -- the script --------------------------------------------------------------------------------
+def check(args):
+    if not 0 <= args.base_friction < args.phi:
+        return "--base-friction must lie in [0, --phi)"
+    if args.steps < 1 or args.stability_steps < 2:
+        return "--steps must be >= 1 and --stability-steps >= 2"
+    if args.h > args.h0 / 3:
+        return "--h must be at most h0 / 3 (three particles through the layer)"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--h0", type=positive("h0"), default=0.08, help="layer height [m]")
+    p.add_argument("--L", type=positive("L"), default=1.4, help="layer length [m]")
+    p.add_argument("--phi", type=friction_angle, default=30.0, help="friction angle [deg]")
+    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
+    p.add_argument("--mu-wall", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
+                   help="friction of the pushing wall (tan 30 deg)")
+    p.add_argument("--base-friction", type=in_range(0, 90, high_open=True, unit="degrees"),
+                   default=15.0,
+                   help="base friction angle phi_b [deg] (mu_b = tan phi_b)")
+    p.add_argument("--s", type=positive("s"), default=0.16, help="wall displacement [m]")
+    p.add_argument("--steps", type=positive_int, default=1000, help="steps for the wall displacement")
+    p.add_argument("--dt", type=positive("dt"), default=0.16, help="time step [s]")
+    p.add_argument("--h", type=positive("h"), default=0.01, help="particle spacing [m]")
+    p.add_argument("--alpha", type=positive("alpha"), default=1.4, help="alpha-shape parameter")
+    p.add_argument("--k-min", type=positive("k_min"), default=0.005,
+                   help="least cone radius / (rho g h0)")
+    p.add_argument("--contact", choices=sorted(CONTACTS), default="zero-dilation",
+                   help="contact rule at base and wall")
+    p.add_argument("--passes", type=positive_int, default=3, help="fixed-point passes a step")
+    p.add_argument("--stability-test", action="store_true",
+                   help="only the critical-taper stability test on a pre-built wedge")
+    p.add_argument("--taper", type=float, nargs="+", default=[15.0, 3.0],
+                   help="surface slopes [deg] of the stability test's wedges")
+    p.add_argument("--stability-steps", type=in_range(2, integer=True), default=6, help="push steps of the test")
+    p.add_argument("--stability-layers", type=positive_int, default=8,
+                   help="particles through the height of the test wedge")
+    p.add_argument("--save-every", type=nonnegative_int, default=0, help="VTU every this many steps (0: none)")
+    return p
+
+
+def add_stability(report, args, rows):
+    low, high = critical_taper(args.phi, args.base_friction)
+    for r in rows:
+        stable = low < r["taper"] < high
+        tag = f"taper{r['taper']:g}"
+        if stable:
+            report.add_interval(f"{tag}_plastic_max", r["plastic_max"], 0.0, RIGID,
+                                f"inside the stable field {low:.2f}-{high:.2f} deg: slides "
+                                f"undeformed (< {RIGID:g} du/H)")
+            report.add(f"{tag}_wall_force_over_mu_b_W", r["wall_force_over_mu_b_W"], 1.0,
+                       "slides as one block: the wall pushes mu_b W", 0.01)
+        else:
+            report.add_interval(f"{tag}_plastic_max", r["plastic_max"], DEFORMS, np.inf,
+                                f"outside the stable field {low:.2f}-{high:.2f} deg: deforms "
+                                f"(> {DEFORMS:g} du/H)")
+    print(f"\ncritical taper (phi = {args.phi:g}, phi_b = {args.base_friction:g}): "
+          f"{low:.3f} - {high:.3f} deg")
+    print(f"{'taper':>6s} {'stable?':>8s} {'particles':>9s} {'max dep/(du/H)':>15s} "
+          f"{'mean':>9s} {'F/(mu_b W)':>10s} {'s':>6s}")
+    for r in rows:
+        print(f"{r['taper']:6g} {str(low < r['taper'] < high):>8s} {r['particles']:9d} "
+              f"{r['plastic_max']:15.3g} {r['plastic_mean']:9.3g} "
+              f"{r['wall_force_over_mu_b_W']:10.4f} {r['seconds']:6.1f}")
+
+
+def run(args):
+    """The stability test, and unless --stability-test the layer of thesis 6.4.2."""
+    report = Report("accretionary_wedge", args)
+    low, high = critical_taper(args.phi, args.base_friction)
+    report.add_interval("critical_taper_dahlen_residual",
+                        dahlen_residual(low, args.phi, args.base_friction), 0.0, 1e-12,
+                        "Dahlen (1984): tan alpha_c = F(psi_0), mu_b = F(psi_b)")
+    rows = [stability_test(t, phi_b=args.base_friction, phi=args.phi, steps=args.stability_steps,
+                           layers=args.stability_layers, k_min=args.k_min, contact=args.contact,
+                           passes=args.passes, alpha=args.alpha)
+            for t in args.taper]
+    add_stability(report, args, rows)
+    report.extra = {"critical_taper_deg": [low, high],
+                    "stability": [{k: v for k, v in r.items() if k not in ("x", "last")}
+                                  for r in rows]}
+    report.data = dict(stability=rows, layer=None)
+    if args.stability_test:
+        return report
+    r = run_layer(outdir=Path(args.outdir) / "accretionary_wedge", save_every=args.save_every,
+                  show_progress=args.progress, h0=args.h0, L=args.L, h=args.h, phi=args.phi,
+                  rho=args.rho, g=args.g, mu_wall=args.mu_wall, phi_b=args.base_friction,
+                  s=args.s, steps=args.steps, dt=args.dt, alpha=args.alpha, k_min=args.k_min,
+                  contact=args.contact, passes=args.passes)
+    state = r["state"]
+    x_wall = args.s
+    bins = np.arange(x_wall, args.L + args.h, args.h)
+    xc, top = surface_profile(state.x, state.h, args.alpha, bins)
+    geo = wedge_geometry(xc, top, x_wall, args.h0, args.h)
+    report.add_interval("area_change_max", float(np.abs(r["area_change"]).max()), 0.0, 0.03,
+                        "the layer keeps its area (issue 15: < 3 %)")
+    report.add_interval("steps_failed", float(sum(st not in ("optimal", "optimal_inaccurate")
+                                                  for st in r["status"])),
+                        0.0, 0.0, "every step solved ('optimal', or Clarabel's 'AlmostSolved')")
+    first = min(r["snapshots"])
+    snap = r["snapshots"][first]
+    pop = popup(snap["points"], snap["cells"], np.asarray(snap["deps"]), args.h0,
+                first)
+    report.add_interval("first_bands_popup", float(pop["is_popup"]), 1.0, 1.0,
+                        f"thesis Fig 6.10 at s = {first * 100:g} cm: a V of two bands rooted "
+                        f"near the base of the wall (back dip {pop['back_dip']:.0f}, fore dip "
+                        f"{pop['fore_dip']:.0f} deg, root {pop['root_x'] * 100:.1f} cm out)")
+    report.add_interval("surface_slope_deg", geo["slope_deg"], low - 2.0, high,
+                        f"critical taper (Dahlen 1984, Lehner 1986): stable field from "
+                        f"alpha_c = {low:.2f} deg (less 2 deg) to {high:.2f}", reference=low)
+    predicted = wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5))
+    report.add("wedge_length_vs_mass_balance", geo["length"], predicted,
+               "mass balance: L_w = sqrt(2 A_up / tan alpha) at the measured slope", 0.3)
+    print(f"\nlayer: {r['particles']} particles, {r['elements']} elements, {args.steps} steps of "
+          f"{r['du'] * 100:.3g} cm, {r['seconds']:.0f} s ({r['seconds_per_step']:.2f} s a step)")
+    print(f"wedge: front {geo['front'] * 100:.1f} cm, length {geo['length'] * 100:.1f} cm "
+          f"(mass balance at the measured slope {predicted * 100:.1f} cm; at alpha_c "
+          f"{wedge_length(args.s * args.h0, low) * 100:.1f} cm), slope {geo['slope_deg']:.2f} deg, "
+          f"crest {geo['crest'] * 100:.2f} cm, uplift {geo['area_up'] * 1e4:.1f} cm2 "
+          f"(s h0 = {args.s * args.h0 * 1e4:.1f})")
+    report.extra |= {"layer": {"particles": r["particles"], "elements": r["elements"],
+                               "seconds": r["seconds"], "geometry": geo, "popup": pop,
+                               "s": r["s"][::max(1, args.steps // 100)].tolist(),
+                               "wall_force": r["wall_force"][::max(1, args.steps // 100)].tolist(),
+                               "profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()},
+                               "pvd": r["pvd"]}}
+    report.data = dict(stability=rows, layer=r | {"profile": (xc, top), "geometry": geo})
+    return report
+
+
+def figures(args, stability, layer):
+    """The stability test's plastic strain; Fig 6.10 snapshots, the wall force, the profile."""
+    from matplotlib.tri import Triangulation
+    plt = pyplot()
+    out = figure_dir(args, "accretionary_wedge")
+    low, high = critical_taper(args.phi, args.base_friction)
+    fig, axes = plt.subplots(len(stability), 1, figsize=(10, 2.2 * len(stability) + 0.6),
+                             squeeze=False, layout="constrained")
+    for ax, r in zip(axes[:, 0], stability):
+        p, t, dep = r["last"]
+        pc = ax.tripcolor(Triangulation(p[:, 0], p[:, 1], t), facecolors=dep, cmap="viridis",
+                          vmin=0, vmax=max(DEFORMS, float(dep.max())))
+        ax.set_aspect("equal")
+        verdict = "stable" if low < r["taper"] < high else "below alpha_c"
+        ax.set_title(f"taper {r['taper']:g} deg ({verdict}; alpha_c = {low:.2f} deg): "
+                     f"max = {r['plastic_max']:.2g} du/H, wall force = "
+                     f"{r['wall_force_over_mu_b_W']:.3f} mu_b W", fontsize=9)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        fig.colorbar(pc, ax=ax, label="plastic strain increment / (du/H)")
+    fig.savefig(out / "stability_test.png", dpi=120)
+    plt.close(fig)
+    if layer is None:
+        return
+    snaps = layer["snapshots"]
+    fig, axes = plt.subplots(len(snaps), 1, figsize=(12, 1.3 * len(snaps) + 1.0), squeeze=False,
+                             layout="constrained")
+    vmax = 0.003 * layer["du"] / 1.6e-4            # the thesis' scale at 0.016 cm a step
+    for ax, (s, snap) in zip(axes[:, 0], snaps.items()):
+        pts = snap["points"]
+        pc = ax.tripcolor(Triangulation(pts[:, 0], pts[:, 1], snap["cells"]),
+                          facecolors=np.asarray(snap["deps"]), cmap="jet", vmin=0, vmax=vmax)
+        ax.set_aspect("equal")
+        ax.set_xlim(0, args.L)
+        ax.set_ylim(0, 2.2 * args.h0)
+        ax.set_title(f"wall displacement {s * 100:g} cm", fontsize=9)
+        ax.set_ylabel("y [m]")
+    axes[-1, 0].set_xlabel("x [m]")
+    fig.colorbar(pc, ax=axes.ravel().tolist(), shrink=0.8,
+                 label="equivalent plastic strain increment per step [-]")
+    fig.suptitle("accretionary wedge (cf. Fig 6.10)")
+    fig.savefig(out / "snapshots.png", dpi=120)
+    plt.close(fig)
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4))
+    ax[0].plot(layer["s"] * 100, layer["wall_force"], "-")
+    ax[0].set_xlabel("wall displacement s [cm]")
+    ax[0].set_ylabel("force on the wall per unit length [kN/m]")
+    ax[0].set_title("push on the wall")
+    weight = args.rho * args.g * args.h0 * args.L
+    ax[0].axhline(np.tan(np.radians(args.base_friction)) * weight, color="k", ls=":",
+                  label="mu_b x weight of the whole layer (it would slide)")
+    ax[0].legend(fontsize=8)
+    xc, top = layer["profile"]
+    geo = layer["geometry"]
+    ax[1].plot(xc * 100, top * 100, "k-", label="PFEM surface")
+    x_wall = args.s
+    for alpha_, style, label in ((low, "--", f"critical taper {low:.2f} deg"),
+                                 (low - 2, ":", f"{low - 2:.2f} deg (accepted from)")):
+        L_w = wedge_length(geo["area_up"], alpha_)
+        xx = np.array([x_wall, x_wall + L_w])
+        ax[1].plot(xx * 100, (args.h0 + L_w * np.tan(np.radians(alpha_)) * np.array([1, 0])) * 100,
+                   style, label=f"mass balance, {label}")
+    ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
+    ax[1].set_xlabel("x [cm]")
+    ax[1].set_ylabel("surface height [cm]")
+    ax[1].set_title(f"surface after s = {args.s * 100:g} cm: mean slope {geo['slope_deg']:.2f} deg")
+    ax[1].legend(fontsize=8)
+    save_figure(fig, out / "wall_force_profile.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
