@@ -23,6 +23,40 @@ def polygon_area(vertices):
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
+def polygon_moment(vertices):
+    """Signed first moment int x dA of a polygon (counter-clockwise positive); 2 pi times it
+    is the volume of the polygon revolved about the axis x = 0 (Pappus)."""
+    x, y = np.asarray(vertices, dtype=float).T
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    return float(np.sum((x + xn) * (x * yn - xn * y))) / 6.0
+
+
+def volume_shares(region, x):
+    """Each particle's share of the region's volume of revolution about x = 0 (axisymmetry).
+
+    The particles' Delaunay triangles inside the region carry the lumped P1 weights
+    int N_i 2 pi r dA = 2 pi A_e (2 r_i + r_j + r_k) / 12 (exact on each triangle); the
+    shares are these weights scaled to sum to ``region.volume`` exactly, so a region of
+    density rho has particle masses rho * shares summing to rho V. A particle on the axis
+    gets the small volume its triangles give it near r = 0, not zero.
+    """
+    from scipy.spatial import Delaunay
+    x = np.asarray(x, dtype=float)
+    tri = Delaunay(x).simplices
+    keep = region.contains(x[tri].mean(axis=1))
+    tri = tri[keep]
+    v = x[tri]
+    area = 0.5 * np.abs((v[:, 1, 0] - v[:, 0, 0]) * (v[:, 2, 1] - v[:, 0, 1])
+                        - (v[:, 2, 0] - v[:, 0, 0]) * (v[:, 1, 1] - v[:, 0, 1]))
+    r = v[:, :, 0]
+    w = np.zeros(len(x))
+    for k in range(3):
+        np.add.at(w, tri[:, k], 2 * np.pi * area * (r[:, k] + r.sum(axis=1)) / 12)
+    if not w.sum() > 0:
+        raise ValueError(f"region {region.name!r}: its particles span no volume of revolution")
+    return region.volume * w / w.sum()
+
+
 def _segments_cross(p, q, r, s):
     """Whether the open segments pq and rs intersect properly (not at shared ends)."""
     def orient(a, b, c):
@@ -108,6 +142,12 @@ class Region:
     def area(self):
         """Area of the region: the polygon less its holes."""
         return abs(polygon_area(self.polygon)) - sum(abs(polygon_area(h)) for h in self.holes)
+
+    @property
+    def volume(self):
+        """Volume of the region revolved about the axis x = 0 (axisymmetry): 2 pi int x dA."""
+        return 2 * np.pi * (abs(polygon_moment(self.polygon))
+                            - sum(abs(polygon_moment(h)) for h in self.holes))
 
     def contains(self, x, tol=0.0):
         """Points inside the polygon and outside its holes (``tol`` widens the polygon)."""
