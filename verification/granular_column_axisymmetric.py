@@ -264,11 +264,13 @@ def build_parser():
     p.add_argument("--density", type=positive("rho"), nargs="*", default=[],
                    help="densities for the invariance check (c = 0), at the first a")
     p.add_argument("--friction-study", type=positive("phi_g"), nargs="*", default=[],
-                   help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --study-a")
+                   help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
     p.add_argument("--base-study", type=positive("phi_s"), nargs="*", default=[],
-                   help="phi_s values for Fig 7.11, at every a of --study-a")
-    p.add_argument("--study-a", type=positive("a"), nargs="*", default=[0.5, 4.0, 8.0],
-                   help="aspect ratios of the friction and base-friction studies")
+                   help="phi_s values for Fig 7.11, at every a of --base-a")
+    p.add_argument("--friction-a", type=positive("a"), nargs="*", default=[0.5, 4.0, 8.0],
+                   help="aspect ratios of the friction study")
+    p.add_argument("--base-a", type=positive("a"), nargs="*", default=[0.5, 4.0, 8.0],
+                   help="aspect ratios of the base-friction study")
     p.add_argument("--mesh-study", type=int, nargs="*", default=[],
                    help="particles across r0 for the mesh study at a = 2, e.g. 6 10 14")
     p.add_argument("--history", action="store_true",
@@ -303,9 +305,13 @@ def run(args):
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
     a_first = sorted(args.a)[0]
     groups["density"] = [dict(base, a=a_first, rho=r) for r in args.density if r != args.rho]
-    groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.study_a
-                          for p in args.friction_study]
-    groups["base"] = [dict(base, a=a, phi_s=p) for a in args.study_a for p in args.base_study]
+    # a study's case equal to a sweep case is not run twice (it is taken from the sweep)
+    same_base = args.phi_s is None or args.phi_s == args.phi
+    groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
+                          for p in args.friction_study
+                          if not (p == args.phi and same_base and a in args.a)]
+    groups["base"] = [dict(base, a=a, phi_s=p) for a in args.base_a for p in args.base_study
+                      if not (p == (args.phi_s or args.phi) and a in args.a)]
     groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
     groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
                                history=True)] if args.history else [])
@@ -315,6 +321,13 @@ def run(args):
     results = iter(run_cases(cases, args.workers))
     res = {k: [next(results) for _ in g] for k, g in groups.items()}
     sweep = res["sweep"]
+    by_a = {r["a"]: r for r in sweep}
+    if args.friction_study:
+        res["friction"] += [by_a[a] for a in args.friction_a
+                            if args.phi in args.friction_study and same_base and a in by_a]
+    if args.base_study:
+        res["base"] += [by_a[a] for a in args.base_a
+                        if (args.phi_s or args.phi) in args.base_study and a in by_a]
 
     report = Report("granular_column_axisymmetric", args)
     print("final deposit (at rest) against Lube et al. 2004 (7.31)-(7.32) and Lajeunesse et al. "

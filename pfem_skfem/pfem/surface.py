@@ -78,18 +78,42 @@ def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None, axis=
     normal_matrix = np.zeros((nv, 2, 2))                  # sum_e n_e n_e^T at each vertex
     rhs = np.zeros((nv, 2))                               # sum_e c_e n_e
     nn = n[:, :, None] * n[:, None, :]
-    for end in (a, b):
+    if disc.geometry.axisymmetric:      # each end puts back half of the bulge's *volume*
+        ends = ((a, c * _volume_factor(disc, a, b)), (b, c * _volume_factor(disc, b, a)))
+    else:
+        ends = ((a, c), (b, c))
+    for end, c_end in ends:
         np.add.at(normal_matrix, end, nn)
-        np.add.at(rhs, end, c[:, None] * n)
+        np.add.at(rhs, end, c_end[:, None] * n)
     on = np.unique(np.concatenate([a, b]))
     # the Tikhonov term in units of the vertex's own normal matrix (trace = edges at it)
     lam = regularisation * np.trace(normal_matrix[on], axis1=1, axis2=2) / 2
     shift = np.zeros((nv, 2))
     shift[on] = np.linalg.solve(normal_matrix[on] + lam[:, None, None] * np.eye(2),
                                 rhs[on][..., None])[..., 0]
-    if axis is not None:
-        shift[axis, 0] = 0.0
+    if axis is not None:                # on the axis: the shift along it only
+        on_axis = np.flatnonzero(axis)
+        shift[on_axis, 0] = 0.0
+        shift[on_axis, 1] = rhs[on_axis, 1] / np.maximum(
+            normal_matrix[on_axis, 1, 1] + lam_all(normal_matrix, regularisation)[on_axis],
+            1e-300)
     return shift
+
+
+def lam_all(normal_matrix, regularisation):
+    """The Tikhonov term of :func:`bulge_correction` at every vertex."""
+    return regularisation * np.trace(normal_matrix, axis1=1, axis2=2) / 2
+
+
+def _volume_factor(disc, end, other):
+    """r_mid / r_bar_end of boundary edges (end, other): the shift of vertex ``end`` that puts
+    back half of an edge's bulge volume 2 pi r_mid (2/3) L delta.n, its hat function's
+    r-weight being r_bar = (2 r_end + r_other)/3 (1 on an edge along the axis: no bulge)."""
+    r = disc.mesh.p[0]
+    r_bar = (2 * r[end] + r[other]) / 3
+    scale = float(np.ptp(disc.mesh.p, axis=1).max()) or 1.0
+    tiny = 1e-12 * scale
+    return np.where(r_bar > tiny, 0.5 * (r[end] + r[other]) / np.maximum(r_bar, tiny), 1.0)
 
 
 def project_out_of_bodies(x, v, bodies, h):
