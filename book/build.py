@@ -20,6 +20,10 @@ Steps:
    figures printed), the local MathJax is there and each page loads at most one
    MathJax script, and no page loads anything from another host or names a CDN.
    The execution time of each page and the Sphinx warnings are printed.
+5. Every page opened in headless Chromium (``book/browser_check.py``): no MathJax
+   error, no display equation wider than the content column, every image loaded, no
+   raw ``$`` in the text, no bare object repr in an output. Without Chromium (Debian
+   package ``chromium``) this step is skipped with a warning (``--no-browser`` skips it).
 
 Exit code 0 only if all of this holds.
 """
@@ -239,6 +243,8 @@ def main(argv=None):
                    help="fail on any Sphinx warning (-W --keep-going -n)")
     p.add_argument("--incremental", action="store_true",
                    help="rebuild only changed pages (default: all pages, all executed)")
+    p.add_argument("--no-browser", action="store_true",
+                   help="skip opening the pages in headless Chromium")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     ensure_mathjax()
@@ -253,6 +259,13 @@ def main(argv=None):
     log(f"{len(warnings)} warning(s) from the build" + (":" if warnings else ""))
     for line in warnings:
         log(f"  {line}")
+    if not args.no_browser:
+        sys.path.insert(0, str(BOOK))
+        from browser_check import check_pages
+        failed = check_pages()
+        if failed:
+            problems.append(f"{failed} page(s) with problems in the browser (above)")
+            log(f"error: {failed} page(s) with problems in the browser")
     log(f"built {HTML.relative_to(ROOT)}/intro.html in {time.perf_counter() - t0:.0f} s")
     return 1 if problems else 0
 

@@ -18,6 +18,8 @@ import subprocess
 import sys
 import time
 
+from .report import nonnegative_int, positive_int, workers
+
 
 def verification_dir():
     """The ``verification/`` folder of the source tree (an editable install or a clone)."""
@@ -32,18 +34,25 @@ def available_cases():
     return sorted(p.stem for p in verification_dir().glob("*.py") if not p.stem.startswith("_"))
 
 
-def run_case(case, *, quick, json_dir, outdir, figures, extra):
-    """Run one verification script; return (case, exit code, seconds, json path, log)."""
+def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False):
+    """Run one verification script; return (case, exit code, seconds, json path, log).
+
+    With ``live`` the script's stderr (its progress bars) goes to the terminal;
+    otherwise it runs with ``--quiet`` and its stderr is part of the log.
+    """
     script = verification_dir() / f"{case}.py"
     json_path = Path(json_dir) / f"{case}.json"
     cmd = [sys.executable, str(script), "--json", str(json_path), "--outdir", str(outdir)]
     cmd += ["--quick"] if quick else []
     cmd += [] if figures else ["--no-figures"]
+    cmd += [] if live else ["--quiet"]
     cmd += list(extra)
     t0 = time.perf_counter()
     env = {**os.environ, "MPLBACKEND": "Agg"}
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    return case, proc.returncode, time.perf_counter() - t0, json_path, proc.stdout + proc.stderr
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=None if live else subprocess.PIPE,
+                          text=True, env=env)
+    log = proc.stdout + (proc.stderr or "")
+    return case, proc.returncode, time.perf_counter() - t0, json_path, log
 
 
 def summary_table(rows):
@@ -79,17 +88,46 @@ def cmd_verify(args):
     t0 = time.perf_counter()
     results = {}
 
-    def job(case):
-        return run_case(case, quick=args.quick, json_dir=args.json_dir, outdir=args.outdir,
-                        figures=not args.no_figures, extra=args.extra or [])
+    def report(i, case, code, secs, log):
+        results[case] = (code, json_path(case), log)
+        status = "ok" if code == 0 else ("FAILED CHECK" if code == 1 else f"ERROR {code}")
+        write(f"[{i}/{len(cases)}] {case:22s} {secs:7.1f} s  {status}")
+        if code not in (0, 1) or args.verbose:
+            write(log[-4000:])
 
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        for i, (case, code, secs, path, log) in enumerate(pool.map(job, cases), 1):
-            results[case] = (code, path, log)
-            status = "ok" if code == 0 else ("FAILED CHECK" if code == 1 else f"ERROR {code}")
-            print(f"[{i}/{len(cases)}] {case:22s} {secs:7.1f} s  {status}", flush=True)
-            if code not in (0, 1) or args.verbose:
-                print(log[-4000:], flush=True)
+    def json_path(case):
+        return Path(args.json_dir) / f"{case}.json"
+
+    if args.jobs == 1:                       # one case at a time: its own progress bars live
+        def write(text):
+            print(text, flush=True)
+        for i, case in enumerate(cases, 1):
+            print(f"[{i}/{len(cases)}] {case} ...", flush=True)
+            _, code, secs, _, log = run_case(case, quick=args.quick, json_dir=args.json_dir,
+                                             outdir=args.outdir, figures=not args.no_figures,
+                                             extra=args.extra or [], live=not args.quiet)
+            report(i, case, code, secs, log)
+    else:                                    # several at once: one bar over the cases
+        from tqdm import tqdm
+        running = set()
+
+        def job(case):
+            running.add(case)
+            bar.set_postfix_str("running " + ", ".join(sorted(running)))
+            try:
+                return run_case(case, quick=args.quick, json_dir=args.json_dir,
+                                outdir=args.outdir, figures=not args.no_figures,
+                                extra=args.extra or [])
+            finally:
+                running.discard(case)
+
+        with tqdm(total=len(cases), unit="case", file=sys.stderr, disable=args.quiet,
+                  dynamic_ncols=True) as bar, ThreadPoolExecutor(max_workers=args.jobs) as pool:
+            def write(text):
+                tqdm.write(text, file=sys.stdout)
+            for i, (case, code, secs, _, log) in enumerate(pool.map(job, cases), 1):
+                report(i, case, code, secs, log)
+                bar.update()
     rows, failed = [], []
     for case in cases:
         code, path, _ = results[case]
@@ -111,31 +149,25 @@ def cmd_verify(args):
 
 # -- run: a scene file -----------------------------------------------------------------
 class ProgressBar:
-    """A one-line progress bar on ``stream`` (stderr): step, time, iterations, s/step, ETA.
-    Redrawn in place on a terminal; elsewhere (a log file) a line every tenth of the run."""
+    """The progress bar of a run (tqdm on stderr): step, time t, solver iterations, ETA."""
 
-    def __init__(self, first, last, stream=None, width=24):
-        self.first, self.last, self.width = first, last, width
+    def __init__(self, first, last, stream=None):
+        from tqdm import tqdm
         self.stream = sys.stderr if stream is None else stream
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.t0 = time.perf_counter()
-        self.shown = -1
+        self.bar = tqdm(total=last - first, initial=0, desc=f"steps {first + 1}-{last}",
+                        unit="step", file=self.stream, dynamic_ncols=True,
+                        mininterval=0.5 if self.tty else 30.0)
 
     def __call__(self, i, n, record):
-        step = self.first + i
-        total = self.last - self.first
-        frac = i / total if total else 1.0
-        per = (time.perf_counter() - self.t0) / max(i, 1)
-        bar = "#" * int(frac * self.width)
-        line = (f"step {step}/{self.last} [{bar:{self.width}s}] {frac:4.0%}  "
-                f"t = {record['time']:.4g}  it = {record['iterations']}  {per:.2f} s/step  "
-                f"ETA {per * (n - i):.0f} s")
-        if self.tty:
-            self.stream.write("\r" + line + ("\n" if i == n else ""))
-        elif int(10 * frac) > self.shown or i == n:
-            self.shown = int(10 * frac)
-            self.stream.write(line + "\n")
-        self.stream.flush()
+        self.bar.set_postfix_str(f"t = {record['time']:.4g}, it = {record['iterations']}",
+                                 refresh=False)
+        self.bar.update(i - self.bar.n)
+        if i == n:
+            self.close()
+
+    def close(self):
+        self.bar.close()
 
 
 def steps_until(t_end, dt):
@@ -217,7 +249,7 @@ def _run(args):
         last = steps_until(scene.t_end, scene.config.dt)
     else:
         raise RunError(f"{path}: the scene has no t_end: give --steps N")
-    return _advance(scene, out, last, args.resume, args.no_progress)
+    return _advance(scene, out, last, args.resume, args.quiet)
 
 
 def _advance(scene, out, last, resume, quiet):
@@ -271,8 +303,8 @@ def _advance(scene, out, last, resume, quiet):
     except (SolverError, KeyboardInterrupt) as err:
         save_checkpoint(checkpoint, done[0])         # the last step completed, to resume
         _write_history(history, records)
-        if bar is not None and bar.tty:
-            sys.stderr.write("\n")
+        if bar is not None:
+            bar.close()
         what = ("interrupted" if isinstance(err, KeyboardInterrupt) else
                 f"solver failed ({err}; status {err.status})")
         n = done[0].step
@@ -297,7 +329,9 @@ def main(argv=None):
     v.add_argument("--json-dir", default="results", help="where to write <case>.json")
     v.add_argument("--outdir", default="results", help="where to write figures")
     v.add_argument("--no-figures", action="store_true")
-    v.add_argument("--jobs", type=int, default=1, help="cases run at once")
+    v.add_argument("--jobs", type=workers, default=1, help="cases run at once")
+    v.add_argument("--quiet", action="store_true",
+                   help="no progress (the cases' own bars with --jobs 1; one bar otherwise)")
     v.add_argument("--verbose", action="store_true", help="show each script's output")
     v.add_argument("--extra", nargs=argparse.REMAINDER,
                    help="further options passed to every script")
@@ -312,19 +346,18 @@ def main(argv=None):
                    "it, default NAME.toml; '-' for stdout)")
     r.add_argument("--example", metavar="NAME", help="write the commented example NAME "
                    "(column) instead of running")
-    r.add_argument("--steps", type=int, help="run until step N (default: until t_end)")
+    r.add_argument("--steps", type=positive_int, help="run until step N (default: until t_end)")
     r.add_argument("--out", help="output folder (default: the file's output.directory)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the output folder's checkpoint")
-    r.add_argument("--every", type=int, help="a VTU every K steps (0: none; default: "
+    r.add_argument("--every", type=nonnegative_int, help="a VTU every K steps (0: none; default: "
                    "output.every)")
-    r.add_argument("--checkpoint-every", type=int, help="a checkpoint every K steps "
+    r.add_argument("--checkpoint-every", type=nonnegative_int, help="a checkpoint every K steps "
                    "(default: output.checkpoint_every; one is always written at the end)")
-    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
+                   help="no progress bar")
     r.set_defaults(func=cmd_run)
     args = parser.parse_args(argv)
-    if getattr(args, "jobs", 1) < 1:
-        parser.error("--jobs must be at least 1")
     return args.func(args)
 
 

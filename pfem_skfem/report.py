@@ -37,6 +37,36 @@ JSON layout::
 reference is zero; ``pass`` is ``rel_error <= tolerance``. A quantity checked
 against an interval (a bound, a range of published values) gives ``lower`` and
 ``upper`` instead; its ``rel_error`` is the relative distance outside the interval.
+
+Options are checked when they are parsed, before any work, with the shared argparse
+types below: a bad value is a usage error (exit code 2) whose message names the
+option, its allowed range and the value given, e.g. ``argument --phi: must be an
+angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``::
+
+    p.add_argument("--elements", type=positive_int, nargs="+", default=[100, 400])
+    p.add_argument("--phi", type=friction_angle, default=30.0)
+    p.add_argument("--nu", type=poisson_ratio, default=0.3)
+
+=========================  ===================================================
+``positive_float``         a finite number > 0 (lengths, moduli, densities, dt)
+``nonnegative_float``      a finite number >= 0 (friction coefficients, tolerances)
+``positive_int``           an integer >= 1 (element, step, increment counts)
+``nonnegative_int``        an integer >= 0 (``--save-every``: 0 for none)
+``workers``                an integer >= 1 (parallel processes)
+``friction_angle``         an angle in (0, 90) degrees
+``poisson_ratio``          a number in (-1, 0.5)
+``fraction``               a number in [0, 1]
+``theta_weight``           a theta-method weight in [1/2, 1] (4.4)
+``element_count``          an integer >= 4 (the approximate element count of a mesh)
+``in_range(low, high)``    any other interval (``low_open``, ``high_open``,
+                           ``integer``, ``unit``)
+``positive(name)``         the older spelling of ``positive_float``
+=========================  ===================================================
+
+``ScriptParser`` gives every script ``--quiet`` (no progress bars) next to the
+``--progress`` of old (now the default); :func:`progress_bar` is the bar (tqdm) of a
+long loop, :func:`progress` one line. Conditions between options (``--a`` below
+``--b``) go in the script's ``check(args)``, whose message must name the options.
 """
 import argparse
 from dataclasses import asdict, dataclass
@@ -85,7 +115,7 @@ def relative_error(value, reference):
     return abs(value - reference) / abs(reference)
 
 
-HARNESS_OPTIONS = ("json", "outdir", "no_figures", "progress", "workers")
+HARNESS_OPTIONS = ("json", "outdir", "no_figures", "progress", "quiet", "workers")
 """Options that say how a script runs, not what it computes: never in ``params``."""
 
 
@@ -219,6 +249,8 @@ class ScriptParser(argparse.ArgumentParser):
 
     def parse_args(self, args=None, namespace=None):
         parsed = super().parse_args(args, namespace)
+        if hasattr(parsed, "quiet"):             # progress is the default; --quiet turns it off
+            parsed.progress = not parsed.quiet
         if parsed.quick:
             for key, value in self.quick.items():
                 if getattr(parsed, key) == self.get_default(key):
@@ -256,7 +288,10 @@ def base_parser(description, quick=None, check=None):
     p.add_argument("--outdir", default="results",
                    help="directory for figures and VTU files")
     p.add_argument("--no-figures", action="store_true", help="skip figures")
-    p.add_argument("--progress", action="store_true", help="progress output on stderr")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress bars on stderr (they are on by default)")
+    p.add_argument("--progress", action="store_true",
+                   help="progress bars on stderr (the default; kept for older command lines)")
     return p
 
 
@@ -268,32 +303,125 @@ def run_script(script, *argv):
     script : module
         A script of ``verification/`` (``from verification import strip_footing``).
     *argv : str
-        Its command-line options, e.g. ``"--quick", "--no-figures"``.
+        Its command-line options, e.g. ``"--quick", "--no-figures"``; ``--quiet`` is
+        added (no progress bars in tests and the book) unless ``--progress`` is given.
 
     Returns
     -------
     Report
         With ``report.data`` holding the in-memory results.
     """
-    return script.run(script.build_parser().parse_args(list(argv)))
+    argv = list(argv)
+    if "--progress" not in argv:
+        argv = ["--quiet", *argv]
+    return script.run(script.build_parser().parse_args(argv))
 
 
-def positive(name):
-    """argparse type: a positive float, with an error naming the option."""
+def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
+             integer=False, unit="", what=None):
+    """argparse type: a number in an interval, its error naming the range and the value.
+
+    Parameters
+    ----------
+    low, high : float
+        The ends of the interval (infinite: unbounded).
+    low_open, high_open : bool
+        Whether the ends are excluded.
+    integer : bool
+        Accept integers only.
+    unit : str
+        Shown after the interval ("degrees").
+    what : str, optional
+        The whole description ("a positive integer"); by default built from the rest.
+
+    Returns
+    -------
+    callable
+        ``parse(text) -> float or int``, raising ``argparse.ArgumentTypeError``; argparse
+        prefixes its message with the option (``argument --phi: ...``).
+    """
+    if what is None:
+        kind = "an integer" if integer else "a number"
+        if math.isinf(low) and math.isinf(high):
+            what = kind
+        elif math.isinf(high):
+            what = f"{kind} {'>' if low_open else '>='} {low:g}"
+        elif math.isinf(low):
+            what = f"{kind} {'<' if high_open else '<='} {high:g}"
+        else:
+            what = (f"{kind} in {'(' if low_open else '['}{low:g}, {high:g}"
+                    f"{')' if high_open else ']'}")
+        what += f" {unit}" if unit else ""
+
     def parse(text):
         try:
-            value = float(text)
+            value = int(text) if integer else float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
-        if not math.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"{name} must be positive, got {text!r}")
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+        inside = (math.isfinite(value)
+                  and (value > low if low_open else value >= low)
+                  and (value < high if high_open else value <= high))
+        if not inside:
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
         return value
+    parse.__name__ = what                       # argparse's name for the type
+    parse.what = what
     return parse
 
 
+positive_float = in_range(0, low_open=True, what="a positive number")
+nonnegative_float = in_range(0, what="a number >= 0")
+positive_int = in_range(1, integer=True, what="a positive integer")
+nonnegative_int = in_range(0, integer=True, what="an integer >= 0")
+workers = in_range(1, integer=True, what="a number of workers >= 1")
+friction_angle = in_range(0, 90, low_open=True, high_open=True, unit="degrees",
+                          what="an angle in (0, 90) degrees")
+poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
+                         what="a Poisson's ratio in (-1, 0.5)")
+fraction = in_range(0, 1, what="a fraction in [0, 1]")
+theta_weight = in_range(0.5, 1, what="a theta-method weight in [1/2, 1]")
+element_count = in_range(4, integer=True, what="a number of elements >= 4")
+
+
+def positive(name=None):
+    """argparse type: a positive float (the older spelling of :data:`positive_float`).
+
+    ``name`` is not needed (argparse names the option) and kept for older scripts.
+    """
+    return positive_float
+
+
 def progress(message):
-    """One line of progress on stderr."""
-    print(message, file=sys.stderr, flush=True)
+    """One line of progress on stderr (above any progress bar)."""
+    from tqdm import tqdm
+    tqdm.write(str(message), file=sys.stderr)
+    sys.stderr.flush()
+
+
+def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case", **options):
+    """A progress bar (tqdm) on stderr: count, elapsed time, rate and the time left.
+
+    Parameters
+    ----------
+    iterable : iterable, optional
+        What the loop runs over (or give ``total`` and call ``update``).
+    args : argparse.Namespace, optional
+        The parsed options: no bar when ``args.progress`` is false (``--quiet``).
+    total, desc, unit : optional
+        As in tqdm; ``desc`` names what is computed, ``bar.set_postfix_str(...)``
+        shows the latest result.
+
+    Returns
+    -------
+    tqdm.tqdm
+    """
+    from tqdm import tqdm
+    disable = options.pop("disable", False) or (args is not None
+                                                and not getattr(args, "progress", True))
+    tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+    options.setdefault("mininterval", 0.5 if tty else 20.0)
+    return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr,
+                disable=disable, dynamic_ncols=True, **options)
 
 
 def pyplot():
@@ -312,8 +440,104 @@ def figure_dir(args, name):
     return out
 
 
+FIGURE_PIXELS = ((400, 2600), (250, 2000))
+"""The (min, max) width and height of a saved figure in pixels."""
+SMALLEST_FONT = 7.0
+"""Tick labels and axis labels at least this many points (at the saved dpi: readable)."""
+
+
+def figure_problems(fig, dpi=120):
+    """What makes ``fig`` hard to read, before it is saved; an empty list when nothing.
+
+    Every figure has a title (an axes title or ``suptitle``) and a saved size within
+    :data:`FIGURE_PIXELS`, no wider than 4.5 times its height; every visible axes
+    with data has x and y labels (a colour bar: its label), and its tick labels are
+    at least :data:`SMALLEST_FONT` points.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    dpi : float
+        The resolution it will be saved at.
+
+    Returns
+    -------
+    list of str
+    """
+    problems = []
+    w, h = fig.get_size_inches() * dpi
+    (w0, w1), (h0, h1) = FIGURE_PIXELS
+    if not (w0 <= w <= w1 and h0 <= h <= h1) or w > 4.5 * h:
+        problems.append(f"size {w:.0f} x {h:.0f} px (want {w0}-{w1} x {h0}-{h1}, "
+                        "at most 4.5:1)")
+    suptitle = fig._suptitle.get_text() if getattr(fig, "_suptitle", None) else ""
+    axes = [ax for ax in fig.get_axes() if ax.get_visible()]
+    if not suptitle and not any(ax.get_title() or ax.get_title("left") for ax in axes):
+        problems.append("no title: say what the figure shows (set_title or suptitle)")
+    for i, ax in enumerate(axes):
+        name = f"axes {i + 1} ({ax.get_title() or 'untitled'})"
+        is_colorbar = hasattr(ax, "_colorbar") or ax.get_label() == "<colorbar>"
+        if not ax.axison:
+            continue
+        if is_colorbar:
+            if not (ax.get_ylabel() or ax.get_xlabel()):
+                problems.append(f"{name}: a colour bar without a label")
+            continue
+        if not (ax.lines or ax.collections or ax.images or ax.patches or ax.texts):
+            continue
+        for axis, label in (("x", ax.get_xlabel()), ("y", ax.get_ylabel())):
+            if not label.strip():
+                problems.append(f"{name}: no {axis} label")
+        for tick in ax.get_xticklabels() + ax.get_yticklabels():
+            if tick.get_visible() and tick.get_fontsize() < SMALLEST_FONT:
+                problems.append(f"{name}: tick labels of {tick.get_fontsize():g} pt")
+                break
+    return problems
+
+
+def inspect_figures(script, argv, outdir):
+    """Draw ``script``'s figures at ``argv`` (a quick run) and report what is hard to read.
+
+    Runs the case in-process, then its ``figures`` with every :func:`save_figure`
+    checked by :func:`figure_problems` before it saves; the other pictures it writes
+    (pyvista PNGs) are checked for their size.
+
+    Returns
+    -------
+    (Report, dict)
+        The report, and for each file written, the list of its problems.
+    """
+    import matplotlib.image as mpimg
+
+    args = script.build_parser().parse_args(["--quiet", *argv, "--outdir", str(outdir)])
+    report = script.run(args)
+    found = {}
+    original = getattr(script, "save_figure", None)
+
+    def checked(fig, path, dpi=120):
+        found[str(path)] = figure_problems(fig, dpi)
+        save_figure(fig, path, dpi)
+
+    script.save_figure = checked
+    try:
+        script.figures(args, **report.data)
+    finally:
+        if original is not None:
+            script.save_figure = original
+    (w0, w1), (h0, h1) = FIGURE_PIXELS
+    for png in sorted(Path(outdir).rglob("*.png")):
+        if str(png) in found:
+            continue
+        h, w = mpimg.imread(png).shape[:2]
+        found[str(png)] = ([] if w0 <= w <= w1 and h0 <= h <= h1 else
+                           [f"picture of {w} x {h} px"])
+    return report, found
+
+
 def save_figure(fig, path, dpi=120):
-    """Lay out ``fig``, write it to ``path`` and close it."""
-    fig.tight_layout()
+    """Lay out ``fig`` (unless it has a layout engine), write it to ``path`` and close it."""
+    engine = getattr(fig, "get_layout_engine", lambda: None)()
+    if engine is None or type(engine).__name__ == "PlaceHolderLayoutEngine":
+        fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     pyplot().close(fig)

@@ -84,7 +84,8 @@ def plot_field(ax, points, cells, values, *, at="auto", cmap="viridis", label=No
 
 
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
-               show_edges=True, window_size=(1200, 800), timeout=300):
+               show_edges=True, window_size=(1200, 800), timeout=300, title=None,
+               bar_title=None, axes=True, units="m"):
     """Render a VTU file to a PNG with pyvista, off-screen, in a subprocess.
 
     Parameters
@@ -96,6 +97,9 @@ def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
     show_edges : draw the element edges.
     window_size : (width, height) in pixels.
     timeout : seconds before the renderer is abandoned.
+    title : a line at the top saying what the picture shows.
+    bar_title : the title of the vertical colour bar (default ``scalars``), above it.
+    axes : draw the x and y axes with ticks around the mesh, labelled in ``units``.
 
     Returns
     -------
@@ -112,6 +116,13 @@ def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
         cmd += ["--clim", str(float(clim[0])), str(float(clim[1]))]
     if not show_edges:
         cmd += ["--no-edges"]
+    if title:
+        cmd += ["--title", title]
+    if bar_title:
+        cmd += ["--bar-title", bar_title]
+    if not axes:
+        cmd += ["--no-axes"]
+    cmd += ["--units", units]
     env = dict(os.environ, PYVISTA_OFF_SCREEN="true")
     # the subprocess imports this copy of the package, installed or not
     package_parent = str(Path(__file__).resolve().parents[1])
@@ -138,7 +149,8 @@ def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
 
 
 def _render(vtu_path, png_path, scalars=None, cmap="viridis", clim=None,
-            show_edges=True, window_size=(1200, 800)):
+            show_edges=True, window_size=(1200, 800), title=None, bar_title=None,
+            axes=True, units="m"):
     """Render in this process (may segfault without libEGL: use render_png)."""
     import pyvista as pv
 
@@ -152,11 +164,24 @@ def _render(vtu_path, png_path, scalars=None, cmap="viridis", clim=None,
     plotter.add_mesh(grid, scalars=scalars, cmap=cmap, clim=clim,
                      show_edges=show_edges, edge_color="gray", line_width=0.5,
                      lighting=False,   # true colour-map colours on a flat mesh
-                     scalar_bar_args={"title": scalars or "", "color": "black"})
+                     show_scalar_bar=False)
+    if scalars is not None:
+        # vertical, at the right, its title above it: no title over the tick labels
+        plotter.add_scalar_bar(title=(bar_title or scalars) + "\n", vertical=True,
+                               position_x=0.86, position_y=0.12, width=0.06, height=0.7,
+                               title_font_size=18, label_font_size=15, n_labels=5,
+                               fmt="%.3g", color="black")
+    if title:
+        plotter.add_text(title, position="upper_edge", font_size=12, color="black")
     plotter.view_xy()
     plotter.enable_parallel_projection()
+    if axes:
+        plotter.show_bounds(xtitle=f"x [{units}]", ytitle=f"y [{units}]", ztitle="",
+                            location="outer", ticks="outside", color="black",
+                            font_size=16, show_zaxis=False, show_zlabels=False,
+                            use_2d=True)
     plotter.reset_camera()
-    plotter.camera.zoom(1.2)   # reset_camera leaves a wide margin around flat meshes
+    plotter.camera.zoom(1.05 if axes else 1.2)   # room for the axes and the colour bar
     Path(png_path).parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(png_path))
     plotter.close()
@@ -173,10 +198,15 @@ def main(argv=None):
     p.add_argument("--clim", type=float, nargs=2, default=None)
     p.add_argument("--window-size", type=int, nargs=2, default=(1200, 800))
     p.add_argument("--no-edges", action="store_true")
+    p.add_argument("--title", default=None)
+    p.add_argument("--bar-title", default=None)
+    p.add_argument("--no-axes", action="store_true")
+    p.add_argument("--units", default="m")
     args = p.parse_args(argv)
     try:
         _render(args.vtu, args.png, args.scalars, args.cmap, args.clim,
-                not args.no_edges, tuple(args.window_size))
+                not args.no_edges, tuple(args.window_size), args.title, args.bar_title,
+                not args.no_axes, args.units)
     except (OSError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

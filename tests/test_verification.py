@@ -1,7 +1,9 @@
 """Every verification script at its ``--quick`` size, in-process, against its references.
 
-Each case runs ``run(build_parser().parse_args(["--quick", "--no-figures", *extra]))``
-once (:func:`pfem_skfem.report.run_script`). All of the report's checks must pass, and the physically meaningful quantities,
+Each case runs ``run(build_parser().parse_args(["--quick", *extra]))`` once, then its
+``figures``, each figure checked before it is saved
+(:func:`pfem_skfem.report.inspect_figures`: a title, axis labels, readable ticks, a
+reasonable size). All of the report's checks must pass, and the physically meaningful quantities,
 named here, must lie where the literature or a closed form stated *here* puts them
 (not the script's own reference), so that a renamed, missing or mis-referenced
 quantity fails. A few cases check more physics on the run's results.
@@ -18,7 +20,7 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.report import HARNESS_OPTIONS, Report, run_script
+from pfem_skfem.report import HARNESS_OPTIONS, Report, inspect_figures
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
@@ -168,8 +170,11 @@ def quick_args(name, *extra):
 
 @pytest.mark.parametrize("name, extra, expected, physics", CASES, ids=[c[0] for c in CASES])
 def test_quick_case_meets_its_references(name, extra, expected, physics, tmp_path):
-    report = run_script(script(name), "--quick", "--no-figures", "--outdir", str(tmp_path),
-                        *extra)
+    # the run, then its figures, each checked before it is saved (figure_problems)
+    report, drawn = inspect_figures(script(name), ["--quick", *extra], tmp_path)
+    assert drawn, f"{name}: no figure written"
+    unreadable = {Path(f).name: p for f, p in drawn.items() if p}
+    assert not unreadable, f"{name}: figures hard to read: {unreadable}"
     failed = [(q.name, q.value, q.reference, q.tolerance) for q in report.quantities
               if not q.passed]
     assert report.passed, f"{name}: {failed}"

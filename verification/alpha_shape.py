@@ -22,7 +22,7 @@ Usage::
     python verification/alpha_shape.py --quick --json results/alpha_shape.json   # seconds
     python verification/alpha_shape.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -32,8 +32,8 @@ from scipy.spatial import ConvexHull
 
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float, progress,
+                               pyplot, save_figure)
 
 QUICK = dict(alpha_step=0.1)
 SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"
@@ -73,14 +73,14 @@ def sweep(points, h, alphas):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--h", type=positive("h"), default=1.0, help="characteristic spacing h")
-    p.add_argument("--radius", type=positive("radius"), default=6.0,
+    p.add_argument("--h", type=positive_float, default=1.0, help="characteristic spacing h")
+    p.add_argument("--radius", type=positive_float, default=6.0,
                    help="radius of the disc cluster (units of h)")
-    p.add_argument("--gap", type=positive("gap"), default=2.6,
+    p.add_argument("--gap", type=positive_float, default=2.6,
                    help="gap between the clusters (units of h)")
-    p.add_argument("--size", type=positive("size"), default=0.8,
+    p.add_argument("--size", type=positive_float, default=0.8,
                    help="target element edge of the meshes whose vertices form the cloud (units of h)")
-    p.add_argument("--alpha-step", type=positive("alpha-step"), default=0.02,
+    p.add_argument("--alpha-step", type=positive_float, default=0.02,
                    help="spacing of the sweep over 0.3 <= alpha <= 2 (the panels of Fig 2.4 "
                         "and a few large values are added)")
     return p
@@ -127,11 +127,11 @@ def run(args):
     report.extra["sweep"] = rows
     report.extra["exact_area"] = exact
     report.extra["hull_area"] = hull
-    report.data = dict(points=points, rows=rows)
+    report.data = dict(points=points, rows=rows, exact=exact, hull=hull)
     return report
 
 
-def figures(args, points, rows):
+def figures(args, points, rows, exact=None, hull=None):
     """Fig 2.4 panels and the sweep of bodies, holes and area against alpha."""
     from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
 
@@ -145,16 +145,27 @@ def figures(args, points, rows):
             s = alpha_shape(points, h, a)
             plot_alpha_shape(ax, s, point_size=2,
                              title=f"alpha = {a:g}: {s.n_bodies} bodies, {s.n_holes} holes")
+        ax.set_xlabel(f"x (units of h = {h:g})")
+        ax.set_ylabel("y (units of h)")
+    fig.suptitle("Fig 2.4: the boundaries the alpha-shape finds, by alpha")
     save_figure(fig, out / "alpha_shape_fig2_4.png", dpi=130)
 
     a = np.array([r["alpha"] for r in rows])
     fig, ax = plt.subplots(1, 2, figsize=(9, 3.4))
     ax[0].semilogy(a, [max(r["bodies"], 0.5) for r in rows], "o-", ms=3, label="bodies")
     ax[0].semilogy(a, [max(r["holes"], 0.5) for r in rows], "s-", ms=3, label="holes")
-    ax[0].set_xlim(0.3, 2.0), ax[0].set_xlabel("alpha"), ax[0].legend()
-    ax[0].axvspan(0.9, 1.3, color="0.9")
-    ax[1].semilogx(a, [r["area"] for r in rows], "o-", ms=3)
-    ax[1].set_xlabel("alpha"), ax[1].set_ylabel("area")
+    ax[0].set_xlim(0.3, 2.0), ax[0].set_xlabel("alpha"), ax[0].set_ylabel("count")
+    ax[0].axvspan(0.9, 1.3, color="0.9", label="thesis: reasonable, 0.9-1.3")
+    ax[0].set_title("bodies and holes (0 drawn at 0.5)")
+    ax[0].legend(fontsize=8)
+    ax[1].semilogx(a, [r["area"] for r in rows], "o-", ms=3, label="detected")
+    if exact is not None:
+        ax[1].axhline(exact, color="k", ls="--", lw=1, label="the two polygons (exact)")
+    if hull is not None:
+        ax[1].axhline(hull, color="r", ls=":", lw=1, label="convex hull (scipy)")
+    ax[1].set_xlabel("alpha"), ax[1].set_ylabel("area (units of h^2)")
+    ax[1].set_title("area enclosed")
+    ax[1].legend(fontsize=8)
     save_figure(fig, out / "alpha_shape_sweep.png", dpi=130)
 
 

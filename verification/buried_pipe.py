@@ -30,7 +30,7 @@ Usage::
     python verification/buried_pipe.py --quick --json results/buried_pipe.json   # seconds
     python verification/buried_pipe.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -43,7 +43,8 @@ from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               nonnegative_float, positive_float, progress_bar, pyplot,
                                save_figure)
 
 QUICK = dict(elements=[700])
@@ -94,25 +95,28 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
 
 
 def check(args):
-    """Options that cannot go together (a usage error), or None."""
-    return "--mu must be >= 0" if args.mu < 0 else None
+    """The pipe inside the column (a usage error naming the options), or None."""
+    if not (args.r < args.depth < args.height - args.r) or args.r >= args.width:
+        return (f"the pipe (--r {args.r:g} at --depth {args.depth:g}) must lie inside the "
+                f"column (--height {args.height:g}, --width {args.width:g})")
+    return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--r", type=positive("r"), default=0.5, help="pipe radius [m]")
-    p.add_argument("--su", type=positive("su"), default=50.0, help="undrained strength [kPa]")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--mu", type=float, default=0.0, help="pipe-soil friction (0: smooth)")
-    p.add_argument("--width", type=positive("width"), default=10.0, help="half width [m]")
-    p.add_argument("--height", type=positive("height"), default=15.0, help="column [m]")
-    p.add_argument("--depth", type=positive("depth"), default=7.5,
+    p.add_argument("--r", type=positive_float, default=0.5, help="pipe radius [m]")
+    p.add_argument("--su", type=positive_float, default=50.0, help="undrained strength [kPa]")
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=nonnegative_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--mu", type=nonnegative_float, default=0.0, help="pipe-soil friction (0: smooth)")
+    p.add_argument("--width", type=positive_float, default=10.0, help="half width [m]")
+    p.add_argument("--height", type=positive_float, default=15.0, help="column [m]")
+    p.add_argument("--depth", type=positive_float, default=7.5,
                    help="depth of the pipe centre [m]")
-    p.add_argument("--dt", type=float, default=None,
+    p.add_argument("--dt", type=positive_float, default=None,
                    help="solve one dynamic step (4.23) of this length [s] (theta1 = theta2 "
                         "= 1, from rest) instead of the quasi-static step")
-    p.add_argument("--elements", type=int, nargs="+", default=[700, 1400, 2812],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
     return p
 
@@ -122,15 +126,16 @@ def run(args):
     report = Report("buried_pipe", args)
     buoyancy = args.rho * args.g * np.pi * args.r ** 2 / 2 / (args.r * args.su)
     rows, last = [], None
-    for n in sorted(args.elements):
+    bar = progress_bar(sorted(args.elements), args=args, unit="mesh", desc="buried pipe")
+    for n in bar:
+        bar.set_description(f"buried pipe, about {n} elements")
         t0 = time.perf_counter()
         model = pipe_model(n, width=args.width, height=args.height, depth=args.depth, r=args.r)
         F, res, contacts = pipe_resistance(model, su=args.su, rho=args.rho, g=args.g,
                                            mu=args.mu, dt=args.dt)
         nc_raw = F / (args.r * args.su)
         rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
-        progress(f"{model['n_elements']:6d} elements: F/(r Su) = {nc_raw:.4f}, net of buoyancy "
-                 f"{nc_raw - buoyancy:.4f}  ({rows[-1][3]:.1f} s)")
+        bar.set_postfix_str(f"F/(r Su) = {nc_raw:.4f}, net of buoyancy {nc_raw - buoyancy:.4f}")
         last = (model, res, contacts)
     print(f"{'elements':>8s} {'F/(r Su)':>10s} {'Nc (net)':>10s} {'vs 9.20':>8s}")
     for n_el, raw, net, _ in rows:
@@ -168,15 +173,22 @@ def figures(args, rows, last):
     ax[0].set_xlim(0, 2.5)
     ax[0].set_ylim(-args.depth - 1.5, -args.depth + 1.5)
     ax[0].set_aspect("equal")
-    ax[0].set_title("Fig 5.5: mechanism speed / pipe speed")
-    fig.colorbar(tp, ax=ax[0])
+    ax[0].set_title(f"Fig 5.5: mechanism around the pipe ({model['n_elements']} elements)")
+    ax[0].set_xlabel("x [m]")
+    ax[0].set_ylabel("y [m]")
+    fig.colorbar(tp, ax=ax[0], label="speed / pipe speed")
     n_el = [r[0] for r in rows]
-    ax[1].plot(n_el, [r[2] for r in rows], "o-", label="ours (net of buoyancy)")
-    ax[1].axhspan(LOWER_RH, UPPER, color="g", alpha=0.2, label="9.14-9.20 bounds")
-    ax[1].axhline(THESIS, color="r", ls="--", label="thesis 9.29")
+    nc = [r[2] for r in rows]
+    ax[1].plot(n_el, nc, "o-", ms=7, zorder=3, label="ours (net of buoyancy)")
+    ax[1].axhspan(LOWER_RH, UPPER, color="g", alpha=0.2,
+                  label="9.14 (Randolph & Houlsby) - 9.20 (upper bound)")
+    ax[1].axhline(THESIS, color="r", ls="--", label="thesis 9.29 (2,812 elements)")
+    ax[1].set_xlim(0, 1.15 * max(n_el))
+    ax[1].set_ylim(min(8.6, min(nc) - 0.3), max(9.6, max(nc) + 0.1))
     ax[1].set_xlabel("elements")
     ax[1].set_ylabel("Nc = F / (r Su)")
-    ax[1].legend()
+    ax[1].set_title("pipe resistance against the mesh")
+    ax[1].legend(loc="lower right", fontsize=8)
     save_figure(fig, figure_dir(args, "buried_pipe") / "buried_pipe.png")
 
 

@@ -26,7 +26,7 @@ Usage::
     python verification/cantilever.py --quick --json results/cantilever.json   # seconds
     python verification/cantilever.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -43,8 +43,9 @@ from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundar
                                   traction_vector)
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               poisson_ratio, positive_float, positive_int, progress,
+                               pyplot, save_figure, theta_weight)
 
 QUICK = dict(nx=20, ny=2, t_end=10.0)
 
@@ -128,26 +129,26 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--length", type=positive("--length"), default=10.0, help="beam length L (m)")
-    p.add_argument("--height", type=positive("--height"), default=1.0, help="beam depth h (m)")
-    p.add_argument("--nx", type=int, default=50, help="element columns (2 nx ny triangles)")
-    p.add_argument("--ny", type=int, default=5, help="element rows")
-    p.add_argument("--rho", type=positive("--rho"), default=0.01, help="density (t/m3)")
-    p.add_argument("--E", type=positive("--E"), default=3e5, help="Young's modulus (kPa)")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio")
-    p.add_argument("--g", type=float, default=0.0,
+    p.add_argument("--length", type=positive_float, default=10.0, help="beam length L (m)")
+    p.add_argument("--height", type=positive_float, default=1.0, help="beam depth h (m)")
+    p.add_argument("--nx", type=positive_int, default=50, help="element columns (2 nx ny triangles)")
+    p.add_argument("--ny", type=positive_int, default=5, help="element rows")
+    p.add_argument("--rho", type=positive_float, default=0.01, help="density (t/m3)")
+    p.add_argument("--E", type=positive_float, default=3e5, help="Young's modulus (kPa)")
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
+    p.add_argument("--g", type=nonnegative_float, default=0.0,
                    help="gravity (m/s2); the benchmark has none (then no beam-theory check)")
-    p.add_argument("--F", type=positive("--F"), default=10.0, help="end load (kN/m)")
-    p.add_argument("--t-ramp", type=positive("--t-ramp"), default=1.0, help="ramp time (s)")
-    p.add_argument("--t-hold", type=positive("--t-hold"), default=6.0, help="hold time (s)")
-    p.add_argument("--t-end", type=positive("--t-end"), default=14.0, help="end time (s)")
-    p.add_argument("--dt", type=positive("--dt"), default=0.1, help="time step (s)")
-    p.add_argument("--steps", type=int, default=None,
+    p.add_argument("--F", type=positive_float, default=10.0, help="end load (kN/m)")
+    p.add_argument("--t-ramp", type=positive_float, default=1.0, help="ramp time (s)")
+    p.add_argument("--t-hold", type=positive_float, default=6.0, help="hold time (s)")
+    p.add_argument("--t-end", type=positive_float, default=14.0, help="end time (s)")
+    p.add_argument("--dt", type=positive_float, default=0.1, help="time step (s)")
+    p.add_argument("--steps", type=positive_int, default=None,
                    help="number of time steps (default: t_end / dt)")
-    p.add_argument("--theta1", type=float, default=0.5, help="theta1, undamped run")
-    p.add_argument("--theta2", type=float, default=0.5, help="theta2, undamped run")
-    p.add_argument("--theta1-damped", type=float, default=1.0, help="theta1, damped run")
-    p.add_argument("--theta2-damped", type=float, default=0.5, help="theta2, damped run")
+    p.add_argument("--theta1", type=theta_weight, default=0.5, help="theta1, undamped run")
+    p.add_argument("--theta2", type=theta_weight, default=0.5, help="theta2, undamped run")
+    p.add_argument("--theta1-damped", type=theta_weight, default=1.0, help="theta1, damped run")
+    p.add_argument("--theta2-damped", type=theta_weight, default=0.5, help="theta2, damped run")
     p.add_argument("--d-form", choices=D_FORMS, default="quad_form",
                    help="form of the r^T D r term")
     return p

@@ -45,7 +45,9 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               friction_angle, nonnegative_float, poisson_ratio,
+                               positive_float, positive_int, progress_bar, pyplot,
                                save_figure)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
@@ -122,33 +124,25 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, c):
     return hist.factors * settlement, bearing_factor(model, hist.reactions, c), hist
 
 
-def check(args):
-    """A usage error for a friction angle out of range."""
-    for phi in args.phi or []:
-        if not 0 < phi < 90:
-            return f"--phi values must lie in (0, 90) degrees, got {phi}"
-    return None
-
-
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--R", type=positive("R"), default=0.5, help="footing radius [m]")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.49, help="Poisson's ratio")
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p.add_argument("--R", type=positive_float, default=0.5, help="footing radius [m]")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
     p.add_argument("--rough", action="store_true",
                    help="rough footing: the soil under it moves with it (u_r = 0)")
-    p.add_argument("--elements", type=int, nargs="+", default=[300, 1000, 3000],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[300, 1000, 3000],
                    help="approximate element counts of the three graded meshes")
-    p.add_argument("--settlement", type=positive("settlement"), default=0.03,
+    p.add_argument("--settlement", type=positive_float, default=0.03,
                    help="final footing displacement of the Nc-settlement curves [m]")
-    p.add_argument("--increments", type=int, default=20,
+    p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of each Nc-settlement curve")
-    p.add_argument("--phi", type=float, nargs="*", default=[10, 20, 30],
+    p.add_argument("--phi", type=friction_angle, nargs="*", default=[10, 20, 30],
                    help="friction angles of the Mohr-Coulomb footings [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=int, default=1000,
+    p.add_argument("--mc-elements", type=element_count, default=1000,
                    help="elements of the Mohr-Coulomb meshes")
-    p.add_argument("--tol", type=float, default=None,
+    p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance on the smooth Nc (default 2%%, 3%% with --quick)")
     return p
 
@@ -165,7 +159,10 @@ def run(args):
     meshes = sorted(args.elements)
     lim = {key: [] for key in ("smooth", "rough", "dp_smooth")}
     models, curves = {}, {}
+    bar = progress_bar(total=len(meshes) + len(args.phi or []), args=args, unit="mesh",
+                       desc="circular footing")
     for n in meshes:
+        bar.set_description(f"circular footing, {n} elements: limit analyses and the curve")
         smooth = footing_model(n, R=args.R)
         rough = footing_model(n, R=args.R, rough=True)
         models[n] = rough if args.rough else smooth
@@ -174,9 +171,9 @@ def run(args):
         lim["dp_smooth"].append(nc_limit(smooth, dp, c)[0])
         s, nc, hist = nc_curve(models[n], elastic, tresca, args.settlement, args.increments, c)
         curves[n] = (s, nc, hist)
-        progress(f"{smooth['n_elements']} elements: Nc smooth {lim['smooth'][-1]:.4f}, rough "
-                 f"{lim['rough'][-1]:.4f}, (7.10) {lim['dp_smooth'][-1]:.4f}; curve end "
-                 f"{nc[-1]:.4f}")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc smooth {lim['smooth'][-1]:.4f}, rough {lim['rough'][-1]:.4f}, "
+                            f"(7.10) {lim['dp_smooth'][-1]:.4f}; curve end {nc[-1]:.4f}")
     n_el = [models[n]["n_elements"] for n in meshes]
     tol = args.tol if args.tol is not None else (0.03 if args.quick else 0.02)
     smooth_nc, rough_nc = np.array(lim["smooth"]), np.array(lim["rough"])
@@ -206,12 +203,14 @@ def run(args):
 
     mc = {}
     for phi in args.phi or []:
+        bar.set_description(f"circular footing, Mohr-Coulomb phi = {phi:g}")
         model = footing_model(args.mc_elements, R=args.R, phi=phi, rough=args.rough)
         value = nc_limit(model, MohrCoulombAxisymmetric(c, phi), c)[0]
         mc[f"{phi:g}"] = dict(Nc=float(value), strip_3_49=float(strip_nc(phi)),
                               elements=model["n_elements"])
-        progress(f"Mohr-Coulomb phi = {phi:g}: Nc = {value:.3f} (strip (3.49): "
-                 f"{strip_nc(phi):.3f}; {model['n_elements']} elements)")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc = {value:.3f} (strip (3.49): {strip_nc(phi):.3f})")
+    bar.close()
     report.extra = {
         "elements": n_el, "Nc_limit_smooth": smooth_nc.tolist(),
         "Nc_limit_rough": rough_nc.tolist(), "Nc_limit_dp_7_10": dp_nc.tolist(),
@@ -237,6 +236,7 @@ def figures(args, models, curves):
     ax.set_xlabel("footing settlement [m]")
     ax.set_ylabel("Nc = F / (pi R^2 c)")
     ax.set_ylim(0, 1.25 * ref)
+    ax.set_title(f"{'rough' if args.rough else 'smooth'} circular footing, Tresca")
     ax.legend(fontsize=8)
     save_figure(fig, out / "nc_settlement.png")
 

@@ -61,8 +61,9 @@ from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+                               nonnegative_float, nonnegative_int, positive_float, positive_int,
+                               progress, pyplot, save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 from verification.granular_column_plane import deposit_extent, wall_height
 
@@ -87,6 +88,7 @@ FIT_TOLERANCE = 0.25
 RUNOUT_GATED = (0.5, 1.0, 2.0, 4.0, 8.0)
 HEIGHT_GATED = (2.0, 6.0)
 MATERIALS = {"dp": ZeroDilationDruckerPrager, "mc": ZeroDilationMohrCoulombAxisymmetric}
+PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
 
 
 def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
@@ -248,47 +250,47 @@ def run_cases(cases, workers):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--a", type=positive("a"), nargs="+", default=list(ASPECTS),
+    p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios a = h0/r0")
-    p.add_argument("--phi", type=positive("phi"), default=30.0,
+    p.add_argument("--phi", type=friction_angle, default=30.0,
                    help="friction angle phi_g of the material [deg]")
-    p.add_argument("--phi-s", type=positive("phi_s"), default=None,
+    p.add_argument("--phi-s", type=friction_angle, default=None,
                    help="base friction angle phi_s [deg], mu = tan phi_s (default phi_g)")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
-    p.add_argument("--r0", type=positive("r0"), default=1.0, help="initial radius [m]")
-    p.add_argument("--nr", type=int, default=10, help="particles across the radius r0")
-    p.add_argument("--steps", type=int, default=400,
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--r0", type=positive_float, default=1.0, help="initial radius [m]")
+    p.add_argument("--nr", type=PARTICLES_ACROSS, default=10, help="particles across the radius r0")
+    p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
-    p.add_argument("--settle", type=float, default=4.0,
+    p.add_argument("--settle", type=nonnegative_float, default=4.0,
                    help="after t/sqrt(h0/g) = 4 go on for at most this long until at rest")
     p.add_argument("--material", choices=tuple(MATERIALS), default="dp",
                    help="dp: the (7.10) cone, zero dilation; mc: Mohr-Coulomb, 3 cones")
-    p.add_argument("--compare-mc", type=positive("a"), nargs="*", default=[],
+    p.add_argument("--compare-mc", type=positive_float, nargs="*", default=[],
                    help="aspect ratios also run with the other material (compared once)")
-    p.add_argument("--density", type=positive("rho"), nargs="*", default=[],
+    p.add_argument("--density", type=positive_float, nargs="*", default=[],
                    help="densities for the invariance check (c = 0), at the first a")
-    p.add_argument("--friction-study", type=positive("phi_g"), nargs="*", default=[],
+    p.add_argument("--friction-study", type=friction_angle, nargs="*", default=[],
                    help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
-    p.add_argument("--base-study", type=positive("phi_s"), nargs="*", default=[],
+    p.add_argument("--base-study", type=friction_angle, nargs="*", default=[],
                    help="phi_s values for Fig 7.11, at every a of --base-a")
-    p.add_argument("--friction-a", type=positive("a"), nargs="*", default=[0.5, 4.0, 8.0],
+    p.add_argument("--friction-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
                    help="aspect ratios of the friction study")
-    p.add_argument("--base-a", type=positive("a"), nargs="*", default=[0.5, 4.0, 8.0],
+    p.add_argument("--base-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
                    help="aspect ratios of the base-friction study")
-    p.add_argument("--mesh-study", type=int, nargs="*", default=[],
+    p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
                    help="particles across r0 for the mesh study at a = 2, e.g. 6 10 14")
     p.add_argument("--history", action="store_true",
                    help="the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
     p.add_argument("--no-fit-gates", action="store_true",
                    help="report the deviations from (7.31)-(7.32) without gating them")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
-    p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
-    p.add_argument("--floor", type=positive("floor"), default=0.005,
+    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
+    p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
-    p.add_argument("--save-every", type=int, default=0,
+    p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
                    help="parallel processes")
     return p
 
@@ -479,19 +481,27 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
     plt = pyplot()
     out = figure_dir(args, "granular_column_axisymmetric")
     rows = sorted(sweep, key=lambda r: r["a"])
-    for r in rows:                       # Fig 7.5 / 7.7: one row of snapshots a case
+    for r in rows:                       # Fig 7.5 / 7.7: the snapshots of a case
         keys = [k for k in r["snapshots"]]
-        fig, axes = plt.subplots(1, len(keys), figsize=(2.2 * len(keys), 2.6), squeeze=False)
+        ncol = 4
+        nrow = -(-len(keys) // ncol)
+        fig, axes = plt.subplots(nrow, ncol, figsize=(12, 3.0 * nrow), squeeze=False)
         width = 1.2 + max(r["runout_over_r0"], 0) + 0.2
-        for ax, k in zip(axes[0], keys):
+        for ax, k in zip(axes.flat, keys):
             s = r["snapshots"][k]
             ax.scatter(s["points"][:, 0] / r["r0"], s["points"][:, 1] / r["r0"], c=s["speed"],
                        s=2, cmap="viridis")
             ax.set_aspect("equal")
             ax.set_xlim(0, width)
-            ax.set_title(f"t = {k}" if k == "rest" else f"t = {k:g}", fontsize=7)
-            ax.tick_params(labelsize=6)
-        fig.suptitle(f"a = {r['a']:g}: r/r0, z/r0, colour: speed (cf. Fig 7.5, 7.7)", fontsize=8)
+            ax.set_title("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}", fontsize=8)
+            ax.set_xlabel("r / r0", fontsize=8)
+            ax.set_ylabel("z / r0", fontsize=8)
+            ax.tick_params(labelsize=7)
+        for ax in list(axes.flat)[len(keys):]:
+            ax.axis("off")
+        fig.suptitle(f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
+                     fontsize=9)
+        fig.tight_layout()
         save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
     a_fit = np.logspace(-1, np.log10(20), 200)
     r_fit, h_fit, _ = lube_2004(a_fit)
@@ -518,6 +528,7 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         ax.plot(r["t_bar"], 100 * np.asarray(r["area_change"]), label=f"a = {r['a']:g}")
     ax.set_xlabel("t / sqrt(h0/g)")
     ax.set_ylabel("volume change (2 pi r dA) [%]")
+    ax.set_title("volume of the detected domain")
     ax.legend(fontsize=7)
     save_figure(fig, out / "volume_change.png")
     for r in history:
@@ -528,6 +539,7 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         ax.plot(tr["t_bar"], np.asarray(tr["h_over_r0"]) / np.asarray(tr["r_over_r0"]), "--",
                 label="h(t)/r(t) (PFEM)")
         ax.set_xlabel("t / sqrt(h0/g)")
+        ax.set_ylabel("h / r0, (r - r0) / r0, h / r")
         ax.set_title("a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", fontsize=9)
         ax.legend(fontsize=7)
         save_figure(fig, out / "time_history.png")
@@ -546,6 +558,8 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         for x in ax:
             x.set_xlabel(f"{key} [deg]")
             x.legend(fontsize=7)
+        fig.suptitle("friction study (cf. Fig 7.10)" if key == "phi"
+                     else "base-friction study (cf. Fig 7.11)")
         save_figure(fig, out / f"{name}.png")
     (out / "summary.json").write_text(json.dumps(
         {k: [_summary(r) for r in v] for k, v in dict(sweep=sweep, material=material,

@@ -32,14 +32,14 @@ Usage::
     python verification/granular_column_plane.py --quick --json results/granular_column_plane.json   # seconds
     python verification/granular_column_plane.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -51,8 +51,10 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+                               nonnegative_float, nonnegative_int, poisson_ratio,
+                               positive_float, positive_int, progress, progress_bar, pyplot,
+                               save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -208,16 +210,25 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
             state = load_checkpoint(checkpoint)
             print(f"resuming {checkpoint} at step {state.step}", flush=True)
     t0 = time.perf_counter()
+    rest_steps = int(round(settle * steps / 4.0))
+    bar = progress_bar(total=steps - state.step + rest_steps, disable=not verbose, unit="step",
+                       desc=f"column a = {a:g}, phi = {phi:g}, {nx} across")
+
+    def tick(i, n, record):
+        bar.set_postfix_str(f"t/sqrt(h0/g) = {record['time'] / np.sqrt(h0 / g):.2f}",
+                            refresh=False)
+        bar.update(1)
     state, snaps = pfem_loop.run(state, scene, steps - state.step, series=series,
-                                 save_every=save_every, snapshots=snap_steps, verbose=verbose,
+                                 save_every=save_every, snapshots=snap_steps, progress=tick,
                                  checkpoint=checkpoint, checkpoint_every=checkpoint_every)
     height4, top4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
-                                     int(round(settle * steps / 4.0)), series=series,
-                                     save_every=save_every, verbose=verbose)
+    bar.set_description(f"column a = {a:g}, phi = {phi:g}, {nx} across, until at rest")
+    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0), rest_steps,
+                                     series=series, save_every=save_every, progress=tick)
+    bar.close()
     if extra:                                             # the deposit at rest, for Fig 6.12
         snaps[state.step] = {"points": state.x.copy(),
                              "speed": np.linalg.norm(state.v, axis=1)}
@@ -266,53 +277,65 @@ def run_cases(cases, workers):
     """Cases (dicts of run_case keywords) in parallel processes, one per worker."""
     if workers <= 1 or len(cases) == 1:
         return [run_case(**c) for c in cases]
+    verbose = any(c.get("verbose") for c in cases)   # one bar over the cases, none per step
+    cases = [dict(c, verbose=False) for c in cases]
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(_run_kw, cases))
+        futures = {pool.submit(_run_kw, c): i for i, c in enumerate(cases)}
+        results = [None] * len(cases)
+        with progress_bar(total=len(cases), disable=not verbose, unit="case",
+                          desc=f"columns on {workers} workers") as bar:
+            for done in as_completed(futures):
+                results[futures[done]] = done.result()
+                bar.update(1)
+        return results
+
+
+PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--a", type=positive("a"), nargs="+", default=list(ASPECTS),
+    p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios h0/d0")
-    p.add_argument("--phi", type=positive("phi"), nargs="+", default=[31.0],
+    p.add_argument("--phi", type=friction_angle, nargs="+", default=[31.0],
                    help="friction angles [deg] (the thesis: 31 and 35)")
-    p.add_argument("--mu", type=float, default=None,
+    p.add_argument("--mu", type=nonnegative_float, default=None,
                    help="base and wall friction coefficient (default tan phi)")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
-    p.add_argument("--nx", type=int, default=20, help="particles across the column width d0")
-    p.add_argument("--steps", type=int, default=400,
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--nx", type=PARTICLES_ACROSS, default=20, help="particles across the column width d0")
+    p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
-    p.add_argument("--settle", type=float, default=4.0,
+    p.add_argument("--settle", type=nonnegative_float, default=4.0,
                    help="after t/sqrt(h0/g) = 4, go on for at most this long (same units) "
                         "until the deposit is at rest (0: stop at 4, as the thesis)")
-    p.add_argument("--time-steps", type=int, nargs="*", default=[],
+    p.add_argument("--time-steps", type=positive_int, nargs="*", default=[],
                    help="time-step study for a = 1 (Fig 6.14-6.15), e.g. 100 200 400")
-    p.add_argument("--mesh-study", type=int, nargs="*", default=[],
+    p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
                    help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
     p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")
-    p.add_argument("--E", type=positive("E"), default=None,
+    p.add_argument("--E", type=positive_float, default=None,
                    help="Young's modulus [kPa] of an elastoplastic material (default: rigid-plastic)")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio (with --E)")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
-    p.add_argument("--passes", type=int, default=2, help="fixed-point passes on the mean stress")
-    p.add_argument("--floor", type=positive("floor"), default=0.005,
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio (with --E)")
+    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
+    p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
     p.add_argument("--material", choices=("tresca-mc", "davis"), default="tresca-mc",
                    help="psi = 0 scheme of [80] or the plain Davis reduction")
     p.add_argument("--remesh", choices=("alpha", "quality"), default="alpha",
                    help="alpha-shape mesh or Triangle quality remesh (added nodes -> particles)")
-    p.add_argument("--refine-surface", type=float, default=2.0,
+    p.add_argument("--refine-surface", type=nonnegative_float, default=2.0,
                    help="a boundary edge longer than this many h gets its midside node as a "
                         "particle (0: never)")
     p.add_argument("--no-bulge", action="store_true",
                    help="move the boundary particles as bare vertices (no bulge correction)")
-    p.add_argument("--save-every", type=int, default=0,
+    p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--checkpoint-every", type=int, default=0,
+    p.add_argument("--checkpoint-every", type=nonnegative_int, default=0,
                    help="save the state every this many steps (0: never); a rerun resumes")
-    p.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
                    help="parallel processes for the sweep")
     return p
 
@@ -428,8 +451,11 @@ def render_deposits(out, rows):
         if not r.get("vtu"):
             continue
         for label, vtu in (("mid", r["vtu"][len(r["vtu"]) // 4]), ("final", r["vtu"][-1])):
+            when = "mid-run" if label == "mid" else "final deposit"
             render_png(vtu, out / f"pyvista_a{r['a']:g}_phi{r['phi']:g}_{label}.png",
-                       scalars="plastic_strain_increment", window_size=(1000, 500))
+                       scalars="plastic_strain_increment", window_size=(1200, 600),
+                       title=f"column a = {r['a']:g}, phi = {r['phi']:g}, {when}",
+                       bar_title="plastic strain increment")
 
 
 def figures(args, sweep, dt_study, mesh_study=()):
@@ -438,24 +464,32 @@ def figures(args, sweep, dt_study, mesh_study=()):
     plt = pyplot()
     out = figure_dir(args, "granular_column_plane")
     rows = sorted(sweep, key=lambda r: (r["phi"], r["a"]))
-    # one row a case: t = 0, 1, 4 and, if it went on, the deposit at rest
-    fig, axes = plt.subplots(len(rows), 4, figsize=(14, 1.5 * len(rows) + 0.8), squeeze=False)
-    for i, r in enumerate(rows):
-        frames = sorted(r["snapshots"])
-        for j, k in enumerate(frames[:4]):
+    # one figure a case, 2 x 2: t = 0, 1, 4 and, if it went on, the deposit at rest
+    for r in rows:
+        frames = sorted(r["snapshots"])[:4]
+        width = 1.2 + max(r["runout_over_d0"], 0) + 0.3
+        height = max(r["a"], 1.0) * 1.15
+        panel_h = float(np.clip(5.0 * height / width, 1.6, 5.0))
+        fig, axes = plt.subplots(2, 2, figsize=(11, 2 * panel_h + 1.2), squeeze=False,
+                                 sharex=True, sharey=True, layout="constrained")
+        speed_max = max(float(np.max(r["snapshots"][k]["speed"])) for k in frames) or 1.0
+        for ax, k in zip(axes.ravel(), frames):
             s = r["snapshots"][k]
-            ax = axes[i, j]
-            ax.scatter(s["points"][:, 0], s["points"][:, 1], c=s["speed"], s=2, cmap="viridis")
+            sc = ax.scatter(s["points"][:, 0], s["points"][:, 1], c=s["speed"], s=4,
+                            cmap="viridis", vmin=0, vmax=speed_max)
             ax.set_aspect("equal")
-            ax.set_xlim(-0.1, 1.2 + max(r["runout_over_d0"], 0) + 0.2)
+            ax.set_xlim(-0.1, width)
+            ax.set_ylim(-0.05, height)
             rest = " (at rest)" if k == frames[-1] and k > r["steps"] else ""
-            ax.set_title(f"a = {r['a']:g}, phi = {r['phi']:g}, t = {4 * k / r['steps']:.1f}{rest}",
-                         fontsize=7)
-            ax.tick_params(labelsize=6)
-        for j in range(len(frames), 4):
-            axes[i, j].axis("off")
-    fig.suptitle("granular columns (dots: particles, colour: speed), cf. Fig 6.12")
-    save_figure(fig, out / "snapshots.png")
+            ax.set_title(f"t / sqrt(h0/g) = {4 * k / r['steps']:.1f}{rest}", fontsize=10)
+            ax.set_xlabel("x / d0")
+            ax.set_ylabel("y / d0")
+        for ax in axes.ravel()[len(frames):]:
+            ax.axis("off")
+        fig.colorbar(sc, ax=axes, label="particle speed [m/s]", shrink=0.8)
+        fig.suptitle(f"granular column a = {r['a']:g}, phi = {r['phi']:g}: particles "
+                     "coloured by speed (cf. Fig 6.12)")
+        save_figure(fig, out / f"snapshots_a{r['a']:g}_phi{r['phi']:g}.png")
 
     a_fit = np.linspace(0.2, 8, 200)
     h_fit, r_fit = lube_thesis(a_fit)

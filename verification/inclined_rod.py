@@ -56,7 +56,7 @@ Usage::
     python verification/inclined_rod.py --quick --json results/inclined_rod.json   # seconds
     python verification/inclined_rod.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -64,7 +64,8 @@ import sys
 import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               positive_float, positive_int, pyplot, save_figure)
 
 QUICK = dict(steps=[25, 50, 100, 200])
 
@@ -112,16 +113,16 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--D", type=positive("--D"), default=100.0, help="horizontal span (mm)")
-    p.add_argument("--H", type=positive("--H"), default=100.0, help="height (mm)")
-    p.add_argument("--E", type=positive("--E"), default=210e3,
+    p.add_argument("--D", type=positive_float, default=100.0, help="horizontal span (mm)")
+    p.add_argument("--H", type=positive_float, default=100.0, help="height (mm)")
+    p.add_argument("--E", type=positive_float, default=210e3,
                    help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
-    p.add_argument("--V", type=positive("--V"), default=100.0, help="bar volume (mm^3)")
-    p.add_argument("--u", type=positive("--u"), default=5.0,
+    p.add_argument("--V", type=positive_float, default=100.0, help="bar volume (mm^3)")
+    p.add_argument("--u", type=positive_float, default=5.0,
                    help="final downward displacement in units of L")
-    p.add_argument("--steps", type=int, nargs="+", default=[100, 200, 400, 800],
+    p.add_argument("--steps", type=positive_int, nargs="+", default=[100, 200, 400, 800],
                    help="numbers of increments")
-    p.add_argument("--tol", type=float, default=None,
+    p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
     return p
 
@@ -185,6 +186,8 @@ def figures(args, runs, steps, err):
     a2.loglog(steps, err, "o-", label="max|F - F_exact| / max|F_exact|")
     a2.loglog(steps, err[0] * steps[0] / steps, "k:", label="1/N")
     a2.set_xlabel("increments N")
+    a2.set_ylabel("max relative error of F")
+    a2.set_title("error against the increments (order 1)")
     a2.legend()
     a2.grid(True, which="both", alpha=0.3)
     save_figure(fig, figure_dir(args, "inclined_rod") / "inclined_rod.png")

@@ -21,7 +21,7 @@ Usage::
     python verification/plastic_vibration.py --quick --json results/plastic_vibration.json   # seconds
     python verification/plastic_vibration.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -33,26 +33,28 @@ from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
 from pfem_skfem.operators import boundary_dofs, discretise
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
-from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
+from pfem_skfem.report import (Report, base_parser, figure_dir, poisson_ratio,
+                               positive_float, positive_int, pyplot, save_figure,
+                               theta_weight)
 
 QUICK = dict(nx=20, ny=2, steps=30)
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--length", type=positive("--length"), default=10.0, help="beam length L (m)")
-    p.add_argument("--height", type=positive("--height"), default=1.0, help="beam depth (m)")
-    p.add_argument("--nx", type=int, default=40, help="element columns (2 nx ny triangles)")
-    p.add_argument("--ny", type=int, default=4, help="element rows")
-    p.add_argument("--rho", type=positive("--rho"), default=0.01, help="density (t/m3)")
-    p.add_argument("--E", type=positive("--E"), default=3e5, help="Young's modulus (kPa)")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio")
-    p.add_argument("--su", type=positive("--su"), default=2.0, help="Tresca strength Su (kPa)")
-    p.add_argument("--V", type=positive("--V"), default=1.0, help="initial tip velocity (m/s)")
-    p.add_argument("--dt", type=positive("--dt"), default=0.02, help="time step (s)")
-    p.add_argument("--steps", type=int, default=60, help="number of time steps")
-    p.add_argument("--theta1", type=float, default=0.5, help="theta1 (1/2: no damping)")
-    p.add_argument("--theta2", type=float, default=0.5, help="theta2 (1/2: no damping)")
+    p.add_argument("--length", type=positive_float, default=10.0, help="beam length L (m)")
+    p.add_argument("--height", type=positive_float, default=1.0, help="beam depth (m)")
+    p.add_argument("--nx", type=positive_int, default=40, help="element columns (2 nx ny triangles)")
+    p.add_argument("--ny", type=positive_int, default=4, help="element rows")
+    p.add_argument("--rho", type=positive_float, default=0.01, help="density (t/m3)")
+    p.add_argument("--E", type=positive_float, default=3e5, help="Young's modulus (kPa)")
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
+    p.add_argument("--su", type=positive_float, default=2.0, help="Tresca strength Su (kPa)")
+    p.add_argument("--V", type=positive_float, default=1.0, help="initial tip velocity (m/s)")
+    p.add_argument("--dt", type=positive_float, default=0.02, help="time step (s)")
+    p.add_argument("--steps", type=positive_int, default=60, help="number of time steps")
+    p.add_argument("--theta1", type=theta_weight, default=0.5, help="theta1 (1/2: no damping)")
+    p.add_argument("--theta2", type=theta_weight, default=0.5, help="theta2 (1/2: no damping)")
     p.add_argument("--d-form", choices=D_FORMS, default="quad_form",
                    help="form of the r^T D r term")
     return p
@@ -111,7 +113,8 @@ def figures(args, el, pl):
     ax.plot(pl.times, pl.energy / K0, "C3", label="elastoplastic: K + W")
     ax.plot(pl.times, pl.dissipation / K0, "C3--", label="plastic dissipation D")
     ax.plot(pl.times, (pl.energy + pl.dissipation) / K0, "k:", label="K + W + D")
-    ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy")
+    ax.set(xlabel="time (s)", ylabel="energy / initial kinetic energy",
+           title="energy balance of the vibrating beam: K + W + D = K0")
     ax.legend(fontsize=8)
     save_figure(fig, figure_dir(args, "plastic_vibration") / "plastic_vibration.png")
 

@@ -29,7 +29,7 @@ Usage::
     python verification/rotating_bar.py --quick --json results/rotating_bar.json   # seconds
     python verification/rotating_bar.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -37,8 +37,8 @@ import sys
 import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float,
+                               positive_int, progress, pyplot, save_figure)
 
 QUICK = dict(steps=[4, 8, 16, 32])
 
@@ -79,11 +79,11 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--theta", type=float, default=90.0,
                    help="total rotation theta (degrees)")
-    p.add_argument("--L0", type=positive("--L0"), default=1.0, help="bar length")
-    p.add_argument("--E", type=positive("--E"), default=210e3,
+    p.add_argument("--L0", type=positive_float, default=1.0, help="bar length")
+    p.add_argument("--E", type=positive_float, default=210e3,
                    help="Young's modulus (only scales the stress)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="cross-sectional area")
-    p.add_argument("--steps", type=int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
+    p.add_argument("--A", type=positive_float, default=1.0, help="cross-sectional area")
+    p.add_argument("--steps", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
                    help="numbers of increments N")
     return p
 
@@ -127,6 +127,7 @@ def figures(args, theta, steps, strains):
     a1.loglog(nn, theta ** 2 / (2 * nn), "-", label=r"$\theta^2/(2N)$ (6.3)")
     a1.set_xlabel("increments N")
     a1.set_ylabel(r"spurious strain $-\varepsilon$")
+    a1.set_title(f"spurious strain of a rigid rotation by {np.degrees(theta):g} deg")
     a1.legend()
     a1.grid(True, which="both", alpha=0.3)
     n0 = int(min(n for n in steps if n >= 4))
@@ -136,7 +137,9 @@ def figures(args, theta, steps, strains):
     for k in range(x.shape[0]):
         a2.plot(x[k, :, 0], x[k, :, 1], "-o", ms=3, color=plt.cm.viridis(k / (x.shape[0] - 1)))
     a2.set_aspect("equal")
-    a2.set_title(f"N = {n0} increments (Fig 6.1)")
+    a2.set_xlabel("x (units of L0)")
+    a2.set_ylabel("y (units of L0)")
+    a2.set_title(f"the bar's positions, N = {n0} increments (Fig 6.1)")
     a2.legend()
     save_figure(fig, figure_dir(args, "rotating_bar") / "rotating_bar.png")
 

@@ -26,7 +26,7 @@ Usage::
     python verification/sliding_box.py --quick --json results/sliding_box.json   # seconds
     python verification/sliding_box.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -35,7 +35,8 @@ import numpy as np
 
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.particle import rigid_particle_step
-from pfem_skfem.report import Report, base_parser, figure_dir, positive, pyplot, save_figure
+from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
+                               positive_int, pyplot, save_figure)
 
 QUICK = dict(steps=[10, 20, 40])
 
@@ -109,14 +110,14 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--v0", type=positive("v0"), default=0.98, help="initial speed [m/s]")
-    p.add_argument("--mu", type=positive("mu"), default=0.1, help="friction coefficient")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
-    p.add_argument("--steps", type=int, nargs="+", default=[10, 20, 40, 60],
+    p.add_argument("--v0", type=positive_float, default=0.98, help="initial speed [m/s]")
+    p.add_argument("--mu", type=positive_float, default=0.1, help="friction coefficient")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--steps", type=positive_int, nargs="+", default=[10, 20, 40, 60],
                    help="numbers of steps over the total time")
-    p.add_argument("--time", type=positive("time"), default=None,
+    p.add_argument("--time", type=positive_float, default=None,
                    help="total time [s] (default v0 / (mu g), when the box stops)")
-    p.add_argument("--theta", type=float, default=0.5, help="theta of (5.2), in (0, 1]")
+    p.add_argument("--theta", type=in_range(0, 1, low_open=True, what="a theta in (0, 1]"), default=0.5, help="theta of (5.2), in (0, 1]")
     p.add_argument("--body", choices=("particle", "fe"), default="particle",
                    help="rigid particle (5.9) or finite-element block (5.12)")
     p.add_argument("--contact", choices=("associated", "zero-dilation"), default="associated",

@@ -25,7 +25,7 @@ Usage::
     python verification/strip_footing.py --quick --json results/strip_footing.json   # seconds
     python verification/strip_footing.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -38,8 +38,10 @@ from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress,
-                               pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
+                               friction_angle, nonnegative_float, poisson_ratio,
+                               positive_float, positive_int, progress_bar, pyplot,
+                               save_figure)
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
@@ -122,23 +124,23 @@ def nc_limit(model, criterion, *, c, B=1.0):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.49, help="Poisson's ratio")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--B", type=positive("B"), default=1.0, help="footing width [m]")
-    p.add_argument("--settlement", type=positive("settlement"), default=0.06,
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--B", type=positive_float, default=1.0, help="footing width [m]")
+    p.add_argument("--settlement", type=positive_float, default=0.06,
                    help="final footing displacement for Tresca [m]")
-    p.add_argument("--elements", type=int, nargs="+", default=[107, 390, 1144],
+    p.add_argument("--elements", type=element_count, nargs="+", default=[107, 390, 1144],
                    help="approximate element counts of the graded meshes")
-    p.add_argument("--increments", type=int, nargs="+", default=[5, 10, 100],
+    p.add_argument("--increments", type=positive_int, nargs="+", default=[5, 10, 100],
                    help="numbers of increments of the Nc-settlement curves")
-    p.add_argument("--phi", type=float, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
+    p.add_argument("--phi", type=friction_angle, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
                    help="friction angles of the Mohr-Coulomb sweep [deg] (none to skip)")
-    p.add_argument("--mc-elements", type=int, default=None,
+    p.add_argument("--mc-elements", type=element_count, default=None,
                    help="elements of the Mohr-Coulomb meshes (default: the finest)")
-    p.add_argument("--mc-increments", type=int, default=20,
+    p.add_argument("--mc-increments", type=positive_int, default=20,
                    help="increments of each Mohr-Coulomb curve")
-    p.add_argument("--tol-tresca", type=float, default=None,
+    p.add_argument("--tol-tresca", type=nonnegative_float, default=None,
                    help="tolerance on the Tresca plateau (default 1%%, 5%% with --quick)")
     return p
 
@@ -151,19 +153,24 @@ def run(args):
     report = Report("strip_footing", args)
     nc_ref = prandtl_nc(0.0)
     curves, limits, models = {}, {}, {}
+    # one bar over the solves, weighted by their increments: the time left is meaningful
+    work = (len(args.elements) * (1 + sum(args.increments))
+            + len(args.phi or []) * (1 + args.mc_increments))
+    bar = progress_bar(total=work, args=args, desc="strip footing", unit="increment")
     for n_el in sorted(args.elements):
         model = footing_model(n_el, B=args.B)
         models[n_el] = model
+        bar.set_description(f"Tresca, {model['n_elements']} el, limit analysis")
         limits[n_el] = nc_limit(model, Tresca(su), c=su, B=args.B)[0]
-        progress(f"mesh {model['n_elements']} elements: limit-analysis Nc = "
-                 f"{limits[n_el]:.4f} (Prandtl {nc_ref:.4f})")
+        bar.update(1)
+        bar.set_postfix_str(f"Nc limit {limits[n_el]:.4f} (Prandtl {nc_ref:.4f})")
         for n_inc in sorted(args.increments):
-            label = f"{model['n_elements']} el, {n_inc} inc" if args.progress else None
+            bar.set_description(f"Tresca, {model['n_elements']} el, {n_inc} increments")
             s, nc, _ = nc_curve(model, elastic, Tresca(su), args.settlement, n_inc, c=su,
-                                B=args.B, progress_label=label)
+                                B=args.B)
+            bar.update(n_inc)
+            bar.set_postfix_str(f"Nc {nc[-1]:.4f} (Prandtl {nc_ref:.4f})")
             curves[n_el, n_inc] = (s, nc)
-            progress(f"mesh {model['n_elements']} elements, {n_inc} increments: "
-                     f"final Nc = {nc[-1]:.4f}")
 
     finest = max(args.elements), max(args.increments)
     tol = args.tol_tresca if args.tol_tresca is not None else (0.05 if args.quick else 0.01)
@@ -183,6 +190,7 @@ def run(args):
             crit = MohrCoulomb(su, phi)
             ref = prandtl_nc(phi)
             model = footing_model(n_mc, B=args.B, phi=phi)
+            bar.set_description(f"Mohr-Coulomb phi = {phi:g}, {model['n_elements']} el")
             lim = nc_limit(model, crit, c=su, B=args.B)[0]
             # settle far enough to reach the plateau: scale with the collapse load
             settle = args.settlement * ref / nc_ref
@@ -190,11 +198,12 @@ def run(args):
                                 B=args.B)
             mc[phi] = dict(limit=lim, plateau=nc[-1], reference=ref, s=s, nc=nc,
                            elements=model["n_elements"])
-            progress(f"Mohr-Coulomb phi = {phi:g}: plateau {nc[-1]:.3f}, limit {lim:.3f}, "
-                     f"Prandtl {ref:.3f} ({model['n_elements']} elements)")
+            bar.update(1 + args.mc_increments)
+            bar.set_postfix_str(f"Nc {nc[-1]:.3f}, limit {lim:.3f} (Prandtl {ref:.3f})")
             tol_phi = (0.03 if phi <= 30 else 0.08) * (2.5 if args.quick else 1.0)
             report.add(f"Nc_MC_phi{phi:g}", nc[-1], ref, "(3.49) Prandtl-Reissner", tol_phi)
             report.add(f"Nc_MC_limit_phi{phi:g}", lim, ref, "(3.49) Prandtl-Reissner", tol_phi)
+    bar.close()
 
     report.extra = {
         "curves": {f"{k[0]}el_{k[1]}inc": {"settlement": v[0].tolist(), "Nc": v[1].tolist()}
@@ -242,7 +251,9 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.set_aspect("equal")
         a.set_xlim(0, 2.0)
         a.set_ylim(-1.5, 0.05)
-        a.set_title(f"{m.t.shape[1]} elements (detail)")
+        a.set_title(f"Fig 3.5: {m.t.shape[1]} elements (detail)")
+        a.set_xlabel("x [m]")
+        a.set_ylabel("y [m]")
     save_figure(fig, out / "meshes.png")
 
     if mc:                                          # Fig 3.7
@@ -252,8 +263,9 @@ def figures(args, models, curves, limits, mc, su, elastic):
         a.plot(fine_phi, [prandtl_nc(p) for p in fine_phi], "k-", label="Prandtl (3.49)")
         a.plot(phis, [mc[p]["plateau"] for p in phis], "o", label="elastoplastic plateau")
         a.plot(phis, [mc[p]["limit"] for p in phis], "x", label="limit analysis")
-        a.set_xlabel("friction angle [deg]")
-        a.set_ylabel("Nc")
+        a.set_xlabel("friction angle phi [deg]")
+        a.set_ylabel("bearing capacity Nc")
+        a.set_title("Fig 3.7: Mohr-Coulomb footing against (3.49)")
         a.legend()
         save_figure(fig, out / "nc_phi.png")
 
@@ -269,10 +281,16 @@ def figures(args, models, curves, limits, mc, su, elastic):
     points, cells = io.mesh_arrays(disc.mesh)
     vtu = out / "plastic_zone.vtu"
     io.write_vtu(vtu, points, cells, cell_data={"yield_ratio": np.minimum(per_element, 1.0)})
-    if not viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio"):
+    title = (f"plastic zone at collapse (Tresca, {model['n_elements']} elements): "
+             "1 = at yield")
+    if not viz.render_png(vtu, out / "plastic_zone.png", scalars="yield_ratio",
+                          title=title, bar_title="yield ratio"):
         fig, a = plt.subplots(figsize=(6, 4))     # no off-screen OpenGL: matplotlib instead
         viz.plot_field(a, points, cells, np.minimum(per_element, 1.0), label="yield ratio")
         a.set_aspect("equal")
+        a.set_xlabel("x [m]")
+        a.set_ylabel("y [m]")
+        a.set_title(title)
         save_figure(fig, out / "plastic_zone.png")
 
 

@@ -49,8 +49,9 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress_bar, pyplot, save_figure)
 
 
 def collapse_pressures(a, b, c, phi):
@@ -166,33 +167,38 @@ LABELS = {"tresca": "Tresca (3 cones)", "dp_compression_phi0": "DP (7.10), phi =
           "mohr_coulomb": "Mohr-Coulomb (3 cones)"}
 
 
+# 3 alpha < 1 for the (7.10) compression-meridian cone: sin phi < 3 / (2 sqrt3 + 1)
+PHI_MAX_ZERO_DILATION = float(np.degrees(np.arcsin(3 / (2 * np.sqrt(3) + 1))))
+
+
 def check(args):
-    """A usage error for an empty wall or a friction angle out of range."""
+    """A usage error for an empty wall (--a not below --b), or None."""
     if not args.a < args.b:
         return f"--a must be smaller than --b, got a = {args.a}, b = {args.b}"
-    if not 0 < args.phi < 90:
-        return f"--phi must lie in (0, 90) degrees, got {args.phi}"
+    if not 3 * drucker_prager_match(args.c, args.phi).alpha < 1:
+        return (f"--phi {args.phi:g}: the (7.10) cone has 3 alpha >= 1, no zero-dilation "
+                f"reference; take --phi below {PHI_MAX_ZERO_DILATION:.1f} degrees")
     return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--a", type=positive("a"), default=1.0, help="inner radius [m]")
-    p.add_argument("--b", type=positive("b"), default=2.0, help="outer radius [m]")
-    p.add_argument("--c", type=positive("c"), default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--phi", type=positive("phi"), default=30.0,
+    p.add_argument("--a", type=positive_float, default=1.0, help="inner radius [m]")
+    p.add_argument("--b", type=positive_float, default=2.0, help="outer radius [m]")
+    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    p.add_argument("--phi", type=friction_angle, default=30.0,
                    help="friction angle of the Mohr-Coulomb run [deg]")
-    p.add_argument("--E", type=positive("E"), default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=float, default=0.3, help="Poisson's ratio")
-    p.add_argument("--nr", type=int, nargs="+", default=[8, 16, 32],
+    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
+    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
+    p.add_argument("--nr", type=positive_int, nargs="+", default=[8, 16, 32],
                    help="elements across the wall of the limit-analysis meshes")
-    p.add_argument("--nr-elastic", type=int, default=512,
+    p.add_argument("--nr-elastic", type=positive_int, default=512,
                    help="elements across the wall of the elastic check")
-    p.add_argument("--u-bore", type=positive("u_bore"), default=0.03,
+    p.add_argument("--u-bore", type=positive_float, default=0.03,
                    help="final bore displacement of the elastoplastic curves [m]")
-    p.add_argument("--increments", type=int, default=20,
+    p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of the elastoplastic curves")
-    p.add_argument("--tol", type=float, default=0.01,
+    p.add_argument("--tol", type=nonnegative_float, default=0.01,
                    help="tolerance on the collapse pressures (relative)")
     return p
 
@@ -210,11 +216,14 @@ def run(args):
     meshes = sorted(args.nr)
     limits = {key: [] for key in crits}
     models = {nr: cylinder_model(args.a, args.b, nr) for nr in meshes}
+    bar = progress_bar(total=len(meshes) * len(crits) + len(crits), args=args, unit="solve",
+                       desc="thick cylinder")
     for nr in meshes:
+        bar.set_description(f"thick cylinder, limit analyses, {nr} across")
         for key, crit in crits.items():
             limits[key].append(limit_pressure(models[nr], crit)[0])
-        progress(f"nr = {nr}: " + ", ".join(f"{k} {limits[k][-1] / refs[k] - 1:+.2e}"
-                                            for k in crits))
+            bar.update(1)
+        bar.set_postfix_str(", ".join(f"{k} {limits[k][-1] / refs[k] - 1:+.1e}" for k in crits))
     src = {"tresca": "2 c ln(b/a)", "dp_compression_phi0": "(4/sqrt3) c ln(b/a)",
            "dp_plane_strain_phi0": "2 c ln(b/a)",
            "mohr_coulomb": "c cot(phi) [(b/a)^(2 sin(phi)/(1+sin(phi))) - 1]"}
@@ -234,11 +243,15 @@ def run(args):
             report.add_interval(f"p_limit_{key}_error_ratio", shrink, 0.0, 0.9,
                                 "error of the next finer mesh / error (< 1: converging)")
             orders[key] = float(-np.polyfit(np.log(meshes), np.log(np.abs(err)), 1)[0])
+        bar.set_description(f"thick cylinder, {LABELS[key]} curve, {meshes[-1]} across")
         s, p, _ = pressure_curve(finest, elastic, crit, args.u_bore, args.increments)
         curves[key] = (s, p)
+        bar.update(1)
+        bar.set_postfix_str(f"plateau {p[-1] / ref - 1:+.1e}")
         report.add(f"p_plateau_{key}", p[-1], ref,
                    f"{src[key]} (elastoplastic plateau, nr = {meshes[-1]})", args.tol)
 
+    bar.close()
     # zero dilation (the scheme of [80]) on the finest mesh
     mc, dp = crits["mohr_coulomb"], drucker_prager_match(args.c, args.phi)
     p_mc0, passes_mc = zero_dilation_pressure(finest, mc, args.c)
@@ -288,20 +301,23 @@ def figures(args, report, curves, elastic):
         ax[0].axhline(refs[key] / args.c, color=f"C{i}", ls="--", lw=0.8)
     ax[0].set_xlabel("bore displacement / a")
     ax[0].set_ylabel("p / c")
+    ax[0].set_title("pressure-expansion curves (dashed: closed forms)")
     ax[0].legend(fontsize=7)
     meshes = report.extra["meshes"]
     for i, (key, p) in enumerate(report.extra["limit_pressure"].items()):
         ax[1].loglog(meshes, np.array(p) / refs[key] - 1, f"C{i}o-", label=LABELS[key])
     ax[1].set_xlabel("elements across the wall")
     ax[1].set_ylabel("limit pressure / closed form - 1")
+    ax[1].set_title("limit analysis converging from above")
     ax[1].legend(fontsize=7)
     el = elastic
     order = np.argsort(el["r"])
     for k, name in ((0, "s_rr"), (2, "s_tt"), (1, "s_zz")):
         ax[2].plot(el["r"][order], el["sigma_ref"][order, k], "k-", lw=0.8)
         ax[2].plot(el["r"][order], el["sigma"][order, k], ".", ms=3, label=name)
-    ax[2].set_xlabel("r")
-    ax[2].set_ylabel("stress (elastic check; lines: Lame)")
+    ax[2].set_xlabel("r [m]")
+    ax[2].set_ylabel("stress [kPa]")
+    ax[2].set_title("elastic stresses (lines: Lame)")
     ax[2].legend(fontsize=7)
     save_figure(fig, out / "thick_cylinder.png")
 

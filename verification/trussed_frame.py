@@ -62,7 +62,7 @@ Usage::
     python verification/trussed_frame.py --quick --json results/trussed_frame.json   # seconds
     python verification/trussed_frame.py --help                                # every option
 
-``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
+``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import sys
@@ -72,8 +72,8 @@ import numpy as np
 import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive, progress, pyplot,
-                               save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               positive_float, positive_int, progress, pyplot, save_figure)
 
 QUICK = dict(uV=20.0, steps=100)
 
@@ -247,21 +247,27 @@ def exact_truss(x0, bars, area0, E, sigma_s, fixed, prescribed, path, n_incremen
 
 def check(args):
     """Options that cannot go together (a usage error), or None."""
-    return "--steps must be a positive integer" if args.steps < 1 else None
+    if args.steps < 1:
+        return "--steps must be a positive integer"
+    try:
+        trussed_frame(w=args.width)
+    except ValueError as err:
+        return f"--width {args.width:g}: {err}"
+    return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--E", type=positive("--E"), default=210e3, help="Young's modulus (N/mm^2)")
-    p.add_argument("--sigma_s", type=positive("--sigma_s"), default=2500.0,
+    p.add_argument("--E", type=positive_float, default=210e3, help="Young's modulus (N/mm^2)")
+    p.add_argument("--sigma_s", type=positive_float, default=2500.0,
                    help="yield stress (N/mm^2)")
-    p.add_argument("--A", type=positive("--A"), default=1.0, help="initial bar area (mm^2)")
-    p.add_argument("--uV", type=positive("--uV"), default=65.0,
+    p.add_argument("--A", type=positive_float, default=1.0, help="initial bar area (mm^2)")
+    p.add_argument("--uV", type=positive_float, default=65.0,
                    help="vertical displacement of the loaded point (mm)")
-    p.add_argument("--steps", type=int, default=650, help="number of increments")
-    p.add_argument("--width", type=positive("--width"), default=4.0,
+    p.add_argument("--steps", type=positive_int, default=650, help="number of increments")
+    p.add_argument("--width", type=positive_float, default=4.0,
                    help="depth w of the trussed members = panel length (mm)")
-    p.add_argument("--tol", type=float, default=None,
+    p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance of max_rel_diff_force (default 2 %%, 4 %% with --quick)")
     return p
 
@@ -331,25 +337,36 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
     draw(ax, frame["x"], "k")
     for n in frame["pins"]:
         ax.plot(*frame["x"][n], "^", color="tab:red", ms=8)
-    ax.annotate("", xy=frame["x"][frame["load"]], xytext=frame["x"][frame["load"]] + [0, 15],
-                arrowprops=dict(arrowstyle="->", color="tab:blue"))
+    tip = frame["x"][frame["load"]]
+    ax.annotate("u_V", xy=tip, xytext=tip + [0, 15], ha="center", va="bottom",
+                color="tab:blue", arrowprops=dict(arrowstyle="->", color="tab:blue"))
+    ax.plot([], [], "^", color="tab:red", label="pins")
     ax.set_title(f"Fig 6.4: {len(frame['x'])} nodes, {len(bars)} bars")
     ax.set_aspect("equal")
     ax.autoscale()
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo - 2, max(hi, tip[1] + 25))      # room for the load arrow below the title
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.legend(loc="lower right", fontsize=8)
     ax = axes[1]
-    draw(ax, frame["x"], "0.8", 0.4)
+    draw(ax, frame["x"], "0.75", 0.5, "initial shape")
     for target, c in zip((20.0, 40.0, 60.0), ("tab:blue", "tab:orange", "tab:green")):
         if target > u[-1] + 1e-9:
             continue
         i = int(np.argmin(np.abs(u - target)))
         draw(ax, hist.x[i], c, 0.7, f"SOCP, {target:g} mm")
-        ax.add_collection(LineCollection(x_ref[i][bars][::3], colors="k", linewidths=0.3,
-                                         linestyles=":"))
+        ax.add_collection(LineCollection(x_ref[i][bars][::3], colors="k", linewidths=0.9,
+                                         linestyles=(0, (1, 2))))
         ax.plot(*x_ref[i][frame["load"]], "x", color="k", ms=6)
+    ax.plot([], [], color="k", lw=0.9, ls=(0, (1, 2)), label="exact solver (every third bar)")
+    ax.plot([], [], "x", color="k", label="exact solver, loaded node")
     ax.set_aspect("equal")
     ax.autoscale()
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
     ax.legend(loc="lower right", fontsize=8)
-    ax.set_title("Fig 6.5: deformed shapes (dotted, x: exact solver)")
+    ax.set_title("Fig 6.5: deformed shapes at u_V = 20, 40, 60 mm")
     ax = axes[2]
     ax.plot(u, F, "-", label="mathematical programming (B.12), updated geometry")
     ax.plot(u_ref[::max(1, len(u) // 40)], F_ref[::max(1, len(u) // 40)], "o", ms=4,
