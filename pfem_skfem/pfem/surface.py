@@ -95,12 +95,12 @@ def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None, axis=
         on_axis = np.flatnonzero(axis)
         shift[on_axis, 0] = 0.0
         shift[on_axis, 1] = rhs[on_axis, 1] / np.maximum(
-            normal_matrix[on_axis, 1, 1] + lam_all(normal_matrix, regularisation)[on_axis],
+            normal_matrix[on_axis, 1, 1] + _tikhonov(normal_matrix, regularisation)[on_axis],
             1e-300)
     return shift
 
 
-def lam_all(normal_matrix, regularisation):
+def _tikhonov(normal_matrix, regularisation):
     """The Tikhonov term of :func:`bulge_correction` at every vertex."""
     return regularisation * np.trace(normal_matrix, axis1=1, axis2=2) / 2
 
