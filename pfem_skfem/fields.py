@@ -38,10 +38,14 @@ def element_mean(disc, values):
     return mean.reshape((m,) + values.shape[1:])
 
 
-def smoothed_mean_stress(disc, sigma):
+def smoothed_mean_stress(disc, sigma, mean=None):
     """sigma_m = (sx + sy)/2 smoothed onto the vertices: the element means averaged at each
-    vertex, weighted by element area (a rigid zone's stresses are not unique, their mean is)."""
-    sm = 0.5 * (sigma[:, 0] + sigma[:, 1])
+    vertex, weighted by element area (a rigid zone's stresses are not unique, their mean is).
+
+    ``mean`` : callable(sigma (n, 4)) -> (n,), the mean stress a material lags instead
+    (e.g. I1/3, :func:`~pfem_skfem.materials_axisymmetric.mean_stress`); None: (sx + sy)/2.
+    """
+    sm = 0.5 * (sigma[:, 0] + sigma[:, 1]) if mean is None else mean(sigma)
     e = disc.point_element
     m = disc.mesh.nelements
     area = np.bincount(e, disc.weights, minlength=m)

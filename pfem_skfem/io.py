@@ -203,7 +203,9 @@ def step_fields(state, result):
 
     Point data: velocity (3 components, z = 0 for ParaView), speed, smoothed mean stress
     and pressure p = -(sx + sy)/2, the tags free_surface and contact (0/1), region;
-    cell data: element mean stress (sx, sy, sxy), equivalent plastic strain increment.
+    cell data: element mean stress (sx, sy, sxy), equivalent plastic strain increment (in
+    axisymmetry x = r and y = z: the stress is (s_rr, s_zz, s_rz), the hoop stress s_tt
+    beside it, and the mean stress the material's lag, I1/3).
     """
     disc, inc = result.disc, result.increment
     points = state.mesh_p
@@ -220,4 +222,6 @@ def step_fields(state, result):
                   "region": tag(state.region)}
     cell_data = {"stress": stress[:, [0, 1, 3]],
                  "plastic_strain_increment": element_mean(disc, result.plastic_strain)}
+    if disc.geometry.axisymmetric:            # (s_rr, s_zz, s_rz) above; the hoop stress
+        cell_data["hoop_stress"] = stress[:, 2]
     return points, disc.mesh.t.T, point_data, cell_data

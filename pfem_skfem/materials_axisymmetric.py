@@ -272,3 +272,130 @@ def zero_dilation_cone(criterion, sigma, floor):
         return TrescaField3(mohr_coulomb_pair_radii(criterion.c, criterion.phi, sigma, floor))
     raise ValueError(f"no zero-dilation cone for {type(criterion).__name__}: use a "
                      "DruckerPrager or MohrCoulombAxisymmetric criterion")
+
+
+# -- materials of the PFEM runs in axisymmetry: the cone of each step -----------------------
+def mean_stress(sigma):
+    """I1/3 = (s_rr + s_zz + s_tt)/3 of stresses (n, 4): the lagged quantity of the
+    axisymmetric PFEM materials (the hoop stress counts)."""
+    sigma = np.atleast_2d(np.asarray(sigma, dtype=float))
+    return (sigma[:, 0] + sigma[:, 1] + sigma[:, 2]) / 3.0
+
+
+@dataclass(frozen=True)
+class ZeroDilationDruckerPrager:
+    """The Drucker-Prager cone (7.10) with zero dilation, for the PFEM loop in axisymmetry.
+
+    The scheme of [80] as in the thesis' 7.2: each step solves an associated problem on
+    the flow surface of psi = 0, G = sqrt(J2), whose radius is the strength of (7.10) at
+    the lagged mean stress p = I1/3 carried by the particles (:func:`mean_stress`):
+
+    .. math::
+        \\sqrt{J_2} \\le k_j, \\quad k_j = \\max(k - 3\\alpha\\, p_j,\\; k_{min})
+
+    with J2 (7.11) reading the hoop stress, (alpha, k) of :func:`drucker_prager_match`
+    (``match``: the thesis' 'compression-meridian' (7.10) by default). At a fixed point
+    (p_j the solution's) the strength is that of (7.10) and the flow isochoric. In plane
+    strain (s_z the out-of-plane stress) the same object serves, with p = I1/3 too.
+
+    Parameters
+    ----------
+    c : cohesion (>= 0);  phi : friction angle in degrees;  k_min : least radius in units of
+        the scene's stress scale rho g L;  match : see :func:`drucker_prager_match`;
+        elastic : :class:`~pfem_skfem.materials.Elastic` (None: rigid-plastic).
+    """
+
+    c: float = 0.0
+    phi: float = 30.0
+    k_min: float = 0.005
+    match: str = "compression-meridian"
+    elastic: object = None
+
+    name = "Drucker-Prager (7.10), zero dilation [80]"
+    lagged = True
+
+    def __post_init__(self):
+        self.criterion                          # validates c, phi and match
+        if not np.isfinite(self.k_min) or self.k_min <= 0:
+            raise ValueError(f"k_min (least cone radius / stress scale) must be positive, "
+                             f"got {self.k_min!r}")
+
+    @property
+    def criterion(self):
+        """The associated cone (7.10): :class:`~pfem_skfem.materials.DruckerPrager`."""
+        return drucker_prager_match(self.c, self.phi, self.match)
+
+    @staticmethod
+    def mean_stress(sigma):
+        """The lagged quantity: I1/3 (:func:`mean_stress`)."""
+        return mean_stress(sigma)
+
+    def radii(self, p, stress_scale=1.0):
+        """k_j = max(k - 3 alpha p_j, k_min stress_scale) at mean stresses p = I1/3."""
+        dp = self.criterion
+        return np.maximum(dp.k - 3 * dp.alpha * np.asarray(p, dtype=float),
+                          self.k_min * stress_scale)
+
+    def cone(self, p, stress_scale=1.0):
+        """The step's criterion: :class:`VonMisesField` of the radii at ``p``."""
+        return VonMisesField(self.radii(p, stress_scale))
+
+    def strength_scale(self, p, stress_scale=1.0):
+        """A stress of the step (the median radius), to scale the conic problem."""
+        return self.cone(p, stress_scale).strength_scale()
+
+
+@dataclass(frozen=True)
+class ZeroDilationMohrCoulombAxisymmetric:
+    """Mohr-Coulomb in axisymmetry with zero dilation, for the PFEM loop: the three Tresca
+    cones of :class:`TrescaField3` (one per principal pair, the hoop stress principal),
+    each with the Mohr-Coulomb radius at the lagged mean stress p = I1/3:
+
+    .. math::
+        s_i - s_j \\le k_j = \\max(2c\\cos\\phi - 2p_j\\sin\\phi,\\; k_{min})
+        \\quad\\text{for every principal pair } (i, j)
+
+    The particles carry one lagged scalar, so each pair's sum s_i + s_j is taken as 2p:
+    the flow is isochoric (Tresca's), the strength Mohr-Coulomb's where the mean of the
+    major and minor principal stresses is I1/3 (the intermediate stress midway), weaker
+    than exact Mohr-Coulomb in triaxial compression (s_2 = s_1) and stronger in extension.
+    Compare with :class:`ZeroDilationDruckerPrager`, which lags exactly what its radius needs.
+
+    Parameters
+    ----------
+    c, phi, k_min, elastic : as :class:`ZeroDilationDruckerPrager`.
+    """
+
+    c: float = 0.0
+    phi: float = 30.0
+    k_min: float = 0.005
+    elastic: object = None
+
+    name = "Mohr-Coulomb (axisymmetric, 3 cones), zero dilation [80]"
+    lagged = True
+
+    def __post_init__(self):
+        MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)
+        if not np.isfinite(self.k_min) or self.k_min <= 0:
+            raise ValueError(f"k_min (least cone radius / stress scale) must be positive, "
+                             f"got {self.k_min!r}")
+
+    @staticmethod
+    def mean_stress(sigma):
+        """The lagged quantity: I1/3 (:func:`mean_stress`)."""
+        return mean_stress(sigma)
+
+    def radii(self, p, stress_scale=1.0):
+        """k_j = max(2c cos(phi) - 2 p_j sin(phi), k_min stress_scale)."""
+        sn, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
+        return np.maximum(2 * self.c * co - 2 * sn * np.asarray(p, dtype=float),
+                          self.k_min * stress_scale)
+
+    def cone(self, p, stress_scale=1.0):
+        """The step's criterion: :class:`TrescaField3`, the same radius for the three pairs."""
+        k = self.radii(p, stress_scale)
+        return TrescaField3(np.vstack([k, k, k]))
+
+    def strength_scale(self, p, stress_scale=1.0):
+        """A stress of the step (half the median radius), to scale the conic problem."""
+        return self.cone(p, stress_scale).strength_scale()

@@ -11,6 +11,8 @@ from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, load_checkpoint
 from pfem_skfem.materials import CohesiveTresca, DavisMohrCoulomb, Elastic
+from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
+                                               ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
@@ -78,10 +80,18 @@ def make_scene(name):
         soil = DavisMohrCoulomb(c=1.0, phi=30.0, psi=10.0, k_min=0.01, elastic=Elastic(1e4, 0.3))
         return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions),
                        t_end=None)
+    if name == "axisymmetric":
+        ep = Elastic(1e4, 0.3)
+        soils = (ZeroDilationDruckerPrager(c=1.0, phi=30.0, k_min=0.01, match="plane-strain",
+                                           elastic=ep),
+                 ZeroDilationMohrCoulombAxisymmetric(c=0.0, phi=25.0, elastic=ep))
+        return replace(rich, regions=tuple(replace(r, material=m)
+                                           for r, m in zip(rich.regions, soils)),
+                       geometry="axisymmetric")
     return scene_from_toml(EXAMPLE)
 
 
-ROUND_TRIP = ("rich", "davis", "example")
+ROUND_TRIP = ("rich", "davis", "axisymmetric", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -98,7 +108,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 18
+    assert len(names) == 20
     for name in names:
         assert f'type = "{name}"' in text, name
 

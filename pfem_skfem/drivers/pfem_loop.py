@@ -10,7 +10,10 @@ One step from the cloud C^n to C^{n+1}, one call per stage, each timed::
     move     (2b) particles moved, surface kept, outlets pfem.surface, pfem.bookkeeping
 
 The problem is a :class:`~pfem_skfem.scene.Scene` (regions, rigid bodies and their
-motions, outlets, phases, gravity); :class:`PFEMConfig` holds the numerical choices.
+motions, outlets, phases, gravity, the geometry: plane strain or axisymmetry);
+:class:`PFEMConfig` holds the numerical choices. In axisymmetry (thesis Ch 7) every
+mesh is discretised with the 2 pi r weight, u_r = 0 on the axis, the area of the
+records is the volume of revolution and the mean-stress lag is the material's.
 :func:`pfem_step` does not change its input: it returns the new state, the step's
 record and what output needs of the step (:class:`StepResult`).
 """
@@ -23,8 +26,10 @@ from skfem import MeshTri
 
 from ..fields import plastic_strain_increment
 from ..io import step_fields
-from ..operators import discretise
+from ..geometry import as_geometry
+from ..operators import axis_dofs, discretise
 from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
+from ..pfem.alpha_shape import measure
 from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
                              step_material, step_scales)
 from ..pfem.bookkeeping import discharge, hand_on_mass, step_record
@@ -160,6 +165,7 @@ def pfem_step(state, scene):
     """
     config = scene.config
     theta = config.theta
+    geometry = as_geometry(scene.geometry)
     timer = StageTimer()
     t_start = _time.perf_counter()
     h_median = float(np.median(state.h))
@@ -177,18 +183,19 @@ def pfem_step(state, scene):
                     state = hand_on_mass(state, keep)
                     thinned = int((~keep).sum())
             shape = alpha_shape(state.x, state.h, alpha)
-            area = shape.area
+            area = (float(measure(shape.points, shape.triangles, True).sum())
+                    if geometry.axisymmetric else shape.area)       # the volume, 2 pi r dA
             area0 = area if not np.isfinite(area0) else area0
             if scene.adaptive_alpha:                     # alpha_n = m0 alpha_0 / m_n (Ch 8)
                 alpha = float(np.clip(adaptive_alpha(scene.alpha, area0, area),
                                       0.8 * scene.alpha, 1.5 * scene.alpha))
         with timer("remesh"):
             pm = config.remesher(shape)
-            source = old_discretisation(state)
+            source = old_discretisation(state, geometry)
             n_before = state.n
             state, pm = adopt_added_nodes(state, pm, source)
             added = state.n - n_before
-            disc = discretise(pm.mesh)
+            disc = discretise(pm.mesh, geometry)
         with timer("map"):
             v_dofs, sigma_n = map_state(state, pm, disc, source, config.stress_mapping,
                                         config.velocity)
@@ -198,7 +205,7 @@ def pfem_step(state, scene):
             mesh = MeshTri(np.ascontiguousarray(state.x[state.mesh_particle].T),
                            np.ascontiguousarray(state.mesh_t.T), sort_t=False)
             pm = ParticleMesh(mesh, state.mesh_particle)
-            disc = discretise(mesh)
+            disc = discretise(mesh, geometry)
             area = disc.area
         v_dofs, sigma_n = state.v_dofs, state.sigma
     with timer("assemble"):
@@ -210,6 +217,8 @@ def pfem_step(state, scene):
         fixed = held_dofs(disc, phase, contacts)
         if contacts is not None and fixed.size:      # a held node is a support
             contacts = without_nodes(contacts, fixed)
+        if geometry.axisymmetric:                    # u_r = 0 on the axis r = 0
+            fixed = np.union1d(fixed, axis_dofs(disc))
         material = step_material(scene, disc, regions)
     with timer("solve"):
         scales = step_scales(state.scales, scene, theta.dt)

@@ -110,6 +110,18 @@ def triangle_areas(points, tri):
                   - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1]))
 
 
+def triangle_volumes(points, tri):
+    """Signed volumes 2 pi A r_c of triangles (m, 3) of ``points`` revolved about the axis
+    x = 0 (Pappus; exact for straight-sided triangles, r_c the centroid's radius)."""
+    r_c = (points[tri[:, 0], 0] + points[tri[:, 1], 0] + points[tri[:, 2], 0]) / 3.0
+    return 2 * np.pi * triangle_areas(points, tri) * r_c
+
+
+def measure(points, tri, axisymmetric=False):
+    """(m,) areas of triangles (m, 3), or in axisymmetry their volumes of revolution."""
+    return triangle_volumes(points, tri) if axisymmetric else triangle_areas(points, tri)
+
+
 def circumradius(points, tri):
     """Circumradius R = abc / (4 A) of each triangle; inf for a zero-area triangle."""
     a, b, c = (points[tri[:, k]] for k in range(3))

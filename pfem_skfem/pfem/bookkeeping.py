@@ -12,7 +12,7 @@ import numpy as np
 from dataclasses import replace
 
 from ..fields import vertex_dofs
-from .alpha_shape import triangle_areas
+from .alpha_shape import measure, triangle_areas
 
 
 def hand_on_mass(state, keep):
@@ -64,8 +64,12 @@ def body_loads(scene, contacts, contact_bodies, inc, t_n):
 
 
 def region_amounts(scene, state, disc, regions):
-    """Mass of the particles of each region, and the area of the elements of each region."""
-    area_e = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)
+    """Mass of the particles of each region, and the area of the elements of each region
+    (in axisymmetry their volume of revolution)."""
+    if disc.geometry.axisymmetric:
+        area_e = measure(disc.mesh.p.T, disc.mesh.t.T, True)
+    else:
+        area_e = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)
     mass = {r.name: float(state.mass[state.region == k].sum())
             for k, r in enumerate(scene.regions)}
     area = {r.name: float(area_e[regions == k].sum()) for k, r in enumerate(scene.regions)}
@@ -76,14 +80,23 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
                 area, area0, alpha, projected, added, surface, thinned, phase, held,
                 discharged_now):
     """The step's record for the history: geometry, mass bookkeeping, forces on the
-    bodies, energy, solver iterations and status, stage times."""
+    bodies, energy, solver iterations and status, stage times.
+
+    In axisymmetry every 'area' of the record (area, mesh_area, moved_area, area_change,
+    area_regions) is a volume, the integral of 2 pi r dA, and the forces are ring forces
+    (the z-component the whole body's; the r-component has no resultant).
+    """
     disc, inc = result.disc, result.increment
     mass_regions, area_regions = region_amounts(scene, new, disc, regions)
     forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
                                  new.time - scene.config.dt)
     speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)
-    mesh_area = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T).sum())
-    moved_area = float(triangle_areas(new.mesh_p, disc.mesh.t.T).sum())
+    if disc.geometry.axisymmetric:               # volumes of revolution, 2 pi r dA
+        mesh_area = float(measure(disc.mesh.p.T, disc.mesh.t.T, True).sum())
+        moved_area = float(measure(new.mesh_p, disc.mesh.t.T, True).sum())
+    else:
+        mesh_area = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T).sum())
+        moved_area = float(triangle_areas(new.mesh_p, disc.mesh.t.T).sum())
     return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
             "area": area, "mesh_area": mesh_area, "moved_area": moved_area,
             "area_change": area / area0 - 1, "alpha": alpha,

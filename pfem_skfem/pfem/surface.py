@@ -34,7 +34,17 @@ def boundary_edges(disc, du):
     return a, b, fd, delta, n
 
 
-def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None):
+def axis_vertices(disc):
+    """(n_vertices,) bool: vertices on the axis r = 0 of an axisymmetric discretisation
+    (to round-off, as :func:`~pfem_skfem.operators.axis_dofs`); all False in plane strain."""
+    p = disc.mesh.p
+    if not disc.geometry.axisymmetric:
+        return np.zeros(p.shape[1], dtype=bool)
+    scale = float(np.ptp(p, axis=1).max()) or 1.0
+    return np.abs(p[0]) <= 1e-12 * scale
+
+
+def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None, axis=None):
     """Shift of the boundary vertices that keeps the area the P2 displacement gives the body.
 
     The particles are the vertices only, so moving them drops the bulge of each boundary
@@ -52,9 +62,13 @@ def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None):
     corner the shift that leaves the edge without bulge unchanged: the crest of a slope
     below a flat top moves along the top, not up. ``skip`` : (n_boundary_edges,) bool,
     edges left out (those whose midside node becomes a particle); ``edges`` : the
-    :func:`boundary_edges` of (disc, du), if already computed.
+    :func:`boundary_edges` of (disc, du), if already computed; ``axis`` : (n_vertices,)
+    bool, vertices on the axis of an axisymmetric body, whose radial shift is zero (they
+    stay on the axis; an edge along the axis has no bulge, u_r = 0 on it).
 
-    Returns (n_vertices, 2) shifts (zero at interior vertices).
+    Returns (n_vertices, 2) shifts (zero at interior vertices). The shifts keep the area
+    of the meridian section; in axisymmetry that keeps the volume 2 pi r dA to first order
+    in the edge length except at the axis, where the weight vanishes.
     """
     a, b, _, delta, n = boundary_edges(disc, du) if edges is None else edges
     c = 2.0 / 3.0 * np.einsum("id,id->i", delta, n)
@@ -64,16 +78,42 @@ def bulge_correction(disc, du, skip=None, regularisation=0.01, edges=None):
     normal_matrix = np.zeros((nv, 2, 2))                  # sum_e n_e n_e^T at each vertex
     rhs = np.zeros((nv, 2))                               # sum_e c_e n_e
     nn = n[:, :, None] * n[:, None, :]
-    for end in (a, b):
+    if disc.geometry.axisymmetric:      # each end puts back half of the bulge's *volume*
+        ends = ((a, c * _volume_factor(disc, a, b)), (b, c * _volume_factor(disc, b, a)))
+    else:
+        ends = ((a, c), (b, c))
+    for end, c_end in ends:
         np.add.at(normal_matrix, end, nn)
-        np.add.at(rhs, end, c[:, None] * n)
+        np.add.at(rhs, end, c_end[:, None] * n)
     on = np.unique(np.concatenate([a, b]))
     # the Tikhonov term in units of the vertex's own normal matrix (trace = edges at it)
     lam = regularisation * np.trace(normal_matrix[on], axis1=1, axis2=2) / 2
     shift = np.zeros((nv, 2))
     shift[on] = np.linalg.solve(normal_matrix[on] + lam[:, None, None] * np.eye(2),
                                 rhs[on][..., None])[..., 0]
+    if axis is not None:                # on the axis: the shift along it only
+        on_axis = np.flatnonzero(axis)
+        shift[on_axis, 0] = 0.0
+        shift[on_axis, 1] = rhs[on_axis, 1] / np.maximum(
+            normal_matrix[on_axis, 1, 1] + _tikhonov(normal_matrix, regularisation)[on_axis],
+            1e-300)
     return shift
+
+
+def _tikhonov(normal_matrix, regularisation):
+    """The Tikhonov term of :func:`bulge_correction` at every vertex."""
+    return regularisation * np.trace(normal_matrix, axis1=1, axis2=2) / 2
+
+
+def _volume_factor(disc, end, other):
+    """r_mid / r_bar_end of boundary edges (end, other): the shift of vertex ``end`` that puts
+    back half of an edge's bulge volume 2 pi r_mid (2/3) L delta.n, its hat function's
+    r-weight being r_bar = (2 r_end + r_other)/3 (1 on an edge along the axis: no bulge)."""
+    r = disc.mesh.p[0]
+    r_bar = (2 * r[end] + r[other]) / 3
+    scale = float(np.ptp(disc.mesh.p, axis=1).max()) or 1.0
+    tiny = 1e-12 * scale
+    return np.where(r_bar > tiny, 0.5 * (r[end] + r[other]) / np.maximum(r_bar, tiny), 1.0)
 
 
 def project_out_of_bodies(x, v, bodies, h):
@@ -105,6 +145,10 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
         new particle (0: never);  bulge : apply :func:`bulge_correction`.
 
+    In axisymmetry (``disc.geometry``) the particles on the axis stay on it exactly (u_r = 0
+    there, no radial bulge shift), and a particle that would cross the axis (a free one, or
+    a vertex by round-off) is put on it with its radial velocity removed.
+
     Returns the moved state (new particles appended: midside nodes of stretched boundary
     edges, with no mass) and the number of particles found inside a rigid body by more
     than 1e-3 h (put back on its surface).
@@ -124,8 +168,10 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     split = np.zeros(len(a), dtype=bool)
     if refine_surface > 0:
         split = np.linalg.norm(x[pa] - x[pb], axis=1) > refine_surface * h_edge
+    axis = axis_vertices(disc)
     if bulge:
-        x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges)
+        x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges,
+                                           axis=axis if axis.any() else None)
     new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
     new_v = inc.v[fd[:, split]].T
     v[pm.particle] = inc.v[vd]
@@ -142,20 +188,31 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     # no particle inside a rigid body: a node that was outside the contact search (or a
     # free particle) and crossed a wall is put back on it with its normal velocity removed
     x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))
+    if disc.geometry.axisymmetric:
+        x[pm.particle[axis], 0] = 0.0              # on the axis, exactly
+        crossed = x[:, 0] < 0
+        x[crossed, 0] = 0.0
+        v[crossed, 0] = np.maximum(v[crossed, 0], 0.0)
     return replace(moved, x=x, v=v), projected
 
 
 def particle_tags(disc, pm, contacts, inc, n, weight):
     """The tags of :class:`~pfem_skfem.pfem.Particles` after a step, for n particles.
 
-    free_surface : a vertex of a boundary edge of the step's mesh, or a particle in no
-    element (flying free, or new: the midside node of a stretched boundary edge);
+    free_surface : a vertex of a boundary edge of the step's mesh (in axisymmetry not an
+    edge along the axis), or a particle in no element (flying free, or new: the midside node of a stretched boundary edge);
     contact : a vertex pressed against a rigid body, normal force p above 1e-6 ``weight``
     (a particle's weight, rho g h^2).
     """
     free_surface = np.ones(n, dtype=bool)
     free_surface[pm.particle] = False
-    free_surface[pm.particle[disc.mesh.boundary_nodes()]] = True
+    if disc.geometry.axisymmetric:               # the axis is no free surface
+        axis = axis_vertices(disc)
+        ends = disc.mesh.facets[:, disc.mesh.boundary_facets()]
+        ends = ends[:, ~(axis[ends[0]] & axis[ends[1]])]
+        free_surface[pm.particle[np.unique(ends)]] = True
+    else:
+        free_surface[pm.particle[disc.mesh.boundary_nodes()]] = True
     contact = np.zeros(n, dtype=bool)
     if contacts is not None:
         vertex_of = np.full(disc.n_u, -1)

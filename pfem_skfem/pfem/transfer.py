@@ -12,6 +12,7 @@ from scipy.spatial import cKDTree
 from skfem import Basis, ElementTriP1, MeshTri
 
 from ..fields import collapsed, vertex_dofs, vertex_to_points
+from ..geometry import PLANE_STRAIN
 from ..operators import discretise
 from .mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from .remesh import ParticleMesh
@@ -33,22 +34,22 @@ def _mesh(p, t):
     return MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T), sort_t=False)
 
 
-def old_discretisation(state):
+def old_discretisation(state, geometry=PLANE_STRAIN):
     """The last mesh, moved to t_n, with its P2 velocities and stresses: the source of a map.
 
     A step may collapse a triangle of the moved mesh (zero area); it is left out, its
     values living on in its neighbours (vertex and midside dofs are shared), so that the
     map sees a valid mesh. Returns (Discretisation, v_dofs, sigma), or None before the
-    first mesh.
+    first mesh. ``geometry`` : that of the scene (plane strain by default).
     """
     if state.mesh_p is None:
         return None
     p, t = state.mesh_p, state.mesh_t
     bad = collapsed(p, t)
     if not bad.any():
-        return discretise(_mesh(p, t)), state.v_dofs, state.sigma
+        return discretise(_mesh(p, t), geometry), state.v_dofs, state.sigma
     full = _mesh(p, t)
-    disc = discretise(_mesh(p, t[~bad]))
+    disc = discretise(_mesh(p, t[~bad]), geometry)
     # P2 vector dofs (scikit-fem): vertex v -> 2v + c, facet f -> 2 nv + 2f + c, with
     # nv = mesh.nvertices (the largest vertex index in t, plus one)
     nv, nv_red = full.nvertices, disc.mesh.nvertices

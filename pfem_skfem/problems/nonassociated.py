@@ -47,15 +47,16 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     ----------
     ops, f : the step's DynamicOperators and load vector (3.42).
     contacts : ContactSet or None.  disc : the Discretisation.
-    material : a PFEM material (``cone(sigma_m, stress_scale)``, ``lagged``).
+    material : a PFEM material (``cone(sigma_m, stress_scale)``, ``lagged``; its
+        ``mean_stress(sigma)``, if it has one, is the lagged quantity, else (sx + sy)/2).
     contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
     v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
     sigma_m : (n_vertices,) lagged mean stress at the vertices.
+    fixed : dofs held at zero increment (a held phase; in axisymmetry u_r on the axis).
     scales : the previous step's DynamicScales, or None (first step: from an elastic
         predictor with the material's strength at sigma_m).
     passes : number of passes when the material or the contact rule is lagged (else 1).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
-    fixed : dofs held at zero increment (a held phase).
     backend : 'clarabel' or 'cvxpy' (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
 
     Returns
@@ -82,7 +83,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time
         solve_time += inc.info.solve_time
-        sm = smoothed_mean_stress(disc, inc.sigma)
+        sm = smoothed_mean_stress(disc, inc.sigma, getattr(material, "mean_stress", None))
         if lagged_contact:
             last_contacts = step_contacts
             step_contacts = contact_rule.update(contacts, inc.p)

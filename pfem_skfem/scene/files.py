@@ -57,6 +57,7 @@ import tomllib
 
 from ..drivers.pfem_loop import PFEMConfig
 from ..materials import CohesiveTresca, DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
+from ..materials_axisymmetric import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -301,7 +302,11 @@ MATERIAL = OneOf(
                                    "elastic": ELASTIC}),
     Spec(DavisMohrCoulomb, {"c": NUMBER, "phi": NUMBER, "psi": NUMBER, "k_min": NUMBER,
                             "elastic": ELASTIC}),
-    Spec(CohesiveTresca, {"c": NUMBER, "elastic": ELASTIC}))
+    Spec(CohesiveTresca, {"c": NUMBER, "elastic": ELASTIC}),
+    Spec(ZeroDilationDruckerPrager, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
+                                     "match": STRING, "elastic": ELASTIC}),
+    Spec(ZeroDilationMohrCoulombAxisymmetric, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
+                                               "elastic": ELASTIC}))
 STRESS = OneOf(Spec(Geostatic, {"k0": NUMBER, "top": NUMBER}))
 REGION = Spec(Region, {"name": STRING, "polygon": POINTS, "holes": POLYGONS, "lattice": STRING,
                        "h": NUMBER, "rho": NUMBER, "material": MATERIAL, "stress": STRESS})
@@ -339,7 +344,7 @@ SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
     "length": NUMBER, "regions": Tables(REGION), "bodies": Tables(BODY),
     "outlets": Tables(OUTLET), "phases": Tables(PHASE), "config": Table(CONFIG),
-    "output": Table(OUTPUT)})
+    "output": Table(OUTPUT), "geometry": STRING})
 
 
 # -- loading --------------------------------------------------------------------------------

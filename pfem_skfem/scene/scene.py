@@ -14,10 +14,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..drivers.pfem_loop import PFEMConfig
+from ..geometry import as_geometry
 from ..pfem.state import initial_state
 from .bodies import Body
 from .outlets import Outlet
-from .regions import Geostatic, Region, geostatic_stress
+from .regions import Geostatic, Region, geostatic_stress, volume_shares
 
 HOLDS = (None, "boundary", "free_surface")
 
@@ -78,6 +79,12 @@ class Scene:
     config : :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig` (time step, passes,
         contact rule, remesher, mappings, backend).
     output : :class:`Output`.
+    geometry : 'plane' (plane strain, the default) or 'axisymmetric' (thesis Ch 7): x is
+        the radius r >= 0 and y the axis z; every mesh of the loop is discretised with the
+        2 pi r weight, particles on the axis r = 0 stay on it (u_r = 0), the axis is no
+        free surface, volumes and masses are those of the body of revolution and forces
+        are ring forces (their r-component has no resultant; the z-component is the
+        whole body's).
     """
 
     regions: tuple
@@ -91,6 +98,7 @@ class Scene:
     length: float = None
     config: PFEMConfig = field(default_factory=PFEMConfig)
     output: Output = field(default_factory=Output)
+    geometry: str = "plane"
 
     def __post_init__(self):
         regions = tuple(self.regions) if isinstance(self.regions, (list, tuple)) else (self.regions,)
@@ -126,6 +134,15 @@ class Scene:
             object.__setattr__(self, "length", float(hi[1] - lo[1]) or float(np.ptp([lo, hi])))
         if not (np.isfinite(self.length) and self.length > 0):
             raise ValueError(f"length must be positive, got {self.length!r}")
+        geometry = as_geometry(self.geometry)          # ValueError for an unknown name
+        if not isinstance(self.geometry, str):
+            object.__setattr__(self, "geometry", "axisymmetric" if geometry.axisymmetric
+                               else "plane")
+        if geometry.axisymmetric:
+            lo, _ = self._bounding_box()
+            if lo[0] < 0:
+                raise ValueError(f"geometry 'axisymmetric': x is the radius, every region must "
+                                 f"lie in x >= 0 (a region reaches x = {lo[0]:g})")
         elastic = {repr(getattr(r.material, "elastic", None)) for r in regions}
         if len(elastic) > 1:
             raise ValueError("every region must have the same elasticity (or none)")
@@ -179,6 +196,11 @@ class Scene:
         return max(getattr(r.material, "c", 0.0) for r in self.regions)
 
     @property
+    def axisymmetric(self):
+        """True in axisymmetry (x = r, y = z), False in plane strain."""
+        return as_geometry(self.geometry).axisymmetric
+
+    @property
     def elastic(self):
         return getattr(self.regions[0].material, "elastic", None)
 
@@ -204,21 +226,39 @@ class Scene:
 
     def initial_state(self):
         """The state at t = 0: the particles at rest, each region's mass shared equally by
-        its particles, the lagged mean stress and (elastoplastic) the stresses from each
-        region's initial stress."""
+        its particles (in axisymmetry: by their shares of the region's volume of revolution,
+        :func:`~pfem_skfem.scene.regions.volume_shares`), the lagged mean stress and
+        (elastoplastic) the stresses from each region's initial stress.
+
+        The lagged mean stress is (sx + sy)/2, or what the region's material lags
+        (its ``mean_stress(sigma)``, e.g. I1/3 for the axisymmetric cones); in axisymmetry
+        the geostatic hoop stress equals the radial one, s_tt = s_rr = K0 s_zz.
+        """
         x, h, region = self.particles()
         mass = np.zeros(len(x))
         sigma = np.zeros((len(x), 4))
+        sigma_m = np.zeros(len(x))
+        axisymmetric = self.axisymmetric
         for k, r in enumerate(self.regions):
             mine = region == k
-            mass[mine] = r.rho * r.area / mine.sum()
+            if axisymmetric:
+                mass[mine] = r.rho * volume_shares(r, x[mine])
+            else:
+                mass[mine] = r.rho * r.area / mine.sum()
             if isinstance(r.stress, Geostatic):
                 phi = getattr(r.material, "phi", 0.0)
                 k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
                 nu = getattr(self.elastic, "nu", 0.0)
                 sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
-        sigma_m = 0.5 * (sigma[:, 0] + sigma[:, 1])
+                if axisymmetric:
+                    sigma[mine, 2] = sigma[mine, 0]
+            mean = getattr(r.material, "mean_stress", None)
+            if mean is not None:
+                sigma_m[mine] = mean(sigma[mine])
+        plane = np.array([getattr(r.material, "mean_stress", None) is None
+                          for r in self.regions])[region]
+        sigma_m[plane] = (0.5 * (sigma[:, 0] + sigma[:, 1]))[plane]
         stress = sigma if self.elastic is not None else None
         h_arg = h[0] if np.all(h == h[0]) else h
         return initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)

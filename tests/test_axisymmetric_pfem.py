@@ -1,0 +1,114 @@
+"""The PFEM engine in axisymmetry (thesis 7.4): closed forms on a column of revolution.
+
+A column r0 in radius and h0 high (x = r, y = z) in a smooth container keeps still and
+presses on its base with its weight rho g pi r0^2 h0; its particles weigh their shares of
+the volume of revolution, summing to rho V; the particles on the axis stay on it; the
+volume the records report is the integral of 2 pi r dA; c = 0 makes the deposit
+independent of the density; the zero-dilation cones have the strength of their
+criterion at a fixed point.
+"""
+from dataclasses import replace
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pytest import approx
+
+from pfem_skfem.drivers.pfem_loop import run
+from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
+                                               ZeroDilationMohrCoulombAxisymmetric,
+                                               drucker_prager_match, mean_stress)
+from pfem_skfem.scene import Region, Scene
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
+from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
+
+G, RHO, R0 = 9.8, 2.0, 1.0
+
+
+def test_column_in_a_smooth_container_keeps_still_on_its_weight():
+    a = 1.0
+    state, scene = granular_column_axisymmetric(a, 6, container=True, rho=RHO, g=G)
+    x0 = state.x.copy()
+    state, _ = run(state, scene, 4)
+    hist = state.history
+    assert np.abs(state.x - x0).max() < 1e-10 * R0
+    weight = RHO * G * np.pi * R0 ** 2 * a * R0                 # rho g pi r0^2 h0
+    assert hist["forces"][-1]["base"][1] == approx(-weight, rel=1e-8)
+    assert hist["area"][0] == approx(np.pi * R0 ** 2 * a * R0, rel=1e-12)   # 2 pi int r dA
+    assert max(abs(c) for c in hist["area_change"]) < 1e-12
+
+
+def test_particle_masses_are_volume_shares_summing_to_rho_V():
+    state, scene = granular_column_axisymmetric(2.0, 7, rho=RHO)
+    V = np.pi * R0 ** 2 * 2.0 * R0
+    assert scene.regions[0].volume == approx(V, rel=1e-14)
+    assert state.mass.sum() == approx(RHO * V, rel=1e-14)
+    # interior particles: mass h^2 2 pi r (lumped P1 weights), proportional to r
+    h = R0 / 6
+    inner = (state.x[:, 0] > 0.5 * h) & (state.x[:, 0] < R0 - 0.5 * h) & \
+        (state.x[:, 1] > 0.5 * h) & (state.x[:, 1] < 2.0 * R0 - 0.5 * h)
+    assert state.mass[inner] == approx(RHO * 2 * np.pi * state.x[inner, 0] * h ** 2, rel=1e-12)
+    assert np.all(state.mass[state.x[:, 0] == 0] > 0)        # the axis particles weigh too
+
+
+def test_axis_particles_stay_on_the_axis_and_are_not_free_surface():
+    state, scene = granular_column_axisymmetric(1.0, 5, dt=0.02 * np.sqrt(1.0 / G))
+    axis = np.flatnonzero(state.x[:, 0] == 0.0)
+    n0 = state.n
+    state, _ = run(state, scene, 20)
+    assert state.x.shape[0] >= n0
+    assert np.all(state.x[axis, 0] == 0.0)                  # exactly, every step
+    assert np.all(state.x[:, 0] >= 0.0)
+    moved = np.abs(state.x[axis, 1] - np.sort(state.x[axis, 1])).max()
+    assert moved == 0.0                                       # their order is kept
+    top, foot = axis[np.argmax(state.x[axis, 1])], axis[np.argmin(state.x[axis, 1])]
+    between = np.setdiff1d(axis, [top, foot])
+    assert between.size >= 2
+    assert not state.free_surface[between].any()              # the axis is no free surface
+    assert state.free_surface[top] and state.free_surface[foot]   # its ends are boundary
+    mass = np.asarray(state.history["mass"])
+    assert mass == approx(RHO * np.pi * R0 ** 2 * 1.0, rel=1e-13)
+
+
+def test_density_invariance_of_a_cohesionless_collapse():
+    """c = 0: every force scales with rho, so the particles move alike (coarse, 15 steps)."""
+    out = []
+    for rho in (1.0, 2.0):
+        state, scene = granular_column_axisymmetric(1.0, 5, rho=rho, dt=0.03 * np.sqrt(1.0 / G))
+        state, _ = run(state, scene, 15)
+        out.append(state.x)
+    assert out[0].shape == out[1].shape
+    assert np.abs(out[0] - out[1]).max() < 1e-4 * R0
+    assert np.abs(out[0] - granular_column_axisymmetric(1.0, 5)[0].x[:len(out[0])]).max() > 0.05
+
+
+@pytest.mark.parametrize("phi", [20.0, 30.0, 40.0])
+def test_zero_dilation_drucker_prager_has_the_strength_of_7_10_at_a_fixed_point(phi):
+    rng = np.random.default_rng(int(phi))
+    sigma = rng.normal(size=(50, 4)) - 3.0                    # compressive states
+    material = ZeroDilationDruckerPrager(c=0.5, phi=phi, k_min=1e-9)
+    criterion = drucker_prager_match(0.5, phi, "compression-meridian")
+    cone = material.cone(mean_stress(sigma))
+    np.testing.assert_allclose(cone.F(sigma), criterion.F(sigma), atol=1e-12)
+
+
+def test_zero_dilation_mohr_coulomb_radius_is_mohr_coulombs_at_the_mean_stress():
+    material = ZeroDilationMohrCoulombAxisymmetric(c=1.0, phi=30.0, k_min=1e-9)
+    k = material.cone(np.array([-2.0])).k
+    assert k[:, 0] == approx([2 * np.cos(np.pi / 6) + 4 * 0.5] * 3)
+
+
+def test_scene_geometry_is_checked_and_plane_by_default():
+    _, scene = granular_column_axisymmetric(1.0, 4)
+    assert scene.axisymmetric and scene.geometry == "axisymmetric"
+    plane = replace(scene, geometry="plane")
+    assert not plane.axisymmetric
+    shifted = Region(((-0.5, 0.0), (1.0, 0.0), (1.0, 1.0), (-0.5, 1.0)),
+                     scene.regions[0].material, 2.0, 0.25)
+    with pytest.raises(ValueError, match="x >= 0"):
+        Scene(regions=(shifted,), geometry="axisymmetric")
+    with pytest.raises(ValueError, match="geometry"):
+        Scene(regions=(shifted,), geometry="spherical")
+    assert Scene(regions=(shifted,)).geometry == "plane"

@@ -1,0 +1,573 @@
+"""Axisymmetric collapse of granular columns (thesis 7.4, Fig 7.4-7.11): the PFEM in cylindrical coordinates.
+
+A cylinder of cohesionless granular material, radius r0 and height h0 = a r0 (a = h0/r0,
+the *radius*: not the plane a = h0/d0 of 6.4.3), rests on a rough rigid base z = 0
+inside a smooth container r = r0 that is removed at t = 0; it collapses under gravity
+until t / sqrt(h0/g) = 4 (the thesis' stopping time) and then on until at rest
+(``--settle``). The PFEM loop (:mod:`pfem_skfem.drivers.pfem_loop`) runs it in
+axisymmetry (``Scene(geometry="axisymmetric")``): x is the radius r, y the axis z, every
+integral carries 2 pi r, u_r = 0 on the axis, the volume is the integral of 2 pi r dA.
+The material is the thesis' Drucker-Prager cone (7.10) (the compression-meridian match)
+with zero dilation by the scheme of [80]
+(:class:`~pfem_skfem.materials_axisymmetric.ZeroDilationDruckerPrager`, the lagged mean
+stress I1/3), rho = 2 t/m3, c = 0, phi_g = 30 deg, base friction tan phi_s with
+phi_s = phi_g, dt / sqrt(h0/g) = 0.01 (``--steps 400``), alpha = 1.6.
+
+References (as printed in the thesis; the primary papers were not read)
+------------------------------------------------------------------------
+* (7.31) Lube, Huppert, Sparks & Hallworth (2004), J. Fluid Mech. 508: run-out
+  (r_inf - r0)/r0 = 1.24 a (a < 1.7), 1.6 a^(1/2) (a > 1.7) (continuous to 1 % at 1.7).
+* (7.32) the same: height on the axis h_inf/r0 = a (a < 1), 0.88 a^(1/6) (1.7 < a < 10).
+  No fit for 1 <= a <= 1.7 (a gap, and a jump: 1.0 against 0.88 at a = 1) and none
+  beyond a = 10 (a = 12 is reported against the extrapolation, marked so).
+* (7.33)-(7.34) Lajeunesse, Mangeney-Castelnau & Vilotte (2004), Phys. Fluids 16:
+  run-out proportional to a (a < 3), to a^(1/2) (a > 3), with no prefactor (only the
+  exponents can be compared); height h_inf/r0 = a (a < 0.74), 0.74 (a > 0.74).
+* The thesis' findings: run-outs and heights agree with Lube et al. (Fig 7.8-7.9); for
+  a > 6 the heights, measured and simulated, lie below (7.32); a larger phi_g gives a
+  higher, shorter deposit (Fig 7.10); the base friction phi_s matters little at a = 0.5
+  and more as a grows (Fig 7.11); a = 3.6, r0 = 3.9 cm, phi_g = 28 deg: the experiment's
+  radius lags the simulation (the container's finite lifting speed), the simulated final
+  radius is slightly larger, h/r agrees (Fig 7.6).
+
+Checks: the a = 0.5 top on the axis keeps h0 (to 1 % of the spacing); the volume changes
+by less than 3 %; the deposit comes to rest; run-out within 25 % of (7.31) for a in
+{0.5, 1, 2, 4, 8}, height within 25 % of (7.32) for a in [2, 6]; for a > 6 the height
+is reported against the thesis' "below (7.32)" (and so are the studies' signs).
+
+Usage::
+
+    python verification/granular_column_axisymmetric.py --quick --json results/granular_column_axisymmetric.json
+    python verification/granular_column_axisymmetric.py --a 0.5 1 2 4 6 8 12 --nr 10 --steps 400
+    python verification/granular_column_axisymmetric.py --help          # every option
+
+VTU/PVD (``--save-every``) hold r and z as x and y; to see the body of revolution in
+ParaView apply Transform (rotate 90 deg about x, so that z points up along the new z)
+and then Rotational Extrusion (360 deg).
+"""
+import json
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from pfem_skfem.drivers import pfem_loop
+from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, run_to_rest
+from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
+                                               ZeroDilationMohrCoulombAxisymmetric)
+from pfem_skfem.pfem.remesh import AlphaMesh
+from pfem_skfem.problems.contact import RigidSegment
+from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+                               nonnegative_float, nonnegative_int, positive_float, positive_int,
+                               progress, pyplot, save_figure, workers)
+from pfem_skfem.scene import Body, Geostatic, Region, Scene
+from verification.granular_column_plane import deposit_extent, wall_height
+
+ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
+# --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
+# a = 0.5 top, the volume, the rest, the masses, the axis; the fits are reported there, not
+# gated (measured at a = 0.5: run-out against (7.31) -44 % at 6 across, -24.8 % at 8 with
+# dt/sqrt(h0/g) = 0.02, -27 % at 10 with 0.01).
+QUICK = dict(a=[0.5], nr=6, steps=100, settle=4.0, no_fit_gates=True)
+# Stated bound on the volume change (issue 17: 3 %; thesis Ch 8 claims 2 %, Ch 6 2-6 %).
+# Measured (8 across r0, dt/sqrt(h0/g) = 0.02): 0.6 % at a = 0.5, 2.5 % at 1, 11.8 / 13.7 /
+# 18.0 % at a = 2 / 4 / 8 (10 across, 0.01: 11.0 % at a = 2): the check fails beyond a = 1;
+# the P2 flow is isochoric to 1e-11 per step, the loss is the vertex motion after the bulge
+# correction (0.04-0.055 % per step at a = 2) and the alpha-shape at the thinning toe.
+VOLUME_BOUND = 0.03
+# At rest: every particle slower than REST_SPEED sqrt(g h0) (as the plane column).
+REST_SPEED = 1e-3
+# The a = 0.5 top on the axis keeps h0 to this fraction of the particle spacing.
+HEIGHT_TOLERANCE = 0.01
+# Soft gates against the fits (the research notes: do not tighten below ~20 %).
+FIT_TOLERANCE = 0.25
+RUNOUT_GATED = (0.5, 1.0, 2.0, 4.0, 8.0)
+HEIGHT_GATED = (2.0, 6.0)
+MATERIALS = {"dp": ZeroDilationDruckerPrager, "mc": ZeroDilationMohrCoulombAxisymmetric}
+PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
+
+
+def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
+                                 c=0.0, material="dp", container=False, floor_fraction=0.005,
+                                 dt=None, alpha=1.6, t_end=None, **config):
+    """The axisymmetric column of thesis 7.4 as a scene, and its initial state.
+
+    A cylinder r0 in radius and h0 = a r0 high (x = r, y = z), of particles on a square
+    lattice (``nr`` across the radius, the axis row included), on a rigid base z = 0 of
+    friction tan ``phi_s`` (default phi), inside a smooth container r = r0, removed at
+    t = 0 unless ``container``. ``material`` 'dp' (the (7.10) cone with zero dilation) or
+    'mc' (Mohr-Coulomb, three cones, zero dilation); the lagged mean stress I1/3 starts
+    geostatic with K0 = 1 - sin phi; ``floor_fraction`` is the least cone radius in units
+    of rho g h0; dt defaults to 0.01 sqrt(h0/g); other keywords go to
+    :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
+
+    Returns (state, scene).
+    """
+    if a <= 0:
+        raise ValueError(f"a (aspect ratio h0/r0) must be positive, got {a!r}")
+    if not nr >= 2:
+        raise ValueError(f"nr must be >= 2, got {nr!r}")
+    h0 = a * r0
+    h = r0 / (nr - 1)
+    mu = np.tan(np.radians(phi if phi_s is None else phi_s))
+    top = 20 * h0 + 10 * r0
+    soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction)
+    column = Region(((0.0, 0.0), (r0, 0.0), (r0, h0), (0.0, h0)), soil, rho, h,
+                    stress=Geostatic(), name="column")
+    bodies = (Body("base", RigidSegment((-h, 0.0), (top, 0.0), mu)),          # solid below
+              Body("container", RigidSegment((r0, -h), (r0, top), 0.0),       # smooth
+                   removed_at=np.inf if container else 0.0))
+    dt = 0.01 * np.sqrt(h0 / g) if dt is None else dt
+    numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), remesher=AlphaMesh(), **config)
+    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
+                  t_end=t_end, length=h0, config=numerics, geometry="axisymmetric")
+    return scene.initial_state(), scene
+
+
+def lube_2004(a):
+    """(7.31)-(7.32) as printed: ((r_inf - r0)/r0, h_inf/r0, height fit in its range).
+
+    Run-out 1.24 a (a < 1.7), 1.6 a^(1/2) (a >= 1.7); height a (a < 1), 0.88 a^(1/6)
+    (a > 1.7; stated up to a = 10, beyond it extrapolated), nan in the gap 1 <= a <= 1.7.
+    """
+    a = np.asarray(a, dtype=float)
+    runout = np.where(a < 1.7, 1.24 * a, 1.6 * np.sqrt(a))
+    height = np.where(a < 1.0, a, np.where(a > 1.7, 0.88 * a ** (1 / 6), np.nan))
+    in_range = (a < 1.0) | ((a > 1.7) & (a < 10.0))
+    return runout, height, in_range
+
+
+def lajeunesse_2004(a):
+    """(7.33)-(7.34) as printed: (run-out exponent, h_inf/r0). The run-out is only
+    proportional to a (a < 3) or a^(1/2) (a > 3); the height is a (a < 0.74), 0.74 beyond."""
+    a = np.asarray(a, dtype=float)
+    return np.where(a < 3.0, 1.0, 0.5), np.minimum(a, 0.74)
+
+
+def measure_deposit(state, alpha):
+    """(height on the axis, toe radius) of the main body, not its splashes: the highest of
+    its particles within one spacing of r = 0 (Lube et al. measure the central height)."""
+    _, toe, body = deposit_extent(state, alpha)
+    return wall_height(state, body, 0.0), toe
+
+
+def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
+             passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
+             save_every=0, verbose=False, history=False, label=""):
+    """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
+    sqrt(h0/g) more); returns the measured quantities and what the figures need."""
+    h0 = a * r0
+    t_scale = np.sqrt(h0 / g)
+    dt = 4.0 * t_scale / steps
+    n_stop = int(round(t_stop * t_scale / dt))
+    state, scene = granular_column_axisymmetric(a, nr, r0=r0, rho=rho, g=g, phi=phi,
+                                                phi_s=phi_s, material=material,
+                                                floor_fraction=floor, dt=dt, alpha=alpha,
+                                                passes=passes)
+    series = None
+    if outdir is not None and save_every:
+        from pfem_skfem.io import TimeSeries
+        case_dir = Path(outdir) / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"
+        case_dir.mkdir(parents=True, exist_ok=True)
+        series = TimeSeries(case_dir, "column")
+    volume0 = float(rho * scene.regions[0].volume)
+    x0 = state.x.copy()
+    axis0 = np.flatnonzero(x0[:, 0] == 0.0)
+    # snapshots for Fig 7.7 (t = 1.0, 1.2, 1.28, 2.0, 4.0) and the time history (Fig 7.6)
+    snap_times = (1.0, 1.2, 1.28, 2.0, 4.0)
+    snap_steps = {int(round(s * t_scale / dt)): s for s in snap_times}
+    track = {"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}
+
+    def on_step(st, rec, result):
+        if history:
+            hz, toe = measure_deposit(st, alpha)
+            track["t_bar"].append(st.time / t_scale)
+            track["h_over_r0"].append(hz / r0)
+            track["r_over_r0"].append(toe / r0)
+
+    t0 = time.perf_counter()
+    state, snaps = pfem_loop.run(state, scene, n_stop, series=series, save_every=save_every,
+                                 snapshots=set(snap_steps), verbose=verbose, on_step=on_step)
+    height4, toe4 = measure_deposit(state, alpha)
+    ke = np.asarray(state.history["kinetic_energy"])
+    ke4 = float(ke[-1] / ke.max())
+    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
+                                     int(round(settle * steps / 4.0)), series=series,
+                                     save_every=save_every, verbose=verbose, on_step=on_step)
+    seconds = time.perf_counter() - t0
+    height, toe = measure_deposit(state, alpha) if extra else (height4, toe4)
+    hist = state.history
+    ke = np.asarray(hist["kinetic_energy"])
+    mass = np.asarray(hist["mass"])
+    on_axis = np.flatnonzero(np.abs(state.x[:, 0]) <= 1e-12 * r0)
+    return {
+        "a": a, "phi": phi, "phi_s": phi if phi_s is None else phi_s, "nr": nr,
+        "steps": steps, "rho": rho, "r0": r0, "material": material, "label": label,
+        "particles": int(len(x0)), "spacing_over_r0": float(np.median(state.h)) / r0,
+        "h_inf_over_r0": height / r0, "runout_over_r0": (toe - r0) / r0,
+        "h_t4_over_r0": height4 / r0, "runout_t4_over_r0": (toe4 - r0) / r0,
+        "kinetic_energy_t4_over_peak": ke4, "at_rest": bool(rest),
+        "t_rest": float(state.time / t_scale) if rest else float("nan"),
+        "volume_change_max": float(np.max(np.abs(hist["area_change"]))),
+        "volume_change_final": float(hist["area_change"][-1]),
+        "mass_error": float(np.max(np.abs(mass / volume0 - 1))),
+        "axis_particles_start": int(len(axis0)),
+        "axis_particles_kept": int(np.all(np.abs(state.x[axis0[axis0 < state.n], 0]) == 0.0)),
+        "axis_particles_end": int(len(on_axis)),
+        "seconds": seconds, "seconds_per_step": float(np.mean(hist["seconds"])),
+        "iterations_per_step": float(np.mean(hist["iterations"])),
+        "inaccurate_passes": int(np.sum(hist["inaccurate"])),
+        "elements": int(np.median(hist["elements"])),
+        "t_bar": (np.asarray(hist["time"]) / t_scale).tolist(),
+        "area_change": list(hist["area_change"]),
+        "kinetic_energy_over_peak": (ke / ke.max()).tolist(),
+        "track": track if history else None,
+        "snapshots": {0.0: {"points": x0, "speed": np.zeros(len(x0))},
+                      **{snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
+                         for k, v in snaps.items()},
+                      "rest": {"points": state.x.copy(),
+                               "speed": np.linalg.norm(state.v, axis=1)}},
+        "config": config_summary(scene),
+        "pvd": str(series.pvd_path) if series is not None else None,
+    }
+
+
+def _run_kw(kw):
+    return run_case(**kw)
+
+
+def run_cases(cases, workers):
+    """Cases (dicts of run_case keywords) in parallel processes, one per worker."""
+    if workers <= 1 or len(cases) == 1:
+        return [run_case(**c) for c in cases]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        return list(pool.map(_run_kw, cases))
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
+                   help="aspect ratios a = h0/r0")
+    p.add_argument("--phi", type=friction_angle, default=30.0,
+                   help="friction angle phi_g of the material [deg]")
+    p.add_argument("--phi-s", type=friction_angle, default=None,
+                   help="base friction angle phi_s [deg], mu = tan phi_s (default phi_g)")
+    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--r0", type=positive_float, default=1.0, help="initial radius [m]")
+    p.add_argument("--nr", type=PARTICLES_ACROSS, default=10, help="particles across the radius r0")
+    p.add_argument("--steps", type=positive_int, default=400,
+                   help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
+    p.add_argument("--settle", type=nonnegative_float, default=4.0,
+                   help="after t/sqrt(h0/g) = 4 go on for at most this long until at rest")
+    p.add_argument("--material", choices=tuple(MATERIALS), default="dp",
+                   help="dp: the (7.10) cone, zero dilation; mc: Mohr-Coulomb, 3 cones")
+    p.add_argument("--compare-mc", type=positive_float, nargs="*", default=[],
+                   help="aspect ratios also run with the other material (compared once)")
+    p.add_argument("--density", type=positive_float, nargs="*", default=[],
+                   help="densities for the invariance check (c = 0), at the first a")
+    p.add_argument("--friction-study", type=friction_angle, nargs="*", default=[],
+                   help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
+    p.add_argument("--base-study", type=friction_angle, nargs="*", default=[],
+                   help="phi_s values for Fig 7.11, at every a of --base-a")
+    p.add_argument("--friction-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
+                   help="aspect ratios of the friction study")
+    p.add_argument("--base-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
+                   help="aspect ratios of the base-friction study")
+    p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
+                   help="particles across r0 for the mesh study at a = 2, e.g. 6 10 14")
+    p.add_argument("--history", action="store_true",
+                   help="the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
+    p.add_argument("--no-fit-gates", action="store_true",
+                   help="report the deviations from (7.31)-(7.32) without gating them")
+    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
+    p.add_argument("--floor", type=positive_float, default=0.005,
+                   help="least cone radius, as a fraction of rho g h0")
+    p.add_argument("--save-every", type=nonnegative_int, default=0,
+                   help="write a VTU every this many steps (0: none); PVD per case")
+    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
+                   help="parallel processes")
+    return p
+
+
+def _dev(value, ref):
+    return value / ref - 1 if np.isfinite(ref) else np.nan
+
+
+def run(args):
+    """The sweep and the studies of ``args``; the Report of their checks."""
+    out = Path(args.outdir) / "granular_column_axisymmetric"
+    base = dict(nr=args.nr, steps=args.steps, phi=args.phi, phi_s=args.phi_s, rho=args.rho,
+                g=args.g, r0=args.r0, material=args.material, passes=args.passes,
+                alpha=args.alpha, floor=args.floor, settle=args.settle,
+                outdir=out if args.save_every else None, save_every=args.save_every,
+                verbose=args.progress)
+    groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
+    other = "mc" if args.material == "dp" else "dp"
+    groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
+    a_first = sorted(args.a)[0]
+    groups["density"] = [dict(base, a=a_first, rho=r) for r in args.density if r != args.rho]
+    # a study's case equal to a sweep case is not run twice (it is taken from the sweep)
+    same_base = args.phi_s is None or args.phi_s == args.phi
+    groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
+                          for p in args.friction_study
+                          if not (p == args.phi and same_base and a in args.a)]
+    groups["base"] = [dict(base, a=a, phi_s=p) for a in args.base_a for p in args.base_study
+                      if not (p == (args.phi_s or args.phi) and a in args.a)]
+    groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
+    groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
+                               history=True)] if args.history else [])
+    cases = [c for g in groups.values() for c in g]
+    if args.progress:
+        progress(f"{len(cases)} case(s) on {args.workers} worker(s)")
+    results = iter(run_cases(cases, args.workers))
+    res = {k: [next(results) for _ in g] for k, g in groups.items()}
+    sweep = res["sweep"]
+    by_a = {r["a"]: r for r in sweep}
+    if args.friction_study:
+        res["friction"] += [by_a[a] for a in args.friction_a
+                            if args.phi in args.friction_study and same_base and a in by_a]
+    if args.base_study:
+        res["base"] += [by_a[a] for a in args.base_a
+                        if (args.phi_s or args.phi) in args.base_study and a in by_a]
+
+    report = Report("granular_column_axisymmetric", args)
+    print("final deposit (at rest) against Lube et al. 2004 (7.31)-(7.32) and Lajeunesse et al. "
+          "2004 (7.34); then the deposit at t/sqrt(h0/g) = 4, where the thesis stops")
+    print(f"{'a':>5s} {'(r-r0)/r0':>9s} {'(7.31)':>7s} {'dev':>7s} {'h/r0':>6s} {'(7.32)':>7s} "
+          f"{'dev':>7s} {'(7.34)':>6s} {'t_rest':>6s} | {'run4':>6s} {'h4/r0':>6s} | "
+          f"{'|dV|max':>8s} {'parts':>6s} {'s/step':>6s}")
+    for r in sweep:
+        r_ref, h_ref, in_range = (v.item() for v in lube_2004(r["a"]))
+        _, h_laj = (float(v) for v in lajeunesse_2004(r["a"]))
+        r["reference"] = {"runout_lube": r_ref, "h_lube": h_ref, "h_lube_in_range": in_range,
+                          "h_lajeunesse": h_laj}
+        r["deviation"] = {"runout_lube": _dev(r["runout_over_r0"], r_ref),
+                          "h_lube": _dev(r["h_inf_over_r0"], h_ref),
+                          "h_lajeunesse": _dev(r["h_inf_over_r0"], h_laj)}
+        d = r["deviation"]
+        mark = "" if in_range else "*"
+        print(f"{r['a']:5.2g} {r['runout_over_r0']:9.3f} {r_ref:7.3f} {d['runout_lube']:+7.1%} "
+              f"{r['h_inf_over_r0']:6.3f} {h_ref:7.3f}{mark:1s}{d['h_lube']:+7.1%} {h_laj:6.3f} "
+              f"{r['t_rest']:6.2f} | {r['runout_t4_over_r0']:6.3f} {r['h_t4_over_r0']:6.3f} | "
+              f"{r['volume_change_max']:8.2%} {r['particles']:6d} {r['seconds_per_step']:6.2f}")
+        tag = f"a{r['a']:g}"
+        if r["a"] <= 0.5:           # every source: a short column keeps its top
+            report.add_interval(f"{tag}_h_inf_over_h0", r["h_inf_over_r0"] / r["a"], 1.0, 1.0,
+                                f"the top on the axis keeps h0 ((7.32), (7.34)), to "
+                                f"{HEIGHT_TOLERANCE:.0%} of the particle spacing",
+                                tolerance=HEIGHT_TOLERANCE * r["spacing_over_r0"] / r["a"])
+        else:
+            report.add_interval(f"{tag}_h_inf_over_h0", r["h_inf_over_r0"] / r["a"], 0.0, 1.0,
+                                "final height on the axis at most h0")
+        if r["a"] in RUNOUT_GATED and not args.no_fit_gates:
+            report.add(f"{tag}_runout_over_r0", r["runout_over_r0"], r_ref,
+                       "Lube et al. 2004 (7.31) as printed in the thesis", FIT_TOLERANCE)
+        if HEIGHT_GATED[0] <= r["a"] <= HEIGHT_GATED[1] and not args.no_fit_gates:
+            report.add(f"{tag}_h_inf_over_r0", r["h_inf_over_r0"], h_ref,
+                       "Lube et al. 2004 (7.32) as printed in the thesis", FIT_TOLERANCE)
+        report.add_interval(f"{tag}_t_rest", r["t_rest"] if r["at_rest"] else np.inf, 0.0,
+                            4.0 + args.settle,
+                            f"the deposit comes to rest (|v| < {REST_SPEED:g} sqrt(g h0))")
+        report.add_interval(f"{tag}_volume_change_max", r["volume_change_max"], 0.0,
+                            VOLUME_BOUND, f"volume (2 pi r dA) within {VOLUME_BOUND:.0%}")
+        report.add_interval(f"{tag}_mass_error", r["mass_error"], 0.0, 1e-12,
+                            "particle masses sum to rho V (passed on, never made)")
+        report.add_interval(f"{tag}_axis_particles_kept", r["axis_particles_kept"], 1, 1,
+                            "particles on the axis at t = 0 are on it at the end (u_r = 0)")
+    tall = [r for r in sweep if r["a"] > 6]
+    if tall:
+        print("a > 6, the thesis: heights below (7.32): " + ", ".join(
+            f"a = {r['a']:g}: {r['deviation']['h_lube']:+.1%}" for r in tall))
+    if len(sweep) > 1:
+        rs = sorted(sweep, key=lambda r: r["a"])
+        report.add_interval("runout_increment_min", np.diff([r["runout_over_r0"]
+                                                             for r in rs]).min(), 0.0, np.inf,
+                            "run-out grows with a (Lube et al. 2004)")
+    _studies(report, res, args)
+    report.extra = {k: [_summary(r) for r in v] for k, v in res.items()}
+    report.data = res
+    return report
+
+
+def _studies(report, res, args):
+    """Print and check the material comparison, density invariance and the studies."""
+    sweep = {r["a"]: r for r in res["sweep"]}
+    for r in res["material"]:
+        s = sweep.get(r["a"])
+        if s is not None:
+            print(f"\nmaterial at a = {r['a']:g}: {s['material']} (r-r0)/r0 = "
+                  f"{s['runout_over_r0']:.3f}, h/r0 = {s['h_inf_over_r0']:.3f}; {r['material']} "
+                  f"{r['runout_over_r0']:.3f}, {r['h_inf_over_r0']:.3f}")
+    for r in res["density"]:
+        s = sweep[sorted(sweep)[0]]
+        for key in ("runout_over_r0", "h_inf_over_r0"):
+            report.add(f"density_rho{r['rho']:g}_{key}", r[key], s[key],
+                       f"c = 0: the deposit of rho = {s['rho']:g} (every force scales with rho)",
+                       0.01)
+    for title, key, rows in (("friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
+                             ("base-friction study (Fig 7.11)", "phi_s", res["base"])):
+        if not rows:
+            continue
+        print(f"\n{title}:  a  {key:>5s} {'(r-r0)/r0':>9s} {'h/r0':>6s} {'t_rest':>6s}")
+        for a in sorted({r["a"] for r in rows}):
+            rs = sorted((r for r in rows if r["a"] == a), key=lambda r: r[key])
+            for r in rs:
+                print(f"{'':{len(title) + 2}s}{a:3g} {r[key]:5g} {r['runout_over_r0']:9.3f} "
+                      f"{r['h_inf_over_r0']:6.3f} {r['t_rest']:6.2f}")
+            if len(rs) < 2:
+                continue
+            lo, hi = rs[0], rs[-1]
+            tag = f"{'friction' if key == 'phi' else 'base'}_a{a:g}"
+            dh = hi["h_inf_over_r0"] - lo["h_inf_over_r0"]
+            dr = hi["runout_over_r0"] - lo["runout_over_r0"]
+            change = abs(dr) / max(abs(lo["runout_over_r0"]), 1e-12)
+            print(f"{'':{len(title) + 2}s}{key} {lo[key]:g} -> {hi[key]:g}: h {dh:+.3f}, "
+                  f"run-out {dr:+.3f} ({change:+.1%})")
+            if key == "phi":
+                report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
+                                    "Fig 7.10: a larger phi_g gives a shorter deposit")
+                if a > 0.74:       # a short column keeps its top whatever phi_g
+                    report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
+                                        "Fig 7.10: a larger phi_g gives a higher deposit")
+            elif a <= 0.5:
+                report.add_interval(f"{tag}_runout_relative_change", change, 0.0, 0.05,
+                                    "Fig 7.11: little effect of phi_s at a = 0.5 (below 5 %)")
+            else:
+                report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
+                                    "Fig 7.11: a rougher base gives a shorter deposit")
+    if res["mesh"]:
+        print(f"\nmesh study, a = 2:  nr {'parts':>6s} {'(r-r0)/r0':>9s} {'h/r0':>6s} "
+              f"{'t_rest':>6s} {'|dV|max':>8s} {'s/step':>6s}")
+        for r in sorted(res["mesh"], key=lambda r: r["nr"]):
+            print(f"{'':20s}{r['nr']:4d} {r['particles']:6d} {r['runout_over_r0']:9.3f} "
+                  f"{r['h_inf_over_r0']:6.3f} {r['t_rest']:6.2f} {r['volume_change_max']:8.2%} "
+                  f"{r['seconds_per_step']:6.2f}")
+    for r in res["history"]:
+        tr = r["track"]
+        print("\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg:")
+        print("  t/sqrt(h0/g)  h/r0  (r-r0)/r0")
+        for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0):
+            i = int(np.argmin(np.abs(np.asarray(tr["t_bar"]) - t)))
+            print(f"  {tr['t_bar'][i]:12.2f} {tr['h_over_r0'][i]:5.3f} {tr['r_over_r0'][i] - 1:9.3f}")
+        print(f"  at rest: (r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31) at a = 3.6: "
+              f"{float(lube_2004(3.6)[0]):.3f}); the thesis: the experiment lags the "
+              f"simulation, whose final radius is slightly larger")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
+
+
+HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
+
+
+def _summary(r):
+    """A case without its snapshots, its histories thinned to about 100 entries."""
+    every = max(1, len(r["t_bar"]) // 100)
+    return {k: v for k, v in r.items() if k not in ("snapshots", "track") + HISTORIES} | \
+        {k: r[k][::every] for k in HISTORIES}
+
+
+def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(), history=()):
+    """Velocity snapshots (Fig 7.5, 7.7), run-out and height against a with the fits
+    (Fig 7.8-7.9), the volume change, the time history (Fig 7.6), the studies (7.10-7.11)."""
+    plt = pyplot()
+    out = figure_dir(args, "granular_column_axisymmetric")
+    rows = sorted(sweep, key=lambda r: r["a"])
+    for r in rows:                       # Fig 7.5 / 7.7: the snapshots of a case
+        keys = [k for k in r["snapshots"]]
+        ncol = 4
+        nrow = -(-len(keys) // ncol)
+        fig, axes = plt.subplots(nrow, ncol, figsize=(12, 3.0 * nrow), squeeze=False)
+        width = 1.2 + max(r["runout_over_r0"], 0) + 0.2
+        for ax, k in zip(axes.flat, keys):
+            s = r["snapshots"][k]
+            ax.scatter(s["points"][:, 0] / r["r0"], s["points"][:, 1] / r["r0"], c=s["speed"],
+                       s=2, cmap="viridis")
+            ax.set_aspect("equal")
+            ax.set_xlim(0, width)
+            ax.set_title("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}", fontsize=8)
+            ax.set_xlabel("r / r0", fontsize=8)
+            ax.set_ylabel("z / r0", fontsize=8)
+            ax.tick_params(labelsize=7)
+        for ax in list(axes.flat)[len(keys):]:
+            ax.axis("off")
+        fig.suptitle(f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
+                     fontsize=9)
+        fig.tight_layout()
+        save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
+    a_fit = np.logspace(-1, np.log10(20), 200)
+    r_fit, h_fit, _ = lube_2004(a_fit)
+    _, h_laj = lajeunesse_2004(a_fit)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2004 (7.31)")
+    ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2004 (7.32)")
+    ax[1].loglog(a_fit, h_laj, "k--", label="Lajeunesse et al. 2004 (7.34)")
+    for group, mark in ((rows, "o"), (list(material), "s")):
+        if group:
+            g = sorted(group, key=lambda r: r["a"])
+            lab = f"PFEM, {g[0]['material']}, phi_g = {g[0]['phi']:g}"
+            ax[0].loglog([r["a"] for r in g], [r["runout_over_r0"] for r in g], mark, label=lab)
+            ax[1].loglog([r["a"] for r in g], [r["h_inf_over_r0"] for r in g], mark, label=lab)
+    ax[0].set_ylabel("(r_inf - r0) / r0")
+    ax[1].set_ylabel("h_inf / r0 (on the axis)")
+    for x in ax:
+        x.set_xlabel("a = h0 / r0")
+        x.legend(fontsize=7)
+    fig.suptitle("final deposit vs aspect ratio, cf. Fig 7.8-7.9")
+    save_figure(fig, out / "deposit_vs_a.png")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for r in rows:
+        ax.plot(r["t_bar"], 100 * np.asarray(r["area_change"]), label=f"a = {r['a']:g}")
+    ax.set_xlabel("t / sqrt(h0/g)")
+    ax.set_ylabel("volume change (2 pi r dA) [%]")
+    ax.set_title("volume of the detected domain")
+    ax.legend(fontsize=7)
+    save_figure(fig, out / "volume_change.png")
+    for r in history:
+        tr = r["track"]
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(tr["t_bar"], tr["h_over_r0"], "--", label="h(t)/r0 (PFEM)")
+        ax.plot(tr["t_bar"], np.asarray(tr["r_over_r0"]) - 1, "--", label="(r(t) - r0)/r0 (PFEM)")
+        ax.plot(tr["t_bar"], np.asarray(tr["h_over_r0"]) / np.asarray(tr["r_over_r0"]), "--",
+                label="h(t)/r(t) (PFEM)")
+        ax.set_xlabel("t / sqrt(h0/g)")
+        ax.set_ylabel("h / r0, (r - r0) / r0, h / r")
+        ax.set_title("a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", fontsize=9)
+        ax.legend(fontsize=7)
+        save_figure(fig, out / "time_history.png")
+    for name, key, rows_s in (("friction_study", "phi", friction), ("base_study", "phi_s", base)):
+        if not rows_s:
+            continue
+        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        for a in sorted({r["a"] for r in rows_s}):
+            rs = sorted((r for r in rows_s if r["a"] == a), key=lambda r: r[key])
+            ax[0].plot([r[key] for r in rs], [r["runout_over_r0"] for r in rs], "o-",
+                       label=f"a = {a:g}")
+            ax[1].plot([r[key] for r in rs], [r["h_inf_over_r0"] for r in rs], "o-",
+                       label=f"a = {a:g}")
+        ax[0].set_ylabel("(r_inf - r0) / r0")
+        ax[1].set_ylabel("h_inf / r0")
+        for x in ax:
+            x.set_xlabel(f"{key} [deg]")
+            x.legend(fontsize=7)
+        fig.suptitle("friction study (cf. Fig 7.10)" if key == "phi"
+                     else "base-friction study (cf. Fig 7.11)")
+        save_figure(fig, out / f"{name}.png")
+    (out / "summary.json").write_text(json.dumps(
+        {k: [_summary(r) for r in v] for k, v in dict(sweep=sweep, material=material,
+                                                       density=density, friction=friction,
+                                                       base=base, mesh=mesh,
+                                                       history=history).items()},
+        default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
+
+
+if __name__ == "__main__":
+    sys.exit(main())
