@@ -232,3 +232,12 @@ def test_a_step_does_not_change_its_input():
     assert (state.step, state.time, state.area0, state.alpha, state.scales, state.discharged,
             state.history) == (before.step, before.time, before.area0, before.alpha,
                                before.scales, before.discharged, before.history)
+
+
+def test_the_record_measures_the_largest_move_in_spacings():
+    """A freely falling block moves g dt^2 (theta2 = 1) in its first step: the record's
+    largest displacement over h says so (a collapse within a step shows as a large value)."""
+    dt, h = 0.05, 0.1
+    scene = Scene(regions=(block(h=h),), config=PFEMConfig(theta=ThetaMethod(dt)))
+    _, rec, _ = pfem_step(scene.initial_state(), scene)
+    assert rec["max_displacement_over_h"] == pytest.approx(G * dt ** 2 / h, rel=1e-9)

@@ -1,8 +1,6 @@
 """Scene files: TOML round trip, located errors, and ``pfem-skfem run`` of the example."""
 from dataclasses import fields, is_dataclass, replace
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,11 +20,10 @@ from pfem_skfem.scene import (Body, ConstantVelocity, FunctionMotion, Geostatic,
                               Outlet, Output, Phase, PiecewiseLinear, PolygonZone, Region,
                               Scene)
 from pfem_skfem.scene import files
-from pfem_skfem.scene.files import (SceneFileError, example_text, key_lines, scene_from_toml,
-                                    scene_to_toml)
+from pfem_skfem.scene.files import (EXAMPLES, SceneFileError, example_text, key_lines,
+                                    scene_from_toml, scene_to_toml)
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from granular_column_plane import granular_column  # noqa: E402
+from verification.granular_column_plane import granular_column
 
 EXAMPLE = example_text("column")
 T_END = 0.02                                         # the example's
@@ -346,3 +343,10 @@ def test_the_progress_bar_shows_the_steps_time_iterations_and_the_end():
     last = stream.getvalue().replace("\r", "\n").strip().splitlines()[-1]
     assert last.startswith("steps 6-25: 100%") and "20/20" in last
     assert "t = 0.25" in last and "it = 40" in last
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_run_example_writes_each_example(name, tmp_path):
+    """``pfem-skfem run --example NAME PATH`` writes the commented example, which loads."""
+    path = tmp_path / f"{name}.toml"
+    assert cli.main(["run", "--example", name, str(path)]) == 0
+    assert scene_from_toml(path.read_text()) == scene_from_toml(example_text(name))

@@ -91,6 +91,7 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
     forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
                                  new.time - scene.config.dt)
     speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)
+    du_max = np.linalg.norm(inc.du[vertex_dofs(disc)], axis=1).max()
     if disc.geometry.axisymmetric:               # volumes of revolution, 2 pi r dA
         mesh_area = float(measure(disc.mesh.p.T, disc.mesh.t.T, True).sum())
         moved_area = float(measure(new.mesh_p, disc.mesh.t.T, True).sum())
@@ -108,8 +109,12 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             "iterations": solved.iterations, "inaccurate": solved.inaccurate,
             "status": inc.info.status, "elements": int(disc.mesh.nelements),
             "particles": int(new.n), "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
-            "added": added, "surface_particles": surface, "thinned": thinned, "held_dofs": held, "projected": projected,
+            "added": added, "surface_particles": surface, "thinned": thinned,
+            "held_dofs": held, "projected": projected,
             "max_speed": float(speed.max()),
+            # a step that moves material by many spacings is a collapse within one step
+            # (dt too long for the mechanism), however 'optimal' its solve
+            "max_displacement_over_h": float(du_max / np.median(new.h)),
             "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
             "max_plastic_strain_increment": float(result.plastic_strain.max()),
             "seconds": _time.perf_counter() - t_start,

@@ -71,7 +71,7 @@ from .scene import Output, Phase, Scene
 __all__ = ["SceneFileError", "scene_from_toml", "scene_to_toml", "load_scene", "key_lines",
            "example_text", "EXAMPLES", "SCHEMA"]
 
-EXAMPLES = ("column",)
+EXAMPLES = ("column", "silo")
 
 
 class SceneFileError(ValueError):
