@@ -62,8 +62,8 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
-                               nonnegative_float, nonnegative_int, positive, positive_int, progress,
-                               pyplot, save_figure)
+                               nonnegative_float, nonnegative_int, positive, positive_int,
+                               progress_bar, pyplot, save_figure)
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
@@ -282,15 +282,16 @@ def run_layer(*, outdir=None, save_every=0, show_progress=False, **options):
         case_dir = Path(outdir) / f"h{options['h']:g}_n{steps}"
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "wedge")
-    bar = None
-    if show_progress:
-        def bar(i, n, rec):
-            if i % 10 == 0 or i == n:
-                progress(f"step {i}/{n}: wall {-rec['forces']['wall'][0]:.4f} kN/m, "
-                         f"dA = {rec['area_change']:+.2%}, {rec['seconds']:.1f} s")
+    bar = progress_bar(total=steps, disable=not show_progress, unit="step", desc="wedge")
+
+    def tick(i, n, rec):
+        bar.set_postfix_str(f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
+                            f"dA = {rec['area_change']:+.2%}", refresh=False)
+        bar.update(1)
     t0 = time.perf_counter()
     state, snaps = pfem_loop.run(state, scene, steps, series=series, save_every=save_every,
-                                 snapshots=set(snap), progress=bar)
+                                 snapshots=set(snap), progress=tick)
+    bar.close()
     hist = state.history
     return {"scene": scene, "state": state, "du": du,
             "s": np.arange(1, steps + 1) * du,

@@ -68,7 +68,8 @@ from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               nonnegative_int, positive, progress, pyplot, save_figure,
+                               nonnegative_int, positive, progress_bar, pyplot,
+                               save_figure,
                                theta_weight)
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
 
@@ -155,7 +156,7 @@ def penetration_band(w, D=1.0, su=1.0, gamma=15.68):
 def run_cylinder(*, outdir=None, save_every=0, show_progress=False, label="main", **options):
     """Run the cylinder scene to the end; returns histories, snapshots and timings."""
     scene, n_v, n_h = cylinder_scene(**options)
-    du, uV = options.get("du", 0.01), options.get("uV", 0.8)
+    du = options.get("du", 0.01)
     D = options.get("D", 1.0)
     state = scene.initial_state()
     snap_steps = {int(round(u / du)): f"u_V = {u:g} m" for u in SNAP_UV}
@@ -168,16 +169,18 @@ def run_cylinder(*, outdir=None, save_every=0, show_progress=False, label="main"
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "cylinder")
     t0 = time.perf_counter()
-    bar = None
-    if show_progress:
-        def bar(i, n, rec):
-            if i % 10 == 0 or i == n:
-                F = rec["forces"]["cylinder"]
-                progress(f"[{label}] step {i}/{n}: F = ({-F[0]:.2f}, {F[1]:.2f}) kN/m, "
-                         f"dA = {rec['area_change']:+.2%}, {rec['seconds']:.1f} s")
+    bar = progress_bar(total=n_v + n_h, disable=not show_progress, unit="step",
+                       desc=f"cylinder ({label})")
+
+    def tick(i, n, rec):
+        F = rec["forces"]["cylinder"]
+        bar.set_postfix_str(f"F = ({-F[0]:.2f}, {F[1]:.2f}) kN/m, dA = {rec['area_change']:+.2%}",
+                            refresh=False)
+        bar.update(1)
     x0 = state.x.copy()
     state, snaps = pfem_loop.run(state, scene, n_v + n_h, series=series, save_every=save_every,
-                                 snapshots=set(snap_steps), progress=bar)
+                                 snapshots=set(snap_steps), progress=tick)
+    bar.close()
     seconds = time.perf_counter() - t0
     hist = state.history
     F = np.array([f["cylinder"] for f in hist["forces"]])

@@ -70,7 +70,7 @@ from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
-                               positive_int, progress, pyplot, save_figure)
+                               positive_int, progress, progress_bar, pyplot, save_figure)
 from pfem_skfem.report import workers as worker_count
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
@@ -173,6 +173,7 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
     emptied = stalled = None
+    bar = progress_bar(total=steps, disable=not verbose, unit="step", desc=f"silo ({label})")
     while state.step < steps:
         try:
             state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
@@ -187,10 +188,12 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
             raise
         snaps.update({k: {"x": v["x"], "speed": np.linalg.norm(state.v, axis=1)}
                       for k, v in more.items()})
-        if verbose and state.step % 10 == 0:
-            progress(f"{label}: t = {state.time:.2f} s, V/V0 = {state.total_mass / m0:.3f}")
+        bar.set_postfix_str(f"t = {state.time:.2f} s, V/V0 = {state.total_mass / m0:.3f}",
+                            refresh=False)
+        bar.update(1)
         if state.total_mass < empty * m0:
             break
+    bar.close()
     seconds = time.perf_counter() - t0
     hist = state.history
     t = np.r_[0.0, hist["time"]]

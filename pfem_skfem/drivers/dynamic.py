@@ -13,9 +13,9 @@ theta1 = theta2 = 1/2). The history records K, W_el, W_ext and D_p.
 """
 from dataclasses import dataclass, field
 import sys
-import time
 
 import numpy as np
+from tqdm import tqdm
 
 from ..problems.dynamic import dynamic_increment
 
@@ -75,7 +75,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
     monitor : callable (u, v, sigma) -> array of values recorded every step.
     scaling : :class:`~pfem_skfem.problems.dynamic.DynamicScales` of the first step
         (estimated by default); each later step is scaled by its predecessor's solution.
-    progress : one updating line on stderr (step, time, solver iterations, time per step).
+    progress : a progress bar (tqdm) on stderr: steps, time, solver iterations, time left.
 
     Returns
     -------
@@ -98,7 +98,8 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
     kinetic, elastic, work, dissipation = [k], [e], [0.0], [0.0]
     iterations, solve_times = [], []
     f_n = np.asarray(load(t0), dtype=float)
-    wall = time.perf_counter()
+    bar = tqdm(total=int(n_steps), desc=label or None, unit="step", file=sys.stderr,
+               disable=not progress, dynamic_ncols=True)
     for i in range(1, int(n_steps) + 1):
         t_n, t_next = t0 + (i - 1) * th.dt, t0 + i * th.dt
         f_next = np.asarray(load(t_next), dtype=float)
@@ -124,13 +125,10 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         mon.append(np.atleast_1d(monitor(u, v, sigma)))
         iterations.append(res.info.iterations)
         solve_times.append(res.info.solve_time)
-        if progress:
-            elapsed = time.perf_counter() - wall
-            print(f"\r  {label} step {i}/{n_steps}  t = {t_next:.4g}  iterations "
-                  f"{res.info.iterations:2d}  {elapsed / i:.2f} s/step  elapsed {elapsed:6.1f} s",
-                  end="", file=sys.stderr, flush=True)
-    if progress:
-        print(file=sys.stderr)
+        bar.set_postfix_str(f"t = {t_next:.4g}, iterations {res.info.iterations}",
+                            refresh=False)
+        bar.update(1)
+    bar.close()
     return DynamicHistory(np.array(times), u, v, sigma, np.array(mon), np.array(kinetic),
                           np.array(elastic), np.array(work), np.array(dissipation),
                           iterations, solve_times)

@@ -1,9 +1,9 @@
 """Load and displacement control for static problems: a sequence of (3.45) increments."""
 from dataclasses import dataclass, field
 import sys
-import time
 
 import numpy as np
+from tqdm import tqdm
 
 from ..problems.static import static_increment
 
@@ -40,7 +40,7 @@ def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
     displacement : (len(prescribed),) total prescribed displacements.
     n_increments : number of equal increments (>= 1).
     f : constant external forces (default zero).  sigma0 : initial stresses.
-    progress : print one line per increment to stderr.
+    progress : a progress bar (tqdm) on stderr: increments, solver iterations, time left.
     """
     if int(n_increments) != n_increments or n_increments < 1:
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
@@ -52,7 +52,8 @@ def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
     factors, reactions = [0.0], [np.zeros(n_u)]
     iterations, times = [], []
     multiplier = np.zeros(n_s // 4)
-    t0 = time.perf_counter()
+    bar = tqdm(total=int(n_increments), desc=label or None, unit="increment", file=sys.stderr,
+               disable=not progress, dynamic_ncols=True)
     for i in range(1, int(n_increments) + 1):
         res = static_increment(B, C, f, sigma, criterion, fixed=fixed, prescribed=prescribed,
                                du_prescribed=step, scaling=scaling, **solver_settings)
@@ -62,11 +63,8 @@ def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
         reactions.append(res.reactions)
         iterations.append(res.info.iterations)
         times.append(res.info.solve_time)
-        if progress:
-            print(f"\r  {label} increment {i}/{n_increments}  iterations {res.info.iterations}"
-                  f"  elapsed {time.perf_counter() - t0:5.1f} s", end="", file=sys.stderr,
-                  flush=True)
-    if progress:
-        print(file=sys.stderr)
+        bar.set_postfix_str(f"iterations {res.info.iterations}", refresh=False)
+        bar.update(1)
+    bar.close()
     return IncrementalHistory(np.array(factors), u, sigma, np.array(reactions), multiplier,
                               iterations, times)

@@ -35,10 +35,10 @@ increment: :func:`truss_displacement_control`.
 """
 from dataclasses import dataclass, field
 import sys
-import time
 
 import cvxpy as cp
 import numpy as np
+from tqdm import tqdm
 import scipy.sparse as sp
 
 from .conic import SolveInfo, prescribed_values, solve, split_dofs
@@ -291,7 +291,7 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
         (``path(0)`` is zero), for non-proportional motions such as a rigid rotation.
     sigma_s : yield stress or None (elastic).  incompressible : update A = V / l.
     update_geometry : False keeps the initial configuration (pure small deformation).
-    f : constant external nodal forces.  progress : one line per increment on stderr.
+    f : constant external nodal forces.  progress : a progress bar (tqdm) on stderr.
 
     Returns
     -------
@@ -317,7 +317,8 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     reactions, updated = [np.zeros(n_dof)], [np.zeros(n_dof)]
     iterations, times = [], []
     previous = np.asarray(path(0), dtype=float).ravel()
-    t0 = time.perf_counter()
+    bar = tqdm(total=n_increments, desc=label or None, unit="increment", file=sys.stderr,
+               disable=not progress, dynamic_ncols=True)
     for k in range(1, n_increments + 1):
         target = np.asarray(path(k), dtype=float).ravel()
         res = truss_increment(x, bars, area, E, sigma, fixed=fixed, prescribed=prescribed,
@@ -333,11 +334,8 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
         xs.append(x.copy()), sigmas.append(sigma.copy()), areas.append(area.copy())
         reactions.append(res.reactions), updated.append(r_upd)
         iterations.append(res.info.iterations), times.append(res.info.solve_time)
-        if progress:
-            print(f"\r  {label} increment {k}/{n_increments}  iterations {res.info.iterations}"
-                  f"  elapsed {time.perf_counter() - t0:5.1f} s", end="", file=sys.stderr,
-                  flush=True)
-    if progress:
-        print(file=sys.stderr)
+        bar.set_postfix_str(f"iterations {res.info.iterations}", refresh=False)
+        bar.update(1)
+    bar.close()
     return TrussHistory(np.array(xs), np.array(sigmas), np.array(areas), np.array(reactions),
                         np.array(updated), iterations, times)
