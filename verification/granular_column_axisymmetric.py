@@ -63,7 +63,7 @@ from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
-                               progress, pyplot, save_figure, workers)
+                               progress, progress_bar, pyplot, save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 from verification.granular_column_plane import deposit_extent, wall_height
 
@@ -189,15 +189,23 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
             track["h_over_r0"].append(hz / r0)
             track["r_over_r0"].append(toe / r0)
 
+    bar = progress_bar(total=n_stop + int(round(settle * steps / 4.0)), disable=not verbose,
+                       unit="step", desc=f"column of revolution ({label or f'a = {a:g}'})")
+
+    def tick(i, n, record):
+        bar.set_postfix_str(f"t/sqrt(h0/g) = {record['time'] / t_scale:.2f}", refresh=False)
+        bar.update(1)
+
     t0 = time.perf_counter()
     state, snaps = pfem_loop.run(state, scene, n_stop, series=series, save_every=save_every,
-                                 snapshots=set(snap_steps), verbose=verbose, on_step=on_step)
+                                 snapshots=set(snap_steps), progress=tick, on_step=on_step)
     height4, toe4 = measure_deposit(state, alpha)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
                                      int(round(settle * steps / 4.0)), series=series,
-                                     save_every=save_every, verbose=verbose, on_step=on_step)
+                                     save_every=save_every, progress=tick, on_step=on_step)
+    bar.close()
     seconds = time.perf_counter() - t0
     height, toe = measure_deposit(state, alpha) if extra else (height4, toe4)
     hist = state.history
