@@ -46,3 +46,19 @@ def test_summary_shows_intervals_with_infinite_ends(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0
     assert "[0.4,inf]" in out
+
+
+def test_every_script_runs_as_a_file():
+    """``python verification/NAME.py`` (how ``pfem-skfem verify`` runs a case) imports and
+    parses: a script importing a sibling as ``verification.x`` must find the repository
+    root itself (the script's own folder is first on the path, not the root)."""
+    import os
+    import subprocess
+    import sys
+    root = cli.verification_dir()
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    for case in cli.available_cases():
+        proc = subprocess.run([sys.executable, str(root / f"{case}.py"), "--help"],
+                              capture_output=True, text=True, cwd=root.parent.parent,
+                              env=env)
+        assert proc.returncode == 0, f"{case}: {proc.stderr[-500:]}"

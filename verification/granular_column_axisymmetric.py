@@ -65,7 +65,8 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, 
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
                                progress, progress_bar, pyplot, save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
-from verification.granular_column_plane import deposit_extent, wall_height
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
+from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
