@@ -427,6 +427,30 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
                 disable=disable, dynamic_ncols=True, **options)
 
 
+def run_cases(function, cases, workers=1, *, desc="cases"):
+    """``function(**case)`` for each case (a dict of its keywords), in order.
+
+    With ``workers`` > 1 the cases run in as many processes (``function`` must be a
+    module-level function); a case's own progress (its ``verbose`` keyword) is turned
+    off there and one bar over the cases shown instead, so that the workers' bars do not
+    interleave. The results come back in the order of ``cases``.
+    """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    if workers <= 1 or len(cases) <= 1:
+        return [function(**c) for c in cases]
+    verbose = any(c.get("verbose") for c in cases)
+    cases = [dict(c, verbose=False) if "verbose" in c else c for c in cases]
+    results = [None] * len(cases)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(function, **c): i for i, c in enumerate(cases)}
+        with progress_bar(total=len(cases), disable=not verbose, unit="case",
+                          desc=f"{desc} on {workers} workers") as bar:
+            for done in as_completed(futures):
+                results[futures[done]] = done.result()
+                bar.update(1)
+    return results
+
+
 def pyplot():
     """matplotlib.pyplot, on the Agg backend unless pyplot is already in use (a notebook)."""
     import matplotlib

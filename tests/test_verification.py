@@ -245,3 +245,12 @@ def test_report_extras_with_arrays_write_as_json(tmp_path):
     report.write_json(tmp_path / "r.json")
     assert json.loads((tmp_path / "r.json").read_text())["extra"] == \
         {"history": [0.0, 1.0, 2.0], "nested": {"peak": 2.5}}
+
+
+def test_the_sweep_runner_gives_the_serial_results_in_order():
+    """One runner for every script's sweep: in processes, the results of the cases in the
+    order given, as a serial run gives them."""
+    from pfem_skfem.report import relative_error, run_cases
+    cases = [dict(value=v, reference=r) for v, r in ((2.0, 1.0), (3.0, 2.0), (1.0, 4.0))]
+    assert run_cases(relative_error, cases, workers=2) == \
+        run_cases(relative_error, cases) == [1.0, 0.5, 0.75]

@@ -49,7 +49,6 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -63,7 +62,7 @@ from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
-                               progress, progress_bar, pyplot, save_figure, workers)
+                               progress, progress_bar, pyplot, run_cases, save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -245,18 +244,6 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     }
 
 
-def _run_kw(kw):
-    return run_case(**kw)
-
-
-def run_cases(cases, workers):
-    """Cases (dicts of run_case keywords) in parallel processes, one per worker."""
-    if workers <= 1 or len(cases) == 1:
-        return [run_case(**c) for c in cases]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(_run_kw, cases))
-
-
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
@@ -334,7 +321,7 @@ def run(args):
     cases = [c for g in groups.values() for c in g]
     if args.progress:
         progress(f"{len(cases)} case(s) on {args.workers} worker(s)")
-    results = iter(run_cases(cases, args.workers))
+    results = iter(run_cases(run_case, cases, args.workers, desc="columns of revolution"))
     res = {k: [next(results) for _ in g] for k, g in groups.items()}
     sweep = res["sweep"]
     by_a = {r["a"]: r for r in sweep}

@@ -39,7 +39,6 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -52,8 +51,8 @@ from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
-                               nonnegative_float, nonnegative_int, poisson_ratio,
-                               positive_float, positive_int, progress, progress_bar, pyplot,
+                               nonnegative_float, nonnegative_int, poisson_ratio, positive_float,
+                               positive_int, progress, progress_bar, pyplot, run_cases,
                                save_figure, workers)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
@@ -269,27 +268,6 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     }
 
 
-def _run_kw(kw):
-    return run_case(**kw)
-
-
-def run_cases(cases, workers):
-    """Cases (dicts of run_case keywords) in parallel processes, one per worker."""
-    if workers <= 1 or len(cases) == 1:
-        return [run_case(**c) for c in cases]
-    verbose = any(c.get("verbose") for c in cases)   # one bar over the cases, none per step
-    cases = [dict(c, verbose=False) for c in cases]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(_run_kw, c): i for i, c in enumerate(cases)}
-        results = [None] * len(cases)
-        with progress_bar(total=len(cases), disable=not verbose, unit="case",
-                          desc=f"columns on {workers} workers") as bar:
-            for done in as_completed(futures):
-                results[futures[done]] = done.result()
-                bar.update(1)
-        return results
-
-
 PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
 
 
@@ -356,7 +334,7 @@ def run(args):
     meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) for n in args.mesh_study]
     if args.progress:
         progress(f"{len(cases) + len(study) + len(meshes)} case(s) on {args.workers} worker(s)")
-    results = run_cases(cases + study + meshes, args.workers)
+    results = run_cases(run_case, cases + study + meshes, args.workers, desc="columns")
     sweep = results[:len(cases)]
     dt_study = results[len(cases):len(cases) + len(study)]
     mesh_study = results[len(cases) + len(study):]

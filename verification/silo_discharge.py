@@ -58,7 +58,6 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -70,7 +69,8 @@ from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
-                               positive_int, progress, progress_bar, pyplot, save_figure)
+                               positive_int, progress, progress_bar, pyplot, run_cases,
+                               save_figure)
 from pfem_skfem.report import workers as worker_count
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
@@ -229,19 +229,6 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     }
 
 
-def _run_kw(kw):
-    return run_case(**kw)
-
-
-def run_cases(cases, workers):
-    """Cases (dicts of run_case keywords) in parallel processes, one per worker (the
-    column's sweep runner, verification/granular_column_plane.py)."""
-    if workers <= 1 or len(cases) == 1:
-        return [run_case(**c) for c in cases]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(_run_kw, cases))
-
-
 def check(args):
     if not (args.walls or args.dt_study or args.B_study):
         return "nothing to run: give --walls, --dt-study or --B-study"
@@ -332,7 +319,7 @@ def run(args):
     cases = main + dts + outlets
     if args.progress:
         progress(f"{len(cases)} case(s) on {args.workers} worker(s)")
-    results = run_cases(cases, args.workers)
+    results = run_cases(run_case, cases, args.workers, desc="silos")
     runs = results[:len(main)]
     dt_runs = results[len(main):len(main) + len(dts)]
     outlet_runs = results[len(main) + len(dts):]
