@@ -148,9 +148,23 @@ class Scene:
             raise ValueError("every region must have the same elasticity (or none)")
         if not self.stress_scale > 0:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
+        self._check_passes()
         self._check_particles()
 
     # -- checks ---------------------------------------------------------------------------
+    def _check_passes(self):
+        # A lagged contact rule's first pass is smooth; a lagged material's cone comes from
+        # the mean stress of the pass before. With two passes the last cone would be built
+        # on the stresses of the smooth pass (too little confinement: a stable wedge yields),
+        # so the friction needs a pass of its own before the last: three passes.
+        lagged = [r.name for r in self.regions if getattr(r.material, "lagged", False)]
+        rule = self.config.contact
+        if lagged and rule.passes_needed > 1 and int(self.config.passes) < 3:
+            raise ValueError(f"passes must be >= 3 with contact={rule!r} and the lagged "
+                             f"material of region {lagged[0]!r} (pass 1 is smooth, pass 2 "
+                             f"has the friction, pass 3 the mean stress with it); got "
+                             f"passes={self.config.passes!r}")
+
     def _check_names(self):
         for kind, items in (("region", self.regions), ("body", self.bodies),
                             ("outlet", self.outlets)):
