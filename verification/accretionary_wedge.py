@@ -36,12 +36,20 @@ References
 * Thesis 6.4.2 (qualitative): a V-shaped pop-up at the wall first; then new bands farther
   out in a sequence Mary et al. call chaotic (not asserted here).
 
+``--increment-study N ...`` shortens the same layer in N steps each and checks that the
+result does not depend on the increment: against the run of most steps, the slopes agree
+within 2 deg and the wedge's length and the wall force over the last quarter within 15 %.
+Three fixed-point passes a step are needed with the zero-dilation contact and this
+(lagged) material: the scene refuses fewer (with two the stable wedge yields).
+
 Usage::
 
     python verification/accretionary_wedge.py --quick --json results/accretionary_wedge.json
     python verification/accretionary_wedge.py --stability-test --taper 15
     python verification/accretionary_wedge.py --stability-test --taper 3
     python verification/accretionary_wedge.py --h 0.005 --steps 1000 --save-every 20   # thesis size
+    python verification/accretionary_wedge.py --h 0.02 --steps 1000 \
+        --increment-study 80 160 320 --workers 2                                    # increments
     python verification/accretionary_wedge.py --help                                    # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
@@ -63,7 +71,8 @@ from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegme
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive, positive_int,
-                               progress_bar, pyplot, save_figure)
+                               progress_bar, pyplot, run_cases, save_figure)
+from pfem_skfem.report import workers as worker_count
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
@@ -75,6 +84,9 @@ SNAP_S = (0.004, 0.08, 0.10, 0.12, 0.14, 0.16)          # Fig 6.10
 # the wall's motion: du / (few h) >> du / H).
 RIGID = 1e-2
 DEFORMS = 1.0
+# Increment study: the runs with fewer steps against the one with the most.
+INCREMENT_SLOPE = 2.0          # deg, the margin of the taper gate
+INCREMENT_TOLERANCE = 0.15     # wedge length and late wall force
 
 
 # -- critical taper ----------------------------------------------------------------------------
@@ -269,8 +281,9 @@ def popup(points, cells, deps, h0, x_wall, fraction=0.5):
     return out
 
 
-def run_layer(*, outdir=None, save_every=0, show_progress=False, **options):
-    """The thesis' layer shortened by s; returns histories, snapshots and the final state."""
+def run_layer(*, outdir=None, save_every=0, verbose=False, **options):
+    """The thesis' layer shortened by s; returns histories, snapshots, the final surface
+    profile and the wedge's measures (:func:`wedge_geometry`, :func:`popup`)."""
     scene = layer_scene(**options)
     s, steps = options["s"], options["steps"]
     du = s / steps
@@ -282,7 +295,7 @@ def run_layer(*, outdir=None, save_every=0, show_progress=False, **options):
         case_dir = Path(outdir) / f"h{options['h']:g}_n{steps}"
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "wedge")
-    bar = progress_bar(total=steps, disable=not show_progress, unit="step", desc="wedge")
+    bar = progress_bar(total=steps, disable=not verbose, unit="step", desc=f"wedge ({steps} steps)")
 
     def tick(i, n, rec):
         bar.set_postfix_str(f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
@@ -293,12 +306,21 @@ def run_layer(*, outdir=None, save_every=0, show_progress=False, **options):
                                  snapshots=set(snap), progress=tick)
     bar.close()
     hist = state.history
-    return {"scene": scene, "state": state, "du": du,
+    h0, alpha, h = options.get("h0", 0.08), options.get("alpha", 1.4), options["h"]
+    bins = np.arange(s, options.get("L", 1.4) + h, h)          # from the wall's final place
+    xc, top = surface_profile(state.x, state.h, alpha, bins)
+    snapshots = {snap[k]: v for k, v in sorted(snaps.items())}
+    first = min(snapshots)
+    pop = popup(snapshots[first]["points"], snapshots[first]["cells"],
+                np.asarray(snapshots[first]["deps"]), h0, first)
+    return {"du": du, "steps": steps, "h": h,
+            "profile": (xc, top), "geometry": wedge_geometry(xc, top, s, h0, h),
+            "popup": pop, "popup_at": first,
             "s": np.arange(1, steps + 1) * du,
             "wall_force": -np.array([f["wall"][0] for f in hist["forces"]]),
             "area_change": np.asarray(hist["area_change"]),
             "status": list(hist["status"]),
-            "snapshots": {snap[k]: v for k, v in sorted(snaps.items())},
+            "snapshots": snapshots,
             "seconds": time.perf_counter() - t0,
             "seconds_per_step": float(np.mean(hist["seconds"])),
             "particles": int(state.n), "elements": int(np.median(hist["elements"])),
@@ -314,6 +336,9 @@ def check(args):
         return "--steps must be >= 1 and --stability-steps >= 2"
     if args.h > args.h0 / 3:
         return "--h must be at most h0 / 3 (three particles through the layer)"
+    if args.contact == "zero-dilation" and args.passes < 3:
+        return ("--passes must be >= 3 with --contact zero-dilation (pass 1 is smooth, pass 2 "
+                "has the friction, pass 3 the mean stress with it)")
     return None
 
 
@@ -347,6 +372,11 @@ def build_parser():
     p.add_argument("--stability-layers", type=positive_int, default=8,
                    help="particles through the height of the test wedge")
     p.add_argument("--save-every", type=nonnegative_int, default=0, help="VTU every this many steps (0: none)")
+    p.add_argument("--increment-study", type=positive_int, nargs="+", default=[], metavar="N",
+                   help="also shorten the layer by --s in N steps each (same spacing); the "
+                        "slope, length and wall force checked against the run of most steps")
+    p.add_argument("--workers", type=worker_count, default=1,
+                   help="parallel processes for the layer runs")
     return p
 
 
@@ -375,6 +405,70 @@ def add_stability(report, args, rows):
               f"{r['wall_force_over_mu_b_W']:10.4f} {r['seconds']:6.1f}")
 
 
+def late_wall_force(r):
+    """Mean force on the wall over the last quarter of its displacement [kN/m]."""
+    return float(np.mean(r["wall_force"][r["s"] >= 0.75 * r["s"][-1]]))
+
+
+def layer_checks(report, args, r, prefix):
+    """The checks of issue 15 on one shortened layer (names prefixed by ``prefix``)."""
+    low, high = critical_taper(args.phi, args.base_friction)
+    geo, pop, first = r["geometry"], r["popup"], r["popup_at"]
+    report.add_interval(f"{prefix}area_change_max", float(np.abs(r["area_change"]).max()), 0.0,
+                        0.03, "the layer keeps its area (issue 15: < 3 %)")
+    report.add_interval(f"{prefix}steps_failed",
+                        float(sum(st not in ("optimal", "optimal_inaccurate") for st in r["status"])),
+                        0.0, 0.0, "every step solved ('optimal', or Clarabel's 'AlmostSolved')")
+    report.add_interval(f"{prefix}first_bands_popup", float(pop["is_popup"]), 1.0, 1.0,
+                        f"thesis Fig 6.10 at s = {first * 100:g} cm: a V of two bands rooted "
+                        f"near the base of the wall (back dip {pop['back_dip']:.0f}, fore dip "
+                        f"{pop['fore_dip']:.0f} deg, root {pop['root_x'] * 100:.1f} cm out)")
+    report.add_interval(f"{prefix}surface_slope_deg", geo["slope_deg"], low - 2.0, high,
+                        f"critical taper (Dahlen 1984, Lehner 1986): stable field from "
+                        f"alpha_c = {low:.2f} deg (less 2 deg) to {high:.2f}", reference=low)
+    predicted = wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5))
+    report.add(f"{prefix}wedge_length_vs_mass_balance", geo["length"], predicted,
+               "mass balance: L_w = sqrt(2 A_up / tan alpha) at the measured slope", 0.3)
+
+
+def increment_checks(report, args, runs):
+    """Increment independence: every run against the one of most steps (the problem is
+    rate-independent, so only the displacement a step may matter): the slopes within
+    INCREMENT_SLOPE deg (the taper gate's own margin), the wedge's length and the late wall
+    force within INCREMENT_TOLERANCE."""
+    if len(runs) < 2:
+        return
+    best = max(runs, key=lambda x: x["steps"])
+    n0 = best["steps"]
+    for r in runs:
+        if r is best:
+            continue
+        n = r["steps"]
+        report.add_interval(f"slope_n{n}_minus_n{n0}_deg",
+                            abs(r["geometry"]["slope_deg"] - best["geometry"]["slope_deg"]), 0.0,
+                            INCREMENT_SLOPE, f"increment study: |slope - slope of {n0} steps| "
+                            f"<= {INCREMENT_SLOPE:g} deg")
+        report.add(f"wedge_length_n{n}_vs_n{n0}", r["geometry"]["length"],
+                   best["geometry"]["length"], f"increment study: within "
+                   f"{INCREMENT_TOLERANCE:.0%} of {n0} steps", INCREMENT_TOLERANCE)
+        report.add(f"wall_force_late_n{n}_vs_n{n0}", late_wall_force(r), late_wall_force(best),
+                   f"increment study: mean wall force over the last quarter within "
+                   f"{INCREMENT_TOLERANCE:.0%} of {n0} steps", INCREMENT_TOLERANCE)
+
+
+def layer_summary(r, steps):
+    """What the JSON keeps of a layer run (histories thinned to about 100 entries)."""
+    xc, top = r["profile"]
+    every = max(1, steps // 100)
+    return {"steps": steps, "du": r["du"], "h": r["h"], "particles": r["particles"],
+            "elements": r["elements"], "seconds": r["seconds"],
+            "seconds_per_step": r["seconds_per_step"], "geometry": r["geometry"],
+            "popup": r["popup"], "area_change_max": float(np.abs(r["area_change"]).max()),
+            "wall_force_late": late_wall_force(r),
+            "s": r["s"][::every].tolist(), "wall_force": r["wall_force"][::every].tolist(),
+            "profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()}, "pvd": r["pvd"]}
+
+
 def run(args):
     """The stability test, and unless --stability-test the layer of thesis 6.4.2."""
     report = Report("accretionary_wedge", args)
@@ -393,53 +487,42 @@ def run(args):
     report.data = dict(stability=rows, layer=None)
     if args.stability_test:
         return report
-    r = run_layer(outdir=Path(args.outdir) / "accretionary_wedge", save_every=args.save_every,
-                  show_progress=args.progress, h0=args.h0, L=args.L, h=args.h, phi=args.phi,
-                  rho=args.rho, g=args.g, mu_wall=args.mu_wall, phi_b=args.base_friction,
-                  s=args.s, steps=args.steps, dt=args.dt, alpha=args.alpha, k_min=args.k_min,
-                  contact=args.contact, passes=args.passes)
-    state = r["state"]
-    x_wall = args.s
-    bins = np.arange(x_wall, args.L + args.h, args.h)
-    xc, top = surface_profile(state.x, state.h, args.alpha, bins)
-    geo = wedge_geometry(xc, top, x_wall, args.h0, args.h)
-    report.add_interval("area_change_max", float(np.abs(r["area_change"]).max()), 0.0, 0.03,
-                        "the layer keeps its area (issue 15: < 3 %)")
-    report.add_interval("steps_failed", float(sum(st not in ("optimal", "optimal_inaccurate")
-                                                  for st in r["status"])),
-                        0.0, 0.0, "every step solved ('optimal', or Clarabel's 'AlmostSolved')")
-    first = min(r["snapshots"])
-    snap = r["snapshots"][first]
-    pop = popup(snap["points"], snap["cells"], np.asarray(snap["deps"]), args.h0,
-                first)
-    report.add_interval("first_bands_popup", float(pop["is_popup"]), 1.0, 1.0,
-                        f"thesis Fig 6.10 at s = {first * 100:g} cm: a V of two bands rooted "
-                        f"near the base of the wall (back dip {pop['back_dip']:.0f}, fore dip "
-                        f"{pop['fore_dip']:.0f} deg, root {pop['root_x'] * 100:.1f} cm out)")
-    report.add_interval("surface_slope_deg", geo["slope_deg"], low - 2.0, high,
-                        f"critical taper (Dahlen 1984, Lehner 1986): stable field from "
-                        f"alpha_c = {low:.2f} deg (less 2 deg) to {high:.2f}", reference=low)
-    predicted = wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5))
-    report.add("wedge_length_vs_mass_balance", geo["length"], predicted,
-               "mass balance: L_w = sqrt(2 A_up / tan alpha) at the measured slope", 0.3)
-    print(f"\nlayer: {r['particles']} particles, {r['elements']} elements, {args.steps} steps of "
-          f"{r['du'] * 100:.3g} cm, {r['seconds']:.0f} s ({r['seconds_per_step']:.2f} s a step)")
-    print(f"wedge: front {geo['front'] * 100:.1f} cm, length {geo['length'] * 100:.1f} cm "
-          f"(mass balance at the measured slope {predicted * 100:.1f} cm; at alpha_c "
-          f"{wedge_length(args.s * args.h0, low) * 100:.1f} cm), slope {geo['slope_deg']:.2f} deg, "
-          f"crest {geo['crest'] * 100:.2f} cm, uplift {geo['area_up'] * 1e4:.1f} cm2 "
-          f"(s h0 = {args.s * args.h0 * 1e4:.1f})")
-    report.extra |= {"layer": {"particles": r["particles"], "elements": r["elements"],
-                               "seconds": r["seconds"], "geometry": geo, "popup": pop,
-                               "s": r["s"][::max(1, args.steps // 100)].tolist(),
-                               "wall_force": r["wall_force"][::max(1, args.steps // 100)].tolist(),
-                               "profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()},
-                               "pvd": r["pvd"]}}
-    report.data = dict(stability=rows, layer=r | {"profile": (xc, top), "geometry": geo})
+    common = dict(h0=args.h0, L=args.L, h=args.h, phi=args.phi, rho=args.rho, g=args.g,
+                  mu_wall=args.mu_wall, phi_b=args.base_friction, s=args.s, dt=args.dt,
+                  alpha=args.alpha, k_min=args.k_min, contact=args.contact, passes=args.passes,
+                  verbose=args.progress)
+    cases = [dict(common, steps=args.steps, outdir=Path(args.outdir) / "accretionary_wedge",
+                  save_every=args.save_every)]
+    cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]
+    runs = run_cases(run_layer, cases, args.workers, desc="layers")
+    for k, r in enumerate(runs):
+        layer_checks(report, args, r, "" if k == 0 else f"n{r['steps']}_")
+    increment_checks(report, args, runs)
+    print(f"\n{'steps':>6s} {'du [cm]':>7s} {'particles':>9s} {'elems':>6s} {'slope':>6s} "
+          f"{'L_w':>6s} {'L_mass':>6s} {'A_up':>6s} {'|dA|max':>8s} {'F_late':>8s} {'pop-up':>6s} "
+          f"{'s/step':>6s} {'total s':>7s}")
+    for r in runs:
+        geo = r["geometry"]
+        print(f"{r['steps']:6d} {r['du'] * 100:7.3g} {r['particles']:9d} {r['elements']:6d} "
+              f"{geo['slope_deg']:6.2f} {geo['length'] * 100:6.1f} "
+              f"{wedge_length(geo['area_up'], max(geo['slope_deg'], 0.5)) * 100:6.1f} "
+              f"{geo['area_up'] * 1e4:6.1f} {np.abs(r['area_change']).max():8.2%} "
+              f"{late_wall_force(r):8.4f} {str(r['popup']['is_popup']):>6s} "
+              f"{r['seconds_per_step']:6.2f} {r['seconds']:7.0f}")
+    print("(slope [deg] away from the wall, L_w wedge length [cm] and L_mass from mass balance at "
+          "that slope, A_up uplift [cm2], F_late mean wall force over the last quarter [kN/m])")
+    r = runs[0]
+    geo = r["geometry"]
+    print(f"wedge ({args.steps} steps): front {geo['front'] * 100:.1f} cm, at alpha_c the mass "
+          f"balance gives {wedge_length(args.s * args.h0, low) * 100:.1f} cm; crest "
+          f"{geo['crest'] * 100:.2f} cm; s h0 = {args.s * args.h0 * 1e4:.1f} cm2")
+    report.extra |= {"layer": layer_summary(r, args.steps),
+                     "increment_study": [layer_summary(x, x["steps"]) for x in runs[1:]]}
+    report.data = dict(stability=rows, layer=r, increment_runs=runs)
     return report
 
 
-def figures(args, stability, layer):
+def figures(args, stability, layer, increment_runs=()):
     """The stability test's plastic strain; Fig 6.10 snapshots, the wall force, the profile."""
     from matplotlib.tri import Triangulation
     plt = pyplot()
@@ -507,6 +590,27 @@ def figures(args, stability, layer):
     ax[1].set_title(f"surface after s = {args.s * 100:g} cm: mean slope {geo['slope_deg']:.2f} deg")
     ax[1].legend(fontsize=8)
     save_figure(fig, out / "wall_force_profile.png")
+    if len(increment_runs) < 2:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4))
+    for r in sorted(increment_runs, key=lambda x: x["steps"]):
+        label = f"{r['steps']} steps of {r['du'] * 100:.3g} cm"
+        ax[0].plot(r["s"] * 100, r["wall_force"], "-", lw=1, label=label)
+        xc, top = r["profile"]
+        ax[1].plot(xc * 100, top * 100, "-", lw=1,
+                   label=f"{label}: slope {r['geometry']['slope_deg']:.1f} deg")
+    ax[0].set_xlabel("wall displacement s [cm]")
+    ax[0].set_ylabel("force on the wall per unit length [kN/m]")
+    ax[0].set_title("increment study: push on the wall")
+    ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
+    ax[1].set_xlabel("x [cm]")
+    ax[1].set_ylabel("surface height [cm]")
+    ax[1].set_title(f"increment study: surface after s = {args.s * 100:g} cm "
+                    f"(alpha_c = {low:.2f} deg)")
+    for a in ax:
+        a.legend(fontsize=8)
+        a.grid(alpha=0.3)
+    save_figure(fig, out / "increment_study.png")
 
 
 def main(argv=None):
