@@ -48,3 +48,42 @@ def test_a_wedge_slides_undeformed_only_inside_the_stable_field(taper):
     else:
         assert r["plastic_max"] > DEFORMS
         assert r["wall_force_over_mu_b_W"] < 1.0
+
+
+# -- the passes rule: lagged friction with a lagged material -------------------------------
+def lagged_scene(material, contact, passes):
+    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.scene import Body, Region, Scene
+    block = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 0.5), (0.0, 0.5)), material, rho=2.0, h=0.25,
+                   name="sand")
+    return Scene(regions=(block,), bodies=(Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),),
+                 config=PFEMConfig(theta=ThetaMethod(0.01), contact=contact, passes=passes))
+
+
+def test_lagged_friction_with_a_lagged_material_needs_three_passes():
+    """Pass 1 of the lagged friction is smooth, so with two passes the last cone of a lagged
+    material is built on the mean stress of a frictionless solve: the scene refuses it,
+    naming passes, before any step; the other combinations keep passes >= 1 / >= 2."""
+    from pfem_skfem.materials import CohesiveTresca, ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
+    sand = ZeroDilationMohrCoulomb(c=0.0, phi=30.0, k_min=0.005)
+    with pytest.raises(ValueError, match=r"passes must be >= 3.*'sand'"):
+        lagged_scene(sand, LaggedFriction(), 2)
+    assert lagged_scene(sand, LaggedFriction(), 3).config.passes == 3
+    assert lagged_scene(sand, CoulombCones(), 1).config.passes == 1
+    assert lagged_scene(CohesiveTresca(1.0), LaggedFriction(), 2).config.passes == 2
+
+
+def test_two_passes_would_let_a_stable_wedge_yield(monkeypatch):
+    """Why the rule: with the check switched off, the 15 deg wedge (inside the stable field)
+    pushed with two passes a step deforms (plastic strain increment far above the imposed
+    strain, the push below mu_b W); with three it slides as one block."""
+    from pfem_skfem.scene import Scene
+    monkeypatch.setattr(Scene, "_check_passes", lambda self: None)
+    two = stability_test(15.0, phi_b=15.0, steps=4, layers=5, passes=2)
+    three = stability_test(15.0, phi_b=15.0, steps=4, layers=5, passes=3)
+    assert two["plastic_max"] > DEFORMS
+    assert two["wall_force_over_mu_b_W"] < 0.99
+    assert three["plastic_max"] < RIGID

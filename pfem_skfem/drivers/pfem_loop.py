@@ -60,7 +60,8 @@ class PFEMConfig:
         lagged values only).
     contact : contact rule, :class:`~pfem_skfem.problems.contact.CoulombCones` (the
         associated cones of (5.12), the thesis') or
-        :class:`~pfem_skfem.problems.contact.LaggedFriction` (no dilation; passes >= 2).
+        :class:`~pfem_skfem.problems.contact.LaggedFriction` (no dilation; passes >= 2, and
+        >= 3 with a lagged material: the scene checks).
     remesher : :class:`~pfem_skfem.pfem.remesh.AlphaMesh` (the alpha-shape's triangles)
         or :class:`~pfem_skfem.pfem.remesh.QualityRemesh` (Triangle; added nodes become
         particles).
