@@ -87,3 +87,49 @@ def test_two_passes_would_let_a_stable_wedge_yield(monkeypatch):
     assert two["plastic_max"] > DEFORMS
     assert two["wall_force_over_mu_b_W"] < 0.99
     assert three["plastic_max"] < RIGID
+
+
+# -- the studies' checks -----------------------------------------------------------------------
+def steady_run(F_H, F_V, **options):
+    """A cylinder history (0.1 m a step) with constant lateral forces F_H, F_V."""
+    n_v, n_h = 8, 20
+    step = np.arange(1, n_v + n_h + 1)
+    lateral = step > n_v
+    return {"n_v": n_v, "u_H": np.maximum(step - n_v, 0) * 0.1,
+            "F_H": np.where(lateral, F_H, 0.0), "F_V": np.where(lateral, F_V, 20.0),
+            "options": options}
+
+
+def test_cylinder_studies_compare_each_run_with_the_most_refined():
+    """The time-step and mesh checks compare the steady forces of every run with those of
+    the smallest dt (finest h) to 15 %: 10 % off passes, 20 % off fails, whatever the order."""
+    from pfem_skfem.report import Report
+    from verification.cylinder_soil import STUDY_TOLERANCE, convergence_checks
+    import argparse
+    assert STUDY_TOLERANCE == 0.15
+    runs = [steady_run(11.0, 8.0, dt=0.1), steady_run(10.0, 10.0, dt=0.05),
+            steady_run(12.0, 9.0, dt=0.2)]
+    report = Report("cylinder_soil", argparse.Namespace())
+    convergence_checks(report, runs, lambda r: r["options"]["dt"], "dt", "dt")
+    q = {x.name: x for x in report.quantities}
+    assert set(q) == {f"{f}_steady_dt{d}_vs_dt0.05" for f in ("F_H", "F_V") for d in (0.1, 0.2)}
+    assert q["F_H_steady_dt0.1_vs_dt0.05"].passed and q["F_V_steady_dt0.2_vs_dt0.05"].passed
+    assert not q["F_V_steady_dt0.1_vs_dt0.05"].passed and not q["F_H_steady_dt0.2_vs_dt0.05"].passed
+    assert q["F_H_steady_dt0.2_vs_dt0.05"].value == pytest.approx(12.0)
+
+
+def test_wedge_does_not_depend_on_the_increment_at_quick_size():
+    """The layer of the --quick size (50 cm, shortened 5 cm) in 12 and in 6 steps: the problem
+    is rate-independent, so the slope away from the wall agrees within the taper gate's 2 deg,
+    the wedge's length and the wall force over the last quarter within 15 %."""
+    from verification import accretionary_wedge as aw
+    options = dict(h0=0.08, L=0.5, h=0.016, s=0.05, dt=0.16)
+    fine, coarse = (aw.run_layer(steps=n, **options) for n in (12, 6))
+    assert abs(fine["geometry"]["slope_deg"] - coarse["geometry"]["slope_deg"]) <= aw.INCREMENT_SLOPE
+    assert coarse["geometry"]["length"] == pytest.approx(fine["geometry"]["length"],
+                                                         rel=aw.INCREMENT_TOLERANCE)
+    assert aw.late_wall_force(coarse) == pytest.approx(aw.late_wall_force(fine),
+                                                       rel=aw.INCREMENT_TOLERANCE)
+    for r in (fine, coarse):
+        assert r["popup"]["is_popup"]
+        assert np.abs(r["area_change"]).max() < 0.03
