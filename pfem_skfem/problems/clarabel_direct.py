@@ -61,6 +61,15 @@ def cone_matrices(criterion, n):
     return np.stack(columns, axis=2), d
 
 
+def viscous_stress_map(n):
+    """E (4n, 2n): the viscous stress (a, -a, 0, b) of each point from its (a, b)."""
+    j = np.arange(n)
+    rows = np.concatenate([4 * j, 4 * j + 1, 4 * j + 3])
+    cols = np.concatenate([2 * j, 2 * j, 2 * j + 1])
+    vals = np.concatenate([np.ones(n), -np.ones(n), np.ones(n)])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(4 * n, 2 * n))
+
+
 def _yield_block(criterion, n):
     """Rows of A and b for the yield cones, one SOC(m) per cone (point-major x)."""
     D, d = cone_matrices(criterion, n)
@@ -75,7 +84,7 @@ def _yield_block(criterion, n):
 
 
 def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P, u_P,
-                       criterion, contact=None, what="dynamic step (4.23)",
+                       criterion, contact=None, viscous=None, what="dynamic step (4.23)",
                        accept_inaccurate=False, **settings):
     """Solve the scaled step of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
 
@@ -83,7 +92,10 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     or None, the weights kappa, kappa_C, s_n, v_h, f_h, the free and prescribed dofs and
     u_P); ``criterion`` is already scaled; ``contact`` is None or a dict with G (n_u, 2 nc),
     gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None, slip (nc,)
-    scaled tangential motion of the body or None.
+    scaled tangential motion of the body or None; ``viscous`` is None or the weights
+    kv (n,) of a viscous stress (a, -a, 0, b) per point added to sigma, with the term
+    -1/2 sum_j kv_j (a_j^2 + b_j^2) in the objective (:func:`viscous_stress_map`); "s" is
+    then the total stress.
 
     Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
     the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
@@ -93,14 +105,18 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     n = Bh.shape[0] // 4
     n_r = Ah.shape[0]
     nc = 0 if contact is None else contact["G"].shape[1] // 2
-    n_x = 4 * n + n_r + 2 * nc
+    n_v = 0 if viscous is None else 2 * n
+    n_x = 4 * n + n_r + 2 * nc + n_v
     sl_s, sl_q = slice(0, 4 * n), slice(4 * n, 4 * n + n_r)
-    sl_p, sl_c = slice(4 * n + n_r, 4 * n + n_r + nc), slice(4 * n + n_r + nc, n_x)
+    sl_p, sl_c = slice(4 * n + n_r, 4 * n + n_r + nc), slice(4 * n + n_r + nc, n_x - n_v)
+    sl_v = slice(n_x - n_v, n_x)
 
     # objective: -J = 1/2 kappa q^T D q + (A v)^T q [+ kappa_C (1/2 s^T C s - (C s_n)^T s)]
     #               + g0^T p - u_P^T (internal_P - f_P)
     blocks = [kappa_C * Ch if Ch is not None else sp.csr_matrix((4 * n, 4 * n)),
               kappa * Dh, sp.csr_matrix((2 * nc, 2 * nc))]
+    if n_v:                                   # + 1/2 sum kv_j (a_j^2 + b_j^2)
+        blocks.append(sp.diags(np.repeat(np.asarray(viscous, dtype=float), 2)))
     Pmat = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
     c = np.zeros(n_x)
     c[sl_q] = Ah @ v_h
@@ -113,6 +129,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         c[sl_p] = contact["gap"]
         if contact.get("slip") is not None:               # - (n^ . d) q: a moving body
             c[sl_c] = -contact["slip"]
+    if n_v:                                   # B^T (sigma + E v)
+        parts.append(Bh.T @ viscous_stress_map(n))
     K = sp.hstack(parts, format="csr")
     if P.size:
         c -= K[P].T @ u_P
@@ -173,6 +191,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
                      solve_time=wall, objective=-float(sol.obj_val))
-    return {"s": x[sl_s], "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
+    s_total = x[sl_s] if not n_v else x[sl_s] + viscous_stress_map(n) @ x[sl_v]
+    return {"s": s_total, "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
             "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n_cones * m:m],
             "info": info}

@@ -188,6 +188,20 @@ class DynamicIncrement:
 
 
 @dataclass(frozen=True)
+class ViscousStress:
+    """A viscous stress beside the yield cone (see ``viscous`` of :func:`dynamic_increment`):
+    eta (n_points,) viscosities > 0, weights (n_points,) the stress points' weights."""
+
+    eta: np.ndarray
+    weights: np.ndarray
+
+    def __post_init__(self):
+        eta, w = np.asarray(self.eta, dtype=float), np.asarray(self.weights, dtype=float)
+        if eta.shape != w.shape or not np.all(np.isfinite(eta)) or np.any(eta <= 0):
+            raise ValueError("eta (viscosities) must be positive, one per stress point")
+
+
+@dataclass(frozen=True)
 class DynamicScales:
     """Reference stress, displacement increment and dynamic force r' of one step of (4.23).
 
@@ -271,7 +285,7 @@ BACKENDS = ("cvxpy", "clarabel")
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
                       prescribed=(), du_prescribed=(), contacts=None, scaling=None,
-                      d_form="quad_form", backend="cvxpy", **solver_settings):
+                      d_form="quad_form", backend="cvxpy", viscous=None, **solver_settings):
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
@@ -305,6 +319,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         scaled problem assembled in Clarabel's standard form by
         :mod:`~pfem_skfem.problems.clarabel_direct`, without cvxpy's compile step;
         ``d_form="quad_form"`` only).
+    viscous : None or :class:`ViscousStress` (rigid-plastic only): sigma = sigma_p + sigma_v
+        with sigma_p in the cone and a viscous deviator sigma_v = (a, -a, 0, b) of
+        viscosity eta_j at each point, the term - sum_j dt w_j (a_j^2 + b_j^2) / (2 eta_j)
+        in the objective (a Bingham dissipation, as Zhang et al. 2017 add to (4.23)), so
+        that at a flowing point R(sigma) = R(sigma_p) + eta_j gamma_dot_j.
 
     Returns
     -------
@@ -318,6 +337,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         raise ValueError("backend='clarabel' supports d_form='quad_form' with a yield criterion")
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
+    if viscous is not None and (ops.C is not None or criterion is None):
+        raise ValueError("viscous: only for a rigid-plastic material with a yield criterion")
     th = ops.theta
     B, C, A, D = ops.B, ops.C, ops.A, ops.D
     n_s, n_u = B.shape
@@ -345,15 +366,18 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     s_n = sigma_n.ravel() / stress
     v_h = v_n * th.dt / u_ref
     u_P = du_P / u_ref
+    # weight of the viscous term - 1/2 sum kv_j |(a_j, b_j)|^2 in the scaled variables
+    kv = (None if viscous is None else
+          th.dt * stress * viscous.weights / (viscous.eta * length * u_ref))
 
     if backend == "clarabel":                    # the same problem, assembled directly
         sol = _solve_direct(ops, criterion.scaled(stress), contacts, Bh, Ah, f_h, s_n, v_h,
                             u_P, free, P, kappa, kappa_C, d_ref, c_ref, u_ref,
-                            force * th.theta1, solver_settings)
+                            force * th.theta1, dict(solver_settings, viscous=kv))
     else:
         sol = _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free,
                            P, kappa, kappa_C, d_ref, c_ref, u_ref, force * th.theta1, d_form,
-                           solver_settings)
+                           solver_settings, kv)
 
     sigma = sol["s"].reshape(n, 4) * stress
     r = sol["q"] * r_ref
@@ -381,7 +405,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
 
 
 def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, kappa,
-                 kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings):
+                 kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings, kv=None):
     """The scaled step of :func:`dynamic_increment` stated in cvxpy (the reference).
 
     Returns the scaled solution: s, q (r'), p, qc (contact forces, or None), the dual of
@@ -406,7 +430,13 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
     if ops.C is not None:                        # -1/2 ds^T C ds, C scaled by c_ref
         Ch = (ops.C / c_ref).tocsr()
         objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
-    internal = Bh.T @ s + Ah.T @ q               # B^T sigma + A^T r
+    s_total = s
+    if kv is not None:                           # sigma = sigma_p + E (a, b), a Bingham term
+        from .clarabel_direct import viscous_stress_map
+        V = cp.Variable((n, 2))
+        s_total = s + viscous_stress_map(n) @ cp.vec(V, order="C")
+        objective_terms += -0.5 * cp.sum(cp.multiply(kv, cp.sum(cp.square(V), axis=1)))
+    internal = Bh.T @ s_total + Ah.T @ q         # B^T sigma + A^T r
     if contacts is not None:                     # + E^T rho = - G (p, q)   (5.12)
         # a friction bound is a force of the momentum balance (theta1 x the variable)
         ct = contact_terms(contacts, n_u, length_scale=u_ref, force_scale=contact_force)
@@ -423,7 +453,8 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
     problem = cp.Problem(cp.Maximize(objective_terms), constraints)
     info = solve(problem, what="dynamic step (4.23)", **solver_settings)
     # cvxpy's dual of an equality in a maximisation is minus its multiplier
-    return {"s": S.value.ravel(), "q": q.value,
+    s_value = S.value.ravel() if kv is None else s_total.value
+    return {"s": s_value, "q": q.value,
             "p": None if contacts is None else ct.p.value,
             "qc": None if contacts is None else ct.q.value,
             "dual_equilibrium": equilibrium.dual_value,
