@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .materials import Elastic, TrescaField, _check_positive
-from .problems.dynamic import ViscousStress
+from .problems.dynamic import RateDissipation, ViscousStress
 
-LAGS = ("friction", "viscosity")
+LAGS = ("friction", "viscosity", "implicit")
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,17 @@ class MuIRheology:
 
     finite as gamma_dot -> 0, so that the step is implicit in the shear rate; at the
     fixed point R = mu_s p + eta gamma_dot = mu(I) p at every flowing point.
+    ``lag="implicit"``: mu_s in the cone and the rate part of the dissipation of mu(I) in
+    the step at frozen (lagged) pressure,
+    D(gamma_dot) = (mu_2 - mu_s) p [gamma_dot - (I_0 / kappa) ln(1 + kappa gamma_dot / I_0)],
+    kappa = d / sqrt(p / rho_s), stated by its conjugate
+
+    .. math::
+        D^*(\\tau) = \\frac{(\\mu_2 - \\mu_s) p I_0}{\\kappa}
+                    \\left(-s - \\ln(1 - s)\\right), \\quad s = \\frac{\\tau}{(\\mu_2 - \\mu_s) p}
+
+    (:class:`~pfem_skfem.problems.dynamic.RateDissipation`, exponential cones): within the
+    step R = mu(I) p at the step's own shear rate.
 
     Parameters
     ----------
@@ -58,7 +69,7 @@ class MuIRheology:
     elastic : :class:`~pfem_skfem.materials.Elastic` or None (rigid-plastic). The shear
         rate is that of the step's total strain, the plastic one for a rigid-plastic
         material and in steady flow. ``lag="viscosity"`` is rigid-plastic only.
-    lag : "friction" or "viscosity" (above).
+    lag : "friction", "viscosity" or "implicit" (above).
     """
 
     mu_s: float = 0.38
@@ -82,8 +93,8 @@ class MuIRheology:
             raise ValueError(f"mu_2 must be finite and >= mu_s = {self.mu_s!r}, got {self.mu_2!r}")
         if self.lag not in LAGS:
             raise ValueError(f"lag must be one of {LAGS}, got {self.lag!r}")
-        if self.lag == "viscosity" and self.elastic is not None:
-            raise ValueError("lag='viscosity' is rigid-plastic only: elastic must be None")
+        if self.lag != "friction" and self.elastic is not None:
+            raise ValueError(f"lag={self.lag!r} is rigid-plastic only: elastic must be None")
 
     def friction(self, inertial_number):
         """mu(I) = mu_s + (mu_2 - mu_s) I / (I_0 + I)."""
@@ -108,9 +119,15 @@ class MuIRheology:
         return (self.mu_2 - self.mu_s) * self.d * np.sqrt(self.rho_s * p) / (self.I_0 + I)
 
     def viscous(self, sigma_m, stress_scale, shear_rate, weights):
-        """The pass's viscous stress (lag 'viscosity' and mu_2 > mu_s), else None."""
-        if self.lag != "viscosity" or self.mu_2 == self.mu_s:
+        """The pass's rate stress: ViscousStress (lag 'viscosity'), RateDissipation
+        ('implicit'), None for lag 'friction' or mu_2 = mu_s."""
+        if self.lag == "friction" or self.mu_2 == self.mu_s:
             return None
+        if self.lag == "implicit":
+            p = np.maximum(-np.asarray(sigma_m, dtype=float), self.p_min * stress_scale)
+            tau_max = (self.mu_2 - self.mu_s) * p
+            kappa = self.d / np.sqrt(p / self.rho_s)
+            return RateDissipation(tau_max * self.I_0 / kappa, tau_max, weights)
         rate = np.zeros(len(sigma_m)) if shear_rate is None else shear_rate
         return ViscousStress(self.viscosity(sigma_m, stress_scale, rate), weights)
 
