@@ -96,6 +96,11 @@ class MuIRheology:
         if self.lag != "friction" and self.elastic is not None:
             raise ValueError(f"lag={self.lag!r} is rigid-plastic only: elastic must be None")
 
+    @property
+    def phi(self):
+        """The static friction angle in degrees, sin(phi) = mu_s (a scene's Jaky K0 reads it)."""
+        return float(np.degrees(np.arcsin(min(self.mu_s, 1.0))))
+
     def friction(self, inertial_number):
         """mu(I) = mu_s + (mu_2 - mu_s) I / (I_0 + I)."""
         I = np.asarray(inertial_number, dtype=float)
