@@ -224,3 +224,13 @@ def test_pfem_column_with_mu_2_equal_mu_s_is_the_zero_dilation_column():
     assert np.abs(ref.x - same.x).max() < 1e-8
     speed = lambda st: np.linalg.norm(st.v, axis=1).max()         # noqa: E731
     assert 0 < speed(rate) < speed(ref)
+
+
+def test_a_scene_mixing_mu_i_with_another_material_is_refused():
+    from types import SimpleNamespace
+
+    from pfem_skfem.pfem.assemble import step_material
+    scene = SimpleNamespace(regions=[SimpleNamespace(material=MuIRheology()),
+                                     SimpleNamespace(material=ZeroDilationMohrCoulomb())])
+    with pytest.raises(ValueError, match="rate-dependent"):
+        step_material(scene, None, None)
