@@ -18,6 +18,10 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
   ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones;
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
+* a rate stress (``viscous`` of ``dynamic_increment``) appends (a_j, b_j) per point to x,
+  sigma_j + (a_j, -a_j, 0, b_j) in equilibrium, and either a diagonal block of P (the
+  Bingham term) or s_j, t_j per point with one SOC(3) and one exponential cone each
+  (the mu(I) dissipation), after all other rows.
 
 Clarabel's dual z of the equality rows has the sign of cvxpy's dual of the same
 equality, so the displacement increment is du_F = -z_eq x displacement scale (checked
