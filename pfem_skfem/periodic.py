@@ -12,7 +12,8 @@ import scipy.sparse as sp
 
 
 def periodic_tie(disc, x0, x1, *, tol=1e-9):
-    """T (n_u, n_r) tying the dofs on x = x1 to those on x = x0 (same component and y).
+    """(T, kept): T (n_u, n_r) tying the dofs on x = x1 to those on x = x0 (same component
+    and y), kept (n_r,) the dof of each column of T (every dof not on x = x1).
 
     Raises ValueError if the two ends' dofs do not pair up one to one.
     """
@@ -39,8 +40,8 @@ def periodic_tie(disc, x0, x1, *, tol=1e-9):
     kept = np.setdiff1d(np.arange(n_u), right)
     column = np.full(n_u, -1)
     column[kept] = np.arange(kept.size)
-    return sp.csr_matrix((np.ones(n_u), (np.arange(n_u), column[target])),
-                         shape=(n_u, kept.size))
+    T = sp.csr_matrix((np.ones(n_u), (np.arange(n_u), column[target])), shape=(n_u, kept.size))
+    return T, kept
 
 
 def periodic_operators(ops, T):

@@ -95,10 +95,9 @@ def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbo
     rho = phi * material.rho_s
     th = np.radians(theta)
     method = ThetaMethod(t_end / steps, 1.0, 1.0)
-    T = periodic_tie(disc, 0.0, h / ny)
+    T, kept = periodic_tie(disc, 0.0, h / ny)                 # kept: the dof of each column
     ops = periodic_operators(dynamic_operators(disc, rho, method), T)
     f = T.T @ body_force_vector(disc, (rho * g * np.sin(th), -rho * g * np.cos(th)))
-    kept = np.asarray(T.argmax(axis=0)).ravel()              # the full dof of each column
     xy = disc.basis_u.doflocs[:, kept]
     along = np.zeros(disc.n_u, dtype=bool)
     along[np.concatenate([disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]])] = True
