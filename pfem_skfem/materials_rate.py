@@ -24,10 +24,10 @@ LAGS = ("friction", "viscosity", "implicit")
 
 @dataclass(frozen=True)
 class MuIRheology:
-    """mu(I) friction, lagged: each pass has the friction of the previous pass's shear rate
-    and mean stress at every stress point, the fixed point of the zero-dilation scheme of
-    [80] extended to a rate-dependent friction. ``lag="friction"``: the whole of mu(I) in
-    the cone,
+    """mu(I) friction as a PFEM material: the pressure of every stress point lagged (the
+    previous pass's smoothed mean stress) as in the zero-dilation scheme of [80], the shear
+    rate entering in one of three ways. ``lag="friction"``: the whole of mu(I) in the cone,
+    at the previous pass's shear rate,
 
     .. math::
         \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j, \\quad
