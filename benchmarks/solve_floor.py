@@ -1,0 +1,174 @@
+"""How close the interior-point solve of a PFEM step comes to its floor: iterations x one LDL.
+
+The conic data of a step of the plane granular column (a = 1, thesis 6.4.3, built as
+benchmarks/pfem_step.py builds it, direct Clarabel backend) are captured as the step
+hands them to Clarabel (the last pass of the last step run). On them are timed
+
+* the full Clarabel solve with qdldl (setup, equilibration and every iteration), as the
+  step runs it;
+* one sparse LDL^T factorisation of its KKT matrix [[P + eps I, A^T], [A, -(H + eps I)]]
+  (H: a dense block per second-order cone, a diagonal for the other cones: the pattern
+  Clarabel factorises; nnz(K) and nnz(L) are printed beside Clarabel's own) by the
+  ``qdldl`` package with its approximate-minimum-degree ordering: once with the ordering
+  and symbolic analysis ('first') and as a numerical refactorisation on the same pattern
+  ('refactor', what an interior-point iteration needs), and, for reference, scipy's
+  SuperLU LU (symmetric mode) of the full matrix;
+
+and the table gives the ratio solve / (iterations x refactorisation): the cost of one
+iteration in bare factorisations. One solve and one factorisation use one core. The
+machine's load average is printed in the header: the timings are noisy when other work
+shares the cores, the ratios less so.
+
+Run: python benchmarks/solve_floor.py [--nx 17 33 65] [--steps 2] [--repeat 3]
+     (17: ~500 elements, 33: ~2,000, 65: ~8,000)
+"""
+import argparse
+import os
+from pathlib import Path
+import re
+import sys
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
+from verification.granular_column_plane import granular_column      # noqa: E402
+from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
+from pfem_skfem.problems import clarabel_direct                     # noqa: E402
+
+REGULARISATION = 1e-8            # Clarabel's static regularisation (its default)
+
+
+def capture_step(nx, steps=2, passes=2):
+    """The conic data (P, c, A, b, cones, settings) of the last solve of ``steps`` steps of
+    the a = 1 column with ``nx`` particles across, and the element count of that step."""
+    captured = []
+    clarabel = clarabel_direct.clarabel
+    original = clarabel.DefaultSolver
+
+    def recording(P, c, A, b, cones, settings):
+        captured.append(dict(P=P.copy(), c=np.array(c), A=A.copy(), b=np.array(b),
+                             cones=list(cones), settings=settings))
+        return original(P, c, A, b, cones, settings)
+
+    state, scene = granular_column(1.0, nx, passes=passes, backend="clarabel",
+                                   dt=0.02 * np.sqrt(1.0 / 9.8))
+    clarabel.DefaultSolver = recording
+    try:
+        state, _ = run(state, scene, steps)
+    finally:
+        clarabel.DefaultSolver = original
+    return captured[-1], int(state.history["elements"][-1])
+
+
+def cone_dims(cones):
+    """[(kind, dim)] of Clarabel cone objects (their repr is 'SecondOrderConeT(3)')."""
+    out = []
+    for cone in cones:
+        kind, dim = re.fullmatch(r"(\w+)\((\d+)\)", repr(cone)).groups()
+        out.append((kind, int(dim)))
+    return out
+
+
+def kkt_matrix(P, A, cones, eps=REGULARISATION):
+    """The upper triangle of the quasi-definite KKT matrix of Clarabel's linear systems:
+    P + eps I over the variables, -(H + eps I) over the constraints, with H the cones'
+    scaling blocks (dense m x m per second-order cone, diagonal otherwise) at an interior
+    point; the values are representative, the pattern is Clarabel's."""
+    blocks = []
+    for kind, m in cone_dims(cones):
+        if kind == "SecondOrderConeT":
+            blocks.append(np.eye(m) + 0.25 * np.ones((m, m)))   # W^T W: dense, SPD
+        elif kind == "ZeroConeT":
+            blocks.append(sp.csr_matrix((m, m)))
+        else:
+            blocks.append(sp.identity(m))
+    H = sp.block_diag(blocks, format="csc")
+    n, m = P.shape[0], A.shape[0]
+    P_full = P + sp.triu(P, 1).T
+    K = sp.bmat([[P_full + eps * sp.identity(n), A.T],
+                 [A, -(H + eps * sp.identity(m))]], format="csc")
+    return sp.triu(K, format="csc"), K
+
+
+def time_solve(problem, repeat):
+    """(best seconds, iterations, status, Clarabel's nnz(KKT), nnz(L)) of fresh solves."""
+    clarabel = clarabel_direct.clarabel
+    best, sol, solver = np.inf, None, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        solver = clarabel.DefaultSolver(problem["P"], problem["c"], problem["A"], problem["b"],
+                                        problem["cones"], problem["settings"])
+        sol = solver.solve()
+        best = min(best, time.perf_counter() - t0)
+    info = solver.get_info().linsolver
+    return best, int(sol.iterations), str(sol.status), int(info.nnzA), int(info.nnzL)
+
+
+def time_ldl(K_upper, repeat):
+    """(first factorisation with ordering [s], numerical refactorisation [s], nnz(L))."""
+    import qdldl
+    first = refactor = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        factor = qdldl.Solver(K_upper, upper=True)
+        first = min(first, time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        factor.update(K_upper, upper=True)
+        refactor = min(refactor, time.perf_counter() - t0)
+    L = factor.factors()[0]
+    return first, refactor, int(L.nnz)
+
+
+def time_lu(K, repeat):
+    """Seconds of one scipy SuperLU factorisation of the full KKT matrix in its symmetric
+    mode: minimum degree on A^T + A, diagonal pivots (a quasi-definite matrix needs no
+    pivoting; COLAMD with partial pivoting fills 50x more and is 25x slower here)."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        spla.splu(K.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                  options=dict(SymmetricMode=True))
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--nx", type=int, nargs="+", default=[17, 33, 65],
+                   help="particles across the column (17: ~500 elements, 33: ~2,000, 65: ~8,000)")
+    p.add_argument("--steps", type=int, default=2, help="steps run before the capture")
+    p.add_argument("--repeat", type=int, default=3,
+                   help="best of this many timings (solves above 2,000 elements: once)")
+    p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
+    args = p.parse_args(argv)
+    load = os.getloadavg()
+    print(f"conic data of the a = 1 column step (last pass of step {args.steps}); "
+          f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on "
+          f"{os.cpu_count()} cores")
+    head = (f"{'elements':>8s} {'n_x':>6s} {'rows':>6s} {'nnz(K)':>8s} {'nnz(L)':>8s} "
+            f"{'Cl nnzK':>8s} {'Cl nnzL':>8s} {'iters':>5s} {'status':>12s} {'solve s':>8s} {'LDL1 s':>7s} "
+            f"{'LDL s':>7s} {'LU s':>7s} {'s/iter':>7s} {'ratio':>6s}")
+    print(head)
+    print("-" * len(head))
+    for nx in args.nx:
+        problem, elements = capture_step(nx, args.steps)
+        n, m = problem["P"].shape[0], problem["A"].shape[0]
+        repeat = args.repeat if elements <= 2500 else 1
+        solve, iters, status, nnz_kkt, nnz_l_clarabel = time_solve(problem, repeat)
+        K_upper, K = kkt_matrix(problem["P"], problem["A"], problem["cones"])
+        first, refactor, nnz_l = time_ldl(K_upper, max(args.repeat, 5))
+        lu = np.nan if args.no_lu else time_lu(K, repeat)
+        per_iter = solve / iters
+        print(f"{elements:8d} {n:6d} {m:6d} {K_upper.nnz:8d} {nnz_l:8d} {nnz_kkt:8d} "
+              f"{nnz_l_clarabel:8d} "
+              f"{iters:5d} {status:>12s} {solve:8.3f} {first:7.3f} {refactor:7.3f} {lu:7.3f} "
+              f"{per_iter:7.4f} {per_iter / refactor:6.2f}", flush=True)
+    print("ratio = solve / (iterations x LDL refactorisation); LDL1 includes the AMD "
+          "ordering and symbolic analysis; Cl nnzK, Cl nnzL: Clarabel's own KKT matrix and factor")
+
+
+if __name__ == "__main__":
+    main()
