@@ -127,6 +127,27 @@ def time_solve(problem, repeat):
     return best(clocks), int(sol.iterations), str(sol.status), int(info.nnzA), int(info.nnzL)
 
 
+VARIANTS = {                      # Clarabel settings changed from the step's own
+    "no iterative refinement": dict(iterative_refinement_enable=False),
+    "explicit zeros dropped": dict(input_sparse_dropzeros=True),
+    "no equilibration": dict(equilibrate_enable=False),
+}
+
+
+def with_settings(problem, **changes):
+    """``problem`` with a copy of its Clarabel settings, ``changes`` applied."""
+    settings = clarabel_direct.clarabel.DefaultSettings()
+    for name in dir(problem["settings"]):
+        if not name.startswith("_") and not callable(getattr(problem["settings"], name)):
+            try:
+                setattr(settings, name, getattr(problem["settings"], name))
+            except (AttributeError, TypeError):
+                pass
+    for name, value in changes.items():
+        setattr(settings, name, value)
+    return dict(problem, settings=settings)
+
+
 def time_ldl(K_upper, repeat):
     """((wall, CPU) of the first factorisation with its ordering, (wall, CPU) of a
     numerical refactorisation, nnz(L))."""
@@ -164,6 +185,9 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=3,
                    help="best of this many timings (solves above 2,000 elements: once)")
     p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
+    p.add_argument("--variants", action="store_true",
+                   help="also solve with the settings of VARIANTS (where the time of an "
+                        "iteration goes)")
     args = p.parse_args(argv)
     load = os.getloadavg()
     print(f"conic data of the a = 1 column step (last pass of step {args.steps}); "
@@ -187,6 +211,13 @@ def main(argv=None):
               f"{iters:5d} {status:>12s} {solve[0]:7.3f} {solve[1]:7.3f} {first[1]:6.3f} "
               f"{refactor[1]:6.3f} {lu[1]:6.3f} {solve[1] / (iters * refactor[1]):6.2f} "
               f"{solve[0] / (iters * refactor[0]):6.2f}", flush=True)
+        if args.variants:
+            for name, changes in VARIANTS.items():
+                v_solve, v_iters, v_status, _, v_nnz_l = time_solve(
+                    with_settings(problem, **changes), repeat)
+                print(f"{'':8s}   {name:28s} nnz(L) {v_nnz_l:8d} {v_iters:5d} {v_status:>12s} "
+                      f"{v_solve[0]:7.3f} {v_solve[1]:7.3f} {'':20s} "
+                      f"{v_solve[1] / (v_iters * refactor[1]):6.2f}", flush=True)
     print("seconds: solve = Clarabel's setup and iterations (wall, then CPU); LDL1 = qdldl "
           "with its AMD ordering and symbolic analysis, LDL = its numerical refactorisation, "
           "LU = scipy SuperLU (CPU)\nratio = solve / (iterations x LDL) in CPU time, wall: "

@@ -524,10 +524,12 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
     remote = [dict(c, verbose=False) if "verbose" in c else c for c in cases]
     results = [None] * len(cases)
     failures = []
-    with _dask_client(workers, scheduler) as client:
+    with _dask_client(min(workers, len(cases)), scheduler) as client:
         where = (f"on the cluster at {scheduler}" if scheduler
-                 else f"on {workers} workers")
-        futures = {client.submit(function, pure=False, key=f"{desc}-{i}-{_token()}", **c): i
+                 else f"on {min(workers, len(cases))} workers")
+        # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
+        futures = {client.submit(_call, function, c, pure=False,
+                                 key=f"{desc}-{i}-{_token()}"): i
                    for i, c in enumerate(remote)}
         from distributed import as_completed
         with progress_bar(total=len(cases), disable=not verbose, unit="case",
@@ -543,6 +545,10 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
                 bar.update(1)
     _raise_failures(desc, failures, results)
     return results
+
+
+def _call(function, keywords):
+    return function(**keywords)
 
 
 def _run_serial(function, cases, desc):

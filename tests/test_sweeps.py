@@ -78,3 +78,9 @@ def test_bad_scheduler_addresses_are_usage_errors_naming_the_option(text, capsys
     with pytest.raises(SystemExit) as exit_:
         parser.parse_args(["--scheduler", text])
     assert exit_.value.code == 2 and "--scheduler" in capsys.readouterr().err
+
+
+def test_a_case_may_have_keywords_that_dask_submit_also_takes():
+    """The keywords travel as one dict: 'key', 'priority', 'workers' reach the function."""
+    cases = [dict(key="k", priority=2), dict(workers=3, pure=True)]
+    assert run_cases(dict, cases, workers=2) == cases
