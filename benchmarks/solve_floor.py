@@ -42,8 +42,9 @@ REGULARISATION = 1e-8            # Clarabel's static regularisation (its default
 
 
 def capture_step(nx, steps=2, passes=2):
-    """The conic data (P, c, A, b, cones, settings) of the last solve of ``steps`` steps of
-    the a = 1 column with ``nx`` particles across, and the element count of that step."""
+    """The conic data (P, c, A, b, cones, settings) of every solve of ``steps`` steps of the
+    a = 1 column with ``nx`` particles across (the passes of each step, in order), and the
+    element count of the last step."""
     captured = []
     clarabel = clarabel_direct.clarabel
     original = clarabel.DefaultSolver
@@ -60,7 +61,7 @@ def capture_step(nx, steps=2, passes=2):
         state, _ = run(state, scene, steps)
     finally:
         clarabel.DefaultSolver = original
-    return captured[-1], int(state.history["elements"][-1])
+    return captured, int(state.history["elements"][-1])
 
 
 def cone_dims(cones):
@@ -131,6 +132,8 @@ VARIANTS = {                      # Clarabel settings changed from the step's ow
     "no iterative refinement": dict(iterative_refinement_enable=False),
     "explicit zeros dropped": dict(input_sparse_dropzeros=True),
     "no equilibration": dict(equilibrate_enable=False),
+    "zeros dropped, no equilibr.": dict(input_sparse_dropzeros=True, equilibrate_enable=False),
+    "tolerances 1e-6": dict(tol_gap_abs=1e-6, tol_gap_rel=1e-6, tol_feas=1e-6),
 }
 
 
@@ -186,8 +189,8 @@ def main(argv=None):
                    help="best of this many timings (solves above 2,000 elements: once)")
     p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
     p.add_argument("--variants", action="store_true",
-                   help="also solve with the settings of VARIANTS (where the time of an "
-                        "iteration goes)")
+                   help="also solve every captured problem with the settings of VARIANTS "
+                        "(where the time of an iteration goes)")
     args = p.parse_args(argv)
     load = os.getloadavg()
     print(f"conic data of the a = 1 column step (last pass of step {args.steps}); "
@@ -198,8 +201,10 @@ def main(argv=None):
             f"{'LDL1':>6s} {'LDL':>6s} {'LU':>6s} {'ratio':>6s} {'wall':>6s}")
     print(head)
     print("-" * len(head))
+    variants = []
     for nx in args.nx:
-        problem, elements = capture_step(nx, args.steps)
+        problems, elements = capture_step(nx, args.steps)
+        problem = problems[-1]
         n, m = problem["P"].shape[0], problem["A"].shape[0]
         repeat = args.repeat if elements <= 2500 else 1
         solve, iters, status, nnz_kkt, nnz_l_clarabel = time_solve(problem, repeat)
@@ -212,17 +217,36 @@ def main(argv=None):
               f"{refactor[1]:6.3f} {lu[1]:6.3f} {solve[1] / (iters * refactor[1]):6.2f} "
               f"{solve[0] / (iters * refactor[0]):6.2f}", flush=True)
         if args.variants:
-            for name, changes in VARIANTS.items():
-                v_solve, v_iters, v_status, _, v_nnz_l = time_solve(
-                    with_settings(problem, **changes), repeat)
-                print(f"{'':8s}   {name:28s} nnz(L) {v_nnz_l:8d} {v_iters:5d} {v_status:>12s} "
-                      f"{v_solve[0]:7.3f} {v_solve[1]:7.3f} {'':20s} "
-                      f"{v_solve[1] / (v_iters * refactor[1]):6.2f}", flush=True)
+            variants.append((elements, refactor[1], problems))
     print("seconds: solve = Clarabel's setup and iterations (wall, then CPU); LDL1 = qdldl "
           "with its AMD ordering and symbolic analysis, LDL = its numerical refactorisation, "
           "LU = scipy SuperLU (CPU)\nratio = solve / (iterations x LDL) in CPU time, wall: "
           "the same in wall-clock time; nnz(K) is Clarabel's KKT pattern (checked), Cl nnzL "
           "its factor's")
+    if variants:
+        print_variants(variants)
+
+
+def print_variants(variants):
+    """Every captured solve (all passes of all steps) with the step's settings and with
+    each of VARIANTS: iterations, statuses, CPU seconds and the floor ratio."""
+    print("\nsettings variants on every solve of the run (all passes of all steps): mean "
+          "iterations, solves 'Solved' / all, mean CPU seconds, ratio to the step's settings")
+    head = (f"{'elements':>8s} {'settings':28s} {'nnz(L)':>8s} {'iters':>6s} {'solved':>7s} "
+            f"{'cpu s':>7s} {'x step':>7s} {'floor':>6s}")
+    print(head)
+    print("-" * len(head))
+    for elements, refactor, problems in variants:
+        base = None
+        for name, changes in {"the step's": {}, **VARIANTS}.items():
+            runs = [time_solve(with_settings(p, **changes), 1) for p in problems]
+            iters = np.mean([r[1] for r in runs])
+            cpu = np.mean([r[0][1] for r in runs])
+            solved = sum(r[2] == "Solved" for r in runs)
+            base = cpu if base is None else base
+            print(f"{elements:8d} {name:28s} {runs[-1][4]:8d} {iters:6.1f} "
+                  f"{solved:3d}/{len(runs):<3d} {cpu:7.3f} {cpu / base:7.2f} "
+                  f"{cpu / (iters * refactor):6.2f}", flush=True)
 
 
 if __name__ == "__main__":
