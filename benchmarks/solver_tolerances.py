@@ -55,15 +55,18 @@ NEAR_ZERO = 1e-6                # a residual or drift (round-off level): judged 
 
 
 @contextmanager
-def clarabel_tolerances(tol, record):
+def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
-    (the settings object is made by clarabel.DefaultSettings, in cvxpy's interface as in
-    pfem_skfem.problems.clarabel_direct); ``record`` gets (iterations, status) per solve."""
+    and the settings ``extra`` (the settings object is made by clarabel.DefaultSettings,
+    in cvxpy's interface as in pfem_skfem.problems.clarabel_direct); ``record`` gets
+    (iterations, status) per solve."""
     settings_class, solver_class = clarabel.DefaultSettings, clarabel.DefaultSolver
 
     def settings():
         s = settings_class()
         s.tol_gap_abs = s.tol_gap_rel = s.tol_feas = tol
+        for name, value in (extra or {}).items():
+            setattr(s, name, value)
         return s
 
     class Solver:
@@ -85,7 +88,7 @@ def clarabel_tolerances(tol, record):
         clarabel.DefaultSettings, clarabel.DefaultSolver = settings_class, solver_class
 
 
-def run_family(script_name, argv, tol, outdir):
+def run_family(script_name, argv, tol, outdir, extra=None):
     """{quantity: value}, the solve records, the seconds and (checks passed, checks) of
     one run at ``tol`` (the script's own tables are not printed)."""
     import contextlib
@@ -94,7 +97,7 @@ def run_family(script_name, argv, tol, outdir):
     script = importlib.import_module(f"verification.{script_name}")
     record = []
     t0 = time.perf_counter()
-    with clarabel_tolerances(tol, record), contextlib.redirect_stdout(io.StringIO()):
+    with clarabel_tolerances(tol, record, extra), contextlib.redirect_stdout(io.StringIO()):
         report = run_script(script, *argv, "--no-figures", "--outdir", str(outdir))
     seconds = time.perf_counter() - t0
     checks = (sum(q.passed for q in report.quantities), len(report.quantities))
@@ -116,15 +119,36 @@ def changes(values, reference):
             for k in reference}
 
 
+def _label(column):
+    """A tolerance as '1e-06', an extra settings column as 'extra'."""
+    return format(column, ".0e") if isinstance(column, float) else "extra"
+
+
+def _setting(text):
+    """A Clarabel setting's value from the command line: bool, int, float or text."""
+    if text in ("True", "False"):
+        return text == "True"
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--families", nargs="+", choices=tuple(FAMILIES), default=list(FAMILIES))
     p.add_argument("--tolerances", type=float, nargs="+", default=[1e-8, 1e-7, 1e-6, 1e-5])
+    p.add_argument("--extra", metavar="NAME=VALUE", nargs="*", default=[],
+                   help="one more run at the tightest tolerance with these Clarabel settings "
+                        "(e.g. input_sparse_dropzeros=True), compared like a tolerance")
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")
     args = p.parse_args(argv)
     tols = sorted(args.tolerances)
+    extra = {k: _setting(v) for k, v in (item.split("=", 1) for item in args.extra)}
     load = os.getloadavg()
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           "cores; relative change of each quantity from its value at the tightest tolerance")
@@ -132,6 +156,11 @@ def main(argv=None):
         for family in args.families:
             script_name, script_argv = FAMILIES[family]
             runs = {tol: run_family(script_name, script_argv, tol, outdir) for tol in tols}
+            columns = tols[1:]
+            if extra:                          # a column of its own, keyed by its label
+                label = "+".join(f"{k}={v}" for k, v in extra.items())
+                runs[label] = run_family(script_name, script_argv, tols[0], outdir, extra)
+                columns = columns + [label]
             reference = runs[tols[0]][0]
             spread = None
             if family == "pfem":
@@ -141,44 +170,45 @@ def main(argv=None):
                 spread = {k: max(changes(r[0], reference)[k] for r in reruns.values())
                           for k in reference}
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
-            for tol in tols:
-                print(f"  tol {tol:.0e}: {summary(*runs[tol][1:])}")
+            for key in runs:
+                name = f"tol {key:.0e}" if key in tols else f"tol {tols[0]:.0e}, {key}"
+                print(f"  {name}: {summary(*runs[key][1:])}")
             if spread is not None:
                 for f, r in reruns.items():
                     print(f"  tol {tols[0]:.0e}, rho x {f:g}: {summary(*r[1:])}")
             head = f"  {'quantity':34s} {'at ' + format(tols[0], '.0e'):>12s} " + \
-                " ".join(f"{format(t, '.0e'):>9s}" for t in tols[1:]) + \
+                " ".join(f"{_label(t):>9s}" for t in columns) + \
                 (f" {'round-off':>9s}" if spread else "")
             print(head)
             print("  " + "-" * (len(head) - 2))
-            worst = {t: 0.0 for t in tols[1:]}
+            worst = {t: 0.0 for t in columns}
             for name, value in reference.items():
-                ch = {t: changes(runs[t][0], reference)[name] for t in tols[1:]}
+                ch = {t: changes(runs[t][0], reference)[name] for t in columns}
                 bound = spread[name] if spread else None
                 near_zero = abs(value) < NEAR_ZERO
-                for t in tols[1:]:
+                for t in columns:
                     if np.isfinite(ch[t]) and not near_zero:
                         worst[t] = max(worst[t], ch[t] if spread is None
                                        else ch[t] - spread[name])
                 print(f"  {name + (' *' if near_zero else ''):34s} {value:12.6g} "
-                      + " ".join(f"{ch[t]:9.1e}" for t in tols[1:])
+                      + " ".join(f"{ch[t]:9.1e}" for t in columns)
                       + (f" {bound:9.1e}" if spread else ""))
-            passing = [t for t in tols[1:] if runs[t][3][0] >= runs[tols[0]][3][0]]
+            passing = [t for t in columns if runs[t][3][0] >= runs[tols[0]][3][0]]
             if any(abs(v) < NEAR_ZERO for v in reference.values()):
                 print(f"  * near zero (|value| < {NEAR_ZERO:g}: a residual or a drift), judged by "
                       "its check, not by its relative change")
             if spread is None:
-                ok = [t for t in tols[1:] if worst[t] <= RULE and t in passing]
-                print("  largest change: " + ", ".join(f"{t:.0e}: {worst[t]:.1e}"
-                                                         for t in tols[1:])
+                ok = [t for t in columns if worst[t] <= RULE and t in passing]
+                print("  largest change: " + ", ".join(f"{_label(t)}: {worst[t]:.1e}"
+                                                         for t in columns)
                       + f"; within 0.1 % with the checks of the tightest passing: "
-                      f"{', '.join(f'{t:.0e}' for t in ok) or 'none'}")
+                      f"{', '.join(_label(t) for t in ok) or 'none'}")
             else:
-                ok = [t for t in tols[1:] if worst[t] <= 0.0 and t in passing]
+                ok = [t for t in columns if worst[t] <= 0.0 and t in passing]
                 print("  largest change beyond the round-off spread: "
-                      + ", ".join(f"{t:.0e}: {worst[t]:+.1e}" for t in tols[1:])
+                      + ", ".join(f"{_label(t)}: {worst[t]:+.1e}" for t in columns)
                       + f"; within the spread with the checks of the tightest passing: "
-                      f"{', '.join(f'{t:.0e}' for t in ok) or 'none'}",
+                      f"{', '.join(_label(t) for t in ok) or 'none'}",
                       flush=True)
 
 
