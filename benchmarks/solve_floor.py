@@ -188,9 +188,9 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=3,
                    help="best of this many timings (solves above 2,000 elements: once)")
     p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
-    p.add_argument("--variants", action="store_true",
-                   help="also solve every captured problem with the settings of VARIANTS "
-                        "(where the time of an iteration goes)")
+    p.add_argument("--variants", nargs="*", choices=tuple(VARIANTS), default=None,
+                   help="also solve every captured problem with these settings of VARIANTS "
+                        "(all when none is named): where the time of an iteration goes")
     args = p.parse_args(argv)
     load = os.getloadavg()
     print(f"conic data of the a = 1 column step (last pass of step {args.steps}); "
@@ -216,7 +216,7 @@ def main(argv=None):
               f"{iters:5d} {status:>12s} {solve[0]:7.3f} {solve[1]:7.3f} {first[1]:6.3f} "
               f"{refactor[1]:6.3f} {lu[1]:6.3f} {solve[1] / (iters * refactor[1]):6.2f} "
               f"{solve[0] / (iters * refactor[0]):6.2f}", flush=True)
-        if args.variants:
+        if args.variants is not None:
             variants.append((elements, refactor[1], problems))
     print("seconds: solve = Clarabel's setup and iterations (wall, then CPU); LDL1 = qdldl "
           "with its AMD ordering and symbolic analysis, LDL = its numerical refactorisation, "
@@ -224,10 +224,10 @@ def main(argv=None):
           "the same in wall-clock time; nnz(K) is Clarabel's KKT pattern (checked), Cl nnzL "
           "its factor's")
     if variants:
-        print_variants(variants)
+        print_variants(variants, args.variants or list(VARIANTS))
 
 
-def print_variants(variants):
+def print_variants(variants, names):
     """Every captured solve (all passes of all steps) with the step's settings and with
     each of VARIANTS: iterations, statuses, CPU seconds and the floor ratio."""
     print("\nsettings variants on every solve of the run (all passes of all steps): mean "
@@ -238,7 +238,8 @@ def print_variants(variants):
     print("-" * len(head))
     for elements, refactor, problems in variants:
         base = None
-        for name, changes in {"the step's": {}, **VARIANTS}.items():
+        chosen = {name: VARIANTS[name] for name in names}
+        for name, changes in {"the step's": {}, **chosen}.items():
             runs = [time_solve(with_settings(p, **changes), 1) for p in problems]
             iters = np.mean([r[1] for r in runs])
             cpu = np.mean([r[0][1] for r in runs])
