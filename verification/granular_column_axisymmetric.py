@@ -62,7 +62,8 @@ from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
-                               progress, progress_bar, pyplot, run_cases, save_figure, workers)
+                               progress, progress_bar, pyplot, run_cases, save_figure,
+                               sweep_options)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -286,8 +287,7 @@ def build_parser():
                    help="least cone radius, as a fraction of rho g h0")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
-                   help="parallel processes")
+    sweep_options(p, what="the cases (sweep and studies)")
     return p
 
 
@@ -320,8 +320,10 @@ def run(args):
                                history=True)] if args.history else [])
     cases = [c for g in groups.values() for c in g]
     if args.progress:
-        progress(f"{len(cases)} case(s) on {args.workers} worker(s)")
-    results = iter(run_cases(run_case, cases, args.workers, desc="columns of revolution"))
+        progress(f"{len(cases)} case(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
+    results = iter(run_cases(run_case, cases, args.workers, desc="columns of revolution",
+                             scheduler=args.scheduler))
     res = {k: [next(results) for _ in g] for k, g in groups.items()}
     sweep = res["sweep"]
     by_a = {r["a"]: r for r in sweep}

@@ -70,8 +70,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure)
-from pfem_skfem.report import workers as worker_count
+                               save_figure, sweep_options)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -275,8 +274,7 @@ def build_parser():
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),
-                   help="parallel processes for the runs")
+    sweep_options(p, default_workers=min(2, os.cpu_count() or 1), what="the runs")
     return p
 
 
@@ -305,8 +303,10 @@ def run(args):
     main, dts, outlets = _cases(args)
     cases = main + dts + outlets
     if args.progress:
-        progress(f"{len(cases)} case(s) on {args.workers} worker(s)")
-    results = run_cases(run_case, cases, args.workers, desc="silos")
+        progress(f"{len(cases)} case(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
+    results = run_cases(run_case, cases, args.workers, desc="silos",
+                        scheduler=args.scheduler)
     runs = results[:len(main)]
     dt_runs = results[len(main):len(main) + len(dts)]
     outlet_runs = results[len(main) + len(dts):]
