@@ -189,8 +189,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     volume0 = float(rho * scene.regions[0].volume)
     x0 = state.x.copy()
     axis0 = np.flatnonzero(x0[:, 0] == 0.0)
-    # snapshots for Fig 7.7 (t = 1.0, 1.2, 1.28, 2.0, 4.0) and the time history (Fig 7.6)
-    snap_times = (1.0, 1.2, 1.28, 2.0, 4.0)
+    # snapshots for Fig 7.5 (t = 0.8, 1.0, 1.2), Fig 7.7 (1.0, 1.2, 1.28, 2.0, 4.0), history 7.6
+    snap_times = (0.8, 1.0, 1.2, 1.28, 2.0, 4.0)
     snap_steps = {int(round(s * t_scale / dt)): s for s in snap_times}
     track = {"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}
 
