@@ -177,3 +177,13 @@ def test_bulge_correction_puts_back_the_volume_the_chords_drop(collapse_steps):
     missed = np.array([r["p2"] - r["corrected"] for r in collapse_steps[5:]])
     assert np.abs(dropped).sum() > 1e-4 * collapse_steps[0]["before"]   # there is a bulge
     assert np.abs(missed).sum() <= 0.03 * np.abs(dropped).sum()
+
+
+@pytest.mark.parametrize("a, nr, courant", [(0.5, 6, 0.5), (2.0, 8, 0.3), (8.0, 10, 1.0)])
+def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
+    from granular_column_axisymmetric import courant_steps
+    steps = courant_steps(a, nr, courant)
+    for r0, g in ((1.0, 9.8), (0.039, 9.81)):                # whatever r0 and g
+        h0, h = a * r0, r0 / (nr - 1)
+        number = lambda n: np.sqrt(2 * g * h0) * 4 * np.sqrt(h0 / g) / n / h   # noqa: E731
+        assert number(steps) <= courant * (1 + 1e-12) < number(steps - 1)
