@@ -405,6 +405,8 @@ def build_parser():
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU of each run every this many steps (0: none); a PVD per run")
+    p.add_argument("--keep-runs", action="store_true",
+                   help="pickle every run's histories to OUTDIR/landslide_yangbaodi/runs.pkl")
     p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),
                    help="parallel processes for the runs")
     return p
@@ -444,6 +446,10 @@ def run(args):
     if args.progress:
         progress(f"{len(cases)} landslide run(s) on {args.workers} worker(s)")
     results = run_cases(run_case, cases, args.workers, desc="landslides")
+    if args.keep_runs:                             # every history, to draw again later
+        import pickle
+        path = figure_dir(args, "landslide_yangbaodi") / "runs.pkl"
+        path.write_bytes(pickle.dumps(results))
     base = results[0]
     by_label = dict(zip([c["label"] for c in cases], results))
     mu_runs = sorted([base] + [by_label[c["label"]] for c in sweep], key=lambda r: r["mu"])
@@ -561,7 +567,7 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     xmax = _xmax([base] + mu_runs + rho_runs)
     times = sorted(base["snapshots"])
     fig, axes = plt.subplots(len(times), 1, figsize=(9, 1.7 * len(times) + 1.2), squeeze=False,
-                             sharex=True)
+                             sharex=True, layout="constrained")
     vmax = max(max(float(np.max(s["speed"])) for s in base["snapshots"].values()), 1e-9)
     for ax, tk in zip(axes[:, 0], times):
         s = base["snapshots"][tk]
@@ -573,8 +579,7 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     axes[-1, 0].set_xlabel("horizontal distance x [m]")
     fig.suptitle(f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
                  "(cf. Fig 8.9-8.10); dashed: the ground before failure", fontsize=9)
-    fig.tight_layout()
-    fig.colorbar(sc, ax=axes[:, 0].tolist(), label="speed [m/s]", shrink=0.6)
+    fig.colorbar(sc, ax=axes[:, 0].tolist(), label="speed [m/s]", shrink=0.8)
     save_figure(fig, out / "snapshots.png")
 
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
