@@ -550,6 +550,7 @@ def _ground(ax, r, outline=True):
 def _frame(ax, r, xmax):
     p = r["profile"]
     ax.set_xlim(0, xmax)
+    ax.set_xlabel("horizontal distance x [m]")
     ax.set_ylim(min(p["z_slip"]) - 8, max(np.max(p["z_surface"][p["x"] <= xmax]), 0) + 8)
     ax.set_aspect("equal")
     ax.set_ylabel("elevation [m]")
@@ -567,8 +568,8 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     out = figure_dir(args, "landslide_yangbaodi")
     xmax = _xmax([base] + mu_runs + rho_runs)
     times = sorted(base["snapshots"])
-    fig, axes = plt.subplots(len(times), 1, figsize=(9, 1.7 * len(times) + 1.2), squeeze=False,
-                             sharex=True, layout="constrained")
+    fig, axes = plt.subplots(len(times), 1, figsize=(9, 1.9 * len(times) + 1.2), squeeze=False,
+                             layout="constrained")
     vmax = max(max(float(np.max(s["speed"])) for s in base["snapshots"].values()), 1e-9)
     for ax, tk in zip(axes[:, 0], times):
         s = base["snapshots"][tk]
@@ -577,7 +578,6 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
                         vmin=0, vmax=vmax)
         _frame(ax, base, xmax)
         ax.set_title(f"t = {tk:g} s after release", fontsize=9)
-    axes[-1, 0].set_xlabel("horizontal distance x [m]")
     fig.suptitle(f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
                  "(cf. Fig 8.9-8.10); dashed: the ground before failure", fontsize=9)
     fig.colorbar(sc, ax=axes[:, 0].tolist(), label="speed [m/s]", shrink=0.8)
@@ -608,7 +608,7 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     save_figure(fig, out / "front_and_energy.png")
 
     names = ("A (rear)", "B (middle)", "C (front)")
-    fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True)
+    fig, axes = plt.subplots(3, 2, figsize=(11, 8.5))
     for k, name in enumerate(names):
         xs, vs = base["track_x"][:, k], base["track_v"][:, k]
         ax = axes[k, 0]
@@ -624,15 +624,15 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
         ax.plot(xs[:, 0], vs[:, 1], label="v_y")
         ax.axhline(0, color="k", lw=0.5)
         ax.set_ylabel("velocity [m/s]")
+        ax.set_xlabel("x of the point [m]")
+        ax.set_xlim(0, xmax)
         ax.set_title(f"point {name}: velocity against its x (cf. Fig 8.7-8.8)", fontsize=9)
         ax.legend(fontsize=7)
-    axes[-1, 0].set_xlabel("x [m]")
-    axes[-1, 1].set_xlabel("x of the point [m]")
     fig.tight_layout()
     save_figure(fig, out / "material_points.png")
 
-    fig, axes = plt.subplots(len(mu_runs), 1, figsize=(9, 1.9 * len(mu_runs) + 0.8),
-                             squeeze=False, sharex=True, layout="constrained")
+    fig, axes = plt.subplots(len(mu_runs), 1, figsize=(9, 2.1 * len(mu_runs) + 0.8),
+                             squeeze=False, layout="constrained")
     for ax, r in zip(axes[:, 0], mu_runs):
         _ground(ax, r)
         ax.plot(r["x_end"][:, 0], r["x_end"][:, 1], ".", ms=2, color="C3")
@@ -640,7 +640,6 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
         ax.set_title(f"mu = tan {r['mu_deg']:g} deg: reach {r['front_max']:.0f} m, travel "
                      f"angle {r['travel_angle_deg']:.1f} deg (bound {r['mu_deg']:g} deg)",
                      fontsize=9)
-    axes[-1, 0].set_xlabel("horizontal distance x [m]")
     fig.suptitle("final deposits of the friction back-analysis (cf. Fig 8.4)", fontsize=9)
     save_figure(fig, out / "deposits.png")
 
