@@ -81,7 +81,7 @@ PROFILE = Path(__file__).resolve().parent / "data" / "yangbaodi_profile.csv"
 # (the held stress settles in three, see the book); rougher slip surfaces than the
 # thesis' (shorter runs), the density doubled beside, no run with alpha fixed.
 QUICK = dict(h=4.0, dt=0.2, t_hold=0.8, t_after=40.0, mu_deg=14.0, mu_study=[14.0, 18.0],
-             no_alpha_study=True, rho_study=[2.5], snapshot_every=10.0)
+             no_alpha_study=True, rho_study=[2.5])
 THESIS_FRONT = 325.0            # m, the front's largest horizontal position (Fig 8.5)
 THESIS_FRONT_TIME = 20.0        # s after release
 THESIS_END = 25.0               # s after release: "the entire sliding process is finished"
