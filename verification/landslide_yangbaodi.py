@@ -45,9 +45,12 @@ of motion (about 25 s after release).
 
 Usage::
 
-    python verification/landslide_yangbaodi.py --quick --json results/landslide.json  # < 1 min
-    python verification/landslide_yangbaodi.py --h 2 --dt 0.1 --t-hold 0.5   # a medium size
-    python verification/landslide_yangbaodi.py --save-every 10               # thesis size, VTU
+    python verification/landslide_yangbaodi.py --quick --json results/landslide.json
+        # 3 coarse slides (h = 4 m): about a minute on an idle core pair
+    python verification/landslide_yangbaodi.py --h 2.5 --dt 0.125 --t-hold 1 --save-every 8
+        # the six slides at a medium size, VTU/PVD per slide (32 min on a shared machine)
+    python verification/landslide_yangbaodi.py --save-every 10
+        # the thesis' size, about 2,000 triangles: about 2 h a slide here
     python verification/landslide_yangbaodi.py --profile my_slope.csv --mu-study 8 12
     python verification/landslide_yangbaodi.py --help                        # every option
 """
