@@ -196,6 +196,20 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     return replace(moved, x=x, v=v), projected
 
 
+def fly_free(state, *, theta, gravity, bodies, axisymmetric=False):
+    """Step 2b when the particles form no element (the last few of a discharge, a spray):
+    every particle flies free and slides on the bodies, as the free particles of a meshed
+    step do. Returns the moved state (no lagged stress left) and the number of particles
+    put back out of a body."""
+    x, v = free_particles_step(state.x, state.v, gravity, theta.dt, theta.theta2, bodies)
+    x, v, projected = project_out_of_bodies(x, v, bodies, np.median(state.h))
+    if axisymmetric:                             # a particle that would cross the axis
+        crossed = x[:, 0] < 0
+        x[crossed, 0] = 0.0
+        v[crossed, 0] = np.maximum(v[crossed, 0], 0.0)
+    return replace(state, x=x, v=v, sigma_m=np.zeros(state.n)), projected
+
+
 def particle_tags(disc, pm, contacts, inc, n, weight):
     """The tags of :class:`~pfem_skfem.pfem.Particles` after a step, for n particles.
 
