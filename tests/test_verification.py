@@ -24,7 +24,10 @@ from pfem_skfem.report import HARNESS_OPTIONS, Report, inspect_figures
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
-NOT_YET = set()
+# Scripts whose --quick case does not meet every check yet (each with its measurement):
+# the landslide's coarse mass (4 particles through it) loses 5.6-6.5 % of its area with
+# adaptive alpha, against the thesis' 2 % (tests/test_landslide.py, an xfail).
+NOT_YET = {"landslide_yangbaodi"}
 
 
 class Between:
