@@ -53,6 +53,7 @@ angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``:
 ``positive_int``           an integer >= 1 (element, step, increment counts)
 ``nonnegative_int``        an integer >= 0 (``--save-every``: 0 for none)
 ``workers``                an integer >= 1 (parallel processes)
+``scheduler_address``      a Dask scheduler address ``[tcp://]host:port``
 ``friction_angle``         an angle in (0, 90) degrees
 ``poisson_ratio``          a number in (-1, 0.5)
 ``fraction``               a number in [0, 1]
@@ -62,6 +63,10 @@ angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``:
                            ``integer``, ``unit``)
 ``positive(name)``         the older spelling of ``positive_float``
 =========================  ===================================================
+
+A script that runs independent cases adds ``--workers`` and ``--scheduler`` with
+:func:`sweep_options` and runs them with :func:`run_cases` (on Dask: a local cluster
+of ``--workers`` processes, or the cluster at ``--scheduler``).
 
 ``ScriptParser`` gives every script ``--quiet`` (no progress bars) next to the
 ``--progress`` of old (now the default); :func:`progress_bar` is the bar (tqdm) of a
@@ -118,7 +123,8 @@ def relative_error(value, reference):
     return abs(value - reference) / abs(reference)
 
 
-HARNESS_OPTIONS = ("json", "outdir", "no_figures", "progress", "quiet", "workers")
+HARNESS_OPTIONS = ("json", "outdir", "no_figures", "progress", "quiet", "workers",
+                   "scheduler")
 """Options that say how a script runs, not what it computes: never in ``params``."""
 
 
@@ -427,28 +433,200 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
                 disable=disable, dynamic_ncols=True, **options)
 
 
-def run_cases(function, cases, workers=1, *, desc="cases"):
-    """``function(**case)`` for each case (a dict of its keywords), in order.
+SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
 
-    With ``workers`` > 1 the cases run in as many processes (``function`` must be a
-    module-level function); a case's own progress (its ``verbose`` keyword) is turned
-    off there and one bar over the cases shown instead, so that the workers' bars do not
-    interleave. The results come back in the order of ``cases``.
+
+def scheduler_address(text):
+    """argparse type: a Dask scheduler's address, ``[tcp://]host:port`` (``--scheduler``).
+
+    Only its form is checked here (no connection is made while options are parsed);
+    :func:`run_cases` connects before any case runs, and an unreachable scheduler is an
+    error naming ``--scheduler``.
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    if workers <= 1 or len(cases) <= 1:
-        return [function(**c) for c in cases]
+    import re
+    match = re.fullmatch(r"(?:(?P<scheme>[a-z]+)://)?(?P<host>[^\s:/]+|\[[0-9a-fA-F:]+\])"
+                         r":(?P<port>\d{1,5})", text.strip())
+    if match is None or (match["scheme"] or "tcp") not in SCHEDULER_SCHEMES \
+            or not 0 < int(match["port"]) < 65536:
+        raise argparse.ArgumentTypeError(
+            f"must be a Dask scheduler address [SCHEME://]HOST:PORT with SCHEME in "
+            f"{', '.join(SCHEDULER_SCHEMES)} (e.g. tcp://127.0.0.1:8786), got {text!r}")
+    return text.strip() if match["scheme"] else f"tcp://{text.strip()}"
+
+
+scheduler_address.__name__ = "a Dask scheduler address"
+
+
+def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
+    """Add ``--workers`` and ``--scheduler``, the options of :func:`run_cases`, to ``parser``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    default_workers : int, optional
+        Default of ``--workers``; the number of cores when None.
+    what : str
+        What runs in parallel (the help text).
+    """
+    import os
+    parser.add_argument("--workers", type=workers, default=default_workers or os.cpu_count() or 1,
+                        help=f"local Dask worker processes (one thread each) for {what}; "
+                             "1: one after the other in this process")
+    parser.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
+                        help=f"run {what} on the existing Dask cluster at ADDRESS "
+                             "(tcp://host:port; its workers must import pfem_skfem); "
+                             "--workers is then ignored")
+    return parser
+
+
+class SweepError(RuntimeError):
+    """Cases of a sweep failed: ``failures`` holds (index, case, exception) of each,
+    ``results`` the results of all cases (None where a case failed)."""
+
+    def __init__(self, desc, failures, results):
+        self.failures, self.results = failures, results
+        lines = [f"{len(failures)} of {len(results)} {desc} failed:"]
+        lines += [f"  case {i}: {_case_text(case)}: {type(e).__name__}: {e}"
+                  for i, case, e in failures]
+        super().__init__("\n".join(lines))
+
+
+def _case_text(case, width=300):
+    """The keywords of a case on one line (arrays and long values shortened)."""
+    parts = []
+    for key, value in case.items():
+        text = repr(value)
+        parts.append(f"{key}={text if len(text) <= 40 else text[:37] + '...'}")
+    text = ", ".join(parts)
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
+def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
+    """``function(**case)`` for each case (a dict of its keywords); the results in order.
+
+    With ``workers`` > 1 (and more than one case) the cases run on a Dask
+    ``LocalCluster`` of ``workers`` single-threaded worker processes, started here and
+    closed on return; with ``scheduler`` (an address, ``--scheduler``) on that existing
+    cluster instead, whatever ``workers`` says. ``function`` must be importable there
+    (a module-level function). Results are gathered as they finish; a case's own progress
+    (its ``verbose`` keyword) is turned off on the workers and one bar over the cases shown
+    instead, so that their bars do not interleave. With ``workers`` = 1 the cases run one
+    after the other in this process, without Dask.
+
+    A failing case is reported (one line with its parameters) when it fails and the others
+    go on; at the end :class:`SweepError` lists every failure (the first one chained as
+    its cause), so a script exits non-zero.
+    """
+    cases = [dict(c) for c in cases]
+    if scheduler is None and (workers <= 1 or len(cases) <= 1):
+        return _run_serial(function, cases, desc)
     verbose = any(c.get("verbose") for c in cases)
-    cases = [dict(c, verbose=False) if "verbose" in c else c for c in cases]
+    remote = [dict(c, verbose=False) if "verbose" in c else c for c in cases]
     results = [None] * len(cases)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(function, **c): i for i, c in enumerate(cases)}
+    failures = []
+    with _dask_client(min(workers, len(cases)), scheduler) as client:
+        where = (f"on the cluster at {scheduler}" if scheduler
+                 else f"on {min(workers, len(cases))} workers")
+        # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
+        futures = {client.submit(_call, function, c, pure=False,
+                                 key=f"{desc}-{i}-{_token()}"): i
+                   for i, c in enumerate(remote)}
+        from distributed import as_completed
         with progress_bar(total=len(cases), disable=not verbose, unit="case",
-                          desc=f"{desc} on {workers} workers") as bar:
-            for done in as_completed(futures):
-                results[futures[done]] = done.result()
+                          desc=f"{desc} {where}") as bar:
+            for future in as_completed(futures):
+                i = futures[future]
+                try:
+                    results[i] = future.result()
+                except Exception as error:       # noqa: BLE001 - reported with its case
+                    failures.append((i, cases[i], error))
+                    progress(f"{desc}: case {i} failed ({_case_text(cases[i])}): "
+                             f"{type(error).__name__}: {error}")
                 bar.update(1)
+    _raise_failures(desc, failures, results)
     return results
+
+
+def _call(function, keywords):
+    return function(**keywords)
+
+
+def _run_serial(function, cases, desc):
+    results, failures = [], []
+    for i, case in enumerate(cases):
+        try:
+            results.append(function(**case))
+        except Exception as error:               # noqa: BLE001 - reported with its case
+            results.append(None)
+            failures.append((i, case, error))
+            if len(cases) > 1:
+                progress(f"{desc}: case {i} failed ({_case_text(case)}): "
+                         f"{type(error).__name__}: {error}")
+    _raise_failures(desc, failures, results)
+    return results
+
+
+def _raise_failures(desc, failures, results):
+    if failures:
+        failures.sort(key=lambda f: f[0])
+        raise SweepError(desc, failures, results) from failures[0][2]
+
+
+def _token():
+    import uuid
+    return uuid.uuid4().hex[:8]
+
+
+class _dask_client:
+    """A ``distributed.Client``: to the cluster at ``scheduler``, or to a quiet
+    ``LocalCluster`` of ``workers`` single-threaded processes that is closed on exit."""
+
+    def __init__(self, workers, scheduler=None):
+        self.workers, self.scheduler = workers, scheduler
+        self.cluster = self.client = None
+
+    def __enter__(self):
+        import logging
+        import dask
+        from distributed import Client, LocalCluster
+        # a long solve holds a worker's GIL for minutes: no timeout may declare it dead
+        self._config = dask.config.set({"distributed.scheduler.worker-ttl": None,
+                                        "distributed.admin.system-monitor.gil.enabled": False})
+        self._config.__enter__()
+        quiet = logging.CRITICAL          # failures are reported by run_cases, with their case
+        self._levels = {name: logging.getLogger(name).level
+                        for name in ("distributed", "tornado", "bokeh")}
+        for name in self._levels:
+            logging.getLogger(name).setLevel(quiet)
+        try:
+            if self.scheduler:
+                try:
+                    self.client = Client(self.scheduler, timeout="10s")
+                except (OSError, TimeoutError) as error:
+                    raise ValueError(f"--scheduler {self.scheduler}: no Dask scheduler "
+                                     f"reachable there ({error})") from None
+            else:
+                self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
+                                            processes=True, dashboard_address=None,
+                                            memory_limit=0, silence_logs=quiet)
+                self.client = Client(self.cluster)
+        except BaseException:
+            self.__exit__(None, None, None)
+            raise
+        return self.client
+
+    def __exit__(self, *exc):
+        import logging
+        try:
+            if self.client is not None:
+                self.client.close()
+            if self.cluster is not None:
+                self.cluster.close()
+        finally:
+            for name, level in self._levels.items():
+                logging.getLogger(name).setLevel(level)
+            self._config.__exit__(None, None, None)
+        return False
 
 
 def pyplot():

@@ -25,6 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
 from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
 
 G, RHO, R0 = 9.8, 2.0, 1.0
+COLLAPSE_STEPS = 50          # to t = 1.0 sqrt(h0/g) at dt = 0.02 sqrt(h0/g)
 
 
 def test_column_in_a_smooth_container_keeps_still_on_its_weight():
@@ -112,3 +113,77 @@ def test_scene_geometry_is_checked_and_plane_by_default():
     with pytest.raises(ValueError, match="geometry"):
         Scene(regions=(shifted,), geometry="spherical")
     assert Scene(regions=(shifted,)).geometry == "plane"
+
+
+# -- where the volume of a collapsing column goes -------------------------------------------
+@pytest.fixture(scope="module")
+def collapse_steps():
+    """Per step of a collapsing column (a = 2, 6 across, dt/sqrt(h0/g) = 0.02, to t = 1.0
+    sqrt(h0/g), before its toe thins): the volume of the P2 body moved by du (quadrature of
+    2 pi (r + u_r) det F), its first-order part, that of the straight-sided mesh through the
+    moved vertices, the same with the bulge correction, and the radial displacement's size."""
+    from skfem import Basis, Functional
+    from pfem_skfem.fields import vertex_dofs
+    from pfem_skfem.pfem.alpha_shape import measure
+    from pfem_skfem.pfem.surface import axis_vertices, bulge_correction
+
+    @Functional
+    def exact(w):
+        G = w["du"].grad
+        det_f = (1 + G[0, 0]) * (1 + G[1, 1]) - G[0, 1] * G[1, 0]
+        return 2 * np.pi * (w.x[0] + w["du"][0]) * det_f
+
+    @Functional
+    def first_order(w):
+        G, u_r = w["du"].grad, w["du"][0]
+        return 2 * np.pi * (w.x[0] * (G[0, 0] + G[1, 1]) + u_r)     # r tr(eps), hoop included
+
+    @Functional
+    def radial(w):
+        return 2 * np.pi * np.abs(w["du"][0])
+
+    rows = []
+
+    def on_step(st, rec, res):
+        disc, du = res.disc, res.increment.du
+        basis = Basis(disc.mesh, disc.basis_u.elem, intorder=8)
+        field = basis.interpolate(du)
+        moved = disc.mesh.p.T + du[vertex_dofs(disc)]
+        axis = axis_vertices(disc)
+        shift = bulge_correction(disc, du, axis=axis)
+        volume = lambda p: float(measure(p, disc.mesh.t.T, True).sum())   # noqa: E731
+        rows.append(dict(before=volume(disc.mesh.p.T), p2=exact.assemble(basis, du=field),
+                         first=first_order.assemble(basis, du=field),
+                         radial=radial.assemble(basis, du=field),
+                         chords=volume(moved), corrected=volume(moved + shift)))
+
+    state, scene = granular_column_axisymmetric(2.0, 6, dt=0.02 * np.sqrt(2.0 * R0 / G))
+    run(state, scene, COLLAPSE_STEPS, on_step=on_step)
+    return rows
+
+
+def test_zero_dilation_flow_is_isochoric_to_first_order_with_the_hoop_strain(collapse_steps):
+    """int 2 pi (r (eps_rr + eps_zz) + u_r) dA = 0: the constraint holds the hoop strain u_r/r
+    (without it the residual would be int 2 pi u_r dA, of the size of ``radial``)."""
+    for row in collapse_steps[5:]:
+        assert abs(row["first"]) <= 1e-7 * row["radial"]
+        assert row["radial"] > 1e-5 * row["before"]              # the column does move
+
+
+def test_bulge_correction_puts_back_the_volume_the_chords_drop(collapse_steps):
+    """The straight-sided moved mesh with the bulge correction holds the volume of the curved
+    P2 body (the bulges between its moved edges and their chords), to 3 % of the bulges."""
+    dropped = np.array([r["p2"] - r["chords"] for r in collapse_steps[5:]])
+    missed = np.array([r["p2"] - r["corrected"] for r in collapse_steps[5:]])
+    assert np.abs(dropped).sum() > 1e-4 * collapse_steps[0]["before"]   # there is a bulge
+    assert np.abs(missed).sum() <= 0.03 * np.abs(dropped).sum()
+
+
+@pytest.mark.parametrize("a, nr, courant", [(0.5, 6, 0.5), (2.0, 8, 0.3), (8.0, 10, 1.0)])
+def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
+    from granular_column_axisymmetric import courant_steps
+    steps = courant_steps(a, nr, courant)
+    for r0, g in ((1.0, 9.8), (0.039, 9.81)):                # whatever r0 and g
+        h0, h = a * r0, r0 / (nr - 1)
+        number = lambda n: np.sqrt(2 * g * h0) * 4 * np.sqrt(h0 / g) / n / h   # noqa: E731
+        assert number(steps) <= courant * (1 + 1e-12) < number(steps - 1)

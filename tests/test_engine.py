@@ -100,6 +100,28 @@ def test_an_outlet_removes_exactly_the_particles_that_crossed_it():
     assert 0 < state.discharged["floor"][1] < n0                 # it did cross, partly
 
 
+def test_a_run_ends_cleanly_when_every_particle_has_left():
+    """The falling block of the test above, run on: its last row forms no element and flies
+    free (still y_N = y_0 - g dt^2 N (N + 1) / 2), then the last particles leave; the run
+    stops at the step the closed form says, with an empty state that keeps the books."""
+    dt, h, y_cut = 0.05, 0.1, -0.1
+    scene = Scene(regions=(block(h=h),), outlets=(Outlet("floor", HalfPlane((0.0, y_cut),
+                                                                             (0.0, -1.0))),),
+                  config=PFEMConfig(theta=ThetaMethod(dt)))
+    state = scene.initial_state()
+    y_top, m0, n0 = state.x[:, 1].max(), state.total_mass, state.n
+    last = next(n for n in range(1, 100) if y_top - G * dt ** 2 * n * (n + 1) / 2 < y_cut)
+    state, _ = run(state, scene, 100)
+    hist = state.history
+    assert state.n == 0 and state.step == last
+    assert 0 in hist["elements"]                          # a step without element was taken
+    assert hist["mass"][-1] == 0.0
+    assert state.discharged["floor"] == [pytest.approx(m0, rel=1e-14), n0]
+    assert {len(v) for k, v in hist.items() if not k.startswith("t_")} == {last}
+    with pytest.raises(ValueError, match="no particle left"):
+        pfem_step(state, scene)
+
+
 @pytest.mark.parametrize("hold", ["boundary", "free_surface"])
 def test_a_held_phase_keeps_the_held_particles_still(hold):
     """A cohesionless column whose side walls are gone would collapse at once; while its

@@ -79,3 +79,14 @@ def test_the_example_scene_file_is_the_script_s_silo():
     assert (scene.regions, scene.bodies, scene.outlets, scene.config) == \
         (ref.regions, ref.bodies, ref.outlets, ref.config)
     assert scene.length == approx(1.35) and scene.t_end == 6.0
+
+
+def test_the_discharge_does_not_depend_on_the_density(quick, tmp_path):
+    """c = 0: the volume history V(t) is rho-free; a factor of two scales every number of
+    the step exactly (scaled conic data), so the histories are bit-identical."""
+    report = run_script(silo, "--quick", "--no-figures", "--outdir", str(tmp_path),
+                        "--workers", "1", "--walls", "smooth", "--rho", str(2 * 1.5))
+    heavy, light = report.data["runs"][0], quick["smooth"]
+    assert heavy["rho"] == 2 * light["rho"]
+    assert heavy["t"] == light["t"] and heavy["V"] == light["V"]
+    assert heavy["Q"] == light["Q"]

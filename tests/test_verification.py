@@ -24,7 +24,10 @@ from pfem_skfem.report import HARNESS_OPTIONS, Report, inspect_figures
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
-NOT_YET = set()
+# Scripts whose --quick case does not meet every check yet (each with its measurement):
+# the landslide's coarse mass (4 particles through it) loses 5.6-6.5 % of its area with
+# adaptive alpha, against the thesis' 2 % (tests/test_landslide.py, an xfail).
+NOT_YET = {"landslide_yangbaodi"}
 
 
 class Between:
@@ -90,6 +93,14 @@ def column_comes_to_rest(report):
     assert case["at_rest"] and case["final_max_speed_over_sqrt_gh0"] < REST_SPEED
 
 
+def bagnold_surface_velocity(theta=25.0, d=0.53e-3, mu_s=0.38, mu_2=0.64, I_0=0.279, phi=0.6,
+                             g=9.81):
+    """(2/3) (I/d) sqrt(phi g cos theta) h^(3/2), h = 20 d, tan(theta) = mu(I) (GDR MiDi 2004)."""
+    t = np.tan(np.radians(theta))
+    I = I_0 * (t - mu_s) / (mu_2 - t)
+    return 2 / 3 * I / d * np.sqrt(phi * g * np.cos(np.radians(theta))) * (20 * d) ** 1.5
+
+
 def thick_cylinder_mohr_coulomb(c=100.0, phi=30.0, b_over_a=2.0):
     """p = c cot(phi) [(b/a)^(2 sin phi / (1 + sin phi)) - 1] (Hill 1950; research file 4.7)."""
     s = np.sin(np.radians(phi))
@@ -143,6 +154,14 @@ CASES = [
                          "highest alpha, 2 bodies": Between(1.3, 1.5),
                          "area at alpha=1.3": approx(two_polygons_area(), rel=1e-9),
                          "bodies at alpha=1.5": 1}, None),
+    ("inclined_plane_flow", [],
+     {"surface_velocity": approx(bagnold_surface_velocity(), rel=0.03),
+      "profile_L2_error": Between(0, 0.03),
+      "h_scaling": approx(2 ** 1.5, rel=0.03),
+      "theta_scaling": approx(bagnold_surface_velocity(28.0) / bagnold_surface_velocity(),
+                              rel=0.03),
+      "stop_speed_ratio": Between(0, 1e-3),                     # below atan(mu_s): stops
+      "fast_acceleration_over_bound": Between(0.97, np.inf)}, None),
     ("sliding_box", [], {"travel_distance": approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-3),
                          "dilation_order": Between(0.4, np.inf)}, None),
     ("buried_pipe", [], {"Nc": Between(9.14, 9.40), "Nc_vs_thesis": approx(9.29, rel=0.03)},

@@ -71,8 +71,8 @@ from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegme
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive, positive_int,
-                               progress_bar, pyplot, run_cases, save_figure)
-from pfem_skfem.report import workers as worker_count
+                               progress_bar, pyplot, run_cases, save_figure,
+                               sweep_options)
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
@@ -375,8 +375,7 @@ def build_parser():
     p.add_argument("--increment-study", type=positive_int, nargs="+", default=[], metavar="N",
                    help="also shorten the layer by --s in N steps each (same spacing); the "
                         "slope, length and wall force checked against the run of most steps")
-    p.add_argument("--workers", type=worker_count, default=1,
-                   help="parallel processes for the layer runs")
+    sweep_options(p, default_workers=1, what="the layer runs")
     return p
 
 
@@ -494,7 +493,8 @@ def run(args):
     cases = [dict(common, steps=args.steps, outdir=Path(args.outdir) / "accretionary_wedge",
                   save_every=args.save_every)]
     cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]
-    runs = run_cases(run_layer, cases, args.workers, desc="layers")
+    runs = run_cases(run_layer, cases, args.workers, desc="layers",
+                     scheduler=args.scheduler)
     for k, r in enumerate(runs):
         layer_checks(report, args, r, "" if k == 0 else f"n{r['steps']}_")
     increment_checks(report, args, runs)

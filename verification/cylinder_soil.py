@@ -75,8 +75,7 @@ from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircl
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
                                nonnegative_int, positive, positive_float, progress_bar, pyplot,
-                               run_cases, save_figure, theta_weight)
-from pfem_skfem.report import workers as worker_count
+                               run_cases, save_figure, sweep_options, theta_weight)
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
 
 QUICK = dict(h_fine=0.25, h_coarse=0.5, du=0.05, dt=0.2, W=6.0, H=2.5)
@@ -281,8 +280,7 @@ def build_parser():
     p.add_argument("--mesh-study", type=positive_float, nargs="+", default=[], metavar="H",
                    help="also run with these spacings h_fine [m] (h_coarse = max(--h-coarse, "
                         "2 h)); the steady forces within 15 %% of the finest's (issue 15)")
-    p.add_argument("--workers", type=worker_count, default=1,
-                   help="parallel processes for the runs (main and studies)")
+    sweep_options(p, default_workers=1, what="the runs (main and studies)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none) into --outdir")
     return p
@@ -330,7 +328,8 @@ def convergence_checks(report, runs, key, name, symbol):
 def run(args):
     """The cylinder run (and the studies asked for) against the references."""
     cases = study_cases(args)
-    results = run_cases(run_cylinder, cases, args.workers, desc="cylinders")
+    results = run_cases(run_cylinder, cases, args.workers, desc="cylinders",
+                        scheduler=args.scheduler)
     main_run, studies = results[0], results[1:]
     r = main_run
     gamma = args.rho * args.g

@@ -53,7 +53,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, poisson_ratio, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, workers)
+                               save_figure, sweep_options)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -313,8 +313,7 @@ def build_parser():
                    help="write a VTU every this many steps (0: none); PVD per case")
     p.add_argument("--checkpoint-every", type=nonnegative_int, default=0,
                    help="save the state every this many steps (0: never); a rerun resumes")
-    p.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
-                   help="parallel processes for the sweep")
+    sweep_options(p, what="the cases (sweep, time-step and mesh studies)")
     return p
 
 
@@ -333,8 +332,10 @@ def run(args):
     study = [dict(cases[0], a=1.0, phi=args.phi[0], steps=n) for n in args.time_steps]
     meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) for n in args.mesh_study]
     if args.progress:
-        progress(f"{len(cases) + len(study) + len(meshes)} case(s) on {args.workers} worker(s)")
-    results = run_cases(run_case, cases + study + meshes, args.workers, desc="columns")
+        progress(f"{len(cases) + len(study) + len(meshes)} case(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
+    results = run_cases(run_case, cases + study + meshes, args.workers, desc="columns",
+                        scheduler=args.scheduler)
     sweep = results[:len(cases)]
     dt_study = results[len(cases):len(cases) + len(study)]
     mesh_study = results[len(cases) + len(study):]

@@ -32,10 +32,10 @@ from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
 from ..pfem.alpha_shape import measure
 from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
                              step_material, step_scales)
-from ..pfem.bookkeeping import discharge, hand_on_mass, step_record
+from ..pfem.bookkeeping import discharge, free_flight_record, hand_on_mass, step_record
 from ..pfem.remesh import AlphaMesh, ParticleMesh, QualityRemesh
 from ..pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpoint
-from ..pfem.surface import move_particles, particle_tags
+from ..pfem.surface import fly_free, move_particles, particle_tags
 from ..pfem.transfer import Interpolation, L2Projection, adopt_added_nodes, map_state, \
     old_discretisation
 from ..problems.contact import CoulombCones, LaggedFriction, without_nodes
@@ -163,7 +163,13 @@ def pfem_step(state, scene):
     """One PFEM step C^n -> C^{n+1} (Section 2.2) of ``scene``.
 
     Returns (new state, step record, :class:`StepResult`). The input state is not changed.
+    A step whose particles form no element (after the first) moves them all as free
+    particles and returns None for the StepResult; a step that discharges every particle
+    returns an empty state, which cannot be stepped.
     """
+    if state.n == 0:
+        raise ValueError(f"the state has no particle left (all discharged by t = "
+                         f"{state.time:.6g}): there is nothing to step")
     config = scene.config
     theta = config.theta
     geometry = as_geometry(scene.geometry)
@@ -184,6 +190,9 @@ def pfem_step(state, scene):
                     state = hand_on_mass(state, keep)
                     thinned = int((~keep).sum())
             shape = alpha_shape(state.x, state.h, alpha)
+        if len(shape.triangles) == 0 and state.step > 0:  # the last few of a discharge
+            return free_flight(state, scene, timer, t_start, alpha, thinned)
+        with timer("detect"):
             area = (float(measure(shape.points, shape.triangles, True).sum())
                     if geometry.axisymmetric else shape.area)       # the volume, 2 pi r dA
             area0 = area if not np.isfinite(area0) else area0
@@ -255,6 +264,31 @@ def pfem_step(state, scene):
     return new, record, result
 
 
+def free_flight(state, scene, timer, t_start, alpha, thinned):
+    """The step of a cloud that forms no element: every particle flies free (gravity and
+    friction on the bodies), then the outlets; (new state, record, None)."""
+    theta = scene.config.theta
+    phase = scene.phase_at(state.time)
+    with timer("move"):
+        bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
+                       if b.present(state.time)]
+        moved, projected = fly_free(state, theta=theta, gravity=scene.gravity,
+                                    bodies=bodies_next,
+                                    axisymmetric=as_geometry(scene.geometry).axisymmetric)
+        moved_over_h = (np.linalg.norm(moved.x - state.x, axis=1).max()
+                        / np.median(state.h))
+        n = moved.n
+        new = replace(moved, step=state.step + 1, time=state.time + theta.dt,
+                      free_surface=np.ones(n, dtype=bool), contact=np.zeros(n, dtype=bool),
+                      mesh_p=None, mesh_t=None, mesh_particle=None, v_dofs=None, sigma=None,
+                      stress0=None, alpha=alpha)
+        new, out_now = discharge(new, scene.outlets)
+    record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
+                                moved_over_h=moved_over_h, thinned=thinned, phase=phase,
+                                discharged_now=out_now)
+    return new, record, None
+
+
 # -- runs ----------------------------------------------------------------------------------
 def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None,
         save_every=1, on_step=None, verbose=False, snapshots=(), progress=None):
@@ -272,6 +306,10 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     snapshots : step numbers whose particles and fields are kept in the returned dict.
     progress : callable(step, steps, record) after each step (e.g. a progress bar).
 
+    The run ends early when every particle has been discharged (the state is then empty).
+    A step whose particles form no element has no mesh: it writes no VTU and keeps no
+    snapshot.
+
     Returns
     -------
     (state, snaps) with snaps {step: dict(x, points, cells, speed, deps)}.
@@ -285,9 +323,10 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
             print(f"step {rec['step']:5d}  t = {rec['time']:.4f}  dA = {rec['area_change']:+.3%}"
                   f"  it = {rec['iterations']:3d}  elements = {rec['elements']:5d}"
                   f"  |v|max = {rec['max_speed']:.3g}  {rec['seconds']:.2f} s", flush=True)
-        if series is not None and save_every and state.step % save_every == 0:
+        meshed = result is not None
+        if series is not None and meshed and save_every and state.step % save_every == 0:
             series.write(state.time, *step_fields(state, result))
-        if state.step in snapshots:
+        if state.step in snapshots and meshed:
             pts, cells, pd, cd = step_fields(state, result)
             snaps[state.step] = {"x": state.x.copy(), "points": pts, "cells": cells,
                                  "speed": pd["speed"], "deps": cd["plastic_strain_increment"]}
@@ -297,16 +336,19 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
             on_step(state, rec, result)
         if progress is not None:
             progress(i + 1, int(steps), rec)
+        if state.n == 0:                               # all discharged
+            break
     return state, snaps
 
 
 def run_to_rest(state, scene, speed, max_steps, **options):
     """Advance ``state`` one step at a time until every particle is slower than ``speed``,
-    for at most ``max_steps`` steps (``options`` go to :func:`run`).
+    for at most ``max_steps`` steps (``options`` go to :func:`run`); an empty cloud (all
+    discharged) is at rest.
 
     Returns (state, at_rest, steps taken).
     """
-    at_rest = lambda st: bool(np.max(np.linalg.norm(st.v, axis=1)) < speed)   # noqa: E731
+    at_rest = lambda st: bool(st.n == 0 or np.max(np.linalg.norm(st.v, axis=1)) < speed)  # noqa
     taken = 0
     while not at_rest(state) and taken < max_steps:
         state, _ = run(state, scene, 1, **options)

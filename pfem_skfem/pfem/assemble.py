@@ -73,6 +73,9 @@ def step_material(scene, disc, regions):
     materials = [r.material for r in scene.regions]
     if len({repr(m) for m in materials}) == 1:
         return materials[0]
+    if any(getattr(m, "rate_dependent", False) for m in materials):
+        raise ValueError("regions of different materials: a rate-dependent material "
+                         "(MuIRheology) must be the scene's only material")
     if not all(hasattr(m, "radius") for m in materials):
         raise ValueError("regions of different materials need materials with a radius "
                          "(ZeroDilationMohrCoulomb, CohesiveTresca)")

@@ -87,10 +87,11 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
     (the z-component the whole body's; the r-component has no resultant).
     """
     disc, inc = result.disc, result.increment
+    h_median = float(np.median(new.h)) if new.n else np.nan    # nan: all discharged
     mass_regions, area_regions = region_amounts(scene, new, disc, regions)
     forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
                                  new.time - scene.config.dt)
-    speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)
+    speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)   # of the step's mesh
     du_max = np.linalg.norm(inc.du[vertex_dofs(disc)], axis=1).max()
     if disc.geometry.axisymmetric:               # volumes of revolution, 2 pi r dA
         mesh_area = float(measure(disc.mesh.p.T, disc.mesh.t.T, True).sum())
@@ -114,10 +115,40 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             "max_speed": float(speed.max()),
             # a step that moves material by many spacings is a collapse within one step
             # (dt too long for the mechanism), however 'optimal' its solve
-            "max_displacement_over_h": float(du_max / np.median(new.h)),
+            "max_displacement_over_h": float(du_max / h_median),
             "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
             "max_plastic_strain_increment": float(result.plastic_strain.max()),
             "seconds": _time.perf_counter() - t_start,
             **{f"t_{k}": v for k, v in timer.seconds.items()},
             "t_compile": solved.compile_time,        # inside t_solve: building the problem
             "t_conic": solved.solve_time}            # inside t_solve: Clarabel itself
+
+
+def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_over_h,
+                       thinned, phase, discharged_now):
+    """The record of a step in which the particles formed no element (every one flew
+    free, :func:`~pfem_skfem.pfem.surface.fly_free`): the keys of :func:`step_record`,
+    with no mesh, no solve and no force on the bodies."""
+    speed = np.linalg.norm(new.v, axis=1) if new.n else np.zeros(1)
+    none = {b.name: [0.0, 0.0] for b in scene.bodies}
+    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
+            "area": 0.0, "mesh_area": 0.0, "moved_area": 0.0, "area_change": -1.0,
+            "alpha": alpha,
+            "mass": new.total_mass,
+            "mass_regions": {r.name: float(new.mass[new.region == k].sum())
+                             for k, r in enumerate(scene.regions)},
+            "area_regions": {r.name: 0.0 for r in scene.regions},
+            "discharged": {k: v[0] for k, v in new.discharged.items()},
+            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
+            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
+            "forces": none, "moments": {b.name: 0.0 for b in scene.bodies},
+            "iterations": 0, "inaccurate": 0, "status": "no element: every particle free",
+            "elements": 0, "particles": int(new.n), "free_particles": int(new.n),
+            "added": 0, "surface_particles": 0, "thinned": thinned, "held_dofs": 0,
+            "projected": projected, "max_speed": float(speed.max()),
+            "max_displacement_over_h": float(moved_over_h),
+            "kinetic_energy": float(0.5 * np.sum(new.mass * np.sum(new.v ** 2, axis=1))),
+            "max_plastic_strain_increment": 0.0,
+            "seconds": _time.perf_counter() - t_start,
+            **{f"t_{k}": v for k, v in timer.seconds.items()},
+            "t_compile": 0.0, "t_conic": 0.0}

@@ -7,6 +7,7 @@ cloud may be non-uniform, Section 6.4.1) and two tags: on the free surface, and 
 contact with a rigid body.
 """
 from dataclasses import dataclass, replace
+from typing import ClassVar
 
 import numpy as np
 
@@ -28,12 +29,15 @@ def _tags(name, value, n):
     return a
 
 
-def check_positions(x):
-    """Return ``x`` as an (n, 2) float array; ValueError for empty, misshapen or non-finite input."""
+def check_positions(x, allow_empty=False):
+    """Return ``x`` as an (n, 2) float array; ValueError for misshapen or non-finite input,
+    and for an empty one unless ``allow_empty``."""
     x = np.asarray(x, dtype=float)
+    if allow_empty and x.size == 0:
+        x = x.reshape(0, 2)
     if x.ndim != 2 or x.shape[1] != 2:
         raise ValueError(f"positions must be an (n, 2) array, got shape {x.shape}")
-    if x.shape[0] == 0:
+    if x.shape[0] == 0 and not allow_empty:
         raise ValueError("the particle cloud is empty (positions has 0 rows)")
     if not np.all(np.isfinite(x)):
         bad = np.flatnonzero(~np.isfinite(x).all(axis=1))
@@ -75,9 +79,10 @@ class Particles:
     a: np.ndarray = None
     free_surface: np.ndarray = None
     contact: np.ndarray = None
+    may_be_empty: ClassVar[bool] = False      # a cloud has particles
 
     def __post_init__(self):
-        self.x = check_positions(self.x)
+        self.x = check_positions(self.x, allow_empty=self.may_be_empty)
         n = self.x.shape[0]
         self.h = check_spacing(self.h, n)
         self.v = np.zeros((n, 2)) if self.v is None else _vectors("v (velocities)", self.v, n)

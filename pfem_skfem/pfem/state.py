@@ -7,6 +7,7 @@ discharged through outlets, the history of step records). A checkpoint stores it
 exactly, so a resumed run is bit-identical to an uninterrupted one.
 """
 from dataclasses import dataclass, field, replace
+from typing import ClassVar
 import json
 
 import numpy as np
@@ -43,7 +44,12 @@ class PFEMState(Particles):
     stress0 : (n, 4) initial stresses (sx, sy, sz, sxy) at the particles, interpolated
         to the stress points of the first mesh (None: zero), which an elastoplastic
         body needs to start in equilibrium.
+
+    A run whose every particle has left through the outlets ends with an empty state
+    (n = 0): its history and discharged totals complete, nothing left to step.
     """
+
+    may_be_empty: ClassVar[bool] = True
 
     step: int
     time: float

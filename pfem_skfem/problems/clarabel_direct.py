@@ -18,6 +18,10 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
   ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones;
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
+* a rate stress (``viscous`` of ``dynamic_increment``) appends (a_j, b_j) per point to x,
+  sigma_j + (a_j, -a_j, 0, b_j) in equilibrium, and either a diagonal block of P (the
+  Bingham term) or s_j, t_j per point with one SOC(3) and one exponential cone each
+  (the mu(I) dissipation), after all other rows.
 
 Clarabel's dual z of the equality rows has the sign of cvxpy's dual of the same
 equality, so the displacement increment is du_F = -z_eq x displacement scale (checked
@@ -61,6 +65,15 @@ def cone_matrices(criterion, n):
     return np.stack(columns, axis=2), d
 
 
+def viscous_stress_map(n):
+    """E (4n, 2n): the viscous stress (a, -a, 0, b) of each point from its (a, b)."""
+    j = np.arange(n)
+    rows = np.concatenate([4 * j, 4 * j + 1, 4 * j + 3])
+    cols = np.concatenate([2 * j, 2 * j, 2 * j + 1])
+    vals = np.concatenate([np.ones(n), -np.ones(n), np.ones(n)])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(4 * n, 2 * n))
+
+
 def _yield_block(criterion, n):
     """Rows of A and b for the yield cones, one SOC(m) per cone (point-major x)."""
     D, d = cone_matrices(criterion, n)
@@ -75,7 +88,8 @@ def _yield_block(criterion, n):
 
 
 def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P, u_P,
-                       criterion, contact=None, what="dynamic step (4.23)",
+                       criterion, contact=None, viscous=None, rate_log=None,
+                       what="dynamic step (4.23)",
                        accept_inaccurate=False, **settings):
     """Solve the scaled step of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
 
@@ -83,7 +97,13 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     or None, the weights kappa, kappa_C, s_n, v_h, f_h, the free and prescribed dofs and
     u_P); ``criterion`` is already scaled; ``contact`` is None or a dict with G (n_u, 2 nc),
     gap (nc,) scaled, mu (nc,), bound (nc,) scaled friction bound or None, slip (nc,)
-    scaled tangential motion of the body or None.
+    scaled tangential motion of the body or None; ``viscous`` is None or the weights
+    kv (n,) of a viscous stress (a, -a, 0, b) per point added to sigma, with the term
+    -1/2 sum_j kv_j (a_j^2 + b_j^2) in the objective (:func:`viscous_stress_map`);
+    ``rate_log`` is None or dict(kw, tau_max) (n,) of the mu(I) rate stress (a, -a, 0, b)
+    with the term - sum_j kw_j (t_j - s_j), ||(a_j, b_j)|| <= tau_max_j s_j and
+    (-t_j, 1, 1 - s_j) in the exponential cone (t_j >= -ln(1 - s_j)); with either, "s" is
+    the total stress.
 
     Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
     the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
@@ -93,14 +113,26 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     n = Bh.shape[0] // 4
     n_r = Ah.shape[0]
     nc = 0 if contact is None else contact["G"].shape[1] // 2
-    n_x = 4 * n + n_r + 2 * nc
+    if viscous is not None and rate_log is not None:
+        raise ValueError("viscous and rate_log exclude each other")
+    n_v = 0 if viscous is None and rate_log is None else 2 * n
+    n_l = 0 if rate_log is None else 2 * n            # s_j, t_j of the log term
+    n_x = 4 * n + n_r + 2 * nc + n_v + n_l
     sl_s, sl_q = slice(0, 4 * n), slice(4 * n, 4 * n + n_r)
-    sl_p, sl_c = slice(4 * n + n_r, 4 * n + n_r + nc), slice(4 * n + n_r + nc, n_x)
+    end_c = 4 * n + n_r + 2 * nc
+    sl_p, sl_c = slice(4 * n + n_r, 4 * n + n_r + nc), slice(4 * n + n_r + nc, end_c)
+    sl_v = slice(end_c, end_c + n_v)
+    sl_sv = slice(end_c + n_v, end_c + n_v + n_l // 2)
+    sl_tv = slice(end_c + n_v + n_l // 2, n_x)
 
     # objective: -J = 1/2 kappa q^T D q + (A v)^T q [+ kappa_C (1/2 s^T C s - (C s_n)^T s)]
     #               + g0^T p - u_P^T (internal_P - f_P)
     blocks = [kappa_C * Ch if Ch is not None else sp.csr_matrix((4 * n, 4 * n)),
               kappa * Dh, sp.csr_matrix((2 * nc, 2 * nc))]
+    if viscous is not None:                   # + 1/2 sum kv_j (a_j^2 + b_j^2)
+        blocks.append(sp.diags(np.repeat(np.asarray(viscous, dtype=float), 2)))
+    elif n_v:
+        blocks.append(sp.csr_matrix((n_v + n_l, n_v + n_l)))
     Pmat = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
     c = np.zeros(n_x)
     c[sl_q] = Ah @ v_h
@@ -113,6 +145,12 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         c[sl_p] = contact["gap"]
         if contact.get("slip") is not None:               # - (n^ . d) q: a moving body
             c[sl_c] = -contact["slip"]
+    if n_v:                                   # B^T (sigma + E v)
+        parts.append(Bh.T @ viscous_stress_map(n))
+    if n_l:                                   # + sum kw_j (t_j - s_j)
+        parts.append(sp.csr_matrix((Bh.shape[1], n_l)))
+        c[sl_tv] = rate_log["kw"]
+        c[sl_sv] = -np.asarray(rate_log["kw"])
     K = sp.hstack(parts, format="csr")
     if P.size:
         c -= K[P].T @ u_P
@@ -154,6 +192,20 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         rows_A.append(sp.csr_matrix((val, (r, col)), shape=(2 * rough.size, n_x)))
         rows_b.append(b_pairs)
         cones.append(clarabel.NonnegativeConeT(2 * rough.size))
+    if n_l:                            # ||(a_j, b_j)|| <= tau_max_j s_j;  t_j >= -ln(1 - s_j)
+        j = np.arange(n)
+        tm = np.asarray(rate_log["tau_max"], dtype=float)
+        r = np.concatenate([3 * j, 3 * j + 1, 3 * j + 2])
+        col = np.concatenate([sl_sv.start + j, sl_v.start + 2 * j, sl_v.start + 2 * j + 1])
+        val = np.concatenate([-tm, -np.ones(n), -np.ones(n)])
+        rows_A.append(sp.csr_matrix((val, (r, col)), shape=(3 * n, n_x)))
+        rows_b.append(np.zeros(3 * n))
+        cones += [clarabel.SecondOrderConeT(3)] * n
+        r = np.concatenate([3 * j, 3 * j + 2])             # (-t_j, 1, 1 - s_j) in K_exp
+        col = np.concatenate([sl_tv.start + j, sl_sv.start + j])
+        rows_A.append(sp.csr_matrix((np.ones(2 * n), (r, col)), shape=(3 * n, n_x)))
+        rows_b.append(np.tile([0.0, 1.0, 1.0], n))
+        cones += [clarabel.ExponentialConeT()] * n
     Amat = sp.vstack(rows_A, format="csc")
     b = np.concatenate(rows_b)
 
@@ -173,6 +225,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
                      solve_time=wall, objective=-float(sol.obj_val))
-    return {"s": x[sl_s], "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
+    s_total = x[sl_s] if not n_v else x[sl_s] + viscous_stress_map(n) @ x[sl_v]
+    return {"s": s_total, "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
             "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n_cones * m:m],
             "info": info}

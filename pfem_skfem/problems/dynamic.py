@@ -188,6 +188,39 @@ class DynamicIncrement:
 
 
 @dataclass(frozen=True)
+class ViscousStress:
+    """A viscous stress beside the yield cone (see ``viscous`` of :func:`dynamic_increment`):
+    eta (n_points,) viscosities > 0, weights (n_points,) the stress points' weights."""
+
+    eta: np.ndarray
+    weights: np.ndarray
+
+    def __post_init__(self):
+        eta, w = np.asarray(self.eta, dtype=float), np.asarray(self.weights, dtype=float)
+        if eta.shape != w.shape or not np.all(np.isfinite(eta)) or np.any(eta <= 0):
+            raise ValueError("eta (viscosities) must be positive, one per stress point")
+
+
+@dataclass(frozen=True)
+class RateDissipation:
+    """The rate part of mu(I) at frozen pressure beside the yield cone (``viscous`` of
+    :func:`dynamic_increment`): per point c_j = (mu_2 - mu_s) p_j I_0 / kappa_j,
+    kappa_j = d / sqrt(p_j / rho_s), tau_max_j = (mu_2 - mu_s) p_j (both > 0), and the
+    stress points' weights."""
+
+    c: np.ndarray
+    tau_max: np.ndarray
+    weights: np.ndarray
+
+    def __post_init__(self):
+        for name in ("c", "tau_max"):
+            value = np.asarray(getattr(self, name), dtype=float)
+            if value.shape != np.shape(self.weights) or not np.all(np.isfinite(value)) \
+                    or np.any(value <= 0):
+                raise ValueError(f"{name} must be positive, one per stress point")
+
+
+@dataclass(frozen=True)
 class DynamicScales:
     """Reference stress, displacement increment and dynamic force r' of one step of (4.23).
 
@@ -271,7 +304,7 @@ BACKENDS = ("cvxpy", "clarabel")
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
                       prescribed=(), du_prescribed=(), contacts=None, scaling=None,
-                      d_form="quad_form", backend="cvxpy", **solver_settings):
+                      d_form="quad_form", backend="cvxpy", viscous=None, **solver_settings):
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
@@ -305,6 +338,14 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         scaled problem assembled in Clarabel's standard form by
         :mod:`~pfem_skfem.problems.clarabel_direct`, without cvxpy's compile step;
         ``d_form="quad_form"`` only).
+    viscous : None, :class:`ViscousStress` or :class:`RateDissipation` (rigid-plastic
+        only): sigma = sigma_p + sigma_v with sigma_p in the cone and a rate deviator
+        sigma_v = (a, -a, 0, b) at each point, with tau_j = ||(a_j, b_j)||. ViscousStress:
+        the term - sum_j dt w_j tau_j^2 / (2 eta_j) in the objective (a Bingham
+        dissipation, as Zhang et al. 2017 add to (4.23)), so that at a flowing point
+        R(sigma) = R(sigma_p) + eta_j gamma_dot_j. RateDissipation: the complementary
+        dissipation of mu(I) at frozen pressure, - sum_j dt w_j c_j (-s_j - ln(1 - s_j)),
+        s_j = tau_j / tau_max_j (exponential cones), so that R(sigma) = mu(I_j) p_j.
 
     Returns
     -------
@@ -318,6 +359,10 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         raise ValueError("backend='clarabel' supports d_form='quad_form' with a yield criterion")
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
+    if viscous is not None and not isinstance(viscous, (ViscousStress, RateDissipation)):
+        raise ValueError(f"viscous must be a ViscousStress or RateDissipation, got {viscous!r}")
+    if viscous is not None and (ops.C is not None or criterion is None):
+        raise ValueError("viscous: only for a rigid-plastic material with a yield criterion")
     th = ops.theta
     B, C, A, D = ops.B, ops.C, ops.A, ops.D
     n_s, n_u = B.shape
@@ -345,15 +390,24 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     s_n = sigma_n.ravel() / stress
     v_h = v_n * th.dt / u_ref
     u_P = du_P / u_ref
+    # weights of the rate terms in the scaled variables: - 1/2 sum kv_j |(a_j, b_j)|^2,
+    # or - sum kw_j (t_j - s_j) with |(a_j, b_j)| <= tau_max_j s_j, t_j >= -ln(1 - s_j)
+    kv = rate_log = None
+    if isinstance(viscous, ViscousStress):
+        kv = th.dt * stress * viscous.weights / (viscous.eta * length * u_ref)
+    elif viscous is not None:
+        rate_log = dict(kw=th.dt * viscous.weights * viscous.c / j_ref,
+                        tau_max=viscous.tau_max / stress)
 
     if backend == "clarabel":                    # the same problem, assembled directly
         sol = _solve_direct(ops, criterion.scaled(stress), contacts, Bh, Ah, f_h, s_n, v_h,
                             u_P, free, P, kappa, kappa_C, d_ref, c_ref, u_ref,
-                            force * th.theta1, solver_settings)
+                            force * th.theta1, dict(solver_settings, viscous=kv,
+                                                    rate_log=rate_log))
     else:
         sol = _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free,
                            P, kappa, kappa_C, d_ref, c_ref, u_ref, force * th.theta1, d_form,
-                           solver_settings)
+                           solver_settings, kv, rate_log)
 
     sigma = sol["s"].reshape(n, 4) * stress
     r = sol["q"] * r_ref
@@ -381,7 +435,8 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
 
 
 def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, kappa,
-                 kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings):
+                 kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings, kv=None,
+                 rate_log=None):
     """The scaled step of :func:`dynamic_increment` stated in cvxpy (the reference).
 
     Returns the scaled solution: s, q (r'), p, qc (contact forces, or None), the dual of
@@ -406,7 +461,19 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
     if ops.C is not None:                        # -1/2 ds^T C ds, C scaled by c_ref
         Ch = (ops.C / c_ref).tocsr()
         objective_terms += -kappa_C * (0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s)
-    internal = Bh.T @ s + Ah.T @ q               # B^T sigma + A^T r
+    s_total = s
+    if kv is not None or rate_log is not None:   # sigma = sigma_p + E (a, b), a rate stress
+        from .clarabel_direct import viscous_stress_map
+        V = cp.Variable((n, 2))
+        s_total = s + viscous_stress_map(n) @ cp.vec(V, order="C")
+    if kv is not None:                           # - 1/2 sum kv_j |(a_j, b_j)|^2   (Bingham)
+        objective_terms += -0.5 * cp.sum(cp.multiply(kv, cp.sum(cp.square(V), axis=1)))
+    if rate_log is not None:                     # - sum kw_j (-s_j - ln(1 - s_j))   (mu(I))
+        sv, tv = cp.Variable(n), cp.Variable(n)
+        objective_terms += -cp.sum(cp.multiply(rate_log["kw"], tv - sv))
+        constraints += [cp.SOC(cp.multiply(rate_log["tau_max"], sv), V, axis=1),  # tau <= tau_max s
+                        cp.constraints.ExpCone(-tv, np.ones(n), 1 - sv)]      # t >= -ln(1 - s)
+    internal = Bh.T @ s_total + Ah.T @ q         # B^T sigma + A^T r
     if contacts is not None:                     # + E^T rho = - G (p, q)   (5.12)
         # a friction bound is a force of the momentum balance (theta1 x the variable)
         ct = contact_terms(contacts, n_u, length_scale=u_ref, force_scale=contact_force)
@@ -423,7 +490,8 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
     problem = cp.Problem(cp.Maximize(objective_terms), constraints)
     info = solve(problem, what="dynamic step (4.23)", **solver_settings)
     # cvxpy's dual of an equality in a maximisation is minus its multiplier
-    return {"s": S.value.ravel(), "q": q.value,
+    s_value = S.value.ravel() if kv is None and rate_log is None else s_total.value
+    return {"s": s_value, "q": q.value,
             "p": None if contacts is None else ct.p.value,
             "qc": None if contacts is None else ct.q.value,
             "dual_equilibrium": equilibrium.dual_value,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fields import smoothed_mean_stress, vertex_to_points
+from ..fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
 from .dynamic import dynamic_increment, estimate_scales
 
 
@@ -48,7 +48,10 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     ops, f : the step's DynamicOperators and load vector (3.42).
     contacts : ContactSet or None.  disc : the Discretisation.
     material : a PFEM material (``cone(sigma_m, stress_scale)``, ``lagged``; its
-        ``mean_stress(sigma)``, if it has one, is the lagged quantity, else (sx + sy)/2).
+        ``mean_stress(sigma)``, if it has one, is the lagged quantity, else (sx + sy)/2;
+        a ``rate_dependent`` one is given ``shear_rate=`` at the points too, that of v_n
+        in the first pass, of du / dt of the previous pass after, and its
+        ``viscous(sigma_m, stress_scale, shear_rate, weights)`` is the step's viscous stress).
     contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
     v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
     sigma_m : (n_vertices,) lagged mean stress at the vertices.
@@ -65,7 +68,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     """
     lagged_contact = contacts is not None and contact_rule.passes_needed > 1
     passes = int(passes) if material.lagged or lagged_contact else 1
-    free = np.setdiff1d(np.arange(disc.n_u), fixed)
+    free = np.setdiff1d(np.arange(ops.B.shape[1]), fixed)     # ops may tie dofs (periodic)
     if scales is None:           # first step: scales from the strength at the lagged sigma_m
         k_scale = material.strength_scale(vertex_to_points(disc, sigma_m), stress_scale)
         f_rhs = ops.theta.equilibrium_rhs(f, f, ops.B, sigma_n)
@@ -73,17 +76,25 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     iterations, compile_time, solve_time, inaccurate = 0, 0.0, 0.0, 0
     step_contacts = None if contacts is None else contact_rule.start(contacts)
     sm = sigma_m
+    rate = getattr(material, "rate_dependent", False)
+    gamma_dot = plastic_strain_increment(disc, ops.B, v_n) if rate else None
     for _ in range(passes):
-        cone = material.cone(vertex_to_points(disc, sm), stress_scale)
+        at_points = vertex_to_points(disc, sm)
+        cone = (material.cone(at_points, stress_scale, shear_rate=gamma_dot) if rate
+                else material.cone(at_points, stress_scale))
+        viscous = (material.viscous(at_points, stress_scale, gamma_dot, disc.weights)
+                   if rate else None)
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
         inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, contacts=step_contacts,
                                 fixed=fixed, scaling=scales, accept_inaccurate=True,
-                                backend=backend)
+                                backend=backend, viscous=viscous)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time
         solve_time += inc.info.solve_time
         sm = smoothed_mean_stress(disc, inc.sigma, getattr(material, "mean_stress", None))
+        if rate:
+            gamma_dot = plastic_strain_increment(disc, ops.B, inc.du) / ops.theta.dt
         if lagged_contact:
             last_contacts = step_contacts
             step_contacts = contact_rule.update(contacts, inc.p)

@@ -1,0 +1,86 @@
+"""The sweep runner (report.run_cases) on Dask: the serial results, bit for bit, on a local
+cluster and on an existing one given its address; a failing case reported with its
+parameters while the others finish; ``--scheduler`` checked when parsed."""
+import argparse
+
+import numpy as np
+import pytest
+
+from pfem_skfem.report import (SweepError, base_parser, relative_error, run_cases,
+                               scheduler_address, sweep_options)
+from verification.granular_column_plane import run_case as column
+
+# two short columns (a few steps each, about 0.5 s): solves, remeshing, contact, histories
+COLUMNS = [dict(a=a, nx=6, steps=4, phi=30.0, mu=0.5, settle=0.5) for a in (1.0, 2.0)]
+TIMINGS = {"seconds", "seconds_per_step"}           # wall-clock times differ run to run
+
+
+def identical(a, b):
+    """True when ``a`` and ``b`` are equal bit for bit (arrays, nested dicts and lists)."""
+    if isinstance(a, dict):
+        return (isinstance(b, dict) and a.keys() == b.keys()
+                and all(identical(a[k], b[k]) for k in a if k not in TIMINGS))
+    if isinstance(a, (list, tuple)):
+        return (type(a) is type(b) and len(a) == len(b)
+                and all(identical(x, y) for x, y in zip(a, b)))
+    if isinstance(a, (np.ndarray, float, np.floating)):
+        a, b = np.asarray(a), np.asarray(b)
+        return a.shape == b.shape and a.dtype == b.dtype and \
+            a.tobytes() == b.tobytes()                   # NaN == NaN, -0.0 != 0.0
+    return type(a) is type(b) and a == b
+
+
+def test_a_sweep_on_a_local_cluster_gives_the_serial_results_bit_for_bit():
+    serial = run_cases(column, COLUMNS, workers=1)
+    parallel = run_cases(column, COLUMNS, workers=2)
+    assert [r["a"] for r in parallel] == [1.0, 2.0]           # in the order of the cases
+    assert identical(serial, parallel)
+    assert not identical(serial[0], serial[1])               # the comparison can fail
+
+
+def test_a_sweep_on_an_existing_cluster_given_its_address():
+    from distributed import LocalCluster
+    cases = [dict(value=v, reference=r) for v, r in ((2.0, 1.0), (3.0, 2.0), (1.0, 4.0))]
+    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
+        address = scheduler_address(cluster.scheduler_address)
+        assert run_cases(relative_error, cases, workers=1, scheduler=address) == \
+            [1.0, 0.5, 0.75]
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_failing_case_is_reported_with_its_parameters_while_the_others_finish(
+        workers, capsys):
+    cases = [dict(value=2.0, reference=1.0), dict(value="x", reference=2.0),
+             dict(value=1.0, reference=4.0)]
+    with pytest.raises(SweepError) as error:
+        run_cases(relative_error, cases, workers=workers, desc="checks")
+    assert [(i, case) for i, case, _ in error.value.failures] == [(1, cases[1])]
+    assert error.value.results == [1.0, None, 0.75]          # the others finished
+    assert isinstance(error.value.__cause__, TypeError)      # the case's own error
+    message = str(error.value)
+    assert "1 of 3 checks failed" in message and "value='x', reference=2.0" in message
+    assert "value='x', reference=2.0" in capsys.readouterr().err   # reported when it failed
+
+
+@pytest.mark.parametrize("text, address", [("tcp://127.0.0.1:8786", "tcp://127.0.0.1:8786"),
+                                           ("scheduler.local:8786", "tcp://scheduler.local:8786"),
+                                           ("tls://10.0.0.2:443", "tls://10.0.0.2:443")])
+def test_scheduler_addresses_are_accepted(text, address):
+    assert scheduler_address(text) == address
+
+
+@pytest.mark.parametrize("text", ["nonsense", "tcp://host", "http://host:80", "host:0",
+                                  "host:99999", "tcp://:8786"])
+def test_bad_scheduler_addresses_are_usage_errors_naming_the_option(text, capsys):
+    with pytest.raises(argparse.ArgumentTypeError, match=f"got '{text}'"):
+        scheduler_address(text)
+    parser = sweep_options(base_parser("sweep"))
+    with pytest.raises(SystemExit) as exit_:
+        parser.parse_args(["--scheduler", text])
+    assert exit_.value.code == 2 and "--scheduler" in capsys.readouterr().err
+
+
+def test_a_case_may_have_keywords_that_dask_submit_also_takes():
+    """The keywords travel as one dict: 'key', 'priority', 'workers' reach the function."""
+    cases = [dict(key="k", priority=2), dict(workers=3, pure=True)]
+    assert run_cases(dict, cases, workers=2) == cases

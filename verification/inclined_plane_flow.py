@@ -1,0 +1,315 @@
+"""Steady uniform granular flow down a rough incline with the mu(I) rheology (Bagnold profile).
+
+Beyond the thesis (its 6.4.3 and 7.2.3 ask for a rate-dependent friction). A layer of
+depth h on a rough plane inclined at theta flows steadily when mu_s < tan(theta) < mu_2.
+With p = rho g cos(theta) (h - z) and tau = rho g sin(theta) (h - z), tau / p = tan(theta)
+= mu(I) fixes one inertial number through the depth (Jop, Forterre & Pouliquen 2006;
+GDR MiDi 2004),
+
+    I = I_0 (tan(theta) - mu_s) / (mu_2 - tan(theta)),
+    u(z) = (2/3) (I / d) sqrt(phi g cos(theta)) (h^(3/2) - (h - z)^(3/2)),
+
+phi = rho / rho_s the solid fraction. Below theta_s = atan(mu_s) a moving layer stops;
+above atan(mu_2) the friction cannot balance gravity (mu(I) < mu_2) and the layer's mean
+velocity grows at least at g (sin(theta) - mu_2 cos(theta)).
+
+Set-up: a strip one element wide, periodic in x (the two ends' dofs tied,
+:mod:`pfem_skfem.periodic`), no-slip base, free surface, on a fixed mesh (a uniform
+flow needs no remeshing), x along the slope; each step is the dynamic problem (4.23)
+with the rigid-plastic :class:`~pfem_skfem.materials_rate.MuIRheology` in
+:func:`~pfem_skfem.problems.nonassociated.lagged_step`, run from rest to a steady state.
+``--lag`` picks its statement: ``viscosity`` (mu_s in the cone, the rate part a viscous
+stress of lagged viscosity; the default), ``implicit`` (the rate part's dissipation in
+exponential cones at frozen pressure) or ``friction`` (all of mu(I) in the cone, lagged:
+unstable, see the book's chapter "Rate-dependent friction").
+
+Checks: surface velocity within 3 % of Bagnold's and the profile u / u_surface within
+3 % (L2) at theta; u_surface(2h) / u_surface(h) = 2^(3/2) (2h on twice the elements,
+the same element size) and u_surface(theta_2) /
+u_surface(theta) as Bagnold's within 3 %; a layer set moving at theta_stop < theta_s
+stops; at theta_fast > atan(mu_2) the mean velocity grows at least at
+g (sin - mu_2 cos).
+
+Usage::
+
+    python verification/inclined_plane_flow.py --quick --json results/inclined_plane_flow.json
+    python verification/inclined_plane_flow.py --help                # every option
+"""
+from dataclasses import replace
+import sys
+
+import numpy as np
+
+from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
+                               positive_int, progress_bar, pyplot, save_figure)
+
+QUICK = dict(ny=12, steps=60)
+
+slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
+
+
+def bagnold_inertial_number(theta, mu_s, mu_2, I_0):
+    """I of the steady flow: mu(I) = tan(theta)."""
+    t = np.tan(np.radians(theta))
+    return I_0 * (t - mu_s) / (mu_2 - t)
+
+
+def bagnold_velocity(z, h, theta, mu_s, mu_2, I_0, d, phi, g):
+    """u(z) = (2/3) (I/d) sqrt(phi g cos(theta)) (h^(3/2) - (h - z)^(3/2))."""
+    I = bagnold_inertial_number(theta, mu_s, mu_2, I_0)
+    return (2.0 / 3.0) * (I / d) * np.sqrt(phi * g * np.cos(np.radians(theta))) * \
+        (h ** 1.5 - np.clip(h - np.asarray(z), 0.0, None) ** 1.5)
+
+
+def time_unit(h, theta, mu_s, mu_2, I_0, d, g):
+    """h^2 / nu, nu = p mu'(I) I / (rho gamma_dot) ~ d sqrt(g h) (mu_2 - mu_s) I_0 / (I_0 + I)^2
+    the diffusivity of a perturbation of the steady flow: the time it takes to settle, up to
+    a factor of order one."""
+    I = bagnold_inertial_number(theta, mu_s, mu_2, I_0)
+    return h ** 1.5 / (d * np.sqrt(g)) * (I_0 + I) ** 2 / ((mu_2 - mu_s) * I_0)
+
+
+def layer(h, ny):
+    """The strip: width h / ny, ny x 1 squares cut in two; its P2 discretisation."""
+    from skfem import MeshTri
+
+    from pfem_skfem.operators import discretise
+    mesh = MeshTri.init_tensor(np.linspace(0.0, h / ny, 2), np.linspace(0.0, h, ny + 1))
+    return discretise(mesh)
+
+
+def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbose=False,
+         backend="clarabel"):
+    """Run the periodic layer from rest (or from x-velocities ``v0(z)``) for ``steps`` steps.
+
+    Returns dict(z, u) of the x-velocity on the end x = 0 (all P2 nodes, sorted by z), the
+    time series t, surface and mean velocity, and the steps' solver iterations.
+    """
+    from pfem_skfem.operators import body_force_vector
+    from pfem_skfem.periodic import periodic_operators, periodic_tie
+    from pfem_skfem.problems.contact import CoulombCones
+    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.nonassociated import lagged_step
+
+    disc = layer(h, ny)
+    rho = phi * material.rho_s
+    th = np.radians(theta)
+    method = ThetaMethod(t_end / steps, 1.0, 1.0)
+    T, kept = periodic_tie(disc, 0.0, h / ny)                 # kept: the dof of each column
+    ops = periodic_operators(dynamic_operators(disc, rho, method), T)
+    f = T.T @ body_force_vector(disc, (rho * g * np.sin(th), -rho * g * np.cos(th)))
+    xy = disc.basis_u.doflocs[:, kept]
+    along = np.zeros(disc.n_u, dtype=bool)
+    along[np.concatenate([disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]])] = True
+    along = along[kept]
+    base = np.flatnonzero(np.abs(xy[1]) <= 1e-9 * h)
+    end = np.flatnonzero(along & (np.abs(xy[0]) <= 1e-9 * h))
+    end = end[np.argsort(xy[1, end])]
+    top = end[-1]
+    stress_scale = rho * g * h
+    sigma_m = -rho * g * np.cos(th) * (h - disc.mesh.p[1])    # lagged: geostatic
+    sigma = np.zeros((disc.n_points, 4))
+    v = np.zeros(T.shape[1])
+    if v0 is not None:
+        v[along] = v0(xy[1, along])
+    scales, t, surface, mean, iterations = None, [0.0], [v[top]], [np.mean(v[end])], []
+    weights = _profile_weights(xy[1, end])
+    bar = progress_bar(range(steps), total=steps, desc=f"theta = {theta:g}, h = {h:.3g}",
+                       unit="step", disable=not verbose)
+    for n in bar:
+        solved = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
+                             scales, passes=passes, stress_scale=stress_scale, fixed=base,
+                             backend=backend)
+        inc = solved.increment
+        v, sigma, sigma_m = inc.v, inc.sigma, solved.sigma_m
+        # the next step's scales, not below a free-fall step's (as pfem.assemble.step_scales):
+        # a layer at rest would otherwise shrink the displacement scale without end
+        scales = replace(inc.scales, displacement=max(inc.scales.displacement, g * method.dt ** 2),
+                         dynamic_force=max(inc.scales.dynamic_force, rho * g))
+        t.append((n + 1) * method.dt)
+        surface.append(v[top])
+        mean.append(weights @ v[end] / h)
+        iterations.append(inc.info.iterations)
+    return dict(z=xy[1, end], u=v[end], t=np.array(t), surface=np.array(surface),
+                mean=np.array(mean), iterations=np.array(iterations), elements=disc.mesh.nelements)
+
+
+def _profile_weights(z):
+    """Trapezoid weights of the sorted heights z (integrals over the depth)."""
+    dz = np.diff(z)
+    w = np.zeros_like(z)
+    w[:-1] += dz / 2
+    w[1:] += dz / 2
+    return w
+
+
+def profile_error(z, u, h):
+    """L2 distance of u / u(h) from 1 - (1 - z/h)^(3/2), relative to the latter's L2 norm."""
+    shape = 1.0 - (1.0 - z / h) ** 1.5
+    w = _profile_weights(z)
+    return float(np.sqrt(w @ (u / u[-1] - shape) ** 2 / (w @ shape ** 2)))
+
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    if not args.mu_2 > args.mu_s:
+        return "--mu_2 must exceed --mu_s (a rate-dependent friction)"
+    for name in ("theta", "theta_2"):
+        t = np.tan(np.radians(getattr(args, name)))
+        if not args.mu_s < t < args.mu_2:
+            return f"--{name} must lie between atan(--mu_s) and atan(--mu_2) (a steady flow)"
+    if not np.tan(np.radians(args.theta_stop)) < args.mu_s:
+        return "--theta_stop must lie below atan(--mu_s)"
+    if not np.tan(np.radians(args.theta_fast)) > args.mu_2:
+        return "--theta_fast must lie above atan(--mu_2)"
+    if not args.rho < args.rho_s:
+        return "--rho (bulk density) must be below --rho_s (grain density)"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--theta", type=slope_angle, default=25.0, help="slope angle [deg]")
+    p.add_argument("--theta_2", type=slope_angle, default=28.0,
+                   help="second slope angle, for u_surface against theta [deg]")
+    p.add_argument("--theta_stop", type=slope_angle, default=18.0,
+                   help="slope below atan(mu_s), where the layer must stop [deg]")
+    p.add_argument("--theta_fast", type=slope_angle, default=36.0,
+                   help="slope above atan(mu_2), where the layer accelerates [deg]")
+    p.add_argument("--h", type=positive_float, default=20 * 0.53e-3,
+                   help="layer depth [m] (default 20 d); the h-scaling run takes 2 h")
+    p.add_argument("--mu_s", type=positive_float, default=0.38, help="static friction (Jop)")
+    p.add_argument("--mu_2", type=positive_float, default=0.64, help="limiting friction (Jop)")
+    p.add_argument("--I_0", type=positive_float, default=0.279, help="I_0 of mu(I) (Jop)")
+    p.add_argument("--d", type=positive_float, default=0.53e-3, help="grain diameter [m]")
+    p.add_argument("--rho_s", type=positive_float, default=2450.0,
+                   help="grain density [kg/m3]")
+    p.add_argument("--rho", type=positive_float, default=0.6 * 2450.0,
+                   help="bulk density [kg/m3] (phi = rho / rho_s)")
+    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
+    p.add_argument("--p_min", type=positive_float, default=1e-3,
+                   help="least pressure in I, in units of rho g h")
+    p.add_argument("--k_min", type=positive_float, default=0.005,
+                   help="least cone radius, in units of rho g h")
+    p.add_argument("--lag", choices=("viscosity", "friction", "implicit"), default="viscosity",
+                   help="what the step lags: the viscosity of the rate term (stable), the "
+                        "whole friction mu(I) in the cone, or only the pressure (implicit)")
+    p.add_argument("--ny", type=positive_int, default=16, help="elements through the depth")
+    p.add_argument("--steps", type=positive_int, default=120, help="steps of each run")
+    p.add_argument("--T", type=positive_float, default=3.0,
+                   help="run time in units of the settling time h^2 / nu (see time_unit)")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes a step")
+    p.add_argument("--tol", type=positive_float, default=0.03,
+                   help="tolerance of the velocity checks")
+    return p
+
+
+def run(args):
+    """Five runs: theta (profile), 2h, theta_2, theta_stop (from the steady profile), theta_fast."""
+    from pfem_skfem.materials_rate import MuIRheology
+
+    material = MuIRheology(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, d=args.d,
+                           rho_s=args.rho_s, p_min=args.p_min, k_min=args.k_min, lag=args.lag)
+    phi = args.rho / args.rho_s
+    law = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, d=args.d, phi=phi, g=args.g)
+    common = dict(steps=args.steps, phi=phi, g=args.g, passes=args.passes,
+                  verbose=args.progress)
+
+    def run_at(theta, h, settle_theta=None, ny=args.ny, **more):
+        unit = time_unit(h, settle_theta or theta, args.mu_s, args.mu_2, args.I_0, args.d,
+                         args.g)
+        return flow(theta, h, material, ny=ny, t_end=args.T * unit, **common, **more)
+
+    def surface(theta, h):
+        return float(bagnold_velocity(h, h, theta, **law))
+
+    h = args.h
+    runs = {"theta": run_at(args.theta, h),
+            "2h": run_at(args.theta, 2 * h, ny=2 * args.ny),      # the same element size
+            "theta_2": run_at(args.theta_2, h)}
+    u_ref = surface(args.theta, h)
+    start = runs["theta"]
+    z0, u0 = start["z"], start["u"]
+    runs["stop"] = run_at(args.theta_stop, h, args.theta, v0=lambda z: np.interp(z, z0, u0))
+    runs["fast"] = run_at(args.theta_fast, h, args.theta)
+
+    report = Report("inclined_plane_flow", args, elements=start["elements"],
+                    I_bagnold=bagnold_inertial_number(args.theta, args.mu_s, args.mu_2,
+                                                      args.I_0))
+    tol = args.tol
+    src = "Bagnold profile of mu(I) (Jop et al. 2006)"
+    u_s = start["u"][-1]
+    report.add("surface_velocity", u_s, u_ref, src, tol)
+    report.add_interval("profile_L2_error", profile_error(z0, u0, h), 0.0, tol,
+                        "u / u_surface against 1 - (1 - z/h)^(3/2)")
+    tenth = len(start["t"]) * 9 // 10
+    settle = abs(start["surface"][-1] / start["surface"][tenth] - 1)
+    report.add_interval("steady_change_last_tenth", settle, 0.0, tol / 3,
+                        "steady state: relative change of u_surface over the last tenth")
+    report.add("h_scaling", runs["2h"]["u"][-1] / u_s, 2 ** 1.5, "u_surface ~ h^(3/2)", tol)
+    report.add("theta_scaling", runs["theta_2"]["u"][-1] / u_s,
+               surface(args.theta_2, h) / u_ref, "u_surface(theta_2) / u_surface(theta), "
+               "Bagnold", tol)
+    stop = runs["stop"]
+    report.add_interval("stop_speed_ratio", np.abs(stop["surface"][-1]) / u_s, 0.0, 1e-3,
+                        "theta_stop < atan(mu_s): the layer stops")
+    fast = runs["fast"]
+    tf = np.radians(args.theta_fast)
+    a_min = args.g * (np.sin(tf) - args.mu_2 * np.cos(tf))
+    half = len(fast["t"]) // 2
+    a_late = (fast["mean"][-1] - fast["mean"][half]) / (fast["t"][-1] - fast["t"][half])
+    report.add_interval("fast_acceleration_over_bound", a_late / a_min, 1.0 - tol, np.inf,
+                        "theta_fast > atan(mu_2): dU/dt >= g (sin - mu_2 cos)")
+    moving = np.flatnonzero(np.abs(stop["surface"]) > 1e-3 * u_s)
+    t_stop = float(stop["t"][moving[-1] + 1]) if moving.size < len(stop["t"]) else np.inf
+    report.extra = {"runs": {k: {"z": r["z"], "u": r["u"], "t": r["t"], "surface": r["surface"],
+                                 "mean": r["mean"], "iterations": r["iterations"]}
+                             for k, r in runs.items()},
+                    "u_surface_bagnold": u_ref, "stop_time": t_stop,
+                    "acceleration_bound": a_min, "late_acceleration": a_late}
+    print(f"{'run':8s} {'theta':>6s} {'h [mm]':>7s} {'u_s [m/s]':>10s} {'Bagnold':>9s} "
+          f"{'iterations/step':>16s}")
+    for key, theta, hh in (("theta", args.theta, h), ("2h", args.theta, 2 * h),
+                           ("theta_2", args.theta_2, h), ("stop", args.theta_stop, h),
+                           ("fast", args.theta_fast, h)):
+        r = runs[key]
+        ref = surface(theta, hh) if key in ("theta", "2h", "theta_2") else np.nan
+        print(f"{key:8s} {theta:6.2f} {hh * 1e3:7.2f} {r['u'][-1]:10.4f} {ref:9.4f} "
+              f"{r['iterations'].mean():16.1f}")
+    report.data = dict(runs=runs, law=law, h=h)
+    return report
+
+
+def figures(args, runs, law, h):
+    """Profiles beside Bagnold's, and the surface velocity against time."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(11, 4.2))
+    for key, theta, hh in (("theta", args.theta, h), ("2h", args.theta, 2 * h),
+                           ("theta_2", args.theta_2, h)):
+        r = runs[key]
+        zz = np.linspace(0.0, hh, 200)
+        line, = ax[0].plot(bagnold_velocity(zz, hh, theta, **law), zz / args.d, "-",
+                           label=f"Bagnold, theta = {theta:g}, h = {hh / args.d:.0f} d")
+        ax[0].plot(r["u"], r["z"] / args.d, "o", ms=3, color=line.get_color(),
+                   label="ours (P2 nodes)")
+        ax[1].plot(r["t"], r["surface"], "-", color=line.get_color(), label=key)
+    for key in ("stop", "fast"):
+        r = runs[key]
+        ax[1].plot(r["t"], r["surface"], "--", label=key)
+    ax[0].set_title("steady profiles")
+    ax[1].set_title("surface velocity from rest (stop: from the theta profile)")
+    ax[0].set_xlabel("u [m/s]")
+    ax[0].set_ylabel("z / d")
+    ax[0].legend(fontsize=7)
+    ax[1].set_xlabel("t [s]")
+    ax[1].set_ylabel("surface velocity [m/s]")
+    ax[1].legend(fontsize=7)
+    save_figure(fig, figure_dir(args, "inclined_plane_flow") / "inclined_plane_profiles.png")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
