@@ -64,6 +64,7 @@ BAD = {
                                      (["--mesh-study", "1"], "--mesh-study"),
                                      (["--courant", "0"], "--courant")],
     "granular_column_plane": [(["--phi", "95"], "--phi"), (["--scheduler", "x:0"], "--scheduler"),
+                              (["--contact", "zero-dilation", "--passes", "2"], "--passes"),
                               (["--steps", "0"], "--steps"),
                               (["--settle", "-1"], "--settle"), (["--workers", "0"], "--workers"),
                               (["--nx", "1"], "--nx"), (["--nu", "-1"], "--nu"),
