@@ -304,6 +304,14 @@ def base_parser(description, quick=None, check=None):
     return p
 
 
+def thinned(case, histories, drop=(), entries=100):
+    """A case for the JSON: without the keys ``drop``, its ``histories`` (sequences as
+    long as the first of them) thinned to about ``entries`` entries."""
+    every = max(1, len(case[histories[0]]) // entries)
+    kept = {k: v for k, v in case.items() if k not in tuple(drop) + tuple(histories)}
+    return kept | {k: np.asarray(case[k])[::every].tolist() for k in histories}
+
+
 def run_script(script, *argv):
     """A verification script in-process: ``script.run`` on its parsed ``argv``.
 

@@ -46,7 +46,6 @@ ParaView apply Transform (rotate 90 deg about x, so that z points up along the n
 and then Rotational Extrusion (360 deg).
 """
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -63,7 +62,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
                                progress, progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options)
+                               sweep_options, thinned)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -483,10 +482,8 @@ HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
 
 
 def _summary(r):
-    """A case without its snapshots, its histories thinned to about 100 entries."""
-    every = max(1, len(r["t_bar"]) // 100)
-    return {k: v for k, v in r.items() if k not in ("snapshots", "track") + HISTORIES} | \
-        {k: r[k][::every] for k in HISTORIES}
+    """A case without its snapshots, its histories thinned."""
+    return thinned(r, HISTORIES, drop=("snapshots", "track"))
 
 
 def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(), history=()):

@@ -36,7 +36,6 @@ Usage::
 come from :func:`pfem_skfem.report.base_parser`.
 """
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -53,7 +52,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, poisson_ratio, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options)
+                               save_figure, sweep_options, thinned)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -435,10 +434,8 @@ HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
 
 
 def _summary(r):
-    """A case without its snapshots, its histories thinned to about 100 entries."""
-    every = max(1, len(r["t_bar"]) // 100)
-    return {k: v for k, v in r.items() if k not in ("snapshots",) + HISTORIES} | \
-        {k: r[k][::every] for k in HISTORIES}
+    """A case without its snapshots, its histories thinned."""
+    return thinned(r, HISTORIES, drop=("snapshots",))
 
 
 def render_deposits(out, rows):

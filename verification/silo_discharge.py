@@ -70,7 +70,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options)
+                               save_figure, sweep_options, thinned)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -369,11 +369,8 @@ def main(argv=None):
 
 
 def _summary(r):
-    """A case without its snapshots, its histories thinned to about 200 entries."""
-    every = max(1, len(r["t"]) // 200)
-    return {k: v for k, v in r.items() if k not in ("snapshots", "t", "V", "mesh_area",
-                                                    "config")} | \
-        {k: r[k][::every] for k in ("t", "V", "mesh_area")}
+    """A case without its snapshots and configuration, its histories thinned."""
+    return thinned(r, ("t", "V", "mesh_area"), drop=("snapshots", "config"), entries=200)
 
 
 def _walls(ax, r):
