@@ -63,17 +63,32 @@ def body_loads(scene, contacts, contact_bodies, inc, t_n):
     return forces, moments
 
 
-def region_amounts(scene, state, disc, regions):
-    """Mass of the particles of each region, and the area of the elements of each region
-    (in axisymmetry their volume of revolution)."""
+def region_masses(scene, state):
+    """Mass of the particles of each region."""
+    return {r.name: float(state.mass[state.region == k].sum())
+            for k, r in enumerate(scene.regions)}
+
+
+def region_areas(scene, disc, regions):
+    """Area of the elements of each region (in axisymmetry their volume of revolution)."""
     if disc.geometry.axisymmetric:
         area_e = measure(disc.mesh.p.T, disc.mesh.t.T, True)
     else:
         area_e = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)
-    mass = {r.name: float(state.mass[state.region == k].sum())
-            for k, r in enumerate(scene.regions)}
-    area = {r.name: float(area_e[regions == k].sum()) for k, r in enumerate(scene.regions)}
-    return mass, area
+    return {r.name: float(area_e[regions == k].sum()) for k, r in enumerate(scene.regions)}
+
+
+def books(scene, new, timer, t_start, *, phase, alpha, discharged_now):
+    """What every step record holds, meshed or not: time, phase, the mass inside and
+    discharged, the particles, the stage times."""
+    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
+            "alpha": alpha, "mass": new.total_mass, "mass_regions": region_masses(scene, new),
+            "discharged": {k: v[0] for k, v in new.discharged.items()},
+            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
+            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
+            "particles": int(new.n),
+            "seconds": _time.perf_counter() - t_start,
+            **{f"t_{k}": v for k, v in timer.seconds.items()}}
 
 
 def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
@@ -88,7 +103,7 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
     """
     disc, inc = result.disc, result.increment
     h_median = float(np.median(new.h)) if new.n else np.nan    # nan: all discharged
-    mass_regions, area_regions = region_amounts(scene, new, disc, regions)
+    area_regions = region_areas(scene, disc, regions)
     forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
                                  new.time - scene.config.dt)
     speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)   # of the step's mesh
@@ -99,17 +114,12 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
     else:
         mesh_area = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T).sum())
         moved_area = float(triangle_areas(new.mesh_p, disc.mesh.t.T).sum())
-    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
-            "area": area, "mesh_area": mesh_area, "moved_area": moved_area,
-            "area_change": area / area0 - 1, "alpha": alpha,
-            "mass": new.total_mass, "mass_regions": mass_regions, "area_regions": area_regions,
-            "discharged": {k: v[0] for k, v in new.discharged.items()},
-            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
-            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
+    return {"area": area, "mesh_area": mesh_area, "moved_area": moved_area,
+            "area_change": area / area0 - 1, "area_regions": area_regions,
             "forces": forces, "moments": moments,
             "iterations": solved.iterations, "inaccurate": solved.inaccurate,
             "status": inc.info.status, "elements": int(disc.mesh.nelements),
-            "particles": int(new.n), "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
+            "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
             "added": added, "surface_particles": surface, "thinned": thinned,
             "held_dofs": held, "projected": projected,
             "max_speed": float(speed.max()),
@@ -118,10 +128,10 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             "max_displacement_over_h": float(du_max / h_median),
             "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
             "max_plastic_strain_increment": float(result.plastic_strain.max()),
-            "seconds": _time.perf_counter() - t_start,
-            **{f"t_{k}": v for k, v in timer.seconds.items()},
             "t_compile": solved.compile_time,        # inside t_solve: building the problem
-            "t_conic": solved.solve_time}            # inside t_solve: Clarabel itself
+            "t_conic": solved.solve_time,            # inside t_solve: Clarabel itself
+            **books(scene, new, timer, t_start, phase=phase, alpha=alpha,
+                    discharged_now=discharged_now)}
 
 
 def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_over_h,
@@ -130,25 +140,17 @@ def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_ov
     free, :func:`~pfem_skfem.pfem.surface.fly_free`): the keys of :func:`step_record`,
     with no mesh, no solve and no force on the bodies."""
     speed = np.linalg.norm(new.v, axis=1) if new.n else np.zeros(1)
-    none = {b.name: [0.0, 0.0] for b in scene.bodies}
-    return {"step": new.step, "time": new.time, "phase": None if phase is None else phase.name,
-            "area": 0.0, "mesh_area": 0.0, "moved_area": 0.0, "area_change": -1.0,
-            "alpha": alpha,
-            "mass": new.total_mass,
-            "mass_regions": {r.name: float(new.mass[new.region == k].sum())
-                             for k, r in enumerate(scene.regions)},
+    return {"area": 0.0, "mesh_area": 0.0, "moved_area": 0.0, "area_change": -1.0,
             "area_regions": {r.name: 0.0 for r in scene.regions},
-            "discharged": {k: v[0] for k, v in new.discharged.items()},
-            "discharged_particles": {k: v[1] for k, v in new.discharged.items()},
-            "discharged_now": {k: v[1] for k, v in discharged_now.items()},
-            "forces": none, "moments": {b.name: 0.0 for b in scene.bodies},
+            "forces": {b.name: [0.0, 0.0] for b in scene.bodies},
+            "moments": {b.name: 0.0 for b in scene.bodies},
             "iterations": 0, "inaccurate": 0, "status": "no element: every particle free",
-            "elements": 0, "particles": int(new.n), "free_particles": int(new.n),
+            "elements": 0, "free_particles": int(new.n),
             "added": 0, "surface_particles": 0, "thinned": thinned, "held_dofs": 0,
             "projected": projected, "max_speed": float(speed.max()),
             "max_displacement_over_h": float(moved_over_h),
             "kinetic_energy": float(0.5 * np.sum(new.mass * np.sum(new.v ** 2, axis=1))),
             "max_plastic_strain_increment": 0.0,
-            "seconds": _time.perf_counter() - t_start,
-            **{f"t_{k}": v for k, v in timer.seconds.items()},
-            "t_compile": 0.0, "t_conic": 0.0}
+            "t_compile": 0.0, "t_conic": 0.0,
+            **books(scene, new, timer, t_start, phase=phase, alpha=alpha,
+                    discharged_now=discharged_now)}

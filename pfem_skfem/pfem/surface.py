@@ -224,10 +224,16 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))
     if disc.geometry.axisymmetric:
         x[pm.particle[axis], 0] = 0.0              # on the axis, exactly
-        crossed = x[:, 0] < 0
-        x[crossed, 0] = 0.0
-        v[crossed, 0] = np.maximum(v[crossed, 0], 0.0)
+        keep_off_axis(x, v)
     return replace(moved, x=x, v=v), projected
+
+
+def keep_off_axis(x, v):
+    """In axisymmetry a particle that would cross the axis r = 0 is put on it with its
+    inward radial velocity removed (in place)."""
+    crossed = x[:, 0] < 0
+    x[crossed, 0] = 0.0
+    v[crossed, 0] = np.maximum(v[crossed, 0], 0.0)
 
 
 def fly_free(state, *, theta, gravity, bodies, axisymmetric=False):
@@ -237,10 +243,8 @@ def fly_free(state, *, theta, gravity, bodies, axisymmetric=False):
     put back out of a body."""
     x, v = free_particles_step(state.x, state.v, gravity, theta.dt, theta.theta2, bodies)
     x, v, projected = project_out_of_bodies(x, v, bodies, np.median(state.h))
-    if axisymmetric:                             # a particle that would cross the axis
-        crossed = x[:, 0] < 0
-        x[crossed, 0] = 0.0
-        v[crossed, 0] = np.maximum(v[crossed, 0], 0.0)
+    if axisymmetric:
+        keep_off_axis(x, v)
     return replace(state, x=x, v=v, sigma_m=np.zeros(state.n)), projected
 
 
