@@ -165,7 +165,8 @@ def courant_steps(a, nr, courant):
 
 def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
-             save_every=0, verbose=False, history=False, label="", courant=None):
+             save_every=0, verbose=False, history=False, label="", courant=None,
+             volume_correction=False):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``courant``: at least the steps that hold the free-fall Courant number
@@ -179,7 +180,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     state, scene = granular_column_axisymmetric(a, nr, r0=r0, rho=rho, g=g, phi=phi,
                                                 phi_s=phi_s, material=material,
                                                 floor_fraction=floor, dt=dt, alpha=alpha,
-                                                passes=passes)
+                                                passes=passes,
+                                                volume_correction=volume_correction)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries

@@ -38,6 +38,7 @@ from ..pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpo
 from ..pfem.surface import fly_free, move_particles, particle_tags
 from ..pfem.transfer import Interpolation, L2Projection, adopt_added_nodes, map_state, \
     old_discretisation
+from ..pfem.volume_projection import step_constraint
 from ..problems.contact import CoulombCones, LaggedFriction, without_nodes
 from ..problems.dynamic import BACKENDS, ThetaMethod
 from ..problems.nonassociated import lagged_step
@@ -75,6 +76,9 @@ class PFEMConfig:
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
         midside node as a new particle (0: never).
+    volume_correction : shift the moved particles so that every vertex patch keeps the
+        volume the step's linearised strain states (one linear solve a step;
+        :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
     """
 
     theta: ThetaMethod = field(default_factory=lambda: ThetaMethod(0.01, 1.0, 1.0))
@@ -88,6 +92,7 @@ class PFEMConfig:
     backend: str = "clarabel"
     bulge: bool = True
     refine_surface: float = 2.0
+    volume_correction: bool = False
 
     def __post_init__(self):
         if not isinstance(self.theta, ThetaMethod):
@@ -240,10 +245,16 @@ def pfem_step(state, scene):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
                        if b.present(state.time)]
         holding = phase is not None and phase.hold is not None
+        volume = None
+        if config.volume_correction:        # held and axis dofs stay, pressed nodes slide
+            volume = step_constraint(disc, ops.B, inc.du, fixed=fixed, contacts=contacts,
+                                     pressed=None if contacts is None else
+                                     inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2)
         moved, projected = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
             bodies=bodies_next, refine_surface=config.refine_surface,
-            bulge=config.bulge and not holding)     # a held boundary keeps its place exactly
+            bulge=config.bulge and not holding,     # a held boundary keeps its place exactly
+            volume=volume)
         deps = plastic_strain_increment(disc, ops.B, inc.du)
         free_surface, contact = particle_tags(disc, pm, contacts, inc, moved.n,
                                               stress_scale / scene.length * h_median ** 2)

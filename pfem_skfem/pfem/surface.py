@@ -15,6 +15,7 @@ import numpy as np
 
 from ..fields import vertex_dofs
 from ..problems.particle import free_particles_step
+from .volume_projection import volume_shift, without_split_bulges
 
 
 def boundary_edges(disc, du):
@@ -166,7 +167,7 @@ def project_out_of_bodies(x, v, bodies, h):
 
 
 def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bodies,
-                   refine_surface=2.0, bulge=True):
+                   refine_surface=2.0, bulge=True, volume=None):
     """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
     in no element fly ballistically (theta-method free fall) and slide with friction on the
     rigid bodies (:func:`~pfem_skfem.problems.particle.free_particles_step`).
@@ -178,6 +179,11 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     theta : ThetaMethod;  gravity : (2,) acceleration;  bodies : rigid bodies at t_{n+1}.
     refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
         new particle (0: never);  bulge : apply :func:`bulge_correction`.
+    volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
+        None: after the bulge correction the vertices are shifted so that every vertex
+        patch keeps the volume the linearised strain states
+        (:func:`~pfem_skfem.pfem.volume_projection.volume_shift`; the bulges of the edges
+        whose midside node becomes a particle are left to that particle).
 
     In axisymmetry (``disc.geometry``) the particles on the axis stay on it exactly (u_r = 0
     there, no radial bulge shift), and a particle that would cross the axis (a free one, or
@@ -206,6 +212,9 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     if bulge:
         x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges,
                                            axis=axis if axis.any() else None)
+    if volume is not None:
+        volume = without_split_bulges(volume, disc, edges, split)
+        x[pm.particle] += volume_shift(volume, x[pm.particle])
     new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
     new_v = inc.v[fd[:, split]].T
     v[pm.particle] = inc.v[vd]
