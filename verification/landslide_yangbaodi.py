@@ -192,7 +192,7 @@ def read_profile(path):
 # -- the scene -----------------------------------------------------------------------------
 def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radians(10.0)),
               g=9.8, dt=0.05, theta1=1.0, theta2=1.0, alpha=1.6, adaptive_alpha=True,
-              t_hold=10.0, hold="boundary", floor=0.005, passes=2):
+              t_hold=10.0, hold="boundary", floor=0.005, passes=2, volume_correction=False):
     """The slide as a scene, and its initial state.
 
     The mass fills :meth:`Profile.mass_polygon` on a square lattice of spacing ``h``, with
@@ -210,7 +210,8 @@ def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radian
     phases = (Phase(until=(n_hold - 0.5) * dt, hold=hold, name="hold"),) if n_hold else ()
     scene = Scene(regions=(mass,), bodies=(slip,), phases=phases, gravity=(0.0, -g),
                   alpha=alpha, adaptive_alpha=adaptive_alpha, length=profile.thickness,
-                  config=PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), passes=passes))
+                  config=PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), passes=passes,
+                                    volume_correction=volume_correction))
     return scene.initial_state(), scene
 
 
@@ -239,7 +240,7 @@ def front(state):
 
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
              adaptive_alpha, t_hold, hold, floor, passes, t_after, rest, snapshot_every=0.0,
-             outdir=None, save_every=0, verbose=False):
+             outdir=None, save_every=0, verbose=False, volume_correction=False):
     """One slide: the held phase, then free motion until the kinetic energy is below
     ``rest`` times its peak (after the peak) or ``t_after`` after release."""
     profile = read_profile(profile_path)
@@ -247,7 +248,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     state, scene = landslide(profile, h=h, rho=rho, phi=phi, c=c, mu=mu, g=g, dt=dt,
                              theta1=theta1, theta2=theta2, alpha=alpha,
                              adaptive_alpha=adaptive_alpha, t_hold=t_hold, hold=hold,
-                             floor=floor, passes=passes)
+                             floor=floor, passes=passes, volume_correction=volume_correction)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
