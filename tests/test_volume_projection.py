@@ -1,0 +1,217 @@
+"""The volume projection of the move stage (pfem/volume_projection.py): closed forms on a
+square patch in plane strain and in axisymmetry, its convergence order, a rotation, no
+shift without motion, held and pressed vertices, the split-edge bookkeeping, the engine."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from skfem import MeshTri
+
+from pfem_skfem.fields import vertex_dofs
+from pfem_skfem.operators import assemble_B, discretise
+from pfem_skfem.pfem.volume_projection import (patch_volume_gradient, patch_volumes,
+                                               step_constraint, strain_volume_change,
+                                               volume_shift, without_split_bulges)
+
+STRAINS = (0.1, 0.05, 0.025)
+
+
+def square(geometry="plane", n=9, origin=(0.0, 0.0)):
+    mesh = MeshTri.init_tensor(np.linspace(0, 1, n) + origin[0], np.linspace(0, 1, n) + origin[1])
+    return discretise(mesh, geometry)
+
+
+def linear_field(disc, matrix):
+    """The P2 dofs of du(x) = matrix @ x (exact in P2)."""
+    du = np.zeros(disc.n_u)
+    X = disc.basis_u.doflocs
+    for c in range(2):
+        dofs = np.concatenate([disc.basis_u.nodal_dofs[c], disc.basis_u.facet_dofs[c]])
+        du[dofs] = matrix[c, 0] * X[0, dofs] + matrix[c, 1] * X[1, dofs]
+    return du
+
+
+def axis_radial_dofs(disc):
+    on_axis = np.abs(disc.mesh.p[0]) < 1e-12
+    return disc.basis_u.nodal_dofs[0][on_axis]
+
+
+def volumes_after(disc, du, fixed=(), correct=True):
+    """(volume at t_n, volume moved by du, the moved one corrected, the constraint, shift)."""
+    c = step_constraint(disc, assemble_B(disc), du, fixed=fixed)
+    p = disc.mesh.p.T
+    x = p + du[vertex_dofs(disc)]
+    total = lambda y: patch_volumes(y, c.triangles, c.orientation, c.axisymmetric).sum()  # noqa
+    w = volume_shift(c, x)
+    return total(p), total(x), total(x + w), c, w
+
+
+def order(errors):
+    return np.polyfit(np.log(STRAINS), np.log(errors), 1)[0]
+
+
+def test_isochoric_extension_loses_exactly_its_second_order_area_and_the_shift_restores_it():
+    """du = (e x, -e y): the moved square has area (1 + e)(1 - e) = 1 - e^2; corrected, the
+    error is of fourth order (one Newton step on the patch constraints)."""
+    disc = square()
+    errors = []
+    for e in STRAINS:
+        before, moved, corrected, _, _ = volumes_after(disc, linear_field(disc, np.diag([e, -e])))
+        assert moved / before - 1 == pytest.approx(-e ** 2, rel=1e-10)
+        errors.append(abs(corrected / before - 1))
+    assert all(err < 0.01 * e ** 2 for err, e in zip(errors, STRAINS))    # 1 % of the loss
+    assert order(errors) > 3.5, f"observed order {order(errors):.2f}, expected 4"
+
+
+def test_axisymmetric_isochoric_extension_with_the_hoop_strain():
+    """du = (e r, -2 e z) is isochoric with the hoop strain u_r / r: the moved cylinder of
+    revolution has volume (1 + e)^2 (1 - 2 e) = 1 - 3 e^2 - 2 e^3 times the old; corrected,
+    fourth order, and the vertices on the axis stay on it."""
+    disc = square("axisymmetric")
+    axis = np.abs(disc.mesh.p[0]) < 1e-12
+    errors = []
+    for e in STRAINS:
+        du = linear_field(disc, np.diag([e, -2 * e]))
+        assert np.abs(strain_volume_change(disc, assemble_B(disc), du)).max() < 1e-14
+        before, moved, corrected, _, w = volumes_after(disc, du, fixed=axis_radial_dofs(disc))
+        assert moved / before - 1 == pytest.approx(-3 * e ** 2 - 2 * e ** 3, rel=1e-10)
+        assert np.all(w[axis, 0] == 0.0)
+        errors.append(abs(corrected / before - 1))
+    assert all(err < 0.01 * 3 * e ** 2 for err, e in zip(errors, STRAINS))
+    assert order(errors) > 3.5, f"observed order {order(errors):.2f}, expected 4"
+
+
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+def test_every_patch_meets_its_target_to_second_order_in_the_shift(geometry):
+    disc = square(geometry)
+    residuals = []
+    for e in STRAINS:
+        du = linear_field(disc, np.array([[e, 0.3 * e], [0.2 * e, -e]]))
+        fixed = axis_radial_dofs(disc) if geometry == "axisymmetric" else ()
+        before, _, _, c, w = volumes_after(disc, du, fixed=fixed)
+        x = disc.mesh.p.T + du[vertex_dofs(disc)] + w
+        patches = patch_volumes(x, c.triangles, c.orientation, c.axisymmetric)
+        residuals.append(np.abs(patches - c.target).max() / before)
+    assert order(residuals) > 3.5, f"observed order {order(residuals):.2f}, expected 4"
+
+
+def test_dilation_is_kept_as_the_linearised_strain_states():
+    """du = e x (div du = 2 e): the target is the area plus the integral of tr eps(du),
+    (1 + 2 e) A, not the moved (1 + e)^2 A; corrected, it is met to fourth order."""
+    disc = square()
+    errors = []
+    for e in STRAINS:
+        du = linear_field(disc, np.diag([e, e]))
+        assert strain_volume_change(disc, assemble_B(disc), du).sum() == pytest.approx(2 * e)
+        before, moved, corrected, _, _ = volumes_after(disc, du)
+        assert moved / before == pytest.approx((1 + e) ** 2, rel=1e-12)
+        errors.append(abs(corrected / before - (1 + 2 * e)))
+    assert order(errors) > 3.5, f"observed order {order(errors):.2f}, expected 4"
+
+
+def test_a_small_rotation_is_only_shifted_at_second_order():
+    """du = theta (-y, x) (the linearised rotation, tr eps = 0) grows the area by theta^2;
+    the shift that takes it back is of second order in theta (a first-order motion is left
+    alone) and the area error of fourth order."""
+    disc = square(origin=(-0.5, -0.5))
+    shifts, errors = [], []
+    for theta in STRAINS:
+        du = linear_field(disc, np.array([[0.0, -theta], [theta, 0.0]]))
+        before, moved, corrected, _, w = volumes_after(disc, du)
+        assert moved / before - 1 == pytest.approx(theta ** 2, rel=1e-10)
+        shifts.append(np.abs(w).max())
+        errors.append(abs(corrected / before - 1))
+    assert 1.8 < order(shifts) < 2.2, f"shift order {order(shifts):.2f}, expected 2"
+    assert order(errors) > 3.5, f"observed order {order(errors):.2f}, expected 4"
+
+
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+def test_no_motion_no_shift(geometry):
+    disc = square(geometry)
+    _, _, _, _, w = volumes_after(disc, np.zeros(disc.n_u))
+    assert np.all(w == 0.0)
+
+
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+def test_patch_volume_gradient_is_the_derivative_of_the_patch_volumes(geometry):
+    disc = square(geometry, n=5)
+    p, t = disc.mesh.p.T, disc.mesh.t.T
+    s = np.ones(len(t))
+    axi = geometry == "axisymmetric"
+    G = patch_volume_gradient(p, t, s, axi)
+    d = np.random.default_rng(0).normal(size=p.shape) * 1e-6
+    central = (patch_volumes(p + d, t, s, axi) - patch_volumes(p - d, t, s, axi)) / 2
+    assert np.abs(G @ d.ravel() - central).max() < 1e-9 * np.abs(central).max()
+
+
+def test_held_vertices_stay_and_pressed_vertices_slide_along_the_wall():
+    """Held dofs (a phase) get no shift; vertices pressed on a body (here the base y = 0)
+    no shift along its normal, so the projection does not push them into it: the free
+    vertices take the whole correction, and the volume is still restored."""
+    disc = square()
+    p = disc.mesh.p.T
+    vd = vertex_dofs(disc)
+    left = np.flatnonzero(p[:, 0] < 1e-12)
+    base = np.flatnonzero((p[:, 1] < 1e-12) & (p[:, 0] > 1e-12))
+    contacts = SimpleNamespace(dofs=vd[base], normal=np.tile([0.0, -1.0], (len(base), 1)))
+    e = 0.05
+    du = linear_field(disc, np.diag([e, -e]))
+    c = step_constraint(disc, assemble_B(disc), du, fixed=vd[left].ravel(), contacts=contacts,
+                        pressed=np.ones(len(base), dtype=bool))
+    x = p + du[vd]
+    w = volume_shift(c, x)
+    assert np.all(w[left] == 0.0)
+    assert np.abs(w[base, 1]).max() < 1e-15 and np.abs(w[base, 0]).max() > 0
+    total = lambda y: patch_volumes(y, c.triangles, c.orientation, False).sum()  # noqa
+    assert abs(total(x + w) - 1.0) < 0.01 * e ** 2
+
+
+def test_a_split_edge_lowers_its_ends_targets_by_the_new_particles_triangle():
+    """The midside node of a split boundary edge becomes a particle; its triangle
+    (a, midside, b), L (delta . n) / 2, is taken off the targets of a and b, half each."""
+    from pfem_skfem.pfem.surface import boundary_edges
+    disc = square(n=3)
+    du = np.zeros(disc.n_u)
+    mid_y = disc.basis_u.facet_dofs[1]                     # y dofs of the midside nodes
+    top = mid_y[np.isclose(disc.basis_u.doflocs[1, mid_y], 1.0)]
+    du[top] = 0.01                                          # the top edges bulge out
+    edges = boundary_edges(disc, du)
+    a, b, _, delta, n = edges
+    split = np.einsum("id,id->i", delta, n) > 0
+    assert split.sum() == 2
+    c = step_constraint(disc, assemble_B(disc), du)
+    lowered = c.target - without_split_bulges(c, disc, edges, split).target
+    length = np.linalg.norm(disc.mesh.p.T[b] - disc.mesh.p.T[a], axis=1)
+    triangles = 0.5 * length * np.einsum("id,id->i", delta, n)
+    assert lowered.sum() == pytest.approx(triangles[split].sum(), rel=1e-12)
+    assert np.all(lowered[np.setdiff1d(np.arange(len(lowered)),
+                                       np.concatenate([a[split], b[split]]))] == 0.0)
+
+
+def collapse(volume_correction, steps=12):
+    from verification.granular_column_axisymmetric import granular_column_axisymmetric
+    from pfem_skfem.drivers.pfem_loop import run
+    state, scene = granular_column_axisymmetric(2.0, 5, dt=0.04 * np.sqrt(2.0 / 9.8),
+                                                volume_correction=volume_correction)
+    state, _ = run(state, scene, steps)
+    return state
+
+
+def test_the_engine_option_reduces_the_volume_loss_and_keeps_walls_and_axis():
+    """A collapsing column of revolution: with the correction the volume lost is smaller
+    than without, no particle is below the base and the axis particles stay at r = 0."""
+    off, on = collapse(False), collapse(True)
+    lost_off = abs(off.history["area_change"][-1])
+    lost_on = abs(on.history["area_change"][-1])
+    assert lost_off > 1e-3                     # there is a loss to correct
+    assert lost_on < 0.5 * lost_off
+    assert on.x[:, 1].min() >= -1e-12
+    assert np.all(on.x[:, 0] >= 0.0)
+    x0 = collapse(True, steps=0).x
+    axis0 = np.flatnonzero(x0[:, 0] == 0.0)
+    assert np.all(on.x[axis0, 0] == 0.0)
+
+
+def test_the_option_is_off_by_default():
+    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    assert PFEMConfig().volume_correction is False
