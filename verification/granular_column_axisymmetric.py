@@ -302,6 +302,9 @@ def build_parser():
     p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
+    p.add_argument("--volume-correction", choices=("on", "off"), default="on",
+                   help="shift the moved particles so that every vertex patch keeps the volume "
+                        "the step's strain states (PFEMConfig.volume_correction)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
     sweep_options(p, what="the cases (sweep and studies)")
@@ -319,7 +322,7 @@ def run(args):
                 g=args.g, r0=args.r0, material=args.material, passes=args.passes,
                 alpha=args.alpha, floor=args.floor, settle=args.settle, courant=args.courant,
                 outdir=out if args.save_every else None, save_every=args.save_every,
-                verbose=args.progress)
+                volume_correction=args.volume_correction == "on", verbose=args.progress)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]

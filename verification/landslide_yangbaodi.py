@@ -406,6 +406,9 @@ def build_parser():
                    help="least cone radius, a fraction of rho g L (L: the mass's thickness)")
     p.add_argument("--passes", type=positive_int, default=2,
                    help="fixed-point passes on the mean stress")
+    p.add_argument("--volume-correction", choices=("on", "off"), default="on",
+                   help="shift the moved particles so that every vertex patch keeps the volume "
+                        "the step's strain states (PFEMConfig.volume_correction)")
     p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
@@ -424,7 +427,8 @@ def _cases(args):
                   g=args.g, dt=args.dt, theta1=args.theta1, theta2=args.theta2,
                   alpha=args.alpha, adaptive_alpha=True, t_hold=args.t_hold, hold=args.hold,
                   floor=args.floor, passes=args.passes, t_after=args.t_after, rest=args.rest,
-                  verbose=args.progress, save_every=args.save_every,
+                  volume_correction=args.volume_correction == "on", verbose=args.progress,
+                  save_every=args.save_every,
                   outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
     main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",
                 snapshot_every=args.snapshot_every)
