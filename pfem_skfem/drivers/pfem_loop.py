@@ -77,7 +77,7 @@ class PFEMConfig:
     refine_surface : a boundary edge stretched longer than this many h gets its P2
         midside node as a new particle (0: never).
     volume_correction : shift the moved particles so that every vertex patch keeps the
-        volume the step's linearised strain states (one linear solve a step;
+        volume their linearised motion states (one linear solve a step;
         :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
     """
 
@@ -247,7 +247,7 @@ def pfem_step(state, scene):
         holding = phase is not None and phase.hold is not None
         volume = None
         if config.volume_correction:        # held and axis dofs stay, pressed nodes slide
-            volume = step_constraint(disc, ops.B, inc.du, fixed=fixed, contacts=contacts,
+            volume = step_constraint(disc, fixed=fixed, contacts=contacts,
                                      pressed=None if contacts is None else
                                      inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2)
         moved, projected = move_particles(

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..fields import vertex_dofs
 from ..problems.particle import free_particles_step
-from .volume_projection import volume_shift, without_split_bulges
+from .volume_projection import volume_shift
 
 
 def boundary_edges(disc, du):
@@ -181,9 +181,8 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
         new particle (0: never);  bulge : apply :func:`bulge_correction`.
     volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
         None: after the bulge correction the vertices are shifted so that every vertex
-        patch keeps the volume the linearised strain states
-        (:func:`~pfem_skfem.pfem.volume_projection.volume_shift`; the bulges of the edges
-        whose midside node becomes a particle are left to that particle).
+        patch keeps the volume their linearised motion states
+        (:func:`~pfem_skfem.pfem.volume_projection.volume_shift`).
 
     In axisymmetry (``disc.geometry``) the particles on the axis stay on it exactly (u_r = 0
     there, no radial bulge shift), and a particle that would cross the axis (a free one, or
@@ -213,7 +212,6 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
         x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges,
                                            axis=axis if axis.any() else None)
     if volume is not None:
-        volume = without_split_bulges(volume, disc, edges, split)
         x[pm.particle] += volume_shift(volume, x[pm.particle])
     new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
     new_v = inc.v[fd[:, split]].T

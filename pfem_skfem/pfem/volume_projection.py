@@ -1,39 +1,48 @@
 """Step 2b, optional: the moved vertices shifted so that every vertex patch keeps the
-volume the step's linearised strain gives it.
+volume the step's linearised motion gives it.
 
-Why. The particles move by the vertex values of du, so each straight-sided triangle's
-area becomes det(I + grad du) times the old one: 1 + div du + det(grad du) in plane
-strain (with the hoop stretch in axisymmetry). The conic step states the strain
-linearised, tr eps(du), and for psi = 0 keeps it zero in the weak sense of the
-element's linear stresses; the quadratic term is not stated and is lost at every
-step: O(dt^2) a step, O(dt) over a run, a shrinking of every extensional flow (a
-collapsing column, a landslide spreading on its base).
+Why. The particles move by d (the vertex values of du, with the bulge correction), so
+each straight-sided triangle's area becomes det(I + grad d) times the old one:
+1 + div d + det(grad d) in plane strain (with the hoop stretch in axisymmetry). The
+conic step states the strain linearised, and for psi = 0 keeps it isochoric; the
+quadratic term is stated nowhere and is lost at every step: O(dt^2) a step, O(dt) over
+a run, a shrinking of every extensional flow (a collapsing column, a landslide
+spreading on its base).
 
 What. The volume of the patch of vertex i (its dual cell, weighted by its hat
 function phi_i, in axisymmetry by 2 pi r) is
 
     V_i(x) = int phi_i dV   over the straight-sided triangles at the vertices x,
 
-and the step states its value after the move (the weak volume balance of the
-linearised strain, exact for the zero-dilation flow rule)
+and the linearised motion states its value after the step
 
-    V_i* = V_i(x_n) + int_{Omega_n} phi_i tr eps(du) dV.
+    V_i* = V_i(x_n) + grad V_i(x_n) . d  =  V_i(x_n) + int phi_i tr eps(d) dV
 
-The shift w of the moved vertices is the least (patch-volume weighted) one that meets
-the constraints linearised at the moved vertices x:
+(d interpolated linearly, phi_i carried with the mesh),
+
+so the moved patch misses V_i(x_n + d) - V_i* = Q_i(d), the quadratic rest (plane
+strain: the integral of det grad d). The shift w of the moved vertices x = x_n + d is
+the least (patch-volume weighted) one that meets the constraints linearised at x:
 
     minimise  1/2 sum_i m_i |w_i|^2   subject to   V_i(x) + grad V_i(x) . w = V_i*,
     w_i in the directions vertex i may move (none for a held vertex, along the axis
     on the axis, tangential to a rigid body it presses on),
 
 so w = M^-1 P G^T lambda with (G M^-1 P G^T) lambda = V* - V(x), one sparse linear
-solve (G = grad V, P the per-vertex projector onto the allowed directions). This is
-the discrete form of the projection w = grad(phi) with phi = 0 on the free surface and
-no normal shift on walls and the axis (the pressure-like multiplier vanishes where
-the boundary may move); the residual left is of second order in w, O(dt^4) a step.
+solve (G = grad V, P the per-vertex projector onto the allowed directions). This is the
+discrete form of the projection w = grad(phi) with phi = 0 on the free surface and no
+normal shift on walls and the axis; w = O(|d|^2) (second order in dt: the motion is
+changed only where the linearisation is), the residual left O(|d|^4). The dilation of
+a dilating material is kept to first order (it is in grad V . d).
+
+The target is the linearised motion's, not the P2 field's own weak balance int phi_i
+tr eps(du): the vertices cannot follow the P2 field's curved edges, and forcing their
+patches to its balance changes their motion at first order (on a short column of
+revolution it lifted the top on the axis, which must stay still).
+
 The idea is the projection step of Chorin's projection method (A. J. Chorin, Math.
 Comp. 22, 1968) applied to the vertex positions instead of the velocity, with the
-continuity equation replaced by the step's own patch-volume balance.
+continuity equation replaced by the patch-volume balance of the linearised step.
 """
 from dataclasses import dataclass
 
@@ -41,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from ..fields import barycentric_at_points, vertex_dofs
+from ..fields import vertex_dofs
 
 
 @dataclass
@@ -51,16 +60,28 @@ class VolumeConstraint:
     Attributes
     ----------
     triangles : (n_elements, 3) vertex indices;  orientation : (n_elements,) +-1, the
-    sign of each triangle's area at t_n;  target : (n_vertices,) V_i*;  allowed :
-    (n_vertices, 2, 2) projector onto the directions each vertex may shift;
+    sign of each triangle's area at t_n;  start : (n_vertices, 2) the vertices at t_n;
+    allowed : (n_vertices, 2, 2) projector onto the directions each vertex may shift;
     axisymmetric : the 2 pi r weight.
     """
 
     triangles: np.ndarray
     orientation: np.ndarray
-    target: np.ndarray
+    start: np.ndarray
     allowed: np.ndarray
     axisymmetric: bool
+
+    def volumes(self, x):
+        """Patch volumes V_i at the vertices x."""
+        return patch_volumes(x, self.triangles, self.orientation, self.axisymmetric)
+
+    def gradient(self, x):
+        """G = dV/dx at the vertices x."""
+        return patch_volume_gradient(x, self.triangles, self.orientation, self.axisymmetric)
+
+    def target(self, x):
+        """V_i* of the moved vertices x: the patch volumes the linearised motion states."""
+        return self.volumes(self.start) + self.gradient(self.start) @ (x - self.start).ravel()
 
 
 def _signed_areas(p, t):
@@ -104,18 +125,6 @@ def patch_volume_gradient(p, t, orientation, axisymmetric):
                          shape=(n, 2 * n)).tocsr()
 
 
-def strain_volume_change(disc, B, du):
-    """int_{Omega_n} phi_i tr eps(du) dV at every vertex: the stress-point rows of B du
-    (int N_p eps(du) dV, thesis (3.41), (7.25)) summed over the normal components and
-    spread to the vertices by phi_i at the stress points (phi_i is linear in the element,
-    so this is exact)."""
-    trace = (B @ du).reshape(-1, 4)[:, :3].sum(axis=1)
-    bary, element = barycentric_at_points(disc)
-    vertices = disc.mesh.t[:3, element].T                              # (n_points, 3)
-    return np.bincount(vertices.ravel(), weights=(bary * trace[:, None]).ravel(),
-                       minlength=disc.mesh.nvertices)
-
-
 def allowed_directions(n_vertices, blocked):
     """(n_vertices, 2, 2) projectors onto the directions left free by the unit normals
     ``blocked`` = [(vertex indices, (k, 2) normals), ...] (a held vertex: both axes)."""
@@ -130,14 +139,13 @@ def allowed_directions(n_vertices, blocked):
     return allowed
 
 
-def step_constraint(disc, B, du, *, fixed=(), contacts=None, pressed=None):
+def step_constraint(disc, *, fixed=(), contacts=None, pressed=None):
     """The :class:`VolumeConstraint` of a step.
 
     Parameters
     ----------
-    disc : the step's Discretisation (mesh at t_n);  B : its strain operator (3.41);
-    du : (n_u,) the step's displacement.  fixed : displacement dofs held still (a held
-    phase, the radial dofs on the axis): those components are not shifted.
+    disc : the step's Discretisation (mesh at t_n).  fixed : displacement dofs held still
+    (a held phase, the radial dofs on the axis): those components are not shifted.
     contacts : the step's ContactSet or None;  pressed : (n_contacts,) bool, the contact
     rows whose node presses on its body: no shift along the body's normal there.
     """
@@ -145,8 +153,6 @@ def step_constraint(disc, B, du, *, fixed=(), contacts=None, pressed=None):
     t = mesh.t[:3].T
     p = mesh.p.T
     orientation = np.sign(_signed_areas(p, t))
-    axisymmetric = disc.geometry.axisymmetric
-    target = patch_volumes(p, t, orientation, axisymmetric) + strain_volume_change(disc, B, du)
     vd = vertex_dofs(disc)
     vertex_of = np.full(disc.n_u, -1)
     vertex_of[vd.ravel()] = np.repeat(np.arange(mesh.nvertices), 2)
@@ -159,8 +165,8 @@ def step_constraint(disc, B, du, *, fixed=(), contacts=None, pressed=None):
         rows = np.flatnonzero(pressed)
         at = vertex_of[contacts.dofs[rows, 0]]
         blocked.append((at[at >= 0], contacts.normal[rows[at >= 0]]))
-    return VolumeConstraint(t, orientation, target, allowed_directions(mesh.nvertices, blocked),
-                            axisymmetric)
+    return VolumeConstraint(t, orientation, p.copy(), allowed_directions(mesh.nvertices, blocked),
+                            disc.geometry.axisymmetric)
 
 
 def volume_shift(constraint, x, regularisation=1e-10):
@@ -171,10 +177,10 @@ def volume_shift(constraint, x, regularisation=1e-10):
     volume (a body held all round); ``regularisation`` (relative to its diagonal) keeps
     it solvable, and a multiplier of such a mode shifts nothing (G^T maps it to zero).
     """
-    t, s, axi = constraint.triangles, constraint.orientation, constraint.axisymmetric
-    residual = constraint.target - patch_volumes(x, t, s, axi)
-    G = patch_volume_gradient(x, t, s, axi)
-    weight = np.abs(patch_volumes(x, t, s, axi))
+    volumes = constraint.volumes(x)
+    residual = constraint.target(x) - volumes
+    G = constraint.gradient(x)
+    weight = np.abs(volumes)
     weight = np.maximum(weight, 1e-12 * weight.max())
     n = len(x)
     blocks = constraint.allowed / weight[:, None, None]                # M^-1 P, per vertex
@@ -190,26 +196,3 @@ def volume_shift(constraint, x, regularisation=1e-10):
     lam = spsolve(S + sp.diags(floor), residual)
     return (DGt @ lam).reshape(n, 2)
 
-
-def without_split_bulges(constraint, disc, edges, split):
-    """``constraint`` with the targets of the ends of the ``split`` boundary edges lowered
-    by the volume the edge's new particle (its P2 midside node) brings back: the triangle
-    (a, midside, b), of area L (delta . n) / 2, half to each end (else the bulge would
-    be counted twice, once by the shift and once by the particle).
-
-    edges : :func:`~pfem_skfem.pfem.surface.boundary_edges` (a, b, dofs, delta, n) at t_n.
-    """
-    if not np.any(split):
-        return constraint
-    a, b, _, delta, n = (e[..., split] if k == 2 else e[split]
-                         for k, e in enumerate(edges))
-    p = disc.mesh.p.T
-    length = np.linalg.norm(p[b] - p[a], axis=1)
-    volume = 0.5 * length * np.einsum("id,id->i", delta, n)
-    if constraint.axisymmetric:         # 2 pi times the triangle's centroid radius
-        volume *= 2 * np.pi * (1.5 * (p[a, 0] + p[b, 0]) + delta[:, 0]) / 3
-    target = constraint.target.copy()
-    np.add.at(target, a, -0.5 * volume)
-    np.add.at(target, b, -0.5 * volume)
-    return VolumeConstraint(constraint.triangles, constraint.orientation, target,
-                            constraint.allowed, constraint.axisymmetric)
