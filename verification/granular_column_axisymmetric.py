@@ -93,7 +93,8 @@ PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across 
 
 def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
                                  c=0.0, material="dp", container=False, floor_fraction=0.005,
-                                 dt=None, alpha=1.6, t_end=None, **config):
+                                 dt=None, alpha=1.6, t_end=None, adaptive_alpha=False,
+                                 **config):
     """The axisymmetric column of thesis 7.4 as a scene, and its initial state.
 
     A cylinder r0 in radius and h0 = a r0 high (x = r, y = z), of particles on a square
@@ -102,7 +103,8 @@ def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi
     t = 0 unless ``container``. ``material`` 'dp' (the (7.10) cone with zero dilation) or
     'mc' (Mohr-Coulomb, three cones, zero dilation); the lagged mean stress I1/3 starts
     geostatic with K0 = 1 - sin phi; ``floor_fraction`` is the least cone radius in units
-    of rho g h0; dt defaults to 0.01 sqrt(h0/g); other keywords go to
+    of rho g h0; dt defaults to 0.01 sqrt(h0/g); ``adaptive_alpha``: alpha_n = m0 alpha /
+    m_n (thesis Ch 8, :class:`~pfem_skfem.scene.Scene`); other keywords go to
     :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
 
     Returns (state, scene).
@@ -124,7 +126,8 @@ def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi
     dt = 0.01 * np.sqrt(h0 / g) if dt is None else dt
     numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), remesher=AlphaMesh(), **config)
     scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
-                  t_end=t_end, length=h0, config=numerics, geometry="axisymmetric")
+                  adaptive_alpha=adaptive_alpha, t_end=t_end, length=h0, config=numerics,
+                  geometry="axisymmetric")
     return scene.initial_state(), scene
 
 
@@ -166,7 +169,7 @@ def courant_steps(a, nr, courant):
 def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
              save_every=0, verbose=False, history=False, label="", courant=None,
-             volume_correction=False):
+             volume_correction=False, adaptive_alpha=False):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``courant``: at least the steps that hold the free-fall Courant number
@@ -180,7 +183,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     state, scene = granular_column_axisymmetric(a, nr, r0=r0, rho=rho, g=g, phi=phi,
                                                 phi_s=phi_s, material=material,
                                                 floor_fraction=floor, dt=dt, alpha=alpha,
-                                                passes=passes,
+                                                passes=passes, adaptive_alpha=adaptive_alpha,
                                                 volume_correction=volume_correction)
     series = None
     if outdir is not None and save_every:
@@ -305,6 +308,8 @@ def build_parser():
     p.add_argument("--volume-correction", choices=("on", "off"), default="on",
                    help="shift the moved particles so that every vertex patch keeps the volume "
                         "the step's strain states (PFEMConfig.volume_correction)")
+    p.add_argument("--adaptive-alpha", action="store_true",
+                   help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n (thesis Ch 8)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
     sweep_options(p, what="the cases (sweep and studies)")
@@ -322,7 +327,8 @@ def run(args):
                 g=args.g, r0=args.r0, material=args.material, passes=args.passes,
                 alpha=args.alpha, floor=args.floor, settle=args.settle, courant=args.courant,
                 outdir=out if args.save_every else None, save_every=args.save_every,
-                volume_correction=args.volume_correction == "on", verbose=args.progress)
+                volume_correction=args.volume_correction == "on",
+                adaptive_alpha=args.adaptive_alpha, verbose=args.progress)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
