@@ -305,9 +305,10 @@ def build_parser():
     p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
-    p.add_argument("--volume-correction", choices=("on", "off"), default="on",
+    p.add_argument("--volume-correction", choices=("on", "off"), default="off",
                    help="shift the moved particles so that every vertex patch keeps the volume "
-                        "the step's strain states (PFEMConfig.volume_correction)")
+                        "their linearised motion states (PFEMConfig.volume_correction; off: "
+                        "the toe's alpha-shape losses dominate, see the book)")
     p.add_argument("--adaptive-alpha", action="store_true",
                    help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n (thesis Ch 8)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,

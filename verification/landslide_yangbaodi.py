@@ -408,7 +408,7 @@ def build_parser():
                    help="fixed-point passes on the mean stress")
     p.add_argument("--volume-correction", choices=("on", "off"), default="on",
                    help="shift the moved particles so that every vertex patch keeps the volume "
-                        "the step's strain states (PFEMConfig.volume_correction)")
+                        "their linearised motion states (PFEMConfig.volume_correction)")
     p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
