@@ -310,7 +310,8 @@ def build_parser():
                         "their linearised motion states (PFEMConfig.volume_correction; off: "
                         "the toe's alpha-shape losses dominate, see the book)")
     p.add_argument("--adaptive-alpha", action="store_true",
-                   help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n (thesis Ch 8)")
+                   help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n "
+                        "(thesis Ch 8)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
     sweep_options(p, what="the cases (sweep and studies)")

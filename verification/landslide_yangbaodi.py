@@ -15,6 +15,9 @@ one region (the mass between the slip surface and the ground surface of a profil
 rigid polyline body (the slip surface, contact cones (5.12) of friction mu), a held
 phase ``Phase(until=t_hold, hold="boundary")`` (every boundary node of the mesh held
 still), then free motion until the kinetic energy is below ``--rest`` times its peak.
+The move stage's volume projection (``PFEMConfig(volume_correction=True)``,
+:mod:`pfem_skfem.pfem.volume_projection`) is on by default (``--volume-correction off``):
+without it every step loses the second-order part of its area change, O(dt) over a run.
 
 The profile. The thesis' geometry exists only in its Fig 8.3, whose text keeps nothing
 but the axes: ``data/yangbaodi_profile.csv`` is a profile *reconstructed* from what the
