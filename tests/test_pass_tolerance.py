@@ -100,3 +100,15 @@ def test_a_tolerance_with_a_rate_dependent_material_is_refused():
     with pytest.raises(ValueError, match="pass_tolerance"):
         Scene(regions=(layer,), gravity=(0.0, -G), length=0.2,
               config=PFEMConfig(pass_tolerance=1e-2))
+
+
+@pytest.mark.parametrize("tol", [0.05, np.inf])
+def test_a_scene_file_keeps_the_pass_tolerance(tol):
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.scene.files import scene_from_toml, scene_to_toml
+    block = Region(((0, 0), (1, 0), (1, 1), (0, 1)), ZeroDilationMohrCoulomb(c=0.0, phi=30.0),
+                   2.0, 0.25)
+    scene = Scene(regions=(block,), gravity=(0.0, -G), length=1.0,
+                  config=PFEMConfig(pass_tolerance=tol))
+    back = scene_from_toml(scene_to_toml(scene))
+    assert back.config.pass_tolerance == tol and back == scene
