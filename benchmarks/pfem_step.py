@@ -12,9 +12,10 @@ the lagged mean stress (``--passes`` at most; with a pass tolerance,
 ``PFEMConfig.pass_tolerance``, fewer where a pass changed the mean stress by less than
 it): passes and interior-point iterations per step are given, and for each backend and
 tolerance the growth exponent b of the step time (and of the conic solve) with the
-element count n, t ~ n^b, a least-squares fit over the sizes run. Times are wall-clock
-seconds of a machine whose load average is printed: other work on its cores inflates
-them (the shares less).
+element count n, t ~ n^b, a least-squares fit over the sizes run. Stage times are
+wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) of a
+machine whose load average is printed: other work on its cores inflates the wall-clock
+times (the shares and the CPU times less).
 
 Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33 65] [--passes 2]
      [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--json PATH]
@@ -40,20 +41,23 @@ def time_steps(nx, steps, passes, pass_tolerance, backend):
     state, scene = granular_column(1.0, nx, passes=passes, backend=backend,
                                    pass_tolerance=pass_tolerance,
                                    dt=0.02 * np.sqrt(1.0 / 9.8))
-    t0 = time.perf_counter()
-    state, _ = run(state, scene, steps + 1)
-    wall = time.perf_counter() - t0
+    state, _ = run(state, scene, 1)
+    cpu = []
+    for _ in range(steps):                  # CPU seconds of each step (all its threads)
+        t0 = time.process_time()
+        state, _ = run(state, scene, 1)
+        cpu.append(time.process_time() - t0)
     h = {k: np.asarray(v[1:], dtype=float) for k, v in state.history.items()
          if k.startswith("t_") or k in ("seconds", "iterations", "elements", "passes")}
     t = {s: float(h[f"t_{s}"].mean()) for s in STAGES[:-1]}
     total = float(h["seconds"].mean())
     t["other"] = total - sum(t.values())     # compile and conic are parts of the solve
     return dict(nx=nx, backend=backend, pass_tolerance=pass_tolerance,
-                elements=int(np.median(h["elements"])), seconds=total, stages=t,
+                elements=int(np.median(h["elements"])), seconds=total,
+                cpu=float(np.mean(cpu)), stages=t,
                 conic_share=t["conic"] / total,
                 solve_share=float(h["t_solve"].mean()) / total,
-                passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()),
-                wall=wall)
+                passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()))
 
 
 def growth(rows, key):
@@ -86,7 +90,7 @@ def main(argv=None):
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           f"cores; mean seconds per step over steps 2-{args.steps + 1}, at most "
           f"{args.passes} passes")
-    head = (f"{'backend':>8s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} "
+    head = (f"{'backend':>8s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} {'cpu':>7s} "
             + " ".join(f"{s:>8s}" for s in STAGES)
             + f" {'solve %':>8s} {'conic %':>8s} {'passes':>6s} {'iters':>6s}")
     print(head)
@@ -97,6 +101,7 @@ def main(argv=None):
                 r = time_steps(nx, args.steps, args.passes, tol, backend)
                 rows.append(r)
                 print(f"{backend:>8s} {tol:6g} {r['elements']:8d} {r['seconds']:7.3f} "
+                      f"{r['cpu']:7.3f} "
                       + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
                       + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
                       f" {r['passes']:6.2f} {r['iterations']:6.1f}", flush=True)
@@ -106,8 +111,9 @@ def main(argv=None):
     for backend in args.backends:
         for tol in args.pass_tolerances:
             mine = [r for r in rows if r["backend"] == backend and r["pass_tolerance"] == tol]
-            print(f"  {backend}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f}, conic "
-                  f"b = {growth(mine, 'stage:conic'):.2f}, iterations "
+            print(f"  {backend}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f} (CPU "
+                  f"{growth(mine, 'cpu'):.2f}), conic b = {growth(mine, 'stage:conic'):.2f}, "
+                  "iterations "
                   + " / ".join(f"{r['iterations']:.1f}" for r in mine))
 
 
