@@ -32,7 +32,6 @@ Run: python benchmarks/pass_tolerance.py [--cases column_a1 column_a3 silo]
 import argparse
 from contextlib import contextmanager, redirect_stdout
 from dataclasses import replace
-import functools
 import importlib
 import io
 import json
