@@ -11,7 +11,8 @@ starts from
 
 * 'lagged': the previous step's (carried by the particles; today's), or
 * 'extrapolated': the previous two steps' extrapolated in time, particle by particle,
-  2 sm^n - sm^(n-1) (a prototype made here, not an engine option);
+  2 sm^n - sm^(n-1) (a prototype made here, not an engine option; after a step that
+  removed particles, the lagged guess);
 
 the table gives passes and iterations per step, the steps that stopped before the last
 pass, the solve time, and each benchmark quantity's change from the run at tolerance 0
@@ -83,14 +84,19 @@ def pass_settings(tolerance, guess, steps):
     previous = {}                      # scene id -> the mean stress of the step before
 
     def extrapolating(state, scene):
-        before = previous.get(id(scene))
-        previous[id(scene)] = state.sigma_m.copy()
+        before = previous.pop(id(scene), None)
+        sm_n = state.sigma_m.copy()
         if before is not None and state.step > 0:
             n = min(len(before), state.n)          # particles keep their index; new ones last
-            sm = state.sigma_m.copy()
-            sm[:n] = 2.0 * state.sigma_m[:n] - before[:n]
+            sm = sm_n.copy()
+            sm[:n] = 2.0 * sm_n[:n] - before[:n]
             state = replace(state, sigma_m=sm)
-        return pfem_step(state, scene)
+        new, record, result = pfem_step(state, scene)
+        # a step that removed particles (an outlet, thinning) shifts the indices after
+        # them: its successor starts from the lagged guess
+        if not (record["thinned"] or sum(record["discharged_now"].values())):
+            previous[id(scene)] = sm_n
+        return new, record, result
 
     pfem_loop.lagged_step = stepping
     if guess == "extrapolated":
