@@ -253,6 +253,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
         "t_rest": float(state.time / t_scale) if rest else float("nan"),
         "volume_change_max": float(np.max(np.abs(hist["area_change"]))),
         "volume_change_final": float(hist["area_change"][-1]),
+        "mass_error": float(np.max(np.abs(np.asarray(hist["mass"]) /
+                                          (rho * scene.regions[0].area) - 1))),
         "final_over_peak_kinetic_energy": float(ke[-1] / ke.max()),
         "final_max_speed_over_sqrt_gh0": float(hist["max_speed"][-1] / np.sqrt(g * h0)),
         "seconds": seconds, "seconds_per_step": float(np.mean(hist["seconds"])),
