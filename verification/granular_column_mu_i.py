@@ -36,14 +36,18 @@ own continuum deposits are not in the research notes (only their parameters and 
 ran a = 0.5, 1.42, 6.26): not compared.
 
 Checks (what holds whatever the rheology): final height at most h0 (to 1 % of the
-spacing), the deposit at rest, the volume (plane: area) within each column script's bound,
-the particle masses summing to rho V (axisymmetric), and the mu(I) column invariant under
-one factor on rho and rho_s together (every stress scales with rho, I with rho_s / rho;
-a factor on rho alone changes the solid fraction and so the flow: no invariance). The
-ordering of the run-outs (mu_2 <= mu(I) <= mu_s, since mu_s <= mu(I) <= mu_2 at every
-point) is expected but not a theorem for an inertial flow (no comparison principle:
-friction changes where the mass goes, not only how fast); it is reported, as is the
-comparison with the experiments: whether mu(I) closes the gap is the result, either way.
+spacing), the deposit at rest, the particle masses summing to rho V (mass is passed on,
+never made), and the mu(I) column invariant under one factor on rho and rho_s together
+(every stress scales with rho, I with rho_s / rho; a factor on rho alone changes the
+solid fraction and so the flow: no invariance, unlike the rate-independent columns). The
+volume (plane: area) change, a discretisation error of the engine that the column scripts
+gate, is reported beside each deposit and marked where it exceeds their bounds (the
+low-friction twins spread into films a few particles thick, where the alpha-shape loses
+area). The ordering of the run-outs (mu_2 <= mu(I) <= mu_s, since mu_s <= mu(I) <= mu_2
+at every point) is expected but not a theorem for an inertial flow (there is no
+comparison principle: friction changes where the mass goes, not only how fast); it is
+reported, as is the comparison with the experiments: whether mu(I) closes the gap is the
+result, either way.
 
 Usage::
 
@@ -65,7 +69,8 @@ from verification import granular_column_axisymmetric as axi  # noqa: E402
 from verification import granular_column_plane as plane  # noqa: E402
 
 LAWS = ("mu(I)", "mu_s", "mu_2", "thesis")
-QUICK = dict(a=[1.0], nx=6, steps=50, a_axi=[0.5], nr=5, steps_axi=50)
+# --quick: mu(I) and its rate-independent limit, one plane and one axisymmetric column
+QUICK = dict(a=[1.0], nx=6, steps=50, a_axi=[0.5], nr=5, steps_axi=50, laws=["mu(I)", "mu_s"])
 HEIGHT_TOLERANCE = 0.01          # of the particle spacing, as the column scripts
 DENSITY_TOLERANCE = 1e-9         # relative: the deposit of (f rho, f rho_s) against (rho, rho_s)
 PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
