@@ -66,7 +66,7 @@ BAD = {
     "granular_column_mu_i": [(["--mu_2", "0.1"], "--mu_2"), (["--mu_s", "1.5"], "--mu_s"),
                              (["--nx", "1"], "--nx"), (["--nr", "1"], "--nr"),
                              (["--a", "0"], "--a"), (["--a_axi", "-1"], "--a_axi"),
-                             (["--laws", "mu_s"], "--laws"), (["--phi", "95"], "--phi"),
+                             (["--laws", "mu"], "--laws"), (["--phi", "95"], "--phi"),
                              (["--rho_axi", "3"], "--rho_axi"), (["--steps", "0"], "--steps"),
                              (["--h0_over_d", "0"], "--h0_over_d"),
                              (["--settle", "-1"], "--settle"), (["--workers", "0"], "--workers"),

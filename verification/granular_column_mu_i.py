@@ -148,8 +148,6 @@ def check(args):
             return f"--mu_2{suffix} must be >= --mu_s{suffix}"
     if not args.rho_axi < args.rho_s_axi:
         return "--rho_axi (bulk density) must be below --rho_s_axi (grain density)"
-    if "mu(I)" not in args.laws:
-        return "--laws must include mu(I)"
     return None
 
 
@@ -233,7 +231,7 @@ def _cases(args):
                                        steps=args.steps_axi, rho=args.rho_axi, r0=args.r0,
                                        mu_w=args.mu_w_axi))
               for a in sorted(args.a_axi) for law in args.laws]
-    if args.a and args.density_factor != 1.0:
+    if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws:
         f = args.density_factor
         cases.append((plane_case, dict(cases[0][1], law="mu(I)", rho=f * args.rho,
                                        soil=dict(soil, rho_s=f * rho_s))))
@@ -273,7 +271,8 @@ def run(args):
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     results = run_cases(run_column, [dict(function=f, keywords=k) for f, k in cases],
                         args.workers, desc="columns with mu(I)", scheduler=args.scheduler)
-    density = results[-1] if args.a and args.density_factor != 1.0 else None
+    density = (results[-1] if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws
+               else None)
     rows = results[:-1] if density is not None else results
     report = Report("granular_column_mu_i", args)
     for r in rows:
