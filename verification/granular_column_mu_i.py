@@ -1,4 +1,4 @@
-"""The granular columns rerun with the mu(I) rheology, beside the rate-independent runs (beyond the thesis).
+"""The granular columns rerun with mu(I), beside rate-independent runs (beyond the thesis).
 
 The thesis' columns run out too far and stand too low, more so the taller they are, and
 the thesis names the cure it did not try (6.4.3, 7.2.3): a friction that grows with the
@@ -308,7 +308,8 @@ def run(args):
 def _print_table(rows):
     """One table: run-out and height of each law beside Lube et al.'s fits."""
     print("final deposits (at rest): run-out (d-d0)/d0 or (r-r0)/r0, height h/d0 or h/r0 "
-          "(at the wall / on the axis), against Lube et al.'s fits as the column scripts print them")
+          "(at the wall / on the axis), against Lube et al.'s fits as the column scripts "
+          "print them")
     print(f"{'geometry':12s} {'a':>5s} {'law':7s} {'run-out':>8s} {'Lube':>7s} {'dev':>7s} "
           f"{'height':>7s} {'Lube':>6s} {'dev':>7s} {'t_rest':>6s} {'|dV|max':>8s} {'s/step':>6s}")
     for r in rows:
@@ -349,7 +350,8 @@ def figures(args, rows):
         if geometry == "plane":
             h_fit, r_fit = plane.lube_thesis(a_fit)
             ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2005 (thesis 6.6)")
-            ax[0].loglog(a_fit, plane.lube_lagree(a_fit), "k--", label="Lube et al. (Lagree et al.)")
+            ax[0].loglog(a_fit, plane.lube_lagree(a_fit), "k--",
+                         label="Lube et al. (Lagree et al.)")
             ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2005 (thesis 6.5)")
             unit = "d0"
         else:
