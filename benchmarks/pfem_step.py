@@ -1,21 +1,31 @@
-"""Time per PFEM step (Ch 2.2) split into its stages: detect, remesh, map, assemble, solve, move.
+"""Time per PFEM step (Ch 2.2) split into its stages, and how it grows with the mesh.
 
-The plane granular column (a = 1, thesis 6.4.3) collapsing, at about 500 and 2,000
-elements: a few steps after the first (which has no old mesh to map from), the
-mean seconds of each stage of :func:`pfem_skfem.drivers.pfem_loop.pfem_step`. Within
-'solve', 'compile' is building the conic problem (cvxpy's canonicalisation, or the
-direct assembly of pfem_skfem.problems.clarabel_direct) and 'conic' is Clarabel
-itself; 'other' is what no stage timer covers (the step record). Each step solves
-``--passes`` problems (the fixed-point passes on the lagged mean stress). Goal: the
-conic solve at least 85 % of a step (512 elements) and 94 % (2,048) with the direct
-backend.
+The plane granular column (a = 1, thesis 6.4.3) collapsing, at about 500, 2,000 and
+8,000 elements (``--nx`` 17, 33, 65 particles across): ``--steps`` steps after the
+first (which has no old mesh to map from), the mean seconds of each stage of
+:func:`pfem_skfem.drivers.pfem_loop.pfem_step` (detect, remesh, map, assemble, solve,
+move). Within 'solve', 'compile' is building the conic problem (cvxpy's
+canonicalisation, or the direct assembly of pfem_skfem.problems.clarabel_direct) and
+'conic' is Clarabel itself; 'other' is what no stage timer covers (the rest of the
+solve stage and the step record). Each step solves one problem per fixed-point pass on
+the lagged mean stress (``--passes`` at most; with a pass tolerance,
+``PFEMConfig.pass_tolerance``, fewer where a pass changed the mean stress by less than
+it): passes and interior-point iterations per step are given, and for each backend and
+tolerance the growth exponent b of the step time (and of the conic solve) with the
+element count n, t ~ n^b, a least-squares fit over the sizes run. Stage times are
+wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) of a
+machine whose load average is printed: other work on its cores inflates the wall-clock
+times (the shares and the CPU times less).
 
-Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33] [--passes 2]
-     [--backends cvxpy clarabel]
+Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33 65] [--passes 2]
+     [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--json PATH]
 """
 import argparse
+import json
+import os
 from pathlib import Path
 import sys
+import time
 
 import numpy as np
 
@@ -26,32 +36,85 @@ from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
 
+def time_steps(nx, steps, passes, pass_tolerance, backend):
+    """Mean seconds per stage, the step, passes and iterations over steps 2..steps+1."""
+    state, scene = granular_column(1.0, nx, passes=passes, backend=backend,
+                                   pass_tolerance=pass_tolerance,
+                                   dt=0.02 * np.sqrt(1.0 / 9.8))
+    state, _ = run(state, scene, 1)
+    cpu = []
+    for _ in range(steps):                  # CPU seconds of each step (all its threads)
+        t0 = time.process_time()
+        state, _ = run(state, scene, 1)
+        cpu.append(time.process_time() - t0)
+    h = {k: np.asarray(v[1:], dtype=float) for k, v in state.history.items()
+         if k.startswith("t_") or k in ("seconds", "iterations", "elements", "passes")}
+    t = {s: float(h[f"t_{s}"].mean()) for s in STAGES[:-1]}
+    total = float(h["seconds"].mean())
+    t["other"] = total - sum(t.values())     # compile and conic are parts of the solve
+    return dict(nx=nx, backend=backend, pass_tolerance=pass_tolerance,
+                elements=int(np.median(h["elements"])), seconds=total,
+                cpu=float(np.mean(cpu)), stages=t,
+                conic_share=t["conic"] / total,
+                solve_share=float(h["t_solve"].mean()) / total,
+                passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()))
+
+
+def growth(rows, key):
+    """b of key ~ elements^b, least squares in log-log (nan with fewer than two sizes)."""
+    n = np.array([r["elements"] for r in rows], dtype=float)
+    y = np.array([r[key] if key in r else r["stages"][key.split(":")[1]] for r in rows])
+    if len(n) < 2:
+        return float("nan")
+    return float(np.polyfit(np.log(n), np.log(y), 1)[0])
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--steps", type=int, default=6)
-    p.add_argument("--nx", type=int, nargs="+", default=[17, 33],
-                   help="particles across the column (17: ~500 elements, 33: ~2,000)")
+    p.add_argument("--nx", type=int, nargs="+", default=[17, 33, 65],
+                   help="particles across the column (17: ~500 elements, 33: ~2,000, "
+                        "65: ~8,000)")
     p.add_argument("--passes", type=int, default=2)
+    p.add_argument("--pass-tolerances", type=float, nargs="+", default=[0.0],
+                   help="PFEMConfig.pass_tolerance of the runs (0: every pass, today's)")
     p.add_argument("--backends", nargs="+", choices=("cvxpy", "clarabel"),
-                   default=["cvxpy", "clarabel"])
+                   default=["clarabel"])
+    p.add_argument("--json", type=Path, default=None, help="write the rows here")
     args = p.parse_args(argv)
-    head = f"{'backend':>8s} {'elements':>8s} {'s/step':>7s} " + \
-        " ".join(f"{s:>8s}" for s in STAGES) + f" {'conic %':>8s} {'iters':>6s}"
+    if args.steps < 1 or args.passes < 1 or min(args.nx) < 2:
+        p.error("--steps and --passes must be >= 1 and --nx >= 2")
+    if any(not t >= 0 for t in args.pass_tolerances):
+        p.error(f"--pass-tolerances must be >= 0, got {args.pass_tolerances}")
+    load = os.getloadavg()
+    print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
+          f"cores; mean seconds per step over steps 2-{args.steps + 1}, at most "
+          f"{args.passes} passes")
+    head = (f"{'backend':>8s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} {'cpu':>7s} "
+            + " ".join(f"{s:>8s}" for s in STAGES)
+            + f" {'solve %':>8s} {'conic %':>8s} {'passes':>6s} {'iters':>6s}")
     print(head)
+    rows = []
     for nx in args.nx:
         for backend in args.backends:
-            state, scene = granular_column(1.0, nx, passes=args.passes, backend=backend,
-                                           dt=0.02 * np.sqrt(1.0 / 9.8))
-            state, _ = run(state, scene, args.steps)
-            h = {k: np.asarray(v[1:]) for k, v in state.history.items()
-                 if k.startswith("t_") or k in ("seconds", "iterations", "elements")}
-            t = {s: h[f"t_{s}"].mean() for s in STAGES[:-1]}
-            total = h["seconds"].mean()
-            # compile and conic are parts of the solve stage; the rest of it is 'other'
-            t["other"] = total - sum(t.values())
-            print(f"{backend:>8s} {int(np.median(h['elements'])):8d} {total:7.3f} "
-                  + " ".join(f"{t[s]:8.3f}" for s in STAGES)
-                  + f" {t['conic'] / total:8.1%} {h['iterations'].mean():6.1f}", flush=True)
+            for tol in args.pass_tolerances:
+                r = time_steps(nx, args.steps, args.passes, tol, backend)
+                rows.append(r)
+                print(f"{backend:>8s} {tol:6g} {r['elements']:8d} {r['seconds']:7.3f} "
+                      f"{r['cpu']:7.3f} "
+                      + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
+                      + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
+                      f" {r['passes']:6.2f} {r['iterations']:6.1f}", flush=True)
+                if args.json is not None:
+                    args.json.write_text(json.dumps(rows, indent=1))
+    print("\ngrowth with the element count n, t ~ n^b:")
+    for backend in args.backends:
+        for tol in args.pass_tolerances:
+            mine = [r for r in rows if r["backend"] == backend and r["pass_tolerance"] == tol]
+            print(f"  {backend}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f} (CPU "
+                  f"{growth(mine, 'cpu'):.2f}), conic b = {growth(mine, 'stage:conic'):.2f}, "
+                  "iterations "
+                  + " / ".join(f"{r['iterations']:.1f}" for r in mine))
 
 
 if __name__ == "__main__":

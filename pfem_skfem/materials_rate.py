@@ -111,10 +111,15 @@ class MuIRheology:
         p = np.maximum(-np.asarray(sigma_m, dtype=float), self.p_min * stress_scale)
         return np.abs(np.asarray(shear_rate, dtype=float)) * self.d / np.sqrt(p / self.rho_s)
 
+    def cone_friction(self, sigma_m, stress_scale, shear_rate):
+        """The friction of the cone: mu(I_j) (lag 'friction') or mu_s (the others)."""
+        if self.lag != "friction":
+            return self.mu_s
+        return self.friction(self.inertial_number(shear_rate, sigma_m, stress_scale))
+
     def radius(self, sigma_m, stress_scale, shear_rate):
         """k_j = max(2 mu p_j, k_min), mu = mu(I_j) (lag 'friction') or mu_s ('viscosity')."""
-        mu = (self.friction(self.inertial_number(shear_rate, sigma_m, stress_scale))
-              if self.lag == "friction" else self.mu_s)
+        mu = self.cone_friction(sigma_m, stress_scale, shear_rate)
         return np.maximum(-2 * mu * np.asarray(sigma_m, dtype=float), self.k_min * stress_scale)
 
     def viscosity(self, sigma_m, stress_scale, shear_rate):
@@ -144,3 +149,44 @@ class MuIRheology:
     def strength_scale(self, sigma_m, stress_scale=1.0):
         """A stress of the step (half the median radius at mu_s), to scale the conic problem."""
         return self.cone(sigma_m, stress_scale).strength_scale()
+
+
+@dataclass(frozen=True)
+class MuIRheologyAxisymmetric(MuIRheology):
+    """mu(I) for the PFEM loop in axisymmetry, Jop's tensorial form with its cone of mu_s,
+
+    .. math::
+        \\sqrt{J_2} \\le k_j, \\quad k_j = \\max\\bigl(\\mu_s\\, p_j,\\; k_{min}\\bigr), \\quad
+        p_j = -I_1 / 3
+
+    (J2 of (7.11) reading the hoop stress;
+    :class:`~pfem_skfem.materials_axisymmetric.VonMisesField`; in simple shear sqrt(J2) = |tau|, so mu is Jop's |tau| / p), the pressure lagged as I1/3
+    as the axisymmetric cones. The rate part is that of :class:`MuIRheology` on the in-plane
+    deviator (a, -a, 0, b) (its sqrt(J2) = ||(a, b)||) with the in-plane shear rate
+    sqrt((e_rr - e_zz)^2 + g_rz^2): the part of the rate that involves the hoop strain
+    gets no rate stress. By the triangle inequality the friction sqrt(J2) / p of a flowing
+    point is at most mu_s + (mu(I_in) - mu_s) <= mu(I) at a fixed point, I_in <= I the
+    in-plane inertial number: the hoop part of the rate effect is left out (a full
+    statement needs a viscous deviator with a hoop component in the step).
+    ``lag="friction"`` puts mu(I_in) in the cone.
+    Parameters as :class:`MuIRheology`.
+    """
+
+    name = "mu(I), axisymmetric (in-plane rate), lagged"
+
+    @staticmethod
+    def mean_stress(sigma):
+        """The lagged quantity: I1/3 (the hoop stress counts)."""
+        from .materials_axisymmetric import mean_stress
+        return mean_stress(sigma)
+
+    def radius(self, sigma_m, stress_scale, shear_rate):
+        """k_j = max(mu p_j, k_min), mu = mu(I_j) (lag 'friction') or mu_s, p = -I1/3."""
+        mu = self.cone_friction(sigma_m, stress_scale, shear_rate)
+        return np.maximum(-mu * np.asarray(sigma_m, dtype=float), self.k_min * stress_scale)
+
+    def cone(self, sigma_m, stress_scale=1.0, shear_rate=None):
+        """The pass's criterion: :class:`VonMisesField` of the radii (no rate: mu_s)."""
+        from .materials_axisymmetric import VonMisesField
+        rate = np.zeros(len(sigma_m)) if shear_rate is None else shear_rate
+        return VonMisesField(self.radius(sigma_m, stress_scale, rate))

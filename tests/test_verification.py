@@ -149,6 +149,14 @@ CASES = [
                                    "a1_phi31_t_rest": Between(0, 8.0),          # and stopped
                                    "a1_phi31_volume_change_max": Between(0, 0.10)},
      column_comes_to_rest),
+    # mu(I) beside its rate-independent limit: heights at most h0, at rest, masses passed on,
+    # and one factor on rho and rho_s together changes nothing (I depends on rho_s / rho)
+    ("granular_column_mu_i", ["--workers", "1"],
+     {"plane_mu(I)_a1_h_inf_over_h0": Between(0, 1.0),
+      "plane_mu(I)_a1_t_rest": Between(0, 8.0),
+      "plane_mu(I)_a1_mass_error": Between(0, 1e-12),
+      "axisymmetric_mu(I)_a0.5_mass_error": Between(0, 1e-12),
+      "density_runout": Between(0, np.inf)}, None),
     ("alpha_shape", [], {"lowest alpha, 2 bodies": Between(0, 0.9),
                          "highest alpha, 2 bodies": Between(1.3, 1.5),
                          "area at alpha=1.3": approx(two_polygons_area(), rel=1e-9),

@@ -95,8 +95,8 @@ PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across 
 
 def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
                                  c=0.0, material="dp", container=False, floor_fraction=0.005,
-                                 dt=None, alpha=1.6, t_end=None, adaptive_alpha=False,
-                                 **config):
+                                 dt=None, alpha=1.6, t_end=None, soil=None,
+                                 adaptive_alpha=False, **config):
     """The axisymmetric column of thesis 7.4 as a scene, and its initial state.
 
     A cylinder r0 in radius and h0 = a r0 high (x = r, y = z), of particles on a square
@@ -105,8 +105,9 @@ def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi
     t = 0 unless ``container``. ``material`` 'dp' (the (7.10) cone with zero dilation) or
     'mc' (Mohr-Coulomb, three cones, zero dilation); the lagged mean stress I1/3 starts
     geostatic with K0 = 1 - sin phi; ``floor_fraction`` is the least cone radius in units
-    of rho g h0; dt defaults to 0.01 sqrt(h0/g); ``adaptive_alpha``: alpha_n = m0 alpha /
-    m_n (thesis Ch 8, :class:`~pfem_skfem.scene.Scene`); other keywords go to
+    of rho g h0; ``soil`` a material object in place of ``material``; dt defaults to
+    0.01 sqrt(h0/g); ``adaptive_alpha``: alpha_n = m0 alpha / m_n (thesis Ch 8,
+    :class:`~pfem_skfem.scene.Scene`); other keywords go to
     :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
 
     Returns (state, scene).
@@ -119,7 +120,8 @@ def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi
     h = r0 / (nr - 1)
     mu = np.tan(np.radians(phi if phi_s is None else phi_s))
     top = 20 * h0 + 10 * r0
-    soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction)
+    if soil is None:
+        soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction)
     column = Region(((0.0, 0.0), (r0, 0.0), (r0, h0), (0.0, h0)), soil, rho, h,
                     stress=Geostatic(), name="column")
     bodies = (Body("base", RigidSegment((-h, 0.0), (top, 0.0), mu)),          # solid below
@@ -170,12 +172,13 @@ def courant_steps(a, nr, courant):
 
 def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
-             save_every=0, verbose=False, history=False, label="", courant=None,
+             save_every=0, verbose=False, history=False, label="", courant=None, soil=None,
              volume_correction=False, adaptive_alpha=False):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``courant``: at least the steps that hold the free-fall Courant number
-    sqrt(2 g h0) dt / h to this (:func:`courant_steps`)."""
+    sqrt(2 g h0) dt / h to this (:func:`courant_steps`). ``soil``: a material object in
+    place of ``material`` (as :func:`granular_column_axisymmetric`)."""
     if courant is not None:
         steps = max(steps, courant_steps(a, nr, courant))
     h0 = a * r0
@@ -185,7 +188,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     state, scene = granular_column_axisymmetric(a, nr, r0=r0, rho=rho, g=g, phi=phi,
                                                 phi_s=phi_s, material=material,
                                                 floor_fraction=floor, dt=dt, alpha=alpha,
-                                                passes=passes, adaptive_alpha=adaptive_alpha,
+                                                passes=passes, soil=soil,
+                                                adaptive_alpha=adaptive_alpha,
                                                 volume_correction=volume_correction)
     series = None
     if outdir is not None and save_every:

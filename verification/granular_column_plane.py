@@ -88,7 +88,7 @@ CONTACTS = {"coulomb": CoulombCones, "zero-dilation": LaggedFriction}
 def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
                     right_wall=False, floor_fraction=0.005, k0=None, E=None, nu=0.3,
                     material="tresca-mc", contact="coulomb", remesh="alpha", quality_size=1.5,
-                    dt=None, theta1=1.0, theta2=1.0, alpha=1.6, t_end=None, **config):
+                    dt=None, theta1=1.0, theta2=1.0, alpha=1.6, t_end=None, soil=None, **config):
     """The plane granular column of thesis Fig 6.11 as a scene, and its initial state.
 
     A column d0 wide and h0 = a d0 high, of particles on a square lattice (nx across),
@@ -98,7 +98,9 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     ``k0`` is given (and so do the stresses of an elastoplastic column, ``E``).
     ``floor_fraction`` is the least cone radius in units of rho g h0; ``material``
     'tresca-mc' (the psi = 0 scheme of [80]) or 'davis'; ``contact`` 'coulomb' or
-    'zero-dilation'; dt defaults to 0.01 sqrt(h0/g). Other keywords go to
+    'zero-dilation'; ``soil`` a material object in place of ``material`` (e.g.
+    :class:`~pfem_skfem.materials_rate.MuIRheology`); dt defaults to 0.01 sqrt(h0/g).
+    Other keywords go to
     :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
 
     Returns (state, scene).
@@ -112,7 +114,8 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
         raise ValueError(f"nx must be >= 2, got {nx!r}")
     top = 20 * h0 + 10 * d0
     elastic = None if E is None else Elastic(E, nu)
-    soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction, elastic=elastic)
+    if soil is None:
+        soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction, elastic=elastic)
     column = Region(((0.0, 0.0), (d0, 0.0), (d0, h0), (0.0, h0)), soil, rho, h,
                     stress=Geostatic(k0=k0), name="column")
     bodies = (Body("base", RigidSegment((-top, 0.0), (top, 0.0), mu)),        # solid above
@@ -177,12 +180,13 @@ def measure_deposit(state, alpha):
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
              d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
-             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True):
+             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None):
     """One column to t = 4 sqrt(h0/g), then on until it is at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
 
     The deposit at t = 4 (the thesis' stopping time) and the deposit at rest are both
-    measured. With ``checkpoint_every``, the state is saved to ``checkpoint_dir``/<case>.npz
+    measured (``soil``: a material object in place of ``material``, as
+    :func:`granular_column`). With ``checkpoint_every``, the state is saved to ``checkpoint_dir``/<case>.npz
     every that many steps up to t = 4, and a run finding that file resumes from it.
     """
     h0 = a * d0
@@ -191,7 +195,7 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                                     floor_fraction=floor, material=material, remesh=remesh,
                                     passes=passes, alpha=alpha, dt=t_end / steps,
                                     contact=contact, E=E, nu=nu,
-                                    refine_surface=refine_surface, bulge=bulge)
+                                    refine_surface=refine_surface, bulge=bulge, soil=soil)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -249,6 +253,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
         "t_rest": float(state.time / t_scale) if rest else float("nan"),
         "volume_change_max": float(np.max(np.abs(hist["area_change"]))),
         "volume_change_final": float(hist["area_change"][-1]),
+        "mass_error": float(np.max(np.abs(np.asarray(hist["mass"]) /
+                                          (rho * scene.regions[0].area) - 1))),
         "final_over_peak_kinetic_energy": float(ke[-1] / ke.max()),
         "final_max_speed_over_sqrt_gh0": float(hist["max_speed"][-1] / np.sqrt(g * h0)),
         "seconds": seconds, "seconds_per_step": float(np.mean(hist["seconds"])),

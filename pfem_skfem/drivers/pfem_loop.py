@@ -58,7 +58,12 @@ class PFEMConfig:
     ----------
     theta : :class:`~pfem_skfem.problems.dynamic.ThetaMethod` (dt, theta1, theta2), held once.
     passes : solves per step when the material or the contact rule is lagged (1: the
-        lagged values only).
+        lagged values only); with ``pass_tolerance`` the most.
+    pass_tolerance : end a step's passes once a pass changes the smoothed mean stress by
+        less than this many stress scales (rho g L; and a lagged contact rule's normal
+        forces by less than this fraction of the largest), after the least passes the
+        scene needs (:func:`~pfem_skfem.problems.nonassociated.least_passes`); 0: always
+        ``passes``.
     contact : contact rule, :class:`~pfem_skfem.problems.contact.CoulombCones` (the
         associated cones of (5.12), the thesis') or
         :class:`~pfem_skfem.problems.contact.LaggedFriction` (no dilation; passes >= 2, and
@@ -83,6 +88,7 @@ class PFEMConfig:
 
     theta: ThetaMethod = field(default_factory=lambda: ThetaMethod(0.01, 1.0, 1.0))
     passes: int = 2
+    pass_tolerance: float = 0.0
     contact: object = field(default_factory=CoulombCones)
     remesher: object = field(default_factory=AlphaMesh)
     remesh_interval: int = 1
@@ -102,6 +108,11 @@ class PFEMConfig:
                              f"{self.contact!r}")
         if int(self.passes) < 1:
             raise ValueError(f"passes must be >= 1, got {self.passes!r}")
+        if not (isinstance(self.pass_tolerance, (int, float, np.number))
+                and not isinstance(self.pass_tolerance, bool)
+                and self.pass_tolerance >= 0):      # inf: the least passes only
+            raise ValueError(f"pass_tolerance must be >= 0 (0: every pass), got "
+                             f"{self.pass_tolerance!r}")
         if int(self.passes) < self.contact.passes_needed:
             raise ValueError(f"contact={self.contact!r} needs passes >= "
                              f"{self.contact.passes_needed} (the first pass finds the normal forces)")
@@ -239,7 +250,8 @@ def pfem_step(state, scene):
         scales = step_scales(state.scales, scene, theta.dt)
         solved = lagged_step(ops, f, contacts, disc, material, config.contact, v_dofs,
                              sigma_n, state.sigma_m[pm.particle], scales, passes=config.passes,
-                             stress_scale=stress_scale, fixed=fixed, backend=config.backend)
+                             stress_scale=stress_scale, fixed=fixed, backend=config.backend,
+                             pass_tolerance=config.pass_tolerance)
     inc = solved.increment
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies

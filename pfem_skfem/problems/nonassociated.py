@@ -7,7 +7,10 @@ non-associated law by an associated one whose cone depends on a known quantity: 
 mean stress sigma_m, the normal contact force p~. Each pass of :func:`lagged_step`
 solves the dynamic step (4.23) + (5.12) with the cones of the previous pass's
 solution (the first pass: the lagged values carried by the particles); at a fixed
-point the associated problem is the non-associated one.
+point the associated problem is the non-associated one. With a pass tolerance the
+passes stop once the fixed point is reached to it: a pass whose solution changes the
+lagged quantities by less than the tolerance would leave the next pass's cones as they
+were.
 """
 from dataclasses import dataclass
 
@@ -28,6 +31,9 @@ class LaggedStep:
     contacts : the contact set it was solved with (None without contacts).
     iterations, compile_time, solve_time : summed over the passes.
     inaccurate : passes Clarabel ended 'AlmostSolved' (accepted, and counted).
+    passes : the passes solved.
+    changes : after each pass, how much its solution changed what the next pass's cones
+        are built from (:func:`lagged_change`; the first pass against the lagged input).
     """
 
     increment: object
@@ -37,10 +43,38 @@ class LaggedStep:
     compile_time: float
     solve_time: float
     inaccurate: int
+    passes: int = 1
+    changes: tuple = ()
+
+
+def least_passes(material_lagged, contact_rule):
+    """The fewest passes a step needs: a lagged contact rule's first pass is smooth (no
+    friction), so the friction needs a second; with a lagged material too, the mean
+    stress must come from a pass with friction, a third (a cone built on the smooth
+    pass's stresses has too little confinement: a stable wedge yields)."""
+    needed = contact_rule.passes_needed
+    return needed + 1 if material_lagged and needed > 1 else needed
+
+
+def lagged_change(sm_before, sm_after, p_before, p_after, stress_scale):
+    """How far a pass moved the lagged quantities of the next pass's cones: the largest
+    change of the smoothed mean stress in units of the scene's stress scale (rho g L), and
+    with a lagged contact rule (``p_before`` not None) the largest change of the normal
+    contact forces in units of the largest of them; the larger of the two. Both are
+    ratios of quantities of one unit, so a c = 0 run's changes do not depend on density.
+    """
+    change = 0.0 if sm_before is None else float(np.max(np.abs(sm_after - sm_before))
+                                                 / stress_scale)
+    if p_before is not None and p_after.size:
+        largest = float(np.max(np.abs(p_after)))
+        if largest > 0:
+            change = max(change, float(np.max(np.abs(p_after - p_before))) / largest)
+    return change
 
 
 def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, sigma_m,
-                scales, *, passes, stress_scale, fixed=(), backend="clarabel"):
+                scales, *, passes, stress_scale, fixed=(), backend="clarabel",
+                pass_tolerance=0.0):
     """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
 
     Parameters
@@ -58,7 +92,11 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     fixed : dofs held at zero increment (a held phase; in axisymmetry u_r on the axis).
     scales : the previous step's DynamicScales, or None (first step: from an elastic
         predictor with the material's strength at sigma_m).
-    passes : number of passes when the material or the contact rule is lagged (else 1).
+    passes : number of passes when the material or the contact rule is lagged (else 1):
+        the most, with ``pass_tolerance``.
+    pass_tolerance : stop after a pass whose :func:`lagged_change` is below this, once
+        :func:`least_passes` are done (0: always ``passes``; a rate-dependent material's
+        passes also update the shear rate, which this does not measure: 0 only).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
     backend : 'clarabel' or 'cvxpy' (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
 
@@ -68,6 +106,13 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     """
     lagged_contact = contacts is not None and contact_rule.passes_needed > 1
     passes = int(passes) if material.lagged or lagged_contact else 1
+    rate = getattr(material, "rate_dependent", False)
+    if not pass_tolerance >= 0:                    # nan refused; inf: least passes
+        raise ValueError(f"pass_tolerance must be >= 0, got {pass_tolerance!r}")
+    if rate and pass_tolerance > 0:
+        raise ValueError(f"pass_tolerance must be 0 with a rate-dependent material (its "
+                         f"passes also update the shear rate), got {pass_tolerance!r}")
+    least = least_passes(material.lagged, contact_rule) if lagged_contact else 1
     free = np.setdiff1d(np.arange(ops.B.shape[1]), fixed)     # ops may tie dofs (periodic)
     if scales is None:           # first step: scales from the strength at the lagged sigma_m
         k_scale = material.strength_scale(vertex_to_points(disc, sigma_m), stress_scale)
@@ -76,9 +121,10 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     iterations, compile_time, solve_time, inaccurate = 0, 0.0, 0.0, 0
     step_contacts = None if contacts is None else contact_rule.start(contacts)
     sm = sigma_m
-    rate = getattr(material, "rate_dependent", False)
+    p_lag = np.zeros(contacts.size) if lagged_contact else None    # the smooth first pass
+    changes = []
     gamma_dot = plastic_strain_increment(disc, ops.B, v_n) if rate else None
-    for _ in range(passes):
+    for k in range(1, passes + 1):
         at_points = vertex_to_points(disc, sm)
         cone = (material.cone(at_points, stress_scale, shear_rate=gamma_dot) if rate
                 else material.cone(at_points, stress_scale))
@@ -92,14 +138,22 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time
         solve_time += inc.info.solve_time
-        sm = smoothed_mean_stress(disc, inc.sigma, getattr(material, "mean_stress", None))
+        sm_before, sm = sm, smoothed_mean_stress(disc, inc.sigma,
+                                                 getattr(material, "mean_stress", None))
+        p_now = np.maximum(inc.p, 0.0) if lagged_contact else None
+        changes.append(lagged_change(sm_before if material.lagged else None, sm, p_lag,
+                                     p_now, stress_scale))
         if rate:
             gamma_dot = plastic_strain_increment(disc, ops.B, inc.du) / ops.theta.dt
         if lagged_contact:
             last_contacts = step_contacts
             step_contacts = contact_rule.update(contacts, inc.p)
+            p_lag = p_now
+        if k >= least and changes[-1] < pass_tolerance:     # the next cones as these
+            break
     used = last_contacts if lagged_contact else step_contacts
-    return LaggedStep(inc, sm, used, iterations, compile_time, solve_time, inaccurate)
+    return LaggedStep(inc, sm, used, iterations, compile_time, solve_time, inaccurate,
+                      passes=k, changes=tuple(changes))
 
 
 @dataclass(frozen=True)

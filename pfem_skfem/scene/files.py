@@ -333,7 +333,7 @@ OUTLET = Spec(Outlet, {"name": STRING, "zone": ZONE})
 PHASE = Spec(Phase, {"name": STRING, "until": NUMBER, "hold": STRING})
 CONFIG = Spec(PFEMConfig, {
     "theta": Table(Spec(ThetaMethod, {"dt": NUMBER, "theta1": NUMBER, "theta2": NUMBER})),
-    "passes": INTEGER,
+    "passes": INTEGER, "pass_tolerance": NUMBER,
     "contact": OneOf(Spec(CoulombCones, {}), Spec(LaggedFriction, {})),
     "remesher": OneOf(Spec(AlphaMesh, {}), Spec(QualityRemesh, {"size": NUMBER})),
     "remesh_interval": INTEGER, "stress_mapping": STRING,

@@ -16,6 +16,7 @@ import numpy as np
 from ..drivers.pfem_loop import PFEMConfig
 from ..geometry import as_geometry
 from ..pfem.state import initial_state
+from ..problems.nonassociated import least_passes
 from .bodies import Body
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, volume_shares
@@ -153,13 +154,17 @@ class Scene:
 
     # -- checks ---------------------------------------------------------------------------
     def _check_passes(self):
-        # A lagged contact rule's first pass is smooth; a lagged material's cone comes from
-        # the mean stress of the pass before. With two passes the last cone would be built
-        # on the stresses of the smooth pass (too little confinement: a stable wedge yields),
-        # so the friction needs a pass of its own before the last: three passes.
+        # the fewest passes (least_passes): with a lagged contact rule and a lagged
+        # material three, so that the last cone is built on stresses with friction
         lagged = [r.name for r in self.regions if getattr(r.material, "lagged", False)]
         rule = self.config.contact
-        if lagged and rule.passes_needed > 1 and int(self.config.passes) < 3:
+        rate = [r.name for r in self.regions if getattr(r.material, "rate_dependent", False)]
+        if rate and self.config.pass_tolerance > 0:     # the passes also move the shear rate
+            raise ValueError(f"pass_tolerance must be 0 with the rate-dependent material of "
+                             f"region {rate[0]!r} (its passes also update the shear rate, "
+                             f"which the tolerance does not measure); got "
+                             f"pass_tolerance={self.config.pass_tolerance!r}")
+        if int(self.config.passes) < least_passes(bool(lagged), rule):
             raise ValueError(f"passes must be >= 3 with contact={rule!r} and the lagged "
                              f"material of region {lagged[0]!r} (pass 1 is smooth, pass 2 "
                              f"has the friction, pass 3 the mean stress with it); got "

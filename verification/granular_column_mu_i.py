@@ -1,0 +1,381 @@
+"""The granular columns rerun with mu(I), beside rate-independent runs (beyond the thesis).
+
+The thesis' columns run out too far and stand too low, more so the taller they are, and
+the thesis names the cure it did not try (6.4.3, 7.2.3): a friction that grows with the
+shear rate. This script reruns the plane columns of 6.4.3
+(:mod:`verification.granular_column_plane`) and the axisymmetric columns of 7.4
+(:mod:`verification.granular_column_axisymmetric`) with the mu(I) rheology of Jop,
+Forterre & Pouliquen (2006) (:mod:`pfem_skfem.materials_rate`, the lagged viscosity by
+default), each beside rate-independent runs of the same size and resolution:
+
+* ``mu_s``: zero-dilation Mohr-Coulomb (plane) / Drucker-Prager with sqrt(J2) <= mu p
+  (axisymmetric) of friction mu_s, the limit mu_2 -> mu_s of the same material;
+* ``mu_2``: the same of friction mu_2, the limit of mu(I) at high rates;
+* ``thesis``: the rate-independent run of the column scripts (plane phi = 31 deg, the
+  cone of [80]; axisymmetric the (7.10) cone, phi_g = 30 deg).
+
+A mu(I) material has a grain size, so a column has a physical size (the normalised deposit
+depends on a and on h0 / d, and on the solid fraction rho / rho_s).
+
+* Plane: Lagree, Staron & Popinet (2011), J. Fluid Mech. 686, their continuum parameters
+  mu_s = 0.32, mu_2 = mu_s + 0.28, I_0 = 0.40, and their column size, h0 = 65 d (their
+  a = 1.42 and 6.26 columns; ``--h0_over_d``), at every a; or a fixed width in grains
+  (``--d0_over_d``). The thesis gives no size for its plane columns, and Lube et al.'s
+  (2005) channels are not in the research notes. Lagree et al. write I with the continuum
+  density, so rho_s defaults to rho.
+* Axisymmetric: Jop et al.'s glass beads (mu_s = 0.38, mu_2 = 0.64, I_0 = 0.279,
+  d = 0.53 mm, rho_s = 2450 kg/m3, solid fraction 0.6) at the one laboratory size the
+  thesis gives, r0 = 3.9 cm (Fig 7.6, Lajeunesse et al.'s glass beads), at every a. The
+  rate part acts on the in-plane deviator only
+  (:class:`~pfem_skfem.materials_rate.MuIRheologyAxisymmetric`): the hoop part of the rate
+  effect is left out.
+
+References: the fits of Lube et al. as the column scripts print them (imported:
+``lube_thesis``, ``lube_lagree``, ``lube_2004``, ``lajeunesse_2004``). Lagree et al.'s
+own continuum deposits are not in the research notes (only their parameters and that they
+ran a = 0.5, 1.42, 6.26): not compared.
+
+Checks (what holds whatever the rheology): final height at most h0 (to 1 % of the
+spacing), the deposit at rest, the particle masses summing to rho V (mass is passed on,
+never made), and the mu(I) column invariant under one factor on rho and rho_s together
+(every stress scales with rho, I with rho_s / rho; a factor on rho alone changes the
+solid fraction and so the flow: no invariance, unlike the rate-independent columns). The
+volume (plane: area) change, a discretisation error of the engine that the column scripts
+gate, is reported beside each deposit and marked where it exceeds their bounds (the
+low-friction twins spread into films a few particles thick, where the alpha-shape loses
+area). The ordering of the run-outs (mu_2 <= mu(I) <= mu_s, since mu_s <= mu(I) <= mu_2
+at every point) is expected but not a theorem for an inertial flow (there is no
+comparison principle: friction changes where the mass goes, not only how fast); it is
+reported, as is the comparison with the experiments: whether mu(I) closes the gap is the
+result, either way.
+
+Usage::
+
+    python verification/granular_column_mu_i.py --quick --json results/granular_column_mu_i.json
+    python verification/granular_column_mu_i.py --a 0.5 1 2 3 5 7 --nx 8 --steps 100
+    python verification/granular_column_mu_i.py --help          # every option
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+                               nonnegative_float, positive_float, positive_int, progress,
+                               pyplot, run_cases, save_figure, sweep_options)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
+from verification import granular_column_axisymmetric as axi  # noqa: E402
+from verification import granular_column_plane as plane  # noqa: E402
+
+LAWS = ("mu(I)", "mu_s", "mu_2", "thesis")
+# --quick: mu(I) and its rate-independent limit, one plane and one axisymmetric column
+QUICK = dict(a=[1.0], nx=6, steps=50, a_axi=[0.5], nr=5, steps_axi=50, laws=["mu(I)", "mu_s"])
+HEIGHT_TOLERANCE = 0.01          # of the particle spacing, as the column scripts
+DENSITY_TOLERANCE = 1e-9         # relative: the deposit of (f rho, f rho_s) against (rho, rho_s)
+PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
+FRICTION = in_range(0, 1, low_open=True, high_open=True, what="a friction coefficient in (0, 1)")
+
+
+def plane_soil(law, a, *, mu_s, mu_2, I_0, h0_over_d, d0_over_d, rho_s, lag, p_min, k_min,
+               phi_thesis, d0=1.0):
+    """The material of one plane column: mu(I) with d = h0 / h0_over_d (or d0 / d0_over_d),
+    or a rate-independent twin (zero-dilation Mohr-Coulomb, sin phi = mu_s, mu_2, or the
+    thesis' phi)."""
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.materials_rate import MuIRheology
+    if law == "mu(I)":
+        d = a * d0 / h0_over_d if d0_over_d is None else d0 / d0_over_d
+        return MuIRheology(mu_s=mu_s, mu_2=mu_2, I_0=I_0, d=d, rho_s=rho_s, p_min=p_min,
+                           k_min=k_min, lag=lag)
+    phi = {"mu_s": np.degrees(np.arcsin(mu_s)), "mu_2": np.degrees(np.arcsin(mu_2)),
+           "thesis": phi_thesis}[law]
+    return ZeroDilationMohrCoulomb(c=0.0, phi=float(phi), k_min=k_min)
+
+
+def axisymmetric_soil(law, *, mu_s, mu_2, I_0, d, rho_s, lag, p_min, k_min, phi_thesis):
+    """The material of one axisymmetric column: mu(I) (in-plane rate), the Drucker-Prager
+    cone sqrt(J2) <= mu p of mu_s or mu_2 (zero dilation), or the thesis' (7.10) cone."""
+    from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager
+    from pfem_skfem.materials_rate import MuIRheologyAxisymmetric
+    if law == "mu(I)":
+        return MuIRheologyAxisymmetric(mu_s=mu_s, mu_2=mu_2, I_0=I_0, d=d, rho_s=rho_s,
+                                       p_min=p_min, k_min=k_min, lag=lag)
+    if law == "thesis":
+        return ZeroDilationDruckerPrager(c=0.0, phi=phi_thesis, k_min=k_min)
+    mu = mu_s if law == "mu_s" else mu_2          # alpha = sin(phi) / 3: sqrt(J2) <= mu p
+    return ZeroDilationDruckerPrager(c=0.0, phi=float(np.degrees(np.arcsin(mu))), k_min=k_min,
+                                     match="plane-strain-psi0")
+
+
+def plane_case(a, law, *, soil, nx, steps, settle, rho, g, mu_w, passes, alpha, verbose=False):
+    """One plane column (:func:`verification.granular_column_plane.run_case`), summarised."""
+    material = plane_soil(law, a, **soil)
+    r = plane.run_case(a, nx=nx, steps=steps, phi=material.phi, mu=mu_w, rho=rho, g=g,
+                       floor=soil["k_min"], passes=passes, alpha=alpha, settle=settle,
+                       soil=material, verbose=verbose)
+    return dict(geometry="plane", law=law, a=a, rho=rho, rho_s=soil["rho_s"],
+                d=getattr(material, "d", None), runout=r["runout_over_d0"],
+                height=r["h_inf_over_d0"], spacing_over_h0=r["spacing_over_h0"],
+                at_rest=r["at_rest"], t_rest=r["t_rest"],
+                volume_change_max=r["volume_change_max"], mass_error=r["mass_error"],
+                elements=r["elements"], seconds=r["seconds"],
+                seconds_per_step=r["seconds_per_step"])
+
+
+def axisymmetric_case(a, law, *, soil, nr, steps, settle, rho, g, r0, mu_w, passes, alpha,
+                      verbose=False):
+    """One column of revolution (:func:`verification.granular_column_axisymmetric.run_case`),
+    summarised."""
+    material = axisymmetric_soil(law, **soil)
+    r = axi.run_case(a, nr=nr, steps=steps, phi=material.phi,
+                     phi_s=float(np.degrees(np.arctan(mu_w))), rho=rho, g=g, r0=r0,
+                     passes=passes, alpha=alpha, floor=soil["k_min"], settle=settle,
+                     soil=material, verbose=verbose)
+    return dict(geometry="axisymmetric", law=law, a=a, rho=rho, rho_s=soil["rho_s"],
+                d=getattr(material, "d", None), runout=r["runout_over_r0"],
+                height=r["h_inf_over_r0"], spacing_over_h0=r["spacing_over_r0"] / a,
+                at_rest=r["at_rest"], t_rest=r["t_rest"],
+                volume_change_max=r["volume_change_max"], mass_error=r["mass_error"],
+                elements=r["elements"], seconds=r["seconds"],
+                seconds_per_step=r["seconds_per_step"])
+
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    for suffix in ("", "_axi"):
+        if not getattr(args, "mu_2" + suffix) >= getattr(args, "mu_s" + suffix):
+            return f"--mu_2{suffix} must be >= --mu_s{suffix}"
+    if not args.rho_axi < args.rho_s_axi:
+        return "--rho_axi (bulk density) must be below --rho_s_axi (grain density)"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--a", type=positive_float, nargs="*", default=list(plane.ASPECTS),
+                   help="plane aspect ratios h0/d0 (none: no plane sweep)")
+    p.add_argument("--a_axi", type=positive_float, nargs="*", default=list(axi.ASPECTS),
+                   help="axisymmetric aspect ratios h0/r0 (none: no axisymmetric sweep)")
+    p.add_argument("--laws", choices=LAWS, nargs="+", default=list(LAWS),
+                   help="mu(I) and the rate-independent twins to run")
+    p.add_argument("--lag", choices=("viscosity", "implicit", "friction"), default="viscosity",
+                   help="how the rate enters the step (MuIRheology)")
+    p.add_argument("--p_min", type=positive_float, default=1e-3,
+                   help="least pressure in I, in units of rho g h0")
+    p.add_argument("--k_min", type=positive_float, default=0.005,
+                   help="least cone radius, in units of rho g h0 (the column scripts' floor)")
+    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    p.add_argument("--settle", type=nonnegative_float, default=4.0,
+                   help="after t/sqrt(h0/g) = 4, go on for at most this long until at rest")
+    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes a step")
+    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
+    p.add_argument("--density_factor", type=positive_float, default=2.0,
+                   help="factor on rho and rho_s of the invariance run (mu(I), first plane a; "
+                        "1: none)")
+    g = p.add_argument_group("plane columns (Lagree, Staron & Popinet 2011)")
+    g.add_argument("--mu_s", type=FRICTION, default=0.32, help="static friction")
+    g.add_argument("--mu_2", type=FRICTION, default=0.60, help="limiting friction (mu_s + 0.28)")
+    g.add_argument("--I_0", type=positive_float, default=0.40, help="I_0 of mu(I)")
+    g.add_argument("--h0_over_d", type=positive_float, default=65.0,
+                   help="column height in grain diameters (Lagree et al.: 65)")
+    g.add_argument("--d0_over_d", type=positive_float, default=None,
+                   help="column width in grain diameters, in place of --h0_over_d")
+    g.add_argument("--rho", type=positive_float, default=2.0, help="bulk density [t/m3]")
+    g.add_argument("--rho_s", type=positive_float, default=None,
+                   help="density in I [t/m3] (default --rho: Lagree et al.'s continuum density)")
+    g.add_argument("--mu_w", type=nonnegative_float, default=float(np.tan(np.radians(31.0))),
+                   help="base and wall friction (default tan 31 deg, the plane script's)")
+    g.add_argument("--phi", type=friction_angle, default=31.0,
+                   help="friction angle of the thesis' run [deg]")
+    g.add_argument("--nx", type=PARTICLES_ACROSS, default=8, help="particles across d0")
+    g.add_argument("--steps", type=positive_int, default=100,
+                   help="time steps to t/sqrt(h0/g) = 4")
+    g = p.add_argument_group("axisymmetric columns (Jop et al. 2006 glass beads)")
+    g.add_argument("--mu_s_axi", type=FRICTION, default=0.38, help="static friction")
+    g.add_argument("--mu_2_axi", type=FRICTION, default=0.64, help="limiting friction")
+    g.add_argument("--I_0_axi", type=positive_float, default=0.279, help="I_0 of mu(I)")
+    g.add_argument("--d_axi", type=positive_float, default=0.53e-3, help="grain diameter [m]")
+    g.add_argument("--rho_s_axi", type=positive_float, default=2.45,
+                   help="grain density [t/m3]")
+    g.add_argument("--rho_axi", type=positive_float, default=0.6 * 2.45,
+                   help="bulk density [t/m3] (solid fraction 0.6)")
+    g.add_argument("--r0", type=positive_float, default=0.039,
+                   help="column radius [m] (thesis Fig 7.6: 3.9 cm)")
+    g.add_argument("--mu_w_axi", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
+                   help="base friction (default tan 30 deg, the axisymmetric script's)")
+    g.add_argument("--phi_axi", type=friction_angle, default=30.0,
+                   help="friction angle phi_g of the thesis' (7.10) run [deg]")
+    g.add_argument("--nr", type=PARTICLES_ACROSS, default=8, help="particles across r0")
+    g.add_argument("--steps_axi", type=positive_int, default=100,
+                   help="time steps to t/sqrt(h0/g) = 4")
+    sweep_options(p, what="the columns")
+    return p
+
+
+def _cases(args):
+    """The plane and axisymmetric cases, then the density-invariance case."""
+    rho_s = args.rho if args.rho_s is None else args.rho_s
+    soil = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, h0_over_d=args.h0_over_d,
+                d0_over_d=args.d0_over_d, rho_s=rho_s, lag=args.lag, p_min=args.p_min,
+                k_min=args.k_min, phi_thesis=args.phi)
+    common = dict(settle=args.settle, g=args.g, passes=args.passes, alpha=args.alpha,
+                  verbose=args.progress)
+    cases = [(plane_case, dict(common, a=a, law=law, soil=soil, nx=args.nx, steps=args.steps,
+                                rho=args.rho, mu_w=args.mu_w))
+             for a in sorted(args.a) for law in args.laws]
+    soil_axi = dict(mu_s=args.mu_s_axi, mu_2=args.mu_2_axi, I_0=args.I_0_axi, d=args.d_axi,
+                    rho_s=args.rho_s_axi, lag=args.lag, p_min=args.p_min, k_min=args.k_min,
+                    phi_thesis=args.phi_axi)
+    cases += [(axisymmetric_case, dict(common, a=a, law=law, soil=soil_axi, nr=args.nr,
+                                       steps=args.steps_axi, rho=args.rho_axi, r0=args.r0,
+                                       mu_w=args.mu_w_axi))
+              for a in sorted(args.a_axi) for law in args.laws]
+    if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws:
+        f = args.density_factor
+        cases.append((plane_case, dict(cases[0][1], law="mu(I)", rho=f * args.rho,
+                                       soil=dict(soil, rho_s=f * rho_s))))
+    return cases
+
+
+def run_column(function, keywords):
+    """One case of :func:`_cases` (module level, for the Dask workers)."""
+    return function(**keywords)
+
+
+def _references(r):
+    """Lube et al.'s fits at the case's a: (run-out, height) as the column scripts print them."""
+    if r["geometry"] == "plane":
+        h_ref, r_ref = (float(v) for v in plane.lube_thesis(r["a"]))
+        return {"runout_lube": r_ref, "height_lube": h_ref,
+                "runout_lube_lagree": float(plane.lube_lagree(r["a"]))}
+    r_ref, h_ref, in_range = (v.item() for v in axi.lube_2004(r["a"]))
+    return {"runout_lube": r_ref, "height_lube": h_ref if in_range else float("nan"),
+            "height_lajeunesse": float(axi.lajeunesse_2004(r["a"])[1])}
+
+
+def volume_bound(geometry):
+    """The column script's stated bound on the volume (plane: area) change."""
+    return plane.VOLUME_BOUND if geometry == "plane" else axi.VOLUME_BOUND
+
+
+def _dev(value, ref):
+    return value / ref - 1 if np.isfinite(ref) else float("nan")
+
+
+def run(args):
+    """The plane and axisymmetric sweeps and the invariance run; the Report of their checks."""
+    cases = _cases(args)
+    if args.progress:
+        progress(f"{len(cases)} column(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
+    results = run_cases(run_column, [dict(function=f, keywords=k) for f, k in cases],
+                        args.workers, desc="columns with mu(I)", scheduler=args.scheduler)
+    density = (results[-1] if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws
+               else None)
+    rows = results[:-1] if density is not None else results
+    report = Report("granular_column_mu_i", args)
+    for r in rows:
+        r["reference"] = _references(r)
+        r["deviation"] = {"runout_lube": _dev(r["runout"], r["reference"]["runout_lube"]),
+                          "height_lube": _dev(r["height"], r["reference"]["height_lube"])}
+        r["volume_change_over_bound"] = bool(r["volume_change_max"] > volume_bound(r["geometry"]))
+    _print_table(rows)
+    for r in rows:
+        tag = f"{r['geometry']}_{r['law']}_a{r['a']:g}"
+        report.add_interval(f"{tag}_h_inf_over_h0", r["height"] / r["a"], 0.0, 1.0,
+                            f"final height at most h0, to {HEIGHT_TOLERANCE:.0%} of the spacing",
+                            tolerance=HEIGHT_TOLERANCE * r["spacing_over_h0"])
+        report.add_interval(f"{tag}_t_rest", r["t_rest"] if r["at_rest"] else np.inf, 0.0,
+                            4.0 + args.settle, "the deposit comes to rest")
+        report.add_interval(f"{tag}_mass_error", r["mass_error"], 0.0, 1e-12,
+                            "particle masses sum to rho V (passed on, never made)")
+    if density is not None:
+        base = next(r for r in rows if r["law"] == "mu(I)" and r["geometry"] == "plane"
+                    and r["a"] == density["a"])
+        for key in ("runout", "height"):
+            report.add(f"density_{key}", density[key], base[key],
+                       f"mu(I): rho and rho_s times {args.density_factor:g} (every stress "
+                       "scales, I does not)", DENSITY_TOLERANCE)
+        print(f"\ninvariance, plane a = {base['a']:g}, mu(I): rho, rho_s x "
+              f"{args.density_factor:g}: run-out {density['runout']:.6f} against "
+              f"{base['runout']:.6f}, height {density['height']:.6f} against {base['height']:.6f}")
+    report.extra = {"columns": rows, "density": density}
+    report.data = dict(rows=rows)
+    return report
+
+
+def _print_table(rows):
+    """One table: run-out and height of each law beside Lube et al.'s fits."""
+    print("final deposits (at rest): run-out (d-d0)/d0 or (r-r0)/r0, height h/d0 or h/r0 "
+          "(at the wall / on the axis), against Lube et al.'s fits as the column scripts "
+          "print them")
+    print(f"{'geometry':12s} {'a':>5s} {'law':7s} {'run-out':>8s} {'Lube':>7s} {'dev':>7s} "
+          f"{'height':>7s} {'Lube':>6s} {'dev':>7s} {'t_rest':>6s} {'|dV|max':>8s} {'s/step':>6s}")
+    for r in rows:
+        ref, dev = r["reference"], r["deviation"]
+        over = "*" if r["volume_change_max"] > volume_bound(r["geometry"]) else " "
+        print(f"{r['geometry']:12s} {r['a']:5.3g} {r['law']:7s} {r['runout']:8.3f} "
+              f"{ref['runout_lube']:7.3f} {dev['runout_lube']:+7.1%} {r['height']:7.3f} "
+              f"{ref['height_lube']:6.3f} {dev['height_lube']:+7.1%} {r['t_rest']:6.2f} "
+              f"{r['volume_change_max']:8.2%}{over} {r['seconds_per_step']:6.2f}")
+    print(f"(*: above the column script's bound on the volume change, plane "
+          f"{volume_bound('plane'):.0%}, axisymmetric {volume_bound('axisymmetric'):.0%})")
+    for geometry in ("plane", "axisymmetric"):
+        for a in sorted({r["a"] for r in rows if r["geometry"] == geometry}):
+            by = {r["law"]: r for r in rows if r["geometry"] == geometry and r["a"] == a}
+            if {"mu(I)", "mu_s", "mu_2"} <= set(by):
+                lo, mid, hi = by["mu_2"]["runout"], by["mu(I)"]["runout"], by["mu_s"]["runout"]
+                print(f"{geometry} a = {a:g}: run-out mu_2 {lo:.3f} <= mu(I) {mid:.3f} <= "
+                      f"mu_s {hi:.3f}: {'holds' if lo <= mid <= hi else 'does not hold'}")
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    return run(args).finish(args, figures)
+
+
+MARKS = {"mu(I)": "o", "mu_s": "v", "mu_2": "^", "thesis": "s"}
+
+
+def figures(args, rows):
+    """Run-out and height against a, log-log, each law beside Lube et al.'s fits."""
+    plt = pyplot()
+    geometries = [g for g in ("plane", "axisymmetric") if any(r["geometry"] == g for r in rows)]
+    fig, axes = plt.subplots(len(geometries), 2, figsize=(10, 4 * len(geometries)),
+                             squeeze=False)
+    for ax, geometry in zip(axes, geometries):
+        rs = [r for r in rows if r["geometry"] == geometry]
+        a_fit = np.logspace(np.log10(0.3), np.log10(max(r["a"] for r in rs) * 1.3), 200)
+        if geometry == "plane":
+            h_fit, r_fit = plane.lube_thesis(a_fit)
+            ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2005 (thesis 6.6)")
+            ax[0].loglog(a_fit, plane.lube_lagree(a_fit), "k--",
+                         label="Lube et al. (Lagree et al.)")
+            ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2005 (thesis 6.5)")
+            unit = "d0"
+        else:
+            r_fit, h_fit, _ = axi.lube_2004(a_fit)
+            ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2004 (7.31)")
+            ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2004 (7.32)")
+            ax[1].loglog(a_fit, axi.lajeunesse_2004(a_fit)[1], "k--",
+                         label="Lajeunesse et al. 2004 (7.34)")
+            unit = "r0"
+        for law in LAWS:
+            g = sorted((r for r in rs if r["law"] == law), key=lambda r: r["a"])
+            if g:
+                a = [r["a"] for r in g]
+                ax[0].loglog(a, [r["runout"] for r in g], MARKS[law], label=f"PFEM, {law}")
+                ax[1].loglog(a, [r["height"] for r in g], MARKS[law], label=f"PFEM, {law}")
+        ax[0].set_ylabel(f"run-out / {unit}")
+        ax[1].set_ylabel(f"final height / {unit}")
+        for x in ax:
+            x.set_xlabel(f"a = h0 / {unit}")
+            x.set_title(f"{geometry} columns", fontsize=9)
+            x.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, figure_dir(args, "granular_column_mu_i") / "deposit_vs_a.png")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
