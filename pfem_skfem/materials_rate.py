@@ -159,9 +159,10 @@ class MuIRheologyAxisymmetric(MuIRheology):
         \\sqrt{J_2} \\le k_j, \\quad k_j = \\max\\bigl(\\mu_s\\, p_j,\\; k_{min}\\bigr), \\quad
         p_j = -I_1 / 3
 
-    (J2 of (7.11) reading the hoop stress;
-    :class:`~pfem_skfem.materials_axisymmetric.VonMisesField`; in simple shear sqrt(J2) = |tau|, so mu is Jop's |tau| / p), the pressure lagged as I1/3
-    as the axisymmetric cones. The rate part is that of :class:`MuIRheology` on the in-plane
+    (J2 of (7.11) reading the hoop stress,
+    :class:`~pfem_skfem.materials_axisymmetric.VonMisesField`; in simple shear
+    sqrt(J2) = |tau|, so mu is Jop's |tau| / p), the pressure lagged as I1/3 as the
+    axisymmetric cones. The rate part is that of :class:`MuIRheology` on the in-plane
     deviator (a, -a, 0, b) (its sqrt(J2) = ||(a, b)||) with the in-plane shear rate
     sqrt((e_rr - e_zz)^2 + g_rz^2): the part of the rate that involves the hoop strain
     gets no rate stress. By the triangle inequality the friction sqrt(J2) / p of a flowing

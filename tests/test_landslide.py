@@ -38,7 +38,7 @@ def test_the_held_phase_keeps_every_particle_still(quick):
     assert base["hold_sigma_m_last_change"] < 1e-5
 
 
-def test_adaptive_alpha_keeps_the_mass_within_2_percent(quick):
+def test_adaptive_alpha_and_the_volume_projection_keep_the_mass_within_2_percent(quick):
     """With the move stage's volume projection (the script's default) the mass stays within
     the thesis' 2 % at this size; without it the coarse mass loses 5.6-6.5 % (the step's
     second-order area loss, which alpha cannot recover)."""

@@ -74,12 +74,8 @@ ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # dt/sqrt(h0/g) = 0.02, -27 % at 10 with 0.01).
 QUICK = dict(a=[0.5], nr=6, steps=100, settle=4.0, no_fit_gates=True)
 # Stated bound on the volume change (issue 17: 3 %; thesis Ch 8 claims 2 %, Ch 6 2-6 %).
-# Measured (8 across r0, dt/sqrt(h0/g) = 0.02): 0.6 % at a = 0.5, 2.5 % at 1, 10-12 / 14 /
-# 16-18 % at a = 2 / 4 / 8: the check fails beyond a = 1. The P2 flow is isochoric to first
-# order (hoop strain included); the loss is its second-order part (halves with dt: 13.8 of
-# the 16.2 % at a = 8; see --courant) and, at a = 2, the alpha-shape at the thin toe (5.7 %).
-# With --volume-correction on (the second-order part put back): 4.8 / 7.9 / 4.1 % at a = 1 /
-# 2 / 4 (10 across, 0.01), 2.3 % at a = 8 (8 across, 0.02): the toe's alpha-shape remains.
+# Where the volume goes (the second-order part of the P2 flow, which --volume-correction
+# puts back, and the alpha-shape at the thin toe), measured: book, axisymmetric_columns.md.
 VOLUME_BOUND = 0.03
 # At rest: every particle slower than REST_SPEED sqrt(g h0) (as the plane column).
 REST_SPEED = 1e-3

@@ -186,8 +186,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
 
     The deposit at t = 4 (the thesis' stopping time) and the deposit at rest are both
     measured (``soil``: a material object in place of ``material``, as
-    :func:`granular_column`). With ``checkpoint_every``, the state is saved to ``checkpoint_dir``/<case>.npz
-    every that many steps up to t = 4, and a run finding that file resumes from it.
+    :func:`granular_column`). With ``checkpoint_every``, the state is saved to
+    ``checkpoint_dir``/<case>.npz every that many steps up to t = 4, and a run finding that file resumes from it.
     """
     h0 = a * d0
     t_end = 4.0 * np.sqrt(h0 / g)
