@@ -8,7 +8,7 @@ shear rate is the closed form sqrt(2 D':D') = sqrt(3) |D_zz| (not the in-plane
 (at its fixed point) and the implicit statement (within the step), the direct Clarabel
 and cvxpy statements agreeing; through the PFEM engine, mu_2 = mu_s is the
 zero-dilation Drucker-Prager twin sqrt(J2) <= mu_s p, and mu_2 = mu_s (1 + 1e-6) to
-solver tolerance.
+solver tolerance; rho and rho_s doubled together leave a column bit-identical.
 """
 import sys
 from pathlib import Path
@@ -142,3 +142,18 @@ def test_pfem_column_with_mu_2_equal_mu_s_is_the_drucker_prager_twin(lag, tol):
     assert np.abs(near.x - twin.x).max() < tol * motion
     speed = lambda st: np.linalg.norm(st.v, axis=1).max()         # noqa: E731
     assert 0 < speed(slow) < speed(twin)
+
+
+def test_column_with_rho_and_rho_s_doubled_is_bit_identical():
+    """c = 0: every stress scales with rho, I with rho_s / rho (not at all), the viscosity
+    with sqrt(rho_s p): the same motion, bit for bit (a factor of two is exact)."""
+    from pfem_skfem.drivers.pfem_loop import run
+
+    def column(rho):
+        m = MuIRheologyAxisymmetric(mu_s=MU_S, mu_2=MU_2, d=0.01, rho_s=rho / 0.6)
+        state, scene = granular_column_axisymmetric(1.0, 5, rho=rho, phi=m.phi, soil=m)
+        return run(state, scene, 5)[0]
+
+    a, b = column(2.0), column(4.0)
+    assert np.abs(a.x - granular_column_axisymmetric(1.0, 5)[0].x).max() > 1e-4   # it flows
+    np.testing.assert_array_equal(a.x, b.x)
