@@ -64,11 +64,22 @@ def collapsed(p, t):
     return twice_area <= 1e-10 * np.max(np.sum(e ** 2, axis=2), axis=1)
 
 
-def plastic_strain_increment(disc, B, du):
+def plastic_strain_increment(disc, B, du, hoop=False):
     """Equivalent plastic strain increment sqrt((dexx - deyy)^2 + dgxy^2) at each stress point.
 
-    For a rigid-plastic body the whole strain increment is plastic; strains are the
-    rows of B du divided by the stress point's weight (B integrates N_sigma B_u).
+    With ``hoop`` (axisymmetry, strains (rr, zz, tt, rz)) the hoop strain counts: the
+    shear strain sqrt(2 de':de') of the deviator de',
+
+    .. math::
+        \\sqrt{\\tfrac23\\bigl((e_{rr}-e_{zz})^2 + (e_{zz}-e_{tt})^2 + (e_{tt}-e_{rr})^2\\bigr)
+        + \\gamma_{rz}^2}
+
+    which is the in-plane one for an isochoric flow with e_tt = 0. For a rigid-plastic
+    body the whole strain increment is plastic; strains are the rows of B du divided by
+    the stress point's weight (B integrates N_sigma B_u).
     """
     e = (B @ du).reshape(-1, 4) / disc.weights[:, None]
-    return np.sqrt((e[:, 0] - e[:, 1]) ** 2 + e[:, 3] ** 2)
+    if not hoop:
+        return np.sqrt((e[:, 0] - e[:, 1]) ** 2 + e[:, 3] ** 2)
+    normal = (e[:, 0] - e[:, 1]) ** 2 + (e[:, 1] - e[:, 2]) ** 2 + (e[:, 2] - e[:, 0]) ** 2
+    return np.sqrt(2.0 / 3.0 * normal + e[:, 3] ** 2)

@@ -85,6 +85,7 @@ class MuIRheology:
     name = "mu(I), lagged"
     lagged = True              # the cone depends on the mean stress and the shear rate
     rate_dependent = True      # lagged_step hands it the previous pass's shear rate
+    hoop = False               # plane: the in-plane deviator is the whole deviator
 
     def __post_init__(self):
         for name in ("mu_s", "I_0", "d", "rho_s", "p_min", "k_min"):
@@ -137,9 +138,9 @@ class MuIRheology:
             p = np.maximum(-np.asarray(sigma_m, dtype=float), self.p_min * stress_scale)
             tau_max = (self.mu_2 - self.mu_s) * p
             kappa = self.d / np.sqrt(p / self.rho_s)
-            return RateDissipation(tau_max * self.I_0 / kappa, tau_max, weights)
+            return RateDissipation(tau_max * self.I_0 / kappa, tau_max, weights, hoop=self.hoop)
         rate = np.zeros(len(sigma_m)) if shear_rate is None else shear_rate
-        return ViscousStress(self.viscosity(sigma_m, stress_scale, rate), weights)
+        return ViscousStress(self.viscosity(sigma_m, stress_scale, rate), weights, hoop=self.hoop)
 
     def cone(self, sigma_m, stress_scale=1.0, shear_rate=None):
         """The pass's criterion: :class:`TrescaField` of the radii (no rate: mu_s)."""
@@ -153,27 +154,34 @@ class MuIRheology:
 
 @dataclass(frozen=True)
 class MuIRheologyAxisymmetric(MuIRheology):
-    """mu(I) for the PFEM loop in axisymmetry, Jop's tensorial form with its cone of mu_s,
+    """mu(I) for the PFEM loop in axisymmetry, Jop's tensorial form
+    sigma' = mu(I) p D' / sqrt(D':D' / 2), i.e. sqrt(J2) = mu(I) p at a flowing point, with
+    its cone of mu_s,
 
     .. math::
         \\sqrt{J_2} \\le k_j, \\quad k_j = \\max\\bigl(\\mu_s\\, p_j,\\; k_{min}\\bigr), \\quad
-        p_j = -I_1 / 3
+        p_j = -I_1 / 3, \\quad
+        \\dot\\gamma = \\sqrt{2 D':D'} = \\sqrt{\\tfrac23\\bigl((D_{rr}-D_{zz})^2
+        + (D_{zz}-D_{\\theta\\theta})^2 + (D_{\\theta\\theta}-D_{rr})^2\\bigr)
+        + \\dot\\gamma_{rz}^2}
 
     (J2 of (7.11) reading the hoop stress,
     :class:`~pfem_skfem.materials_axisymmetric.VonMisesField`; in simple shear
-    sqrt(J2) = |tau|, so mu is Jop's |tau| / p), the pressure lagged as I1/3 as the
-    axisymmetric cones. The rate part is that of :class:`MuIRheology` on the in-plane
-    deviator (a, -a, 0, b) (its sqrt(J2) = ||(a, b)||) with the in-plane shear rate
-    sqrt((e_rr - e_zz)^2 + g_rz^2): the part of the rate that involves the hoop strain
-    gets no rate stress. By the triangle inequality the friction sqrt(J2) / p of a flowing
-    point is at most mu_s + (mu(I_in) - mu_s) <= mu(I) at a fixed point, I_in <= I the
-    in-plane inertial number: the hoop part of the rate effect is left out (a full
-    statement needs a viscous deviator with a hoop component in the step).
-    ``lag="friction"`` puts mu(I_in) in the cone.
-    Parameters as :class:`MuIRheology`.
+    sqrt(J2) = |tau| and gamma_dot is the shear rate, so mu is Jop's |tau| / p), the
+    pressure lagged as I1/3 as the axisymmetric cones. The rate part is that of
+    :class:`MuIRheology` on the whole deviator of axisymmetry,
+    (a, -a, 0, b) + c (1, 1, -2, 0) / sqrt3 (sqrt(J2) = ||(a, b, c)||, ``hoop`` of
+    :class:`~pfem_skfem.problems.dynamic.ViscousStress`), whose conjugate rate has the norm
+    gamma_dot above (the hoop strain counted,
+    :func:`~pfem_skfem.fields.plastic_strain_increment` with ``hoop``): at a flowing
+    point sigma_p and sigma_v share the direction of D', so
+    sqrt(J2) = mu_s p + eta gamma_dot = mu(I) p at the fixed point (lag 'viscosity') or
+    within the step (lag 'implicit'). ``lag="friction"`` puts mu(I) of the full rate in
+    the cone. Parameters as :class:`MuIRheology`.
     """
 
-    name = "mu(I), axisymmetric (in-plane rate), lagged"
+    name = "mu(I), axisymmetric, lagged"
+    hoop = True                # the rate deviator and shear rate count the hoop strain
 
     @staticmethod
     def mean_stress(sigma):

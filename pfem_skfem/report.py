@@ -487,6 +487,27 @@ def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
     return parser
 
 
+def volume_correction_option(parser, default="off", why=""):
+    """Add ``--volume-correction {on,off}``, ``PFEMConfig.volume_correction`` (the move
+    stage's volume projection, :mod:`pfem_skfem.pfem.volume_projection`), to ``parser``;
+    the script reads it as ``args.volume_correction == "on"``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    default : "on" or "off"
+    why : str
+        Appended to the help text (e.g. what the default is chosen for).
+    """
+    if default not in ("on", "off"):
+        raise ValueError(f"default must be 'on' or 'off', got {default!r}")
+    parser.add_argument("--volume-correction", choices=("on", "off"), default=default,
+                        help="shift the moved particles so that every vertex patch keeps the "
+                             "volume their linearised motion states "
+                             "(PFEMConfig.volume_correction)" + (f"; {why}" if why else ""))
+    return parser
+
+
 class SweepError(RuntimeError):
     """Cases of a sweep failed: ``failures`` holds (index, case, exception) of each,
     ``results`` the results of all cases (None where a case failed)."""

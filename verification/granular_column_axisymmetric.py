@@ -62,7 +62,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
                                progress, progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options, thinned)
+                               sweep_options, thinned, volume_correction_option)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -307,10 +307,8 @@ def build_parser():
     p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, as a fraction of rho g h0")
-    p.add_argument("--volume-correction", choices=("on", "off"), default="off",
-                   help="shift the moved particles so that every vertex patch keeps the volume "
-                        "their linearised motion states (PFEMConfig.volume_correction; off: "
-                        "the toe's alpha-shape losses dominate, see the book)")
+    volume_correction_option(p, "off", why="off: the toe's alpha-shape losses dominate, "
+                                           "see the book")
     p.add_argument("--adaptive-alpha", action="store_true",
                    help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n "
                         "(thesis Ch 8)")

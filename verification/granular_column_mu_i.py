@@ -26,9 +26,10 @@ depends on a and on h0 / d, and on the solid fraction rho / rho_s).
 * Axisymmetric: Jop et al.'s glass beads (mu_s = 0.38, mu_2 = 0.64, I_0 = 0.279,
   d = 0.53 mm, rho_s = 2450 kg/m3, solid fraction 0.6) at the one laboratory size the
   thesis gives, r0 = 3.9 cm (Fig 7.6, Lajeunesse et al.'s glass beads), at every a. The
-  rate part acts on the in-plane deviator only
-  (:class:`~pfem_skfem.materials_rate.MuIRheologyAxisymmetric`): the hoop part of the rate
-  effect is left out.
+  rate part acts on the whole deviator, the hoop strain counted in the shear rate
+  (:class:`~pfem_skfem.materials_rate.MuIRheologyAxisymmetric`). ``--volume-correction on``
+  applies the move stage's volume projection to these columns (off by default, as the
+  axisymmetric script).
 
 References: the fits of Lube et al. as the column scripts print them (imported:
 ``lube_thesis``, ``lube_lagree``, ``lube_2004``, ``lajeunesse_2004``). Lagree et al.'s
@@ -62,7 +63,8 @@ import numpy as np
 
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, positive_float, positive_int, progress,
-                               pyplot, run_cases, save_figure, sweep_options)
+                               pyplot, run_cases, save_figure, sweep_options,
+                               volume_correction_option)
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification import granular_column_axisymmetric as axi  # noqa: E402
@@ -94,7 +96,7 @@ def plane_soil(law, a, *, mu_s, mu_2, I_0, h0_over_d, d0_over_d, rho_s, lag, p_m
 
 
 def axisymmetric_soil(law, *, mu_s, mu_2, I_0, d, rho_s, lag, p_min, k_min, phi_thesis):
-    """The material of one axisymmetric column: mu(I) (in-plane rate), the Drucker-Prager
+    """The material of one axisymmetric column: mu(I) (the full rate), the Drucker-Prager
     cone sqrt(J2) <= mu p of mu_s or mu_2 (zero dilation), or the thesis' (7.10) cone."""
     from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager
     from pfem_skfem.materials_rate import MuIRheologyAxisymmetric
@@ -124,14 +126,14 @@ def plane_case(a, law, *, soil, nx, steps, settle, rho, g, mu_w, passes, alpha, 
 
 
 def axisymmetric_case(a, law, *, soil, nr, steps, settle, rho, g, r0, mu_w, passes, alpha,
-                      verbose=False):
+                      volume_correction=False, verbose=False):
     """One column of revolution (:func:`verification.granular_column_axisymmetric.run_case`),
-    summarised."""
+    summarised; ``volume_correction``: the move stage's volume projection."""
     material = axisymmetric_soil(law, **soil)
     r = axi.run_case(a, nr=nr, steps=steps, phi=material.phi,
                      phi_s=float(np.degrees(np.arctan(mu_w))), rho=rho, g=g, r0=r0,
                      passes=passes, alpha=alpha, floor=soil["k_min"], settle=settle,
-                     soil=material, verbose=verbose)
+                     soil=material, volume_correction=volume_correction, verbose=verbose)
     return dict(geometry="axisymmetric", law=law, a=a, rho=rho, rho_s=soil["rho_s"],
                 d=getattr(material, "d", None), runout=r["runout_over_r0"],
                 height=r["h_inf_over_r0"], spacing_over_h0=r["spacing_over_r0"] / a,
@@ -209,6 +211,7 @@ def build_parser():
     g.add_argument("--nr", type=PARTICLES_ACROSS, default=8, help="particles across r0")
     g.add_argument("--steps_axi", type=positive_int, default=100,
                    help="time steps to t/sqrt(h0/g) = 4")
+    volume_correction_option(g, "off", why="the axisymmetric columns only")
     sweep_options(p, what="the columns")
     return p
 
@@ -229,7 +232,8 @@ def _cases(args):
                     phi_thesis=args.phi_axi)
     cases += [(axisymmetric_case, dict(common, a=a, law=law, soil=soil_axi, nr=args.nr,
                                        steps=args.steps_axi, rho=args.rho_axi, r0=args.r0,
-                                       mu_w=args.mu_w_axi))
+                                       mu_w=args.mu_w_axi,
+                                       volume_correction=args.volume_correction == "on"))
               for a in sorted(args.a_axi) for law in args.laws]
     if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws:
         f = args.density_factor

@@ -77,7 +77,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod                           # 
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
                                nonnegative_float, nonnegative_int, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, theta_weight)
+                               save_figure, theta_weight, volume_correction_option)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -409,9 +409,7 @@ def build_parser():
                    help="least cone radius, a fraction of rho g L (L: the mass's thickness)")
     p.add_argument("--passes", type=positive_int, default=2,
                    help="fixed-point passes on the mean stress")
-    p.add_argument("--volume-correction", choices=("on", "off"), default="on",
-                   help="shift the moved particles so that every vertex patch keeps the volume "
-                        "their linearised motion states (PFEMConfig.volume_correction)")
+    volume_correction_option(p, "on")
     p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,

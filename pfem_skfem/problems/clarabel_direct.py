@@ -18,10 +18,11 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
   ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones;
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
-* a rate stress (``viscous`` of ``dynamic_increment``) appends (a_j, b_j) per point to x,
-  sigma_j + (a_j, -a_j, 0, b_j) in equilibrium, and either a diagonal block of P (the
-  Bingham term) or s_j, t_j per point with one SOC(3) and one exponential cone each
-  (the mu(I) dissipation), after all other rows.
+* a rate stress (``viscous`` of ``dynamic_increment``) appends (a_j, b_j) per point to x
+  (with ``hoop``, (a_j, b_j, c_j)), sigma_j + E_j (a_j, b_j[, c_j]) in equilibrium
+  (:func:`viscous_stress_map`), and either a diagonal block of P (the Bingham term) or
+  s_j, t_j per point with one SOC(3) (SOC(4)) and one exponential cone each (the mu(I)
+  dissipation), after all other rows.
 
 Clarabel's dual z of the equality rows has the sign of cvxpy's dual of the same
 equality, so the displacement increment is du_F = -z_eq x displacement scale (checked
@@ -65,13 +66,21 @@ def cone_matrices(criterion, n):
     return np.stack(columns, axis=2), d
 
 
-def viscous_stress_map(n):
-    """E (4n, 2n): the viscous stress (a, -a, 0, b) of each point from its (a, b)."""
+def viscous_stress_map(n, hoop=False):
+    """E (4n, 2n): the viscous stress (a, -a, 0, b) of each point from its (a, b); with
+    ``hoop`` E (4n, 3n): (a, -a, 0, b) + c (1, 1, -2, 0) / sqrt3 from (a, b, c), the
+    deviators of axisymmetry (rr, zz, tt, rz). Either way sqrt(J2) = ||(a, b[, c])||."""
     j = np.arange(n)
     rows = np.concatenate([4 * j, 4 * j + 1, 4 * j + 3])
-    cols = np.concatenate([2 * j, 2 * j, 2 * j + 1])
-    vals = np.concatenate([np.ones(n), -np.ones(n), np.ones(n)])
-    return sp.csr_matrix((vals, (rows, cols)), shape=(4 * n, 2 * n))
+    if not hoop:
+        cols = np.concatenate([2 * j, 2 * j, 2 * j + 1])
+        vals = np.concatenate([np.ones(n), -np.ones(n), np.ones(n)])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(4 * n, 2 * n))
+    rows = np.concatenate([rows, 4 * j, 4 * j + 1, 4 * j + 2])
+    cols = np.concatenate([3 * j, 3 * j, 3 * j + 1, 3 * j + 2, 3 * j + 2, 3 * j + 2])
+    c = np.full(n, 1 / np.sqrt(3.0))
+    vals = np.concatenate([np.ones(n), -np.ones(n), np.ones(n), c, c, -2 * c])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(4 * n, 3 * n))
 
 
 def _yield_block(criterion, n):
@@ -88,7 +97,7 @@ def _yield_block(criterion, n):
 
 
 def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P, u_P,
-                       criterion, contact=None, viscous=None, rate_log=None,
+                       criterion, contact=None, viscous=None, rate_log=None, hoop=False,
                        what="dynamic step (4.23)",
                        accept_inaccurate=False, **settings):
     """Solve the scaled step of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
@@ -103,7 +112,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     ``rate_log`` is None or dict(kw, tau_max) (n,) of the mu(I) rate stress (a, -a, 0, b)
     with the term - sum_j kw_j (t_j - s_j), ||(a_j, b_j)|| <= tau_max_j s_j and
     (-t_j, 1, 1 - s_j) in the exponential cone (t_j >= -ln(1 - s_j)); with either, "s" is
-    the total stress.
+    the total stress; ``hoop``: the rate stress has the third (hoop) component c_j of
+    axisymmetry, (a_j, b_j) reading (a_j, b_j, c_j) throughout.
 
     Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
     the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
@@ -115,7 +125,8 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     nc = 0 if contact is None else contact["G"].shape[1] // 2
     if viscous is not None and rate_log is not None:
         raise ValueError("viscous and rate_log exclude each other")
-    n_v = 0 if viscous is None and rate_log is None else 2 * n
+    m_v = 3 if hoop else 2                            # components of a rate deviator
+    n_v = 0 if viscous is None and rate_log is None else m_v * n
     n_l = 0 if rate_log is None else 2 * n            # s_j, t_j of the log term
     n_x = 4 * n + n_r + 2 * nc + n_v + n_l
     sl_s, sl_q = slice(0, 4 * n), slice(4 * n, 4 * n + n_r)
@@ -130,7 +141,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     blocks = [kappa_C * Ch if Ch is not None else sp.csr_matrix((4 * n, 4 * n)),
               kappa * Dh, sp.csr_matrix((2 * nc, 2 * nc))]
     if viscous is not None:                   # + 1/2 sum kv_j (a_j^2 + b_j^2)
-        blocks.append(sp.diags(np.repeat(np.asarray(viscous, dtype=float), 2)))
+        blocks.append(sp.diags(np.repeat(np.asarray(viscous, dtype=float), m_v)))
     elif n_v:
         blocks.append(sp.csr_matrix((n_v + n_l, n_v + n_l)))
     Pmat = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
@@ -146,7 +157,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         if contact.get("slip") is not None:               # - (n^ . d) q: a moving body
             c[sl_c] = -contact["slip"]
     if n_v:                                   # B^T (sigma + E v)
-        parts.append(Bh.T @ viscous_stress_map(n))
+        parts.append(Bh.T @ viscous_stress_map(n, hoop))
     if n_l:                                   # + sum kw_j (t_j - s_j)
         parts.append(sp.csr_matrix((Bh.shape[1], n_l)))
         c[sl_tv] = rate_log["kw"]
@@ -195,12 +206,13 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     if n_l:                            # ||(a_j, b_j)|| <= tau_max_j s_j;  t_j >= -ln(1 - s_j)
         j = np.arange(n)
         tm = np.asarray(rate_log["tau_max"], dtype=float)
-        r = np.concatenate([3 * j, 3 * j + 1, 3 * j + 2])
-        col = np.concatenate([sl_sv.start + j, sl_v.start + 2 * j, sl_v.start + 2 * j + 1])
-        val = np.concatenate([-tm, -np.ones(n), -np.ones(n)])
-        rows_A.append(sp.csr_matrix((val, (r, col)), shape=(3 * n, n_x)))
-        rows_b.append(np.zeros(3 * n))
-        cones += [clarabel.SecondOrderConeT(3)] * n
+        w = m_v + 1                                        # SOC(w): (tau_max s, a, b[, c])
+        r = np.concatenate([w * j] + [w * j + 1 + k for k in range(m_v)])
+        col = np.concatenate([sl_sv.start + j] + [sl_v.start + m_v * j + k for k in range(m_v)])
+        val = np.concatenate([-tm] + [-np.ones(n)] * m_v)
+        rows_A.append(sp.csr_matrix((val, (r, col)), shape=(w * n, n_x)))
+        rows_b.append(np.zeros(w * n))
+        cones += [clarabel.SecondOrderConeT(w)] * n
         r = np.concatenate([3 * j, 3 * j + 2])             # (-t_j, 1, 1 - s_j) in K_exp
         col = np.concatenate([sl_tv.start + j, sl_sv.start + j])
         rows_A.append(sp.csr_matrix((np.ones(2 * n), (r, col)), shape=(3 * n, n_x)))
@@ -225,7 +237,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,
                      solve_time=wall, objective=-float(sol.obj_val))
-    s_total = x[sl_s] if not n_v else x[sl_s] + viscous_stress_map(n) @ x[sl_v]
+    s_total = x[sl_s] if not n_v else x[sl_s] + viscous_stress_map(n, hoop) @ x[sl_v]
     return {"s": s_total, "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
             "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n_cones * m:m],
             "info": info}

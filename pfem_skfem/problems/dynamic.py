@@ -190,10 +190,12 @@ class DynamicIncrement:
 @dataclass(frozen=True)
 class ViscousStress:
     """A viscous stress beside the yield cone (see ``viscous`` of :func:`dynamic_increment`):
-    eta (n_points,) viscosities > 0, weights (n_points,) the stress points' weights."""
+    eta (n_points,) viscosities > 0, weights (n_points,) the stress points' weights;
+    ``hoop``: the deviator has the hoop component of axisymmetry (3 components, not 2)."""
 
     eta: np.ndarray
     weights: np.ndarray
+    hoop: bool = False
 
     def __post_init__(self):
         eta, w = np.asarray(self.eta, dtype=float), np.asarray(self.weights, dtype=float)
@@ -206,11 +208,12 @@ class RateDissipation:
     """The rate part of mu(I) at frozen pressure beside the yield cone (``viscous`` of
     :func:`dynamic_increment`): per point c_j = (mu_2 - mu_s) p_j I_0 / kappa_j,
     kappa_j = d / sqrt(p_j / rho_s), tau_max_j = (mu_2 - mu_s) p_j (both > 0), and the
-    stress points' weights."""
+    stress points' weights; ``hoop`` as :class:`ViscousStress`."""
 
     c: np.ndarray
     tau_max: np.ndarray
     weights: np.ndarray
+    hoop: bool = False
 
     def __post_init__(self):
         for name in ("c", "tau_max"):
@@ -340,7 +343,9 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         ``d_form="quad_form"`` only).
     viscous : None, :class:`ViscousStress` or :class:`RateDissipation` (rigid-plastic
         only): sigma = sigma_p + sigma_v with sigma_p in the cone and a rate deviator
-        sigma_v = (a, -a, 0, b) at each point, with tau_j = ||(a_j, b_j)||. ViscousStress:
+        sigma_v = (a, -a, 0, b) at each point, with tau_j = ||(a_j, b_j)|| = sqrt(J2)
+        (its ``hoop``: sigma_v = (a, -a, 0, b) + c (1, 1, -2, 0) / sqrt3, the deviators of
+        axisymmetry, tau_j = ||(a_j, b_j, c_j)||, gamma_dot the full sqrt(2 D':D')). ViscousStress:
         the term - sum_j dt w_j tau_j^2 / (2 eta_j) in the objective (a Bingham
         dissipation, as Zhang et al. 2017 add to (4.23)), so that at a flowing point
         R(sigma) = R(sigma_p) + eta_j gamma_dot_j. RateDissipation: the complementary
@@ -393,6 +398,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     # weights of the rate terms in the scaled variables: - 1/2 sum kv_j |(a_j, b_j)|^2,
     # or - sum kw_j (t_j - s_j) with |(a_j, b_j)| <= tau_max_j s_j, t_j >= -ln(1 - s_j)
     kv = rate_log = None
+    hoop = bool(getattr(viscous, "hoop", False))
     if isinstance(viscous, ViscousStress):
         kv = th.dt * stress * viscous.weights / (viscous.eta * length * u_ref)
     elif viscous is not None:
@@ -403,11 +409,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         sol = _solve_direct(ops, criterion.scaled(stress), contacts, Bh, Ah, f_h, s_n, v_h,
                             u_P, free, P, kappa, kappa_C, d_ref, c_ref, u_ref,
                             force * th.theta1, dict(solver_settings, viscous=kv,
-                                                    rate_log=rate_log))
+                                                    rate_log=rate_log, hoop=hoop))
     else:
         sol = _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free,
                            P, kappa, kappa_C, d_ref, c_ref, u_ref, force * th.theta1, d_form,
-                           solver_settings, kv, rate_log)
+                           solver_settings, kv, rate_log, hoop)
 
     sigma = sol["s"].reshape(n, 4) * stress
     r = sol["q"] * r_ref
@@ -436,7 +442,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
 
 def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free, P, kappa,
                  kappa_C, d_ref, c_ref, u_ref, contact_force, d_form, solver_settings, kv=None,
-                 rate_log=None):
+                 rate_log=None, hoop=False):
     """The scaled step of :func:`dynamic_increment` stated in cvxpy (the reference).
 
     Returns the scaled solution: s, q (r'), p, qc (contact forces, or None), the dual of
@@ -464,8 +470,8 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
     s_total = s
     if kv is not None or rate_log is not None:   # sigma = sigma_p + E (a, b), a rate stress
         from .clarabel_direct import viscous_stress_map
-        V = cp.Variable((n, 2))
-        s_total = s + viscous_stress_map(n) @ cp.vec(V, order="C")
+        V = cp.Variable((n, 3 if hoop else 2))   # (a, b[, c]) per point
+        s_total = s + viscous_stress_map(n, hoop) @ cp.vec(V, order="C")
     if kv is not None:                           # - 1/2 sum kv_j |(a_j, b_j)|^2   (Bingham)
         objective_terms += -0.5 * cp.sum(cp.multiply(kv, cp.sum(cp.square(V), axis=1)))
     if rate_log is not None:                     # - sum kw_j (-s_j - ln(1 - s_j))   (mu(I))

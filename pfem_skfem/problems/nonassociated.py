@@ -85,7 +85,8 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         ``mean_stress(sigma)``, if it has one, is the lagged quantity, else (sx + sy)/2;
         a ``rate_dependent`` one is given ``shear_rate=`` at the points too, that of v_n
         in the first pass, of du / dt of the previous pass after, and its
-        ``viscous(sigma_m, stress_scale, shear_rate, weights)`` is the step's viscous stress).
+        ``viscous(sigma_m, stress_scale, shear_rate, weights)`` is the step's viscous stress;
+        its ``hoop``, if true, counts the hoop strain in the shear rate (axisymmetry)).
     contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
     v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
     sigma_m : (n_vertices,) lagged mean stress at the vertices.
@@ -123,7 +124,8 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     sm = sigma_m
     p_lag = np.zeros(contacts.size) if lagged_contact else None    # the smooth first pass
     changes = []
-    gamma_dot = plastic_strain_increment(disc, ops.B, v_n) if rate else None
+    hoop = getattr(material, "hoop", False)        # the shear rate of axisymmetry's deviator
+    gamma_dot = plastic_strain_increment(disc, ops.B, v_n, hoop) if rate else None
     for k in range(1, passes + 1):
         at_points = vertex_to_points(disc, sm)
         cone = (material.cone(at_points, stress_scale, shear_rate=gamma_dot) if rate
@@ -144,7 +146,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         changes.append(lagged_change(sm_before if material.lagged else None, sm, p_lag,
                                      p_now, stress_scale))
         if rate:
-            gamma_dot = plastic_strain_increment(disc, ops.B, inc.du) / ops.theta.dt
+            gamma_dot = plastic_strain_increment(disc, ops.B, inc.du, hoop) / ops.theta.dt
         if lagged_contact:
             last_contacts = step_contacts
             step_contacts = contact_rule.update(contacts, inc.p)
