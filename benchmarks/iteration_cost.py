@@ -55,8 +55,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.solve_floor import (Clock, capture_step, kkt_matrix,       # noqa: E402
                                     with_settings)
 from pfem_skfem.problems import clarabel_direct                           # noqa: E402
+from pfem_skfem.problems.clarabel_direct import drop_roundoff             # noqa: E402
 
-P_ROUNDOFF = 1e-12         # relative: |P_ij| < P_ROUNDOFF sqrt(|P_ii P_jj|) is dropped
 
 # name: (Clarabel settings changed from the step's, data clean-ups)
 VARIANTS = {
@@ -79,17 +79,6 @@ VARIANTS = {
     "P round-off dropped (P0)": ({}, ("P0",)),
     "A0 + P0": ({}, ("A0", "P0")),
 }
-
-
-def drop_roundoff(P, rel=P_ROUNDOFF):
-    """P without the entries below ``rel`` sqrt(|P_ii P_jj|) (nor its stored zeros); a
-    zero diagonal keeps no off-diagonal entry of its row or column only if the entry is
-    exactly zero (a positive semidefinite P has none there)."""
-    P = sp.coo_matrix(P)
-    d = np.abs(sp.csc_matrix(P).diagonal())
-    keep = (P.data != 0) & ((P.row == P.col)
-                            | (np.abs(P.data) >= rel * np.sqrt(d[P.row] * d[P.col])))
-    return sp.csc_matrix((P.data[keep], (P.row[keep], P.col[keep])), shape=P.shape)
 
 
 def drop_zeros(A):
