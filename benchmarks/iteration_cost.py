@@ -27,20 +27,22 @@ refactorisation, one pair of triangular solves and one product with K (the pytho
 iteration / one refactorisation) can be read as 1 (the factorisation) + the KKT update
 + 3 x (1 + refinement steps) x (solve + product).
 
-Per variant: mean iterations over the captured solves, how many ended 'Solved', the
-mean CPU seconds of setup (``DefaultSolver(...)``: equilibration, ordering, symbolic
+Per variant: mean iterations over the captured solves, how many ended 'Solved', the mean
+CPU seconds of setup (``DefaultSolver(...)``: equilibration, ordering, symbolic
 factorisation) and of ``solve()``, the CPU per iteration, 'floor', the time against the
-step's settings, and the solution's change: the largest over the solves of
-||du - du_0|| / ||du_0|| (du: the dual of the equilibrium rows, the displacement
-increment in the solver's scaling) and of the objective's relative change.
+first row (the data as assembled), and the solution's change: the largest over the
+solves of ||du - du_0|| / ||du_0|| (du: the dual of the equilibrium rows, the
+displacement increment in the solver's scaling) and of the objective's relative change.
 
-Data clean-ups (not settings; what ``problems/clarabel_direct.py`` could do before the
-call): 'A0' drops the stored zeros of A (the same as ``input_sparse_dropzeros``), 'P0'
-the entries of P below 1e-12 sqrt(|P_ii P_jj|), a relative rule (round-off of the
-assembly, ~1e-15 relative; the real couplings are >= 0.1): invariant under a scaling of
-the data, so the c = 0 density invariance stays bit-identical.
+Data clean-ups (not settings; what ``problems/clarabel_direct.py`` does before the call
+since this study, ``CLEAN_DATA``; the data are captured here as assembled, without it,
+so the first row is the solver as it was and 'A0 + P0' today's): 'A0' drops the stored
+zeros of A (the same as ``input_sparse_dropzeros``), 'P0' the entries of P below 1e-12
+sqrt(|P_ii P_jj|), a relative rule (round-off of the assembly, ~1e-15 relative; the real
+couplings are >= 0.1): invariant under a scaling of the data, so the c = 0 density
+invariance stays bit-identical.
 
-Run: python benchmarks/iteration_cost.py [--nx 17 33] [--steps 2] [--repeat 2]
+Run: python benchmarks/iteration_cost.py [--nx 17 33] [--steps 2] [--repeat 3]
      [--variants NAME ...] [--extra 'label:key=value,key=value[,clean=A0+P0]']
 """
 import argparse
@@ -58,9 +60,9 @@ from pfem_skfem.problems import clarabel_direct                           # noqa
 from pfem_skfem.problems.clarabel_direct import drop_roundoff             # noqa: E402
 
 
-# name: (Clarabel settings changed from the step's, data clean-ups)
+# name: (Clarabel settings changed from Clarabel's defaults + qdldl, data clean-ups)
 VARIANTS = {
-    "step's (qdldl, 1e-8)": ({}, ()),
+    "as assembled (qdldl, 1e-8)": ({}, ()),
     "refinement off": (dict(iterative_refinement_enable=False), ()),
     "refinement max_iter 3": (dict(iterative_refinement_max_iter=3), ()),
     "refinement max_iter 1": (dict(iterative_refinement_max_iter=1), ()),
@@ -77,7 +79,7 @@ VARIANTS = {
     "max_step_fraction 0.95": (dict(max_step_fraction=0.95), ()),
     "A zeros dropped (A0)": ({}, ("A0",)),
     "P round-off dropped (P0)": ({}, ("P0",)),
-    "A0 + P0": ({}, ("A0", "P0")),
+    "A0 + P0 (today's)": ({}, ("A0", "P0")),
 }
 
 
@@ -165,14 +167,18 @@ def main(argv=None):
     args = p.parse_args(argv)
     variants = {name: VARIANTS[name] for name in args.variants}
     variants.update(parse_extra(e) for e in args.extra)
-    base_name = "step's (qdldl, 1e-8)"
+    base_name = "as assembled (qdldl, 1e-8)"
     variants = {base_name: VARIANTS[base_name], **variants}
     load = os.getloadavg()
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           f"cores; every solve of {args.steps} steps of the a = 1 column (2 passes a step); "
           f"CPU seconds, least of {args.repeat} rounds")
     for nx in args.nx:
-        problems, elements = capture_step(nx, args.steps)
+        saved, clarabel_direct.CLEAN_DATA = clarabel_direct.CLEAN_DATA, False
+        try:                                        # the data as assembled
+            problems, elements = capture_step(nx, args.steps)
+        finally:
+            clarabel_direct.CLEAN_DATA = saved
         refactor, tri, product = floor_pieces(problems[-1])
         print(f"\n{elements} elements, {len(problems)} solves; floor pieces (last solve): "
               f"refactorisation {refactor * 1e3:.2f} ms, triangular solves {tri * 1e3:.2f} ms "
@@ -212,8 +218,8 @@ def main(argv=None):
                   f"{obj:8.1e}", flush=True)
     print("\nsetup / solve: mean CPU seconds of DefaultSolver(...) and of solve(); ms/iter: "
           "solve() / iterations; floor: that / one refactorisation (python qdldl); x step: "
-          "(setup + solve) against the step's settings; du chg, obj chg: largest relative "
-          "change from the step's settings over the solves")
+          "(setup + solve) against the first row; du chg, obj chg: largest relative "
+          "change from the first row over the solves")
 
 
 if __name__ == "__main__":

@@ -34,12 +34,13 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
-from .conic import SolveInfo, check_status
+from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status
 
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
-#: ``settings`` override them). qdldl: faster and more robust than the automatic choice
-#: (../shared/NOTES.md).
-SETTINGS = dict(direct_solve_method="qdldl")
+#: ``settings`` override them): the package's (qdldl). Iterative refinement, the
+#: regularisations and the step fraction stay Clarabel's: none makes the solve faster
+#: without moving the figures (benchmarks/iteration_cost.py, README "Performance").
+SETTINGS = dict(CLARABEL_DEFAULTS)
 
 #: Clean the data before the call: drop A's stored zeros (the yield block's zero entries
 #: of D, ~15 % of A) and P's round-off (:func:`drop_roundoff`); the same problem, a
