@@ -17,8 +17,15 @@ wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) o
 machine whose load average is printed: other work on its cores inflates the wall-clock
 times (the shares and the CPU times less).
 
+``--solver before after`` runs the direct backend with the solver configuration of
+before issue 19's iteration study (qdldl, Clarabel's other defaults, the data as
+assembled) and with today's (``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``), in
+the same process, alternating ``--repeat`` times (least times kept), and prints the
+ratio after / before of the step's CPU time and of the conic solve.
+
 Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33 65] [--passes 2]
-     [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--json PATH]
+     [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--solver before after]
+     [--repeat 1] [--json PATH]
 """
 import argparse
 import json
@@ -32,6 +39,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
+from pfem_skfem.problems import clarabel_direct                     # noqa: E402
 
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
@@ -60,6 +68,29 @@ def time_steps(nx, steps, passes, pass_tolerance, backend):
                 passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()))
 
 
+# the direct backend's solver configuration: (Clarabel settings, clean the data)
+SOLVERS = {"before": (dict(direct_solve_method="qdldl"), False),
+           "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA)}
+
+
+def with_solver(name, *args):
+    """time_steps(*args) with the direct backend configured as SOLVERS[name]."""
+    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA
+    clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA = SOLVERS[name]
+    try:
+        return dict(time_steps(*args), solver=name)
+    finally:
+        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA = saved
+
+
+def least(runs):
+    """The run with the least CPU time, its stage times the least of each."""
+    best = dict(min(runs, key=lambda r: r["cpu"]))
+    best["stages"] = {s: min(r["stages"][s] for r in runs) for s in STAGES}
+    best["seconds"] = min(r["seconds"] for r in runs)
+    return best
+
+
 def growth(rows, key):
     """b of key ~ elements^b, least squares in log-log (nan with fewer than two sizes)."""
     n = np.array([r["elements"] for r in rows], dtype=float)
@@ -80,6 +111,11 @@ def main(argv=None):
                    help="PFEMConfig.pass_tolerance of the runs (0: every pass, today's)")
     p.add_argument("--backends", nargs="+", choices=("cvxpy", "clarabel"),
                    default=["clarabel"])
+    p.add_argument("--solver", nargs="+", choices=tuple(SOLVERS), default=["after"],
+                   help="the direct backend's solver configuration (before / after the "
+                        "iteration study); several: alternated in this process")
+    p.add_argument("--repeat", type=int, default=1,
+                   help="runs of each configuration (least CPU time kept)")
     p.add_argument("--json", type=Path, default=None, help="write the rows here")
     args = p.parse_args(argv)
     if args.steps < 1 or args.passes < 1 or min(args.nx) < 2:
@@ -90,7 +126,8 @@ def main(argv=None):
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           f"cores; mean seconds per step over steps 2-{args.steps + 1}, at most "
           f"{args.passes} passes")
-    head = (f"{'backend':>8s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} {'cpu':>7s} "
+    head = (f"{'backend':>8s} {'solver':>6s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} "
+            f"{'cpu':>7s} "
             + " ".join(f"{s:>8s}" for s in STAGES)
             + f" {'solve %':>8s} {'conic %':>8s} {'passes':>6s} {'iters':>6s}")
     print(head)
@@ -98,20 +135,38 @@ def main(argv=None):
     for nx in args.nx:
         for backend in args.backends:
             for tol in args.pass_tolerances:
-                r = time_steps(nx, args.steps, args.passes, tol, backend)
-                rows.append(r)
-                print(f"{backend:>8s} {tol:6g} {r['elements']:8d} {r['seconds']:7.3f} "
-                      f"{r['cpu']:7.3f} "
-                      + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
-                      + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
-                      f" {r['passes']:6.2f} {r['iterations']:6.1f}", flush=True)
+                solvers = args.solver if backend == "clarabel" else args.solver[:1]
+                runs = {name: [] for name in solvers}
+                for _ in range(args.repeat):            # alternated: a load change hits all
+                    for name in solvers:
+                        runs[name].append(with_solver(name, nx, args.steps, args.passes,
+                                                      tol, backend))
+                for name in solvers:
+                    r = least(runs[name])
+                    rows.append(r)
+                    print(f"{backend:>8s} {name:>6s} {tol:6g} {r['elements']:8d} "
+                          f"{r['seconds']:7.3f} {r['cpu']:7.3f} "
+                          + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
+                          + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
+                          f" {r['passes']:6.2f} {r['iterations']:6.1f}", flush=True)
+                if len(solvers) > 1:
+                    a, b = least(runs[solvers[-1]]), least(runs[solvers[0]])
+                    print(f"{'':8s} {solvers[-1]} / {solvers[0]}: step CPU "
+                          f"{a['cpu'] / b['cpu']:.2f}, step wall "
+                          f"{a['seconds'] / b['seconds']:.2f}, conic "
+                          f"{a['stages']['conic'] / b['stages']['conic']:.2f}, "
+                          f"iterations {a['iterations'] / b['iterations']:.2f}", flush=True)
                 if args.json is not None:
                     args.json.write_text(json.dumps(rows, indent=1))
     print("\ngrowth with the element count n, t ~ n^b:")
     for backend in args.backends:
-        for tol in args.pass_tolerances:
-            mine = [r for r in rows if r["backend"] == backend and r["pass_tolerance"] == tol]
-            print(f"  {backend}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f} (CPU "
+        for tol, name in ((t, n) for t in args.pass_tolerances for n in args.solver):
+            mine = [r for r in rows if r["backend"] == backend and r["pass_tolerance"] == tol
+                    and r["solver"] == name]
+            if not mine:
+                continue
+            print(f"  {backend}, {name}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f} "
+                  f"(CPU "
                   f"{growth(mine, 'cpu'):.2f}), conic b = {growth(mine, 'stage:conic'):.2f}, "
                   "iterations "
                   + " / ".join(f"{r['iterations']:.1f}" for r in mine))

@@ -59,19 +59,35 @@ def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
     and the settings ``extra`` (the settings object is made by clarabel.DefaultSettings,
     in cvxpy's interface as in pfem_skfem.problems.clarabel_direct); ``record`` gets
-    (iterations, status) per solve."""
+    (iterations, status) per solve. The pseudo-setting ``clean`` ('A0', 'P0' or
+    'A0+P0') cleans every problem's data before Clarabel sees it
+    (benchmarks/iteration_cost.py: A's stored zeros, P's relative round-off); with
+    ``direct=True`` the extra settings and the clean-up apply only to the solves of the
+    direct assembly (pfem_skfem.problems.clarabel_direct: the PFEM steps), not to the
+    cvxpy statements."""
     settings_class, solver_class = clarabel.DefaultSettings, clarabel.DefaultSolver
+    extra = dict(extra or {})
+    clean = tuple(str(extra.pop("clean", "")).split("+")) if "clean" in extra else ()
+    direct_only = bool(extra.pop("direct", False))
 
     def settings():
         s = settings_class()
         s.tol_gap_abs = s.tol_gap_rel = s.tol_feas = tol
-        for name, value in (extra or {}).items():
-            setattr(s, name, value)
         return s
 
     class Solver:
-        def __init__(self, *args):
-            self._solver = solver_class(*args)
+        def __init__(self, P, q, A, b, cones, opts):
+            caller = sys._getframe(1).f_globals.get("__name__", "")
+            if direct_only and not caller.endswith("clarabel_direct"):
+                self._solver = solver_class(P, q, A, b, cones, opts)
+                return
+            for name, value in extra.items():
+                setattr(opts, name, value)
+            if clean:
+                from benchmarks.iteration_cost import cleaned
+                data = cleaned(dict(P=P, A=A), clean)
+                P, A = data["P"], data["A"]
+            self._solver = solver_class(P, q, A, b, cones, opts)
 
         def solve(self):
             sol = self._solver.solve()
@@ -120,8 +136,8 @@ def changes(values, reference):
 
 
 def _label(column):
-    """A tolerance as '1e-06', an extra settings column as 'extra'."""
-    return format(column, ".0e") if isinstance(column, float) else "extra"
+    """A tolerance as '1e-06', an extra settings column as 'extra N'."""
+    return format(column, ".0e") if isinstance(column, float) else f"extra {column[0]}"
 
 
 def _setting(text):
@@ -140,15 +156,18 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--families", nargs="+", choices=tuple(FAMILIES), default=list(FAMILIES))
     p.add_argument("--tolerances", type=float, nargs="+", default=[1e-8, 1e-7, 1e-6, 1e-5])
-    p.add_argument("--extra", metavar="NAME=VALUE", nargs="*", default=[],
+    p.add_argument("--extra", metavar="NAME=VALUE", nargs="*", action="append", default=[],
                    help="one more run at the tightest tolerance with these Clarabel settings "
-                        "(e.g. input_sparse_dropzeros=True), compared like a tolerance")
+                        "(e.g. input_sparse_dropzeros=True; clean=A0+P0 cleans the data as "
+                        "benchmarks/iteration_cost.py does), compared like a tolerance; "
+                        "repeat --extra for more columns")
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")
     args = p.parse_args(argv)
     tols = sorted(args.tolerances)
-    extra = {k: _setting(v) for k, v in (item.split("=", 1) for item in args.extra)}
+    extras = [{k: _setting(v) for k, v in (item.split("=", 1) for item in group)}
+              for group in args.extra if group]
     load = os.getloadavg()
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           "cores; relative change of each quantity from its value at the tightest tolerance")
@@ -157,8 +176,8 @@ def main(argv=None):
             script_name, script_argv = FAMILIES[family]
             runs = {tol: run_family(script_name, script_argv, tol, outdir) for tol in tols}
             columns = tols[1:]
-            if extra:                          # a column of its own, keyed by its label
-                label = "+".join(f"{k}={v}" for k, v in extra.items())
+            for i, extra in enumerate(extras, 1):   # a column each, keyed (number, label)
+                label = (i, "+".join(f"{k}={v}" for k, v in extra.items()))
                 runs[label] = run_family(script_name, script_argv, tols[0], outdir, extra)
                 columns = columns + [label]
             reference = runs[tols[0]][0]
@@ -171,7 +190,8 @@ def main(argv=None):
                           for k in reference}
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
             for key in runs:
-                name = f"tol {key:.0e}" if key in tols else f"tol {tols[0]:.0e}, {key}"
+                name = (f"tol {key:.0e}" if key in tols
+                        else f"tol {tols[0]:.0e}, extra {key[0]}: {key[1]}")
                 print(f"  {name}: {summary(*runs[key][1:])}")
             if spread is not None:
                 for f, r in reruns.items():

@@ -90,3 +90,61 @@ def test_unsupported_options_are_refused(block):
                           backend="mosek")
     with pytest.raises(ValueError, match="quad_form"):
         dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, None, backend="clarabel")
+
+
+# -- the data clean-up before the call (benchmarks/iteration_cost.py) ---------------------------
+def test_drop_roundoff_keeps_the_couplings_and_is_invariant_under_scaling():
+    import scipy.sparse as sp
+    from pfem_skfem.problems.clarabel_direct import drop_roundoff
+    rng = np.random.default_rng(1)
+    Q = rng.standard_normal((6, 6))
+    blocks = [Q @ Q.T, sp.csr_matrix((3, 3))]                     # an SPD block, a zero one
+    P = sp.triu(sp.block_diag(blocks), format="coo")
+    noise = sp.coo_matrix(([1e-17, -3e-18, 0.0], ([0, 2, 7], [4, 5, 8])), shape=P.shape)
+    messy = sp.coo_matrix((np.concatenate([P.data, noise.data]),
+                           (np.concatenate([P.row, noise.row]),
+                            np.concatenate([P.col, noise.col]))), shape=P.shape)
+    messy.sum_duplicates()
+    clean = drop_roundoff(messy.tocsc())
+    assert clean.nnz == P.nnz and abs(clean - P.tocsc()).max() == 0.0
+    for factor in (2.0 ** -7, 2.0, 2.0 ** 9):                     # a density scaling: exact
+        scaled = drop_roundoff((factor * messy).tocsc())
+        assert (scaled != factor * clean).nnz == 0
+        np.testing.assert_array_equal(scaled.indices, clean.indices)
+
+
+def test_cleaned_data_give_the_same_step(block, monkeypatch):
+    """The stored zeros of A and P's round-off dropped: the same problem, the same optimum
+    to the solver's tolerance."""
+    import clarabel
+
+    from pfem_skfem.problems import clarabel_direct
+    theta = ThetaMethod(0.05, 1.0, 0.5)
+    ops = dynamic_operators(block, 2.0, theta, Elastic(1e3, 0.3))
+    base = lambda x: x[1] < 1e-9                                    # noqa: E731
+    fixed = np.union1d(boundary_dofs(block, base, 0), boundary_dofs(block, base, 1))
+    rng = np.random.default_rng(5)
+    v_n = 0.3 * rng.standard_normal(block.n_u)
+    v_n[fixed] = 0.0
+    sigma_n = rng.standard_normal((block.n_points, 4))
+    f = gravity_vector(block, 2.0, G)
+    seen, solver = [], clarabel.DefaultSolver
+
+    def recording(P, q, A, b, cones, settings):
+        seen.append((P.copy(), A.copy()))
+        return solver(P, q, A, b, cones, settings)
+
+    monkeypatch.setattr(clarabel, "DefaultSolver", recording)
+    out = {}
+    for clean in (False, True):
+        monkeypatch.setattr(clarabel_direct, "CLEAN_DATA", clean)
+        out[clean] = dynamic_increment(ops, f, f, sigma_n, v_n, Tresca(3.0), fixed=fixed,
+                                       backend="clarabel")
+    (P0, A0), (P1, A1) = seen
+    assert (A0.data == 0).any() and not (A1.data == 0).any()     # the yield block's zeros
+    assert A1.nnz == np.count_nonzero(A0.data) and abs(A1 - A0).max() == 0.0
+    assert abs(P1 - P0).max() <= 1e-12 * abs(P0).max()
+    assert out[True].info.status == out[False].info.status == "optimal"
+    for name in ("du", "sigma", "r"):
+        assert close(getattr(out[False], name), getattr(out[True], name)), name
+    assert out[True].info.objective == pytest.approx(out[False].info.objective, rel=1e-7)
