@@ -32,6 +32,7 @@ import tempfile
 BOOK = Path(__file__).resolve().parent
 HTML = BOOK / "_build" / "html"
 WINDOW = (1280, 900)
+ATTEMPTS = 3                # Chromium runs per page before 'no report' is a problem
 MARK = "pfem-book-check"
 
 # runs in the page: waits for MathJax, then writes its findings as JSON into <pre id=MARK>
@@ -180,11 +181,14 @@ def check_page(html, chromium=None, timeout=120):
                    "--hide-scrollbars", f"--window-size={WINDOW[0]},{WINDOW[1]}",
                    f"--user-data-dir={profile}", "--virtual-time-budget=60000",
                    "--run-all-compositor-stages-before-draw", "--dump-dom", page.as_uri()]
-            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
-                                  env={**os.environ, "HOME": profile})
+            for _ in range(ATTEMPTS):    # a Chromium that exits without the page's report
+                proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
+                                      env={**os.environ, "HOME": profile})
+                m = re.search(rf'<pre id="{MARK}">(.*?)</pre>', proc.stdout, re.S)
+                if m:                     # failed itself (seen once in ~30 runs): try again
+                    break
     finally:
         page.unlink(missing_ok=True)
-    m = re.search(rf'<pre id="{MARK}">(.*?)</pre>', proc.stdout, re.S)
     if not m:
         return [f"no report from Chromium (exit code {proc.returncode}): "
                 f"{proc.stderr.strip()[-300:]}"], {}
