@@ -508,6 +508,17 @@ def volume_correction_option(parser, default="off", why=""):
     return parser
 
 
+def alpha_advected_option(parser, default=0.0, why=""):
+    """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
+    previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape)."""
+    parser.add_argument("--alpha-advected", type=nonnegative_float, default=default,
+                        help="keep a Delaunay triangle inside the previous step's moved mesh "
+                             "while its circumradius is at most this many h "
+                             "(PFEMConfig.alpha_advected; 0: off, the plain alpha-shape)"
+                             + (f"; {why}" if why else ""))
+    return parser
+
+
 class SweepError(RuntimeError):
     """Cases of a sweep failed: ``failures`` holds (index, case, exception) of each,
     ``results`` the results of all cases (None where a case failed)."""

@@ -62,7 +62,8 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
                                progress, progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options, thinned, volume_correction_option)
+                               sweep_options, thinned, volume_correction_option,
+                               alpha_advected_option)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -169,7 +170,7 @@ def courant_steps(a, nr, courant):
 def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
              save_every=0, verbose=False, history=False, label="", courant=None, soil=None,
-             volume_correction=False, adaptive_alpha=False):
+             volume_correction=False, adaptive_alpha=False, alpha_advected=0.0):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``courant``: at least the steps that hold the free-fall Courant number
@@ -186,7 +187,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                                                 floor_fraction=floor, dt=dt, alpha=alpha,
                                                 passes=passes, soil=soil,
                                                 adaptive_alpha=adaptive_alpha,
-                                                volume_correction=volume_correction)
+                                                volume_correction=volume_correction,
+                                                alpha_advected=alpha_advected)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -312,6 +314,7 @@ def build_parser():
     p.add_argument("--adaptive-alpha", action="store_true",
                    help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n "
                         "(thesis Ch 8)")
+    alpha_advected_option(p, 0.0)
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
     sweep_options(p, what="the cases (sweep and studies)")
@@ -330,7 +333,8 @@ def run(args):
                 alpha=args.alpha, floor=args.floor, settle=args.settle, courant=args.courant,
                 outdir=out if args.save_every else None, save_every=args.save_every,
                 volume_correction=args.volume_correction == "on",
-                adaptive_alpha=args.adaptive_alpha, verbose=args.progress)
+                adaptive_alpha=args.adaptive_alpha, alpha_advected=args.alpha_advected,
+                verbose=args.progress)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]

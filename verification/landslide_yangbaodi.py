@@ -77,7 +77,8 @@ from pfem_skfem.problems.dynamic import ThetaMethod                           # 
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
                                nonnegative_float, nonnegative_int, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, theta_weight, volume_correction_option)
+                               save_figure, theta_weight, volume_correction_option,
+                               alpha_advected_option)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -195,7 +196,8 @@ def read_profile(path):
 # -- the scene -----------------------------------------------------------------------------
 def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radians(10.0)),
               g=9.8, dt=0.05, theta1=1.0, theta2=1.0, alpha=1.6, adaptive_alpha=True,
-              t_hold=10.0, hold="boundary", floor=0.005, passes=2, volume_correction=False):
+              t_hold=10.0, hold="boundary", floor=0.005, passes=2, volume_correction=False,
+              alpha_advected=0.0):
     """The slide as a scene, and its initial state.
 
     The mass fills :meth:`Profile.mass_polygon` on a square lattice of spacing ``h``, with
@@ -214,7 +216,8 @@ def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radian
     scene = Scene(regions=(mass,), bodies=(slip,), phases=phases, gravity=(0.0, -g),
                   alpha=alpha, adaptive_alpha=adaptive_alpha, length=profile.thickness,
                   config=PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), passes=passes,
-                                    volume_correction=volume_correction))
+                                    volume_correction=volume_correction,
+                                    alpha_advected=alpha_advected))
     return scene.initial_state(), scene
 
 
@@ -243,7 +246,8 @@ def front(state):
 
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
              adaptive_alpha, t_hold, hold, floor, passes, t_after, rest, snapshot_every=0.0,
-             outdir=None, save_every=0, verbose=False, volume_correction=False):
+             outdir=None, save_every=0, verbose=False, volume_correction=False,
+             alpha_advected=0.0):
     """One slide: the held phase, then free motion until the kinetic energy is below
     ``rest`` times its peak (after the peak) or ``t_after`` after release."""
     profile = read_profile(profile_path)
@@ -251,7 +255,8 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     state, scene = landslide(profile, h=h, rho=rho, phi=phi, c=c, mu=mu, g=g, dt=dt,
                              theta1=theta1, theta2=theta2, alpha=alpha,
                              adaptive_alpha=adaptive_alpha, t_hold=t_hold, hold=hold,
-                             floor=floor, passes=passes, volume_correction=volume_correction)
+                             floor=floor, passes=passes, volume_correction=volume_correction,
+                             alpha_advected=alpha_advected)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -410,6 +415,7 @@ def build_parser():
     p.add_argument("--passes", type=positive_int, default=2,
                    help="fixed-point passes on the mean stress")
     volume_correction_option(p, "on")
+    alpha_advected_option(p, 0.0)
     p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
@@ -428,7 +434,8 @@ def _cases(args):
                   g=args.g, dt=args.dt, theta1=args.theta1, theta2=args.theta2,
                   alpha=args.alpha, adaptive_alpha=True, t_hold=args.t_hold, hold=args.hold,
                   floor=args.floor, passes=args.passes, t_after=args.t_after, rest=args.rest,
-                  volume_correction=args.volume_correction == "on", verbose=args.progress,
+                  volume_correction=args.volume_correction == "on",
+                  alpha_advected=args.alpha_advected, verbose=args.progress,
                   save_every=args.save_every,
                   outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
     main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",

@@ -84,6 +84,11 @@ class PFEMConfig:
     volume_correction : shift the moved particles so that every vertex patch keeps the
         volume their linearised motion states (one linear solve a step;
         :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
+    alpha_advected : keep a Delaunay triangle that fails the alpha test while its centroid
+        lies in the previous step's mesh moved with the particles and its circumradius
+        is at most this many h (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape`): a
+        thinning layer is not cut off the body until stretched that far; 0 (default):
+        off, the plain alpha-shape of the thesis.
     """
 
     theta: ThetaMethod = field(default_factory=lambda: ThetaMethod(0.01, 1.0, 1.0))
@@ -99,6 +104,7 @@ class PFEMConfig:
     bulge: bool = True
     refine_surface: float = 2.0
     volume_correction: bool = False
+    alpha_advected: float = 0.0
 
     def __post_init__(self):
         if not isinstance(self.theta, ThetaMethod):
@@ -131,6 +137,9 @@ class PFEMConfig:
             raise ValueError(f"backend must be one of {BACKENDS}, got {self.backend!r}")
         if not (np.isfinite(self.search) and self.search > 0):
             raise ValueError(f"search must be positive, got {self.search!r}")
+        if not (np.isfinite(self.alpha_advected) and self.alpha_advected >= 0):
+            raise ValueError(f"alpha_advected must be >= 0 (0: off), got "
+                             f"{self.alpha_advected!r}")
         if not (self.refine_surface >= 0):
             raise ValueError(f"refine_surface must be >= 0, got {self.refine_surface!r}")
 
@@ -205,7 +214,9 @@ def pfem_step(state, scene):
                 if not keep.all():
                     state = hand_on_mass(state, keep)
                     thinned = int((~keep).sum())
-            shape = alpha_shape(state.x, state.h, alpha)
+            advected = None if state.mesh_p is None else (state.mesh_p, state.mesh_t)
+            shape = alpha_shape(state.x, state.h, alpha, advected=advected,
+                                alpha_advected=config.alpha_advected)
         if len(shape.triangles) == 0 and state.step > 0:  # the last few of a discharge
             return free_flight(state, scene, timer, t_start, alpha, thinned)
         with timer("detect"):

@@ -132,6 +132,35 @@ def circumradius(points, tri):
     return np.where(twice > 0, r, np.inf)
 
 
+def in_triangles(p, t, x, tol=1e-12):
+    """(n,) bool: the point x_i lies in (or on) a triangle of ``t`` (m, 3) of vertices ``p``.
+
+    Candidates are the triangles whose centroid is within the largest centroid-to-vertex
+    distance of the mesh (no point of a triangle is further from its centroid); the test
+    is on area coordinates, for either orientation; zero-area triangles contain nothing.
+    """
+    x = np.asarray(x, dtype=float).reshape(-1, 2)
+    inside = np.zeros(len(x), dtype=bool)
+    t = np.asarray(t, dtype=int).reshape(-1, 3)
+    if len(t) == 0 or len(x) == 0:
+        return inside
+    a, b, c = (np.asarray(p, dtype=float)[t[:, k]] for k in range(3))
+    centroid = (a + b + c) / 3.0
+    reach = max(np.linalg.norm(v - centroid, axis=1).max() for v in (a, b, c))
+    near = cKDTree(centroid).query_ball_point(x, reach * (1 + 1e-9) + 1e-300)
+    i = np.repeat(np.arange(len(x)), [len(n) for n in near])
+    j = np.concatenate([np.asarray(n, dtype=int) for n in near])
+    cross = lambda u, v: u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]       # noqa: E731
+    twice = cross(b[j] - a[j], c[j] - a[j])
+    q = x[i]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        la = cross(b[j] - q, c[j] - q) / twice
+        lb = cross(c[j] - q, a[j] - q) / twice
+    ok = (twice != 0) & (la >= -tol) & (lb >= -tol) & (1 - la - lb >= -tol)
+    inside[i[ok]] = True
+    return inside
+
+
 def merge_duplicates(points, h, tol=1e-9):
     """Representative of each particle: particles closer than tol * h are one point.
 
@@ -195,7 +224,7 @@ def _pair_edges(points, edges):
     return order[pos]
 
 
-def alpha_shape(points, h, alpha, *, merge_tol=1e-9):
+def alpha_shape(points, h, alpha, *, merge_tol=1e-9, advected=None, alpha_advected=0.0):
     """Detect the domain of a particle cloud: Delaunay, then remove circumradius > alpha h.
 
     Parameters
@@ -204,6 +233,15 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9):
     h : float or (n,) characteristic spacing; a triangle uses the mean of its nodes'.
     alpha : the alpha-shape parameter (> 0); the thesis uses 1.4-1.6 (Section 2.3.2).
     merge_tol : particles closer than merge_tol * min(h) are treated as one.
+    advected : None, or (p, t) the previous step's mesh moved with its particles
+        (vertices (k, 2), triangles (m, 3)). With ``alpha_advected`` > alpha, a triangle
+        that fails the alpha test is still kept when its centroid lies in that mesh and
+        its circumradius is at most alpha_advected h: what was one body a step ago stays
+        one until stretched beyond alpha_advected (the advected domain as a predicate of
+        the detection, after Leyssens, Lambrechts & Remacle 2025, arXiv:2512.20347). A
+        triangle across a gap (centroid outside) is judged by alpha alone, so bodies
+        merge as before.
+    alpha_advected : the larger parameter of the triangles inside ``advected`` (0: off).
 
     Returns
     -------
@@ -229,6 +267,10 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9):
                         for k in range(3)], axis=1) if m_all else np.empty((0, 3))
     solid = 2 * triangle_areas(points, tri) > DEGENERATE * edge_sq.max(axis=1, initial=0)
     kept = (radius <= alpha) & solid
+    if advected is not None and alpha_advected > alpha:
+        again = np.flatnonzero(~kept & solid & (radius <= alpha_advected))
+        if again.size:                  # a flattened triangle of material that was meshed
+            kept[again] = in_triangles(*advected, points[tri[again]].mean(axis=1))
     triangles = tri[kept]
     m = len(triangles)
 

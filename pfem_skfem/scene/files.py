@@ -339,7 +339,7 @@ CONFIG = Spec(PFEMConfig, {
     "remesh_interval": INTEGER, "stress_mapping": STRING,
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
     "search": NUMBER, "backend": STRING, "bulge": BOOLEAN, "refine_surface": NUMBER,
-    "volume_correction": BOOLEAN})
+    "volume_correction": BOOLEAN, "alpha_advected": NUMBER})
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
