@@ -68,6 +68,11 @@ A script that runs independent cases adds ``--workers`` and ``--scheduler`` with
 :func:`sweep_options` and runs them with :func:`run_cases` (on Dask: a local cluster
 of ``--workers`` processes, or the cluster at ``--scheduler``).
 
+A long run that should survive a stop saves its state with
+:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint` under :func:`checkpoint_path`
+(the run's label and a digest of its parameters) and goes on from it when run again
+(``verification/silo_discharge.py --checkpoint-dir``).
+
 ``ScriptParser`` gives every script ``--quiet`` (no progress bars) next to the
 ``--progress`` of old (now the default); :func:`progress_bar` is the bar (tqdm) of a
 long loop, :func:`progress` one line. Conditions between options (``--a`` below
@@ -506,6 +511,20 @@ def volume_correction_option(parser, default="off", why=""):
                              "volume their linearised motion states "
                              "(PFEMConfig.volume_correction)" + (f"; {why}" if why else ""))
     return parser
+
+
+def checkpoint_path(directory, label, keys):
+    """The checkpoint file of one run in ``directory`` (created): ``label`` and a digest of
+    ``keys`` (the parameters that define the run, a dict of JSON values), so that a run
+    never goes on from another run's state. Returns a Path."""
+    import hashlib
+    if not str(label) or any(c in str(label) for c in "/\\"):
+        raise ValueError(f"label must be a file name part, got {label!r}")
+    text = json.dumps({k: keys[k] for k in sorted(keys)}, default=float)
+    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
+    folder = Path(directory)
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / f"{label}-{digest}.npz"
 
 
 def alpha_advected_option(parser, default=0.0, why=""):

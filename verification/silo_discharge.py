@@ -70,7 +70,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options, thinned)
+                               save_figure, sweep_options, thinned, checkpoint_path)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -156,10 +156,21 @@ def beverloo_exponent(B, Q):
 
 def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, floor, passes,
              outlet_depth, t_max, empty, snapshot_times=(), outdir=None, save_every=0,
-             verbose=False):
-    """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``."""
-    state, scene = silo(W=W, H=H, Hh=Hh, B=B, h=h, rho=rho, c=c, phi=phi, mu=mu, g=g, dt=dt,
-                        alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
+             verbose=False, checkpoint_dir=None, checkpoint_every=20):
+    """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
+
+    With ``checkpoint_dir`` the state is saved there every ``checkpoint_every`` steps and
+    at the end, under a name made of the label and the scene's parameters; a run finds
+    its own checkpoint and goes on from it (the same steps, bit for bit: a long study can
+    span several sessions). Snapshots are taken only in the steps run this time."""
+    scene_keys = dict(W=W, H=H, Hh=Hh, B=B, h=h, rho=rho, c=c, phi=phi, mu=mu, g=g, dt=dt,
+                      alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
+    state, scene = silo(**scene_keys)
+    x0, n0, m0 = state.x.copy(), state.n, state.total_mass
+    checkpoint = (None if checkpoint_dir is None
+                  else checkpoint_path(checkpoint_dir, f"silo_{label}", scene_keys))
+    if checkpoint is not None and checkpoint.is_file():
+        state = pfem_loop.load_checkpoint(checkpoint)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -167,12 +178,13 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "silo")
     snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
-    x0, n0, m0 = state.x.copy(), state.n, state.total_mass
     snaps = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
-    bar = progress_bar(total=steps, disable=not verbose, unit="step", desc=f"silo ({label})")
-    while state.step < steps and state.n > 0:           # n = 0: every particle left
+    bar = progress_bar(total=steps, initial=min(state.step, steps), disable=not verbose,
+                       unit="step", desc=f"silo ({label})")
+    while (state.step < steps and state.n > 0          # n = 0: every particle left
+           and state.total_mass >= empty * m0):        # (a resumed run may be done)
         state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
                                     snapshots=snap_steps)
         snaps.update({k: {"x": v["x"], "speed": np.linalg.norm(state.v, axis=1)}
@@ -180,9 +192,11 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
         bar.set_postfix_str(f"t = {state.time:.2f} s, V/V0 = {state.total_mass / m0:.3f}",
                             refresh=False)
         bar.update(1)
-        if state.total_mass < empty * m0:
-            break
+        if checkpoint is not None and checkpoint_every and state.step % checkpoint_every == 0:
+            pfem_loop.save_checkpoint(checkpoint, state)
     bar.close()
+    if checkpoint is not None:
+        pfem_loop.save_checkpoint(checkpoint, state)
     seconds = time.perf_counter() - t0
     hist = state.history
     t = np.r_[0.0, hist["time"]]
@@ -275,6 +289,12 @@ def build_parser():
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
+    p.add_argument("--checkpoint-dir", default=None,
+                   help="save each run's state in this directory (every --checkpoint-every "
+                        "steps and at the end) and go on from a run's checkpoint if there "
+                        "is one: a long study can be stopped and resumed")
+    p.add_argument("--checkpoint-every", type=positive_int, default=20,
+                   help="steps between a run's checkpoints")
     sweep_options(p, default_workers=min(2, os.cpu_count() or 1), what="the runs")
     return p
 
@@ -286,6 +306,7 @@ def _cases(args):
                   phi=args.phi, g=args.g, dt=args.dt, alpha=args.alpha, floor=args.floor,
                   passes=args.passes, outlet_depth=args.outlet_depth, t_max=args.t_max,
                   empty=args.empty, verbose=args.progress, save_every=args.save_every,
+                  checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every,
                   outdir=(Path(args.outdir) / "silo_discharge") if args.save_every else None)
     main = [dict(common, walls=w, mu=0.0 if w == "smooth" else tan_phi, label=f"{w}_dt{args.dt:g}",
                  snapshot_times=getattr(args, f"snapshots_{w}")) for w in args.walls]
