@@ -4,7 +4,7 @@ import pytest
 from scipy.spatial import Delaunay
 
 from pfem_skfem.drivers.pfem_loop import PFEMConfig
-from pfem_skfem.pfem.alpha_shape import (alpha_shape, circumradius, in_triangles,
+from pfem_skfem.pfem.alpha_shape import (alpha_shape, circumradius, in_triangles, notches,
                                          triangle_areas)
 
 
@@ -68,6 +68,41 @@ def test_a_gap_between_two_bodies_is_judged_by_alpha_alone():
     assert shape.area == pytest.approx(18.0, rel=1e-12)
 
 
+def test_a_notch_of_the_surface_is_not_filled():
+    """A surface particle sinks between its two neighbours: the plain alpha-shape fills
+    the notch with a triangle of area 0.5 (R/h = 1.25); with the advected mesh, whose two
+    boundary edges bound the notch, the domain keeps the moved mesh's area."""
+    block = np.array([[i, j] for j in range(3) for i in range(5)], dtype=float)
+    old = alpha_shape(block, 1.0, 1.6)
+    moved = block.copy()
+    moved[12] = (2.0, 1.5)                       # the top row's middle particle, 0.5 down
+    t_moved = old.triangles
+    area_moved = np.abs(triangle_areas(moved, t_moved)).sum()
+    plain = alpha_shape(moved, 1.0, 1.6)
+    assert plain.area == pytest.approx(area_moved + 0.5, rel=1e-12)
+    shape = alpha_shape(moved, 1.0, 1.6, advected=(moved, t_moved), alpha_advected=2.5)
+    assert shape.area == pytest.approx(area_moved, rel=1e-12)
+    assert notches(moved, plain.delaunay, plain.kept, moved, t_moved, np.ones(15)).size == 1
+
+
+def test_a_particle_added_on_a_surface_edge_splits_it_and_fills_no_notch():
+    """A particle added on the stretched surface edge 12-13 (off its chord, as a P2
+    midside node) next to the notch 12-13-14: the plain alpha-shape fills the notch with
+    the triangle (new, 13, 14); with the advected mesh only the new particle's own sliver
+    (12, new, 13) is added to the moved mesh's area."""
+    block = np.array([[i, j] for j in range(3) for i in range(5)], dtype=float)
+    old = alpha_shape(block, 1.0, 1.6)
+    moved = block.copy()
+    moved[13] = (3.0, 1.5)
+    area_moved = np.abs(triangle_areas(moved, old.triangles)).sum()
+    points = np.vstack([moved, [[2.5, 1.78]]])                      # particle 15
+    plain = alpha_shape(points, 1.0, 1.6)
+    assert any(set(t) == {15, 13, 14} for t in plain.triangles)
+    shape = alpha_shape(points, 1.0, 1.6, advected=(moved, old.triangles), alpha_advected=2.5)
+    sliver = abs(triangle_areas(points, np.array([[12, 15, 13]]))[0])
+    assert shape.area == pytest.approx(area_moved + sliver, rel=1e-12)
+
+
 def test_off_or_not_larger_than_alpha_is_the_plain_alpha_shape():
     rng = np.random.default_rng(1)
     p = rng.random((200, 2)) * 10
@@ -79,8 +114,9 @@ def test_off_or_not_larger_than_alpha_is_the_plain_alpha_shape():
 
 
 def test_the_advected_domain_only_adds_triangles_inside_it():
-    """Kept with the predicate = kept by alpha, plus triangles whose centroid lies in the
-    advected mesh and whose circumradius is at most alpha_advected h; nothing else."""
+    """Kept with the predicate = kept by alpha, less the notches of the advected mesh's
+    surface (outside it), plus triangles whose centroid lies in the advected mesh and
+    whose circumradius is at most alpha_advected h; nothing else."""
     added = 0
     for seed in range(5):
         rng = np.random.default_rng(seed)
@@ -90,7 +126,11 @@ def test_the_advected_domain_only_adds_triangles_inside_it():
         plain = alpha_shape(p, 0.7, 1.6)
         shape = alpha_shape(p, 0.7, 1.6, advected=(p, before.triangles), alpha_advected=2.5)
         assert np.array_equal(plain.delaunay, shape.delaunay)
-        assert np.all(shape.kept[plain.kept])
+        removed = np.flatnonzero(plain.kept & ~shape.kept)      # notches of its surface
+        assert np.array_equal(removed, notches(p, plain.delaunay, plain.kept, p,
+                                               before.triangles, np.full(len(p), 0.7)))
+        assert not in_triangles(p, before.triangles,
+                                p[shape.delaunay[removed]].mean(axis=1)).any()
         extra = shape.kept & ~plain.kept
         assert np.all(shape.radius[extra] <= 2.5)
         assert in_triangles(p, before.triangles, p[shape.delaunay[extra]].mean(axis=1)).all()

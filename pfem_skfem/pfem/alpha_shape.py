@@ -161,6 +161,55 @@ def in_triangles(p, t, x, tol=1e-12):
     return inside
 
 
+def notches(points, tri, kept, p, t, h):
+    """Indices of the kept triangles that fill a notch of the advected mesh's surface:
+    two of their edges are consecutive boundary edges of (p, t) and their centroid lies
+    outside it. Such a triangle joins no two parts of the body (its three particles were
+    neighbours on the surface); the alpha test would add its area from nothing.
+
+    The particles are matched to the vertices of ``p`` by position (to 1e-9 h: the
+    advected mesh's vertices are the moved particles themselves); a particle not among
+    them that lies near the midpoint of a boundary edge (within half its length: a
+    particle added on a stretched surface edge) splits that edge in two."""
+    t = np.asarray(t, dtype=int).reshape(-1, 3)
+    if len(t) == 0 or not kept.any():
+        return np.empty(0, dtype=int)
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    edges, count = np.unique(edges, axis=0, return_counts=True)
+    boundary = edges[count == 1]                       # edges of one triangle of (p, t)
+    dist, vertex = cKDTree(p).query(points)
+    vertex = np.where(dist <= 1e-9 * h, vertex, -1)
+    new = np.flatnonzero(vertex < 0)
+    if new.size and len(boundary):                     # particles added on surface edges
+        mid = 0.5 * (p[boundary[:, 0]] + p[boundary[:, 1]])
+        half = 0.5 * np.linalg.norm(p[boundary[:, 1]] - p[boundary[:, 0]], axis=1)
+        d, e = cKDTree(mid).query(points[new])
+        on = d <= half[e]
+        new, e = new[on], e[on]
+        e, first = np.unique(e, return_index=True)     # one particle an edge
+        new = new[first]
+        vertex[new] = len(p) + np.arange(len(new))
+        split = np.concatenate([np.stack([boundary[e, 0], vertex[new]], axis=1),
+                                np.stack([vertex[new], boundary[e, 1]], axis=1)])
+        boundary = np.sort(np.concatenate([np.delete(boundary, e, axis=0), split]), axis=1)
+    n_ids = len(p) + len(points)
+    on_surface = np.zeros(n_ids, dtype=bool)
+    on_surface[boundary.ravel()] = True
+    cand = np.flatnonzero(kept)
+    v = vertex[tri[cand]]
+    ok = np.all(v >= 0, axis=1)
+    cand, v = cand[ok], v[ok]
+    ok = np.all(on_surface[v], axis=1)
+    cand, v = cand[ok], v[ok]
+    if len(cand) == 0:
+        return cand
+    key = boundary[:, 0] * n_ids + boundary[:, 1]
+    pairs = np.sort(np.stack([v[:, [0, 1]], v[:, [1, 2]], v[:, [2, 0]]], axis=1), axis=2)
+    on_edge = np.isin(pairs[..., 0] * n_ids + pairs[..., 1], key)
+    cand = cand[on_edge.sum(axis=1) >= 2]
+    return cand[~in_triangles(p, t, points[tri[cand]].mean(axis=1))]
+
+
 def merge_duplicates(points, h, tol=1e-9):
     """Representative of each particle: particles closer than tol * h are one point.
 
@@ -240,7 +289,8 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9, advected=None, alpha_advect
         one until stretched beyond alpha_advected (the advected domain as a predicate of
         the detection, after Leyssens, Lambrechts & Remacle 2025, arXiv:2512.20347). A
         triangle across a gap (centroid outside) is judged by alpha alone, so bodies
-        merge as before.
+        merge as before, except one that fills a notch of that mesh's surface (two of
+        its edges consecutive boundary edges there: :func:`notches`), which joins nothing.
     alpha_advected : the larger parameter of the triangles inside ``advected`` (0: off).
 
     Returns
@@ -271,6 +321,7 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9, advected=None, alpha_advect
         again = np.flatnonzero(~kept & solid & (radius <= alpha_advected))
         if again.size:                  # a flattened triangle of material that was meshed
             kept[again] = in_triangles(*advected, points[tri[again]].mean(axis=1))
+        kept[notches(points, tri, kept, *advected, h)] = False
     triangles = tri[kept]
     m = len(triangles)
 
