@@ -126,6 +126,108 @@ def test_dual_form_recovers_the_rigid_plastic_stresses_and_contact_forces(block)
                  1e-4)
 
 
+@pytest.mark.parametrize("factor, exact", [(2.0, True), (3.0, False)])
+def test_dual_form_scales_with_the_density_of_a_cohesionless_step(block, factor, exact):
+    """c = 0 (here: Tresca k scaled with the density) and every force scales with rho; a
+    factor of two scales every floating-point number exactly (the blocks of P inverted
+    exactly too): du bit-identical, sigma, r', p doubled; another factor to tolerance."""
+    def step(rho):
+        ops = dynamic_operators(block, rho, ThetaMethod(0.05, 1.0, 1.0), None)
+        f = gravity_vector(block, rho, G)
+        contacts = potential_contacts(block, [RigidSegment((-5.0, 0.0), (5.0, 0.0), mu=0.3)],
+                                      0.05)
+        v_n = np.zeros(block.n_u)
+        v_n[0::2] = 2.0
+        k = TrescaField(np.full(block.n_points, 1.5 * rho))
+        return dynamic_increment(ops, f, f, np.zeros((block.n_points, 4)), v_n, k,
+                                 contacts=contacts, backend="clarabel", form="dual")
+    one, other = step(2.0), step(2.0 * factor)
+    assert other.info.extra["form"] == "dual"
+    if exact:
+        np.testing.assert_array_equal(other.du, one.du)
+        for name in ("sigma", "r", "p", "q"):
+            np.testing.assert_array_equal(getattr(other, name), factor * getattr(one, name))
+    else:
+        assert close(one.du, other.du)
+        assert close(factor * one.r, other.r) and close(factor * one.sigma, other.sigma, 1e-4)
+
+
+# -- solve_dual on small problems: the recovery, the status, what it refuses -------------------
+def small_conic_problem(seed=0):
+    """(P upper, c, A, b, cones) of a feasible problem with P blocks of 3, 3, 1, 2 (shuffled)
+    and three columns without P; zero, nonnegative and second-order cones."""
+    import clarabel
+    import scipy.sparse as sp
+    rng = np.random.default_rng(seed)
+    blocks = []
+    for k in (3, 3, 1, 2):
+        Q = rng.standard_normal((k, k))
+        blocks.append(Q @ Q.T + 0.1 * np.eye(k))
+    P = sp.block_diag(blocks + [sp.csr_matrix((3, 3))], format="csc")
+    perm = rng.permutation(P.shape[0])
+    P = P[perm][:, perm]
+    A = sp.csc_matrix(rng.standard_normal((13, P.shape[0])))
+    s = np.concatenate([np.zeros(2), rng.random(4), [2.0, 0.3, 0.2], [3.0, 0.5, 0.5, 0.1]])
+    b = A @ rng.standard_normal(P.shape[0]) + s
+    cones = [clarabel.ZeroConeT(2), clarabel.NonnegativeConeT(4), clarabel.SecondOrderConeT(3),
+             clarabel.SecondOrderConeT(4)]
+    return sp.triu(P, format="csc"), rng.standard_normal(P.shape[0]), A, b, cones
+
+
+def settings():
+    import clarabel
+    opts = clarabel.DefaultSettings()
+    opts.verbose = False
+    return opts
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_solve_dual_recovers_the_primal_solution(seed):
+    """x (both parts), z, s and the objective of the primal, from the dual's solution: a
+    sign error in any recovery formula is an O(1) difference."""
+    import clarabel
+
+    from pfem_skfem.problems.clarabel_direct import solve_dual
+    P, c, A, b, cones = small_conic_problem(seed)
+    primal = clarabel.DefaultSolver(P, c, A, b, cones, settings()).solve()
+    dual = solve_dual(P, c, A, b, cones, settings())
+    assert str(primal.status) == dual.status == "Solved"
+    for name in ("x", "z", "s"):
+        ref = np.asarray(getattr(primal, name))
+        assert close(ref, getattr(dual, name)), name
+    assert dual.obj_val == pytest.approx(primal.obj_val, rel=1e-6)
+    assert np.all(dual.s[:2] == 0.0)                                  # the zero cone's rows
+
+
+def test_solve_dual_reads_the_status_as_the_primal():
+    """x = 1 and x = 2: the primal is infeasible, its dual unbounded (Clarabel's
+    DualInfeasible of the dual), reported as the primal's PrimalInfeasible."""
+    import clarabel
+    import scipy.sparse as sp
+
+    from pfem_skfem.problems.clarabel_direct import solve_dual
+    P = sp.csc_matrix(np.ones((1, 1)))
+    A = sp.csc_matrix(np.ones((2, 1)))
+    out = solve_dual(P, np.zeros(1), A, np.array([1.0, 2.0]), [clarabel.ZeroConeT(2)],
+                     settings())
+    assert out.status == "PrimalInfeasible"
+
+
+def test_solve_dual_refuses_cones_that_are_not_self_dual_and_singular_blocks():
+    import clarabel
+    import scipy.sparse as sp
+
+    from pfem_skfem.problems.clarabel_direct import solve_dual
+    P = sp.csc_matrix(np.eye(3))
+    A = sp.csc_matrix(np.eye(3))
+    with pytest.raises(ValueError, match="self-dual"):
+        solve_dual(P, np.zeros(3), A, np.ones(3), [clarabel.ExponentialConeT()], settings())
+    singular = sp.triu(sp.csc_matrix(np.ones((3, 3))), format="csc")
+    with pytest.raises(ValueError, match="singular"):
+        solve_dual(singular, np.zeros(3), A, np.ones(3), [clarabel.NonnegativeConeT(3)],
+                   settings())
+
+
 def test_unsupported_options_are_refused(block):
     ops = dynamic_operators(block, 2.0, ThetaMethod(0.05), Elastic(1e3, 0.3))
     z = np.zeros(block.n_u)
@@ -134,6 +236,9 @@ def test_unsupported_options_are_refused(block):
                           backend="mosek")
     with pytest.raises(ValueError, match="quad_form"):
         dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, None, backend="clarabel")
+    with pytest.raises(ValueError, match="form must be one of"):
+        dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, Tresca(1.0),
+                          backend="clarabel", form="adjoint")
 
 
 # -- the data clean-up before the call (benchmarks/iteration_cost.py) ---------------------------
