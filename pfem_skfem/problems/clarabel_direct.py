@@ -30,7 +30,7 @@ against the cvxpy statement, tests/test_clarabel_direct.py). The yield multiplie
 the first component of each cone's dual.
 
 With ``FORM = "dual"`` (or ``form="dual"``) Clarabel is handed the Lagrangian dual of
-that problem instead (:func:`solve_dual`): x split into x_r (the columns where P is
+that statement of (4.23)+(5.12) instead (:func:`solve_dual`): x split into x_r (the columns where P is
 nonzero: r', the stresses of an elastic step, a Bingham rate stress) and x_0 (the rest:
 the stresses of a rigid-plastic step, the contact forces), x_r eliminated by
 P_r x_r + c_r + A_r^T z = 0,
@@ -41,9 +41,11 @@ P_r x_r + c_r + A_r^T z = 0,
 the displacement form of the step: its variables are the displacement increment (z on
 the equilibrium rows, -du_F in the scale of u) and the multipliers of the cones; P_r^-1
 is block-diagonal (each element's inverse-mass block inverted, the compliance blocks,
-the viscous diagonal). The step's x, z and s are recovered from the dual's solution and
-read as above; the exponential cones of the mu(I) rate term are not self-dual, and a step
-with them is stated in the primal form whatever ``FORM`` says.
+the viscous diagonal), and the objective carries its constant 1/2 c_r^T P_r^-1 c_r (a
+variable fixed at 1) so that Clarabel's relative gap is that of the step's objective. The
+step's x, z and s are recovered from the dual's solution and read as above
+(tests/test_clarabel_direct.py). The exponential cones of the mu(I) rate term are not
+self-dual: a step with them is stated in the primal form whatever ``FORM`` says.
 """
 import time
 from types import SimpleNamespace
@@ -79,7 +81,11 @@ FORM = "primal"
 FORMS = ("primal", "dual")
 
 #: State the dual's objective with its constant 1/2 c_r^T P_r^-1 c_r (as a variable fixed at
-#: 1), so that Clarabel's relative gap is measured on the primal's objective value.
+#: 1), so that Clarabel's relative gap is measured on the primal's objective value. Without
+#: it the dual's objective lacks that constant (the inertia term's, or the work of the
+#: prescribed increments), which can exceed the step's objective by 600x (the axisymmetric
+#: extension of tests/test_mu_i_axisymmetric.py): Clarabel's relative stop was that much
+#: looser (sqrt(J2) 1.1e-5 from cvxpy's instead of 1e-6).
 DUAL_CONSTANT = True
 
 #: A block of P whose least eigenvalue is below this fraction of its largest is singular
@@ -172,7 +178,8 @@ def solve_dual(P, c, A, b, cones, settings):
         \\quad\\text{s.t.}\\quad A_0^T z = -c_0, \\quad z_K \\in K^* = K,
 
     z free on the rows of the primal's zero cones (its rows: the zero cone A_0^T z + c_0
-    = 0, then -z_K + s_d = 0, s_d in K, cone by cone). The primal's solution is recovered
+    = 0, then -z_K + s_d = 0, s_d in K, cone by cone; with :data:`DUAL_CONSTANT` the
+    constant 1/2 c_r^T P_r^-1 c_r as c_t t with a row t = 1 in the zero cone). The primal's solution is recovered
     from the dual's (x, z): z = x_dual; x_0 = -z_dual on its equality rows; s = z_dual on
     the cone rows (0 on the zero-cone rows); x_r = -P_r^-1 (c_r + A_r^T z).
 
