@@ -42,7 +42,7 @@ the displacement form of the step: its variables are the displacement increment 
 the equilibrium rows, -du_F in the scale of u) and the multipliers of the cones; P_r^-1
 is block-diagonal (each element's inverse-mass block inverted, the compliance blocks,
 the viscous diagonal), and the objective carries its constant 1/2 c_r^T P_r^-1 c_r (a
-variable fixed at 1) so that Clarabel's relative gap is that of the step's objective. The
+variable fixed at it) so that Clarabel's relative gap is that of the step's objective. The
 step's x, z and s are recovered from the dual's solution and read as above
 (tests/test_clarabel_direct.py). The exponential cones of the mu(I) rate term are not
 self-dual: a step with them is stated in the primal form whatever ``FORM`` says.
@@ -80,12 +80,15 @@ CLEAN_DATA = True
 FORM = "primal"
 FORMS = ("primal", "dual")
 
-#: State the dual's objective with its constant 1/2 c_r^T P_r^-1 c_r (as a variable fixed at
-#: 1), so that Clarabel's relative gap is measured on the primal's objective value. Without
-#: it the dual's objective lacks that constant (the inertia term's, or the work of the
-#: prescribed increments), which can exceed the step's objective by 600x (the axisymmetric
-#: extension of tests/test_mu_i_axisymmetric.py): Clarabel's relative stop was that much
-#: looser (sqrt(J2) 1.1e-5 from cvxpy's instead of 1e-6).
+#: State the dual's objective with its constant 1/2 c_r^T P_r^-1 c_r (a variable t with
+#: cost 1 and the row t = constant), so that Clarabel's relative gap is measured on the
+#: primal's objective value. Without it the dual's objective lacks that constant (the
+#: inertia term's, or the work of the prescribed increments), which can exceed the step's
+#: objective by 600x (the axisymmetric extension of tests/test_mu_i_axisymmetric.py):
+#: Clarabel's relative stop was that much looser (sqrt(J2) 1.1e-5 from cvxpy's instead of
+#: 1e-6). The constant goes in b, not in c: as a cost (t = 1, cost the constant) it
+#: upsets Clarabel's scaling of the cost (measured 26.2 iterations per solve against
+#: 21.3 on the a = 1 column's steps 2-7 at 512 elements; 21.0 in the primal form).
 DUAL_CONSTANT = True
 
 #: A block of P whose least eigenvalue is below this fraction of its largest is singular
@@ -179,7 +182,7 @@ def solve_dual(P, c, A, b, cones, settings):
 
     z free on the rows of the primal's zero cones (its rows: the zero cone A_0^T z + c_0
     = 0, then -z_K + s_d = 0, s_d in K, cone by cone; with :data:`DUAL_CONSTANT` the
-    constant 1/2 c_r^T P_r^-1 c_r as c_t t with a row t = 1 in the zero cone). The primal's solution is recovered
+    constant 1/2 c_r^T P_r^-1 c_r as + t with a row t = that constant in the zero cone). The primal's solution is recovered
     from the dual's (x, z): z = x_dual; x_0 = -z_dual on its equality rows; s = z_dual on
     the cone rows (0 on the zero-cone rows); x_r = -P_r^-1 (c_r + A_r^T z).
 
@@ -219,12 +222,12 @@ def solve_dual(P, c, A, b, cones, settings):
     A_d = sp.vstack([A0.T, select], format="csc")                    # A_0^T z = -c_0; -z_K + s_d = 0
     b_d = np.concatenate([-c[x0], np.zeros(m_K)])
     n_eq = x0.size
-    if DUAL_CONSTANT:              # + 1/2 c_r^T P_r^-1 c_r t, t = 1: the objective's constant
+    if DUAL_CONSTANT:              # + t, t = 1/2 c_r^T P_r^-1 c_r: the objective's constant
         P_d = sp.block_diag([P_d, sp.csc_matrix((1, 1))], format="csc")
-        c_d = np.append(c_d, 0.5 * c[r] @ (Pr_inv @ c[r]))
+        c_d = np.append(c_d, 1.0)
         A_d = sp.bmat([[A_d[:n_eq], None], [None, sp.csc_matrix(np.ones((1, 1)))],
                        [A_d[n_eq:], None]], format="csc")
-        b_d = np.concatenate([b_d[:n_eq], [1.0], b_d[n_eq:]])
+        b_d = np.concatenate([b_d[:n_eq], [0.5 * c[r] @ (Pr_inv @ c[r])], b_d[n_eq:]])
         n_eq += 1
     cones_d = ([clarabel.ZeroConeT(n_eq)] if n_eq else []) + \
         [cone for cone, kind in zip(cones, kinds) if kind != "ZeroConeT"]
