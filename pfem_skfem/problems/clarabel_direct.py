@@ -88,7 +88,10 @@ FORMS = ("primal", "dual")
 #: Clarabel's relative stop was that much looser (sqrt(J2) 1.1e-5 from cvxpy's instead of
 #: 1e-6). The constant goes in b, not in c: as a cost (t = 1, cost the constant) it
 #: upsets Clarabel's scaling of the cost (measured 26.2 iterations per solve against
-#: 21.3 on the a = 1 column's steps 2-7 at 512 elements; 21.0 in the primal form).
+#: 21.3 on the a = 1 column's steps 2-7 at 512 elements; 20.6 without the constant, 21.0
+#: in the primal form). On those steps the dual's du is 5e-5 and its r' 1.3e-4 from a
+#: primal solve at 1e-11 whatever the placement and tolerance (1e-8 to 1e-10), the
+#: primal's 5.5e-6 and 1.1e-5 (README "Performance").
 DUAL_CONSTANT = True
 
 #: A block of P whose least eigenvalue is below this fraction of its largest is singular
