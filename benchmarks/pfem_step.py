@@ -21,7 +21,8 @@ times (the shares and the CPU times less).
 before issue 19's iteration study (qdldl, Clarabel's other defaults, the data as
 assembled) and with today's (``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``), in
 the same process, alternating ``--repeat`` times (least times kept), and prints the
-ratio after / before of the step's CPU time and of the conic solve.
+ratio after / before of the step's CPU time and of the conic solve; ``--solver after
+dual`` compares today's primal form with the dual form (``clarabel_direct.FORM``).
 
 Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33 65] [--passes 2]
      [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--solver before after]
@@ -68,19 +69,21 @@ def time_steps(nx, steps, passes, pass_tolerance, backend):
                 passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()))
 
 
-# the direct backend's solver configuration: (Clarabel settings, clean the data)
-SOLVERS = {"before": (dict(direct_solve_method="qdldl"), False),
-           "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA)}
+# the direct backend's solver configuration: (Clarabel settings, clean the data, form)
+SOLVERS = {"before": (dict(direct_solve_method="qdldl"), False, "primal"),
+           "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "primal"),
+           "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual")}
 
 
 def with_solver(name, *args):
     """time_steps(*args) with the direct backend configured as SOLVERS[name]."""
-    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA
-    clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA = SOLVERS[name]
+    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM
+    (clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA,
+     clarabel_direct.FORM) = SOLVERS[name]
     try:
         return dict(time_steps(*args), solver=name)
     finally:
-        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA = saved
+        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM = saved
 
 
 def least(runs):
@@ -113,7 +116,8 @@ def main(argv=None):
                    default=["clarabel"])
     p.add_argument("--solver", nargs="+", choices=tuple(SOLVERS), default=["after"],
                    help="the direct backend's solver configuration (before / after the "
-                        "iteration study); several: alternated in this process")
+                        "iteration study; dual: after, in the dual form); several: "
+                        "alternated in this process")
     p.add_argument("--repeat", type=int, default=1,
                    help="runs of each configuration (least CPU time kept)")
     p.add_argument("--json", type=Path, default=None, help="write the rows here")

@@ -59,16 +59,25 @@ def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
     and the settings ``extra`` (the settings object is made by clarabel.DefaultSettings,
     in cvxpy's interface as in pfem_skfem.problems.clarabel_direct); ``record`` gets
-    (iterations, status) per solve. The pseudo-setting ``clean`` ('A0', 'P0' or
-    'A0+P0') cleans every problem's data before Clarabel sees it
-    (benchmarks/iteration_cost.py: A's stored zeros, P's relative round-off); with
-    ``direct=True`` the extra settings and the clean-up apply only to the solves of the
-    direct assembly (pfem_skfem.problems.clarabel_direct: the PFEM steps), not to the
-    cvxpy statements."""
+    (iterations, status) per solve. Pseudo-settings: ``clean`` ('A0', 'P0' or 'A0+P0')
+    cleans every problem's data before Clarabel sees it (benchmarks/iteration_cost.py: A's
+    stored zeros, P's relative round-off); ``form`` ('primal' or 'dual') is the direct
+    assembly's form (``clarabel_direct.FORM``); with ``direct=True`` the extra settings
+    apply only to the direct assembly (pfem_skfem.problems.clarabel_direct: the PFEM
+    steps), through its ``SETTINGS`` (and ``clean=A0+P0`` is its ``CLEAN_DATA``), not to
+    the cvxpy statements."""
+    from pfem_skfem.problems import clarabel_direct
     settings_class, solver_class = clarabel.DefaultSettings, clarabel.DefaultSolver
+    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM
     extra = dict(extra or {})
     clean = tuple(str(extra.pop("clean", "")).split("+")) if "clean" in extra else ()
-    direct_only = bool(extra.pop("direct", False))
+    clarabel_direct.FORM = extra.pop("form", clarabel_direct.FORM)
+    if extra.pop("direct", False):                   # the direct assembly's own switches
+        if clean and set(clean) != {"A0", "P0"}:
+            raise ValueError("direct=True cleans A0+P0 (clarabel_direct.CLEAN_DATA) or nothing")
+        clarabel_direct.SETTINGS = {**clarabel_direct.SETTINGS, **extra}
+        clarabel_direct.CLEAN_DATA = clarabel_direct.CLEAN_DATA or bool(clean)
+        extra, clean = {}, ()
 
     def settings():
         s = settings_class()
@@ -77,10 +86,6 @@ def clarabel_tolerances(tol, record, extra=None):
 
     class Solver:
         def __init__(self, P, q, A, b, cones, opts):
-            caller = sys._getframe(1).f_globals.get("__name__", "")
-            if direct_only and not caller.endswith("clarabel_direct"):
-                self._solver = solver_class(P, q, A, b, cones, opts)
-                return
             for name, value in extra.items():
                 setattr(opts, name, value)
             if clean:
@@ -102,6 +107,7 @@ def clarabel_tolerances(tol, record, extra=None):
         yield
     finally:
         clarabel.DefaultSettings, clarabel.DefaultSolver = settings_class, solver_class
+        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM = saved
 
 
 def run_family(script_name, argv, tol, outdir, extra=None):
@@ -159,8 +165,9 @@ def main(argv=None):
     p.add_argument("--extra", metavar="NAME=VALUE", nargs="*", action="append", default=[],
                    help="one more run at the tightest tolerance with these Clarabel settings "
                         "(e.g. input_sparse_dropzeros=True; clean=A0+P0 cleans the data as "
-                        "benchmarks/iteration_cost.py does), compared like a tolerance; "
-                        "repeat --extra for more columns")
+                        "benchmarks/iteration_cost.py does; form=dual states the PFEM steps "
+                        "in the dual form; direct=True: the settings of the PFEM steps "
+                        "only), compared like a tolerance; repeat --extra for more columns")
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")

@@ -343,15 +343,19 @@ def gravity_step(disc, contacts, fixed, criterion, backend, rho=2.0, g=9.8, dt=N
 @pytest.mark.parametrize("criterion", [drucker_prager_match(0.0, 30.0),
                                        MohrCoulombAxisymmetric(0.0, 30.0)],
                          ids=["dp_7_10", "mohr_coulomb_3_cones"])
-def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion):
+@pytest.mark.parametrize("form", ["primal", "dual"])
+def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion, form, monkeypatch):
     """(7.30) for a collapsing granular cylinder on a rough base: the cvxpy statement and
     the direct Clarabel assembly give the same step. Unique in a rigid-plastic step: du,
     the dynamic forces r (strictly concave objective in r), the resultant base force;
     the stresses need not be unique, so each is checked admissible instead."""
+    from pfem_skfem.problems import clarabel_direct
+    monkeypatch.setattr(clarabel_direct, "FORM", form)
     disc, contacts, fixed = granular_cylinder()
     ref, _ = gravity_step(disc, contacts, fixed, criterion, "cvxpy")
     out, _ = gravity_step(disc, contacts, fixed, criterion, "clarabel")
     assert out.info.status == ref.info.status == "optimal"
+    assert out.info.extra.get("form", "primal") == form
     assert np.abs(out.du - ref.du).max() < 1e-5 * np.abs(ref.du).max()
     assert np.abs(out.r - ref.r).max() < 1e-5 * np.abs(ref.r).max()
     assert abs(out.p.sum() / ref.p.sum() - 1) < 1e-6

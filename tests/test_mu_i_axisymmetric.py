@@ -103,10 +103,16 @@ def test_extension_friction_is_mu_of_the_full_rate(lag, tol):
     np.testing.assert_allclose(sqrt_j2(inc.sigma) / P0, mu_full, rtol=tol)
 
 
+@pytest.mark.parametrize("form", ["primal", "dual"])
 @pytest.mark.parametrize("lag", ["viscosity", "implicit"])
-def test_extension_step_cvxpy_and_direct_agree(lag):
+def test_extension_step_cvxpy_and_direct_agree(lag, form, monkeypatch):
+    """Either form of the direct assembly (the implicit term: primal whatever FORM says)."""
+    from pfem_skfem.problems import clarabel_direct
+    monkeypatch.setattr(clarabel_direct, "FORM", form)
     _, _, a, _, _ = _extension_step(lag, "clarabel")
     _, _, b, _, _ = _extension_step(lag, "cvxpy")
+    stated = "dual" if form == "dual" and lag == "viscosity" else "primal"
+    assert a.info.extra.get("form", "primal") == stated
     tol = 1e-6 if lag == "viscosity" else 5e-5    # exponential cones: measured 1.8e-5
     assert np.abs(a.du - b.du).max() < tol * np.abs(a.du).max()
     # the mean stress is free (a von Mises cone, an isochoric flow): compare sqrt(J2)
