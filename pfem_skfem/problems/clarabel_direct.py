@@ -30,9 +30,10 @@ against the cvxpy statement, tests/test_clarabel_direct.py). The yield multiplie
 the first component of each cone's dual.
 
 With ``FORM = "dual"`` (or ``form="dual"``) Clarabel is handed the Lagrangian dual of
-that statement of (4.23)+(5.12) instead (:func:`solve_dual`): x split into x_r (the columns where P is
-nonzero: r', the stresses of an elastic step, a Bingham rate stress) and x_0 (the rest:
-the stresses of a rigid-plastic step, the contact forces), x_r eliminated by
+that statement of (4.23)+(5.12) instead (:func:`solve_dual`): x split into x_r (the
+columns where P is nonzero: r', the stresses of an elastic step, a Bingham rate stress)
+and x_0 (the rest: the stresses of a rigid-plastic step, the contact forces), x_r
+eliminated by
 P_r x_r + c_r + A_r^T z = 0,
 
     minimise  1/2 z^T A_r P_r^-1 A_r^T z + (A_r P_r^-1 c_r + b)^T z
@@ -185,9 +186,10 @@ def solve_dual(P, c, A, b, cones, settings):
 
     z free on the rows of the primal's zero cones (its rows: the zero cone A_0^T z + c_0
     = 0, then -z_K + s_d = 0, s_d in K, cone by cone; with :data:`DUAL_CONSTANT` the
-    constant 1/2 c_r^T P_r^-1 c_r as + t with a row t = that constant in the zero cone). The primal's solution is recovered
-    from the dual's (x, z): z = x_dual; x_0 = -z_dual on its equality rows; s = z_dual on
-    the cone rows (0 on the zero-cone rows); x_r = -P_r^-1 (c_r + A_r^T z).
+    constant 1/2 c_r^T P_r^-1 c_r as + t with a row t = that constant in the zero cone).
+    The primal's solution is recovered from the dual's (x, z): z = x_dual; x_0 = -z_dual
+    on its equality rows; s = z_dual on the cone rows (0 on the zero-cone rows);
+    x_r = -P_r^-1 (c_r + A_r^T z).
 
     Parameters
     ----------
@@ -222,7 +224,7 @@ def solve_dual(P, c, A, b, cones, settings):
     P_d = sp.triu(Ar @ Pr_inv @ Ar.T, format="csc")                  # the dual's quadratic
     c_d = Ar @ (Pr_inv @ c[r]) + b
     select = sp.csr_matrix((-np.ones(m_K), (np.arange(m_K), cone_rows)), shape=(m_K, m))
-    A_d = sp.vstack([A0.T, select], format="csc")                    # A_0^T z = -c_0; -z_K + s_d = 0
+    A_d = sp.vstack([A0.T, select], format="csc")        # A_0^T z = -c_0; -z_K + s_d = 0
     b_d = np.concatenate([-c[x0], np.zeros(m_K)])
     n_eq = x0.size
     if DUAL_CONSTANT:              # + t, t = 1/2 c_r^T P_r^-1 c_r: the objective's constant
