@@ -527,6 +527,40 @@ def checkpoint_path(directory, label, keys):
     return folder / f"{label}-{digest}.npz"
 
 
+def save_run(path, state, loop):
+    """Write a run's checkpoint at ``path``: the state
+    (:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint`) and the driver's own loop
+    variables ``loop`` (a dict; pickled beside it as PATH.loop.pkl with the state's step).
+    Each file is written under a temporary name and then renamed, so that a stop while
+    writing leaves the previous checkpoint."""
+    import os
+    import pickle
+    from .pfem.state import save_checkpoint
+    path = Path(path)
+    tmp = path.with_name(path.stem + ".tmp.npz")
+    save_checkpoint(tmp, state)
+    side = path.with_name(path.stem + ".loop.pkl")
+    with open(side.with_suffix(".tmp"), "wb") as stream:
+        pickle.dump({"step": state.step, "loop": loop}, stream)
+    os.replace(tmp, path)
+    os.replace(side.with_suffix(".tmp"), side)
+
+
+def load_run(path):
+    """(state, loop) written by :func:`save_run`, or None when ``path`` has no checkpoint
+    or its two files are not of the same step (a stop between the two renames)."""
+    import pickle
+    from .pfem.state import load_checkpoint
+    path = Path(path)
+    side = path.with_name(path.stem + ".loop.pkl")
+    if not (path.is_file() and side.is_file()):
+        return None
+    state = load_checkpoint(path)
+    with open(side, "rb") as stream:
+        saved = pickle.load(stream)
+    return (state, saved["loop"]) if saved["step"] == state.step else None
+
+
 def alpha_advected_option(parser, default=0.0, why=""):
     """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
     previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape)."""

@@ -109,3 +109,22 @@ def test_a_profile_of_ones_own_runs(tmp_path):
                        passes=2, t_after=0.5, rest=1e-3)
     assert r["hold_max_displacement_over_h"] < slide.HOLD_STILL
     assert r["front_max"] > r["front0"]                    # released, it moves downhill
+
+
+def test_a_slide_stopped_and_resumed_from_its_checkpoint_is_the_same_slide(tmp_path):
+    """--checkpoint-dir: a slide cut one step after its release and run again goes on
+    from its checkpoint (state and measurements) and gives the uninterrupted slide's
+    histories bit for bit."""
+    case = dict(label="cut", profile_path=slide.PROFILE, h=4.0, rho=1.25, phi=28.0,
+                c=0.0, mu_deg=14.0, g=9.8, dt=0.2, theta1=1.0, theta2=1.0, alpha=1.6,
+                adaptive_alpha=True, t_hold=0.6, hold="boundary", floor=0.005, passes=2,
+                rest=1e-3, volume_correction=True, alpha_advected=3.0)
+    whole = slide.run_case(**case, t_after=0.8)
+    cut = slide.run_case(**case, t_after=0.2, checkpoint_dir=tmp_path, checkpoint_every=2)
+    assert cut["steps_after_release"] == 1
+    resumed = slide.run_case(**case, t_after=0.8, checkpoint_dir=tmp_path,
+                             checkpoint_every=2)
+    assert resumed["steps_after_release"] == whole["steps_after_release"] == 4
+    for key in ("t", "front", "ke", "area_change", "track_x", "track_v", "x_end"):
+        assert np.array_equal(resumed[key], whole[key]), key
+    assert resumed["hold_sigma_m_changes"] == whole["hold_sigma_m_changes"]

@@ -81,7 +81,7 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, 
                                nonnegative_float, nonnegative_int, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
                                save_figure, theta_weight, volume_correction_option,
-                               alpha_advected_option)
+                               alpha_advected_option, checkpoint_path, load_run, save_run)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -250,9 +250,15 @@ def front(state):
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
              adaptive_alpha, t_hold, hold, floor, passes, t_after, rest, snapshot_every=0.0,
              outdir=None, save_every=0, verbose=False, volume_correction=False,
-             alpha_advected=0.0):
+             alpha_advected=0.0, checkpoint_dir=None, checkpoint_every=20):
     """One slide: the held phase, then free motion until the kinetic energy is below
-    ``rest`` times its peak (after the peak) or ``t_after`` after release."""
+    ``rest`` times its peak (after the peak) or ``t_after`` after release.
+
+    With ``checkpoint_dir`` the state and the measurements so far are saved there every
+    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`), under
+    the label and a digest of the slide's parameters and profile; a run finds its own
+    checkpoint and goes on from it, the same steps bit for bit (a slide of the thesis'
+    size takes hours here). Snapshots are taken only in the steps run this time."""
     profile = read_profile(profile_path)
     mu = float(np.tan(np.radians(mu_deg)))
     state, scene = landslide(profile, h=h, rho=rho, phi=phi, c=c, mu=mu, g=g, dt=dt,
@@ -273,17 +279,29 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     snap_every = int(round(snapshot_every / dt)) if snapshot_every else 0
     t_release = n_hold * dt
     cm0 = centre_of_mass(state)
-    rec = {k: [] for k in ("t", "front", "ke", "area_change", "alpha", "cm", "sigma_m_min")}
-    track = {"x": [], "v": []}
-    snaps = {0.0: {"x": x0, "speed": np.zeros(n0)}}
-    hold_moved = 0.0
-    sigma_m_hold = []
+    loop = dict(rec={k: [] for k in ("t", "front", "ke", "area_change", "alpha", "cm",
+                                     "sigma_m_min")},
+                track={"x": [], "v": []}, snaps={0.0: {"x": x0, "speed": np.zeros(n0)}},
+                hold_moved=0.0, sigma_m_hold=[], at_rest=False, peak=0.0)
+    checkpoint = None
+    if checkpoint_dir is not None:
+        keys = dict(h=h, rho=rho, phi=phi, c=c, mu_deg=mu_deg, g=g, dt=dt, theta1=theta1,
+                    theta2=theta2, alpha=alpha, adaptive_alpha=adaptive_alpha,
+                    t_hold=t_hold, hold=hold, floor=floor, passes=passes,
+                    volume_correction=volume_correction, alpha_advected=alpha_advected,
+                    profile=[profile.x.tolist(), profile.z_slip.tolist(),
+                             profile.z_surface.tolist()])
+        checkpoint = checkpoint_path(checkpoint_dir, f"landslide_{label}", keys)
+        saved = load_run(checkpoint)
+        if saved is not None:
+            state, loop = saved
+    rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
+    sigma_m_hold = loop["sigma_m_hold"]
+    hold_moved, at_rest, peak = loop["hold_moved"], loop["at_rest"], loop["peak"]
     t0 = time.perf_counter()
-    bar = progress_bar(total=n_hold + n_after, disable=not verbose, unit="step",
-                       desc=f"landslide ({label})")
-    at_rest = False
-    peak = 0.0
-    while state.step < n_hold + n_after:
+    bar = progress_bar(total=n_hold + n_after, initial=min(state.step, n_hold + n_after),
+                       disable=not verbose, unit="step", desc=f"landslide ({label})")
+    while state.step < n_hold + n_after and not at_rest:
         state, _ = pfem_loop.run(state, scene, 1, series=series, save_every=save_every)
         hist = state.history
         if np.any(np.asarray(hist["thinned"])) or state.n < n0:
@@ -310,9 +328,13 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                 at_rest = True
         bar.set_postfix_str(f"t = {state.time:.2f} s, front {front(state):.1f} m", refresh=False)
         bar.update(1)
-        if at_rest:
-            break
+        if checkpoint is not None and (at_rest or state.step % checkpoint_every == 0):
+            save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
+                                             peak=peak))
     bar.close()
+    if checkpoint is not None:
+        save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
+                                         peak=peak))
     seconds = time.perf_counter() - t0
     t = np.asarray(rec["t"])
     fr = np.asarray(rec["front"])
@@ -425,6 +447,13 @@ def build_parser():
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU of each run every this many steps (0: none); a PVD per run")
+    p.add_argument("--checkpoint-dir", default=None,
+                   help="save each slide's state and measurements in this directory (every "
+                        "--checkpoint-every steps and at the end) and go on from a slide's "
+                        "checkpoint if there is one: the thesis' size can be stopped and "
+                        "resumed")
+    p.add_argument("--checkpoint-every", type=positive_int, default=20,
+                   help="steps between a slide's checkpoints")
     p.add_argument("--keep-runs", action="store_true",
                    help="pickle every run's histories to OUTDIR/landslide_yangbaodi/runs.pkl")
     p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),
@@ -441,6 +470,7 @@ def _cases(args):
                   floor=args.floor, passes=args.passes, t_after=args.t_after, rest=args.rest,
                   volume_correction=args.volume_correction == "on",
                   alpha_advected=args.alpha_advected, verbose=args.progress,
+                  checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every,
                   save_every=args.save_every,
                   outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
     main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",
