@@ -87,8 +87,9 @@ class PFEMConfig:
     alpha_advected : keep a Delaunay triangle that fails the alpha test while its centroid
         lies in the previous step's mesh moved with the particles and its circumradius
         is at most this many h (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape`): a
-        thinning layer is not cut off the body until stretched that far; 0 (default):
-        off, the plain alpha-shape of the thesis.
+        thinning layer is not cut off the body until stretched that far; and no triangle
+        fills a notch of that mesh's surface. 0 (default): off, the plain alpha-shape of
+        the thesis.
     """
 
     theta: ThetaMethod = field(default_factory=lambda: ThetaMethod(0.01, 1.0, 1.0))
