@@ -69,9 +69,10 @@ A script that runs independent cases adds ``--workers`` and ``--scheduler`` with
 of ``--workers`` processes, or the cluster at ``--scheduler``).
 
 A long run that should survive a stop saves its state with
-:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint` under :func:`checkpoint_path`
-(the run's label and a digest of its parameters) and goes on from it when run again
-(``verification/silo_discharge.py --checkpoint-dir``).
+:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint` (or, with the driver's own
+measurements, :func:`save_run`) under :func:`checkpoint_path` (the run's label and a
+digest of its parameters) and goes on from it when run again
+(``verification/silo_discharge.py --checkpoint-dir``, ``landslide_yangbaodi.py``).
 
 ``ScriptParser`` gives every script ``--quiet`` (no progress bars) next to the
 ``--progress`` of old (now the default); :func:`progress_bar` is the bar (tqdm) of a
@@ -532,17 +533,16 @@ def save_run(path, state, loop):
     (:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint`) and the driver's own loop
     variables ``loop`` (a dict; pickled beside it as PATH.loop.pkl with the state's step).
     Each file is written under a temporary name and then renamed, so that a stop while
-    writing leaves the previous checkpoint."""
+    writing leaves the previous one whole (:func:`load_run` checks that the two are of
+    the same step)."""
     import os
     import pickle
     from .pfem.state import save_checkpoint
     path = Path(path)
-    tmp = path.with_name(path.stem + ".tmp.npz")
-    save_checkpoint(tmp, state)
+    save_checkpoint(path, state)
     side = path.with_name(path.stem + ".loop.pkl")
     with open(side.with_suffix(".tmp"), "wb") as stream:
         pickle.dump({"step": state.step, "loop": loop}, stream)
-    os.replace(tmp, path)
     os.replace(side.with_suffix(".tmp"), side)
 
 

@@ -9,6 +9,8 @@ exactly, so a resumed run is bit-identical to an uninterrupted one.
 from dataclasses import dataclass, field, replace
 from typing import ClassVar
 import json
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -134,14 +136,20 @@ _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass"
 
 
 def save_checkpoint(path, state):
-    """Write the state to ``path`` (np.savez): arrays exactly, history as JSON text."""
+    """Write the state to ``path`` (np.savez, ".npz" added if missing): arrays exactly,
+    history as JSON text. Written under a temporary name and then renamed, so that a stop
+    while writing leaves the previous checkpoint whole."""
     data = {k: getattr(state, k) for k in _ARRAYS if getattr(state, k) is not None}
     sc = state.scales
     scales = (np.full(3, np.nan) if sc is None
               else np.array([sc.stress, sc.displacement, sc.dynamic_force]))
-    np.savez(path, step=state.step, time=state.time, area0=state.area0, alpha=state.alpha,
+    path = Path(path)
+    path = path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
+    tmp = path.with_name(path.stem + ".tmp.npz")
+    np.savez(tmp, step=state.step, time=state.time, area0=state.area0, alpha=state.alpha,
              scales=scales, history=json.dumps(state.history),
              discharged=json.dumps(state.discharged), **data)
+    os.replace(tmp, path)
 
 
 def load_checkpoint(path):
