@@ -561,6 +561,20 @@ def load_run(path):
     return (state, saved["loop"]) if saved["step"] == state.step else None
 
 
+def checkpoint_options(parser, what="run"):
+    """Add ``--checkpoint-dir DIR`` and ``--checkpoint-every K`` to ``parser``: each
+    ``what`` saves itself in DIR (every K steps and at the end, :func:`checkpoint_path`)
+    and goes on from its own checkpoint when the script is run again."""
+    parser.add_argument("--checkpoint-dir", default=None,
+                        help=f"save each {what}'s state in this directory (every "
+                             f"--checkpoint-every steps and at the end) and go on from a "
+                             f"{what}'s checkpoint if there is one: a long study can be "
+                             f"stopped and resumed")
+    parser.add_argument("--checkpoint-every", type=positive_int, default=20,
+                        help=f"steps between a {what}'s checkpoints")
+    return parser
+
+
 def alpha_advected_option(parser, default=0.0, why=""):
     """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
     previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape)."""

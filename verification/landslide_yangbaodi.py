@@ -81,7 +81,8 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, 
                                nonnegative_float, nonnegative_int, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
                                save_figure, theta_weight, volume_correction_option,
-                               alpha_advected_option, checkpoint_path, load_run, save_run)
+                               alpha_advected_option, checkpoint_options, checkpoint_path,
+                               load_run, save_run)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -328,13 +329,11 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                 at_rest = True
         bar.set_postfix_str(f"t = {state.time:.2f} s, front {front(state):.1f} m", refresh=False)
         bar.update(1)
-        if checkpoint is not None and (at_rest or state.step % checkpoint_every == 0):
+        last = state.step == n_hold + n_after or at_rest
+        if checkpoint is not None and (last or state.step % checkpoint_every == 0):
             save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
                                              peak=peak))
     bar.close()
-    if checkpoint is not None:
-        save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
-                                         peak=peak))
     seconds = time.perf_counter() - t0
     t = np.asarray(rec["t"])
     fr = np.asarray(rec["front"])
@@ -447,13 +446,7 @@ def build_parser():
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU of each run every this many steps (0: none); a PVD per run")
-    p.add_argument("--checkpoint-dir", default=None,
-                   help="save each slide's state and measurements in this directory (every "
-                        "--checkpoint-every steps and at the end) and go on from a slide's "
-                        "checkpoint if there is one: the thesis' size can be stopped and "
-                        "resumed")
-    p.add_argument("--checkpoint-every", type=positive_int, default=20,
-                   help="steps between a slide's checkpoints")
+    checkpoint_options(p, "slide")
     p.add_argument("--keep-runs", action="store_true",
                    help="pickle every run's histories to OUTDIR/landslide_yangbaodi/runs.pkl")
     p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),

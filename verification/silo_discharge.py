@@ -70,7 +70,8 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options, thinned, checkpoint_path)
+                               save_figure, sweep_options, thinned, checkpoint_options,
+                               checkpoint_path)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -289,12 +290,7 @@ def build_parser():
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--checkpoint-dir", default=None,
-                   help="save each run's state in this directory (every --checkpoint-every "
-                        "steps and at the end) and go on from a run's checkpoint if there "
-                        "is one: a long study can be stopped and resumed")
-    p.add_argument("--checkpoint-every", type=positive_int, default=20,
-                   help="steps between a run's checkpoints")
+    checkpoint_options(p, "run")
     sweep_options(p, default_workers=min(2, os.cpu_count() or 1), what="the runs")
     return p
 
