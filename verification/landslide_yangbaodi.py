@@ -283,7 +283,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     loop = dict(rec={k: [] for k in ("t", "front", "ke", "area_change", "alpha", "cm",
                                      "sigma_m_min")},
                 track={"x": [], "v": []}, snaps={0.0: {"x": x0, "speed": np.zeros(n0)}},
-                hold_moved=0.0, sigma_m_hold=[], at_rest=False, peak=0.0)
+                hold_moved=0.0, hold_changes=[], sigma_m_held=None, at_rest=False, peak=0.0)
     checkpoint = None
     if checkpoint_dir is not None:
         keys = dict(h=h, rho=rho, phi=phi, c=c, mu_deg=mu_deg, g=g, dt=dt, theta1=theta1,
@@ -297,7 +297,9 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         if saved is not None:
             state, loop = saved
     rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
-    sigma_m_hold = loop["sigma_m_hold"]
+    # how the held stress settles: the largest change of the lagged mean stress from one
+    # held step to the next, in units of the stress scale rho g L
+    hold_changes, sigma_m_held = loop["hold_changes"], loop["sigma_m_held"]
     hold_moved, at_rest, peak = loop["hold_moved"], loop["at_rest"], loop["peak"]
     t0 = time.perf_counter()
     bar = progress_bar(total=n_hold + n_after, initial=min(state.step, n_hold + n_after),
@@ -309,7 +311,10 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
             raise RuntimeError("particles were removed: the material points are lost")
         if state.step <= n_hold:                     # the held phase
             hold_moved = max(hold_moved, float(np.max(np.abs(state.x[:n0] - x0))))
-            sigma_m_hold.append(state.sigma_m[:n0].copy())
+            if sigma_m_held is not None:
+                hold_changes.append(float(np.max(np.abs(state.sigma_m[:n0] - sigma_m_held)))
+                                    / scene.stress_scale)
+            sigma_m_held = state.sigma_m[:n0].copy()
         else:
             rec["t"].append(state.time - t_release)
             rec["front"].append(front(state))
@@ -332,7 +337,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         last = state.step == n_hold + n_after or at_rest
         if checkpoint is not None and (last or state.step % checkpoint_every == 0):
             save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
-                                             peak=peak))
+                                             peak=peak, sigma_m_held=sigma_m_held))
     bar.close()
     seconds = time.perf_counter() - t0
     t = np.asarray(rec["t"])
@@ -342,10 +347,6 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     cm_end = cm[-1]
     H, L = float(cm0[1] - cm_end[1]), float(cm_end[0] - cm0[0])
     k_peak = int(np.argmax(fr)) if len(fr) else 0
-    # how the held stress settles: the largest change of the lagged mean stress from one
-    # held step to the next, in units of the stress scale rho g L
-    hold_changes = [float(np.max(np.abs(b - a))) / scene.stress_scale
-                    for a, b in zip(sigma_m_hold[:-1], sigma_m_hold[1:])]
     hist = state.history
     return {
         "label": label, "mu_deg": mu_deg, "mu": mu, "rho": rho, "h": h, "dt": dt,
@@ -356,7 +357,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         "hold_max_displacement_over_h": hold_moved / h,
         "hold_sigma_m_changes": hold_changes,
         "hold_sigma_m_last_change": hold_changes[-1] if hold_changes else np.nan,
-        "hold_sigma_m_min": float(sigma_m_hold[-1].min()) if sigma_m_hold else np.nan,
+        "hold_sigma_m_min": float(sigma_m_held.min()) if sigma_m_held is not None else np.nan,
         "steps_after_release": len(t), "at_rest": at_rest,
         "t_rest": float(t[-1]) if at_rest else np.nan,
         "front0": float(np.max(x0[:, 0])), "front_max": float(fr.max()) if len(fr) else np.nan,
