@@ -145,3 +145,25 @@ def test_the_advected_domain_only_adds_triangles_inside_it():
 def test_config_refuses_a_bad_alpha_advected(value):
     with pytest.raises(ValueError, match="alpha_advected"):
         PFEMConfig(alpha_advected=value)
+
+
+def test_a_deposit_is_measured_on_the_domain_the_run_detects():
+    """A block with a thin tail that has spread (every tail triangle fails alpha): the
+    plain alpha-shape cuts the tail off the deposit, the run's detection with the advected
+    mesh keeps it, and the deposit measured with it reaches the tail's end."""
+    import sys
+    from pathlib import Path
+    from types import SimpleNamespace
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
+    from granular_column_plane import deposit_extent
+
+    block = np.array([[i, j] for j in range(4) for i in range(6)], dtype=float)
+    before = np.vstack([block, layer(1.0, np.sqrt(0.75)) + [6.0, 0.0]])
+    t_moved = alpha_shape(before, 1.0, 1.6).triangles      # one body: block and tail
+    after = np.vstack([block, layer(2.0, 0.3) + [7.0, 0.0]])
+    state = SimpleNamespace(x=after, h=np.ones(len(after)), mesh_p=after, mesh_t=t_moved)
+    assert circumradius(after, t_moved).max() < 3.0
+    height, toe, body = deposit_extent(state, 1.6)
+    assert toe < 8.0 and len(body) < len(after)               # the tail cut off
+    height, toe, body = deposit_extent(state, 1.6, alpha_advected=3.0)
+    assert (height, toe) == (3.0, after[:, 0].max()) and len(body) == len(after)

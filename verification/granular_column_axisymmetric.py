@@ -153,10 +153,11 @@ def lajeunesse_2004(a):
     return np.where(a < 3.0, 1.0, 0.5), np.minimum(a, 0.74)
 
 
-def measure_deposit(state, alpha):
+def measure_deposit(state, alpha, alpha_advected=0.0):
     """(height on the axis, toe radius) of the main body, not its splashes: the highest of
-    its particles within one spacing of r = 0 (Lube et al. measure the central height)."""
-    _, toe, body = deposit_extent(state, alpha)
+    its particles within one spacing of r = 0 (Lube et al. measure the central height);
+    the body as the run detects it (``alpha_advected``, :func:`deposit_extent`)."""
+    _, toe, body = deposit_extent(state, alpha, alpha_advected)
     return wall_height(state, body, 0.0), toe
 
 
@@ -206,7 +207,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
 
     def on_step(st, rec, result):
         if history:
-            hz, toe = measure_deposit(st, alpha)
+            hz, toe = measure_deposit(st, alpha, alpha_advected)
             track["t_bar"].append(st.time / t_scale)
             track["h_over_r0"].append(hz / r0)
             track["r_over_r0"].append(toe / r0)
@@ -221,7 +222,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     t0 = time.perf_counter()
     state, snaps = pfem_loop.run(state, scene, n_stop, series=series, save_every=save_every,
                                  snapshots=set(snap_steps), progress=tick, on_step=on_step)
-    height4, toe4 = measure_deposit(state, alpha)
+    height4, toe4 = measure_deposit(state, alpha, alpha_advected)
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
@@ -229,7 +230,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                                      save_every=save_every, progress=tick, on_step=on_step)
     bar.close()
     seconds = time.perf_counter() - t0
-    height, toe = measure_deposit(state, alpha) if extra else (height4, toe4)
+    height, toe = measure_deposit(state, alpha, alpha_advected) if extra else (height4, toe4)
     hist = state.history
     ke = np.asarray(hist["kinetic_energy"])
     mass = np.asarray(hist["mass"])

@@ -131,14 +131,19 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     return scene.initial_state(), scene
 
 
-def deposit_extent(state, alpha):
+def deposit_extent(state, alpha, alpha_advected=0.0):
     """Height and toe (largest x) of the main body: the detected body of largest area.
 
     Particles splashed off the body (free, or in a small separate body) are left out,
-    as an experimentalist measures the deposit, not its outliers.
+    as an experimentalist measures the deposit, not its outliers. The body is detected as
+    the engine detects it: with ``alpha_advected`` > 0 (``PFEMConfig.alpha_advected``) the
+    state's mesh keeps the stretched triangles the run kept, which the plain alpha-shape
+    would cut off the deposit.
     Returns (height, toe, main-body particle indices).
     """
-    shape = alpha_shape(state.x, state.h, alpha)
+    advected = None if state.mesh_p is None else (state.mesh_p, state.mesh_t)
+    shape = alpha_shape(state.x, state.h, alpha, advected=advected,
+                        alpha_advected=alpha_advected)
     main = int(np.argmax(shape.body_area))
     idx = np.unique(shape.triangles[shape.body == main])
     return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
