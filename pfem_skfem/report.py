@@ -472,7 +472,8 @@ scheduler_address.__name__ = "a Dask scheduler address"
 
 
 def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
-    """Add ``--workers`` and ``--scheduler``, the options of :func:`run_cases`, to ``parser``.
+    """Add ``--workers``, ``--scheduler`` and ``--results-dir``, the options of
+    :func:`run_cases`, to ``parser``.
 
     Parameters
     ----------
@@ -490,6 +491,10 @@ def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
                         help=f"run {what} on the existing Dask cluster at ADDRESS "
                              "(tcp://host:port; its workers must import pfem_skfem); "
                              "--workers is then ignored")
+    parser.add_argument("--results-dir", metavar="DIR", default=None,
+                        help=f"keep the result of each of {what} in DIR as it finishes, and "
+                             "take those already there instead of running them again (a "
+                             "long study stopped and resumed; for the same code)")
     return parser
 
 
@@ -608,7 +613,7 @@ def _case_text(case, width=300):
     return text if len(text) <= width else text[:width - 3] + "..."
 
 
-def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
+def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, results_dir=None):
     """``function(**case)`` for each case (a dict of its keywords); the results in order.
 
     With ``workers`` > 1 (and more than one case) the cases run on a Dask
@@ -623,8 +628,15 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
     A failing case is reported (one line with its parameters) when it fails and the others
     go on; at the end :class:`SweepError` lists every failure (the first one chained as
     its cause), so a script exits non-zero.
+
+    With ``results_dir`` (``--results-dir``) each case's result is kept there as it
+    finishes (:func:`result_path`), and a case whose result is there is not run again:
+    a sweep stopped part way goes on where it stopped. The file is named by the case's
+    parameters, not by the code: a cache is for the same code.
     """
     cases = [dict(c) for c in cases]
+    if results_dir is not None:
+        return _run_cached(function, cases, workers, desc, scheduler, results_dir)
     if scheduler is None and (workers <= 1 or len(cases) <= 1):
         return _run_serial(function, cases, desc)
     verbose = any(c.get("verbose") for c in cases)
@@ -656,6 +668,75 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None):
 
 def _call(function, keywords):
     return function(**keywords)
+
+
+def _key_value(value):
+    """A case's keyword as JSON for :func:`result_path`: a function by its import name,
+    anything else without a JSON form by its repr (an address in it only misses the
+    cache)."""
+    if callable(value) and hasattr(value, "__qualname__"):
+        return f"{value.__module__}.{value.__qualname__}"
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return str(value) if isinstance(value, Path) else repr(value)
+
+
+def result_path(directory, desc, case):
+    """Where :func:`run_cases` keeps the result of ``case`` (its keywords, but its
+    ``verbose``): ``directory``/``desc``-digest.result.pkl (:func:`checkpoint_path`)."""
+    import hashlib
+    keys = {k: v for k, v in case.items() if k != "verbose"}
+    text = json.dumps({k: keys[k] for k in sorted(keys)}, default=_key_value)
+    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
+    folder = Path(directory)
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / f"{str(desc).replace(' ', '_').replace('/', '_')}-{digest}.result.pkl"
+
+
+def _call_kept(function, keywords, path, verbose=None):
+    """``function(**keywords)``, its result pickled at ``path`` (written under a temporary
+    name and renamed: a stop while writing leaves no half file). ``verbose`` (None: as the
+    keywords say) is the case's own, which :func:`run_cases` turns off on Dask workers."""
+    import os
+    import pickle
+    if verbose is not None:
+        keywords = dict(keywords, verbose=verbose)
+    result = function(**keywords)
+    with open(Path(path).with_suffix(".tmp"), "wb") as stream:
+        pickle.dump(result, stream)
+    os.replace(Path(path).with_suffix(".tmp"), path)
+    return result
+
+
+def _run_cached(function, cases, workers, desc, scheduler, results_dir):
+    import pickle
+    paths = [result_path(results_dir, desc, c) for c in cases]
+    results = [None] * len(cases)
+    todo = []
+    for i, path in enumerate(paths):
+        if path.is_file():
+            with open(path, "rb") as stream:
+                results[i] = pickle.load(stream)
+        else:
+            todo.append(i)
+    if todo and any(c.get("verbose") for c in cases):
+        progress(f"{desc}: {len(cases) - len(todo)} of {len(cases)} case(s) taken from "
+                 f"{results_dir}")
+    wrapped = [dict(function=function, keywords=cases[i], path=str(paths[i]),
+                    **({"verbose": cases[i]["verbose"]} if "verbose" in cases[i] else {}))
+               for i in todo]
+    try:
+        done = run_cases(_call_kept, wrapped, workers, desc=desc, scheduler=scheduler)
+    except SweepError as error:                  # name the failures by their own case
+        failures = [(todo[i], cases[todo[i]], e) for i, _, e in error.failures]
+        for k, i in enumerate(todo):
+            results[i] = error.results[k]
+        raise SweepError(desc, failures, results) from error.__cause__
+    for k, i in enumerate(todo):
+        results[i] = done[k]
+    return results
 
 
 def _run_serial(function, cases, desc):

@@ -84,3 +84,42 @@ def test_a_case_may_have_keywords_that_dask_submit_also_takes():
     """The keywords travel as one dict: 'key', 'priority', 'workers' reach the function."""
     cases = [dict(key="k", priority=2), dict(workers=3, pure=True)]
     assert run_cases(dict, cases, workers=2) == cases
+
+
+CALLS = []
+
+
+def counted_error(value, reference, verbose=False):
+    """relative_error, counting its calls (serial runs only: the calls of this process)."""
+    CALLS.append((value, reference, verbose))
+    return relative_error(value, reference)
+
+
+def test_kept_results_are_taken_instead_of_run_again(tmp_path):
+    cases = [dict(value=2.0, reference=1.0, verbose=True), dict(value=3.0, reference=2.0)]
+    CALLS.clear()
+    first = run_cases(counted_error, cases, workers=1, desc="checks", results_dir=tmp_path)
+    assert first == [1.0, 0.5] and len(CALLS) == 2 and CALLS[0][2] is True
+    assert len(list(tmp_path.glob("checks-*.result.pkl"))) == 2
+    # the same cases again: taken from the directory, verbose or not; a new one is run
+    again = [dict(cases[0], verbose=False), cases[1], dict(value=1.0, reference=4.0)]
+    assert run_cases(counted_error, again, workers=1, desc="checks",
+                     results_dir=tmp_path) == [1.0, 0.5, 0.75]
+    assert len(CALLS) == 3 and CALLS[-1][:2] == (1.0, 4.0)
+    assert run_cases(counted_error, cases, workers=1, desc="checks") == first
+    assert len(CALLS) == 5                                      # no directory: both run
+
+
+def test_kept_results_from_workers_and_failures_named_by_their_own_case(tmp_path):
+    cases = [dict(value=2.0, reference=1.0), dict(value="x", reference=2.0),
+             dict(value=1.0, reference=4.0)]
+    with pytest.raises(SweepError) as error:
+        run_cases(relative_error, cases, workers=2, desc="checks", results_dir=tmp_path)
+    assert [(i, case) for i, case, _ in error.value.failures] == [(1, cases[1])]
+    assert error.value.results == [1.0, None, 0.75]
+    assert isinstance(error.value.__cause__, TypeError)
+    assert len(list(tmp_path.glob("*.result.pkl"))) == 2          # the two that finished
+    with pytest.raises(SweepError) as error:                     # only the failed one runs
+        run_cases(relative_error, cases, workers=1, desc="checks", results_dir=tmp_path)
+    assert error.value.results == [1.0, None, 0.75]
+    assert [i for i, _, _ in error.value.failures] == [1]

@@ -494,7 +494,7 @@ def run(args):
                   save_every=args.save_every)]
     cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]
     runs = run_cases(run_layer, cases, args.workers, desc="layers",
-                     scheduler=args.scheduler)
+                     scheduler=args.scheduler, results_dir=args.results_dir)
     for k, r in enumerate(runs):
         layer_checks(report, args, r, "" if k == 0 else f"n{r['steps']}_")
     increment_checks(report, args, runs)

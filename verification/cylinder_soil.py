@@ -329,7 +329,7 @@ def run(args):
     """The cylinder run (and the studies asked for) against the references."""
     cases = study_cases(args)
     results = run_cases(run_cylinder, cases, args.workers, desc="cylinders",
-                        scheduler=args.scheduler)
+                        scheduler=args.scheduler, results_dir=args.results_dir)
     main_run, studies = results[0], results[1:]
     r = main_run
     gamma = args.rho * args.g

@@ -359,7 +359,7 @@ def run(args):
         progress(f"{len(cases)} case(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     results = iter(run_cases(run_case, cases, args.workers, desc="columns of revolution",
-                             scheduler=args.scheduler))
+                             scheduler=args.scheduler, results_dir=args.results_dir))
     res = {k: [next(results) for _ in g] for k, g in groups.items()}
     sweep = res["sweep"]
     by_a = {r["a"]: r for r in sweep}

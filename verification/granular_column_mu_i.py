@@ -274,7 +274,8 @@ def run(args):
         progress(f"{len(cases)} column(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     results = run_cases(run_column, [dict(function=f, keywords=k) for f, k in cases],
-                        args.workers, desc="columns with mu(I)", scheduler=args.scheduler)
+                        args.workers, desc="columns with mu(I)", scheduler=args.scheduler,
+                        results_dir=args.results_dir)
     density = (results[-1] if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws
                else None)
     rows = results[:-1] if density is not None else results

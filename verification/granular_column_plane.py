@@ -365,7 +365,7 @@ def run(args):
         progress(f"{len(cases) + len(study) + len(meshes)} case(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     results = run_cases(run_case, cases + study + meshes, args.workers, desc="columns",
-                        scheduler=args.scheduler)
+                        scheduler=args.scheduler, results_dir=args.results_dir)
     sweep = results[:len(cases)]
     dt_study = results[len(cases):len(cases) + len(study)]
     mesh_study = results[len(cases) + len(study):]

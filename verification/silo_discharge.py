@@ -324,7 +324,7 @@ def run(args):
         progress(f"{len(cases)} case(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     results = run_cases(run_case, cases, args.workers, desc="silos",
-                        scheduler=args.scheduler)
+                        scheduler=args.scheduler, results_dir=args.results_dir)
     runs = results[:len(main)]
     dt_runs = results[len(main):len(main) + len(dts)]
     outlet_runs = results[len(main) + len(dts):]
