@@ -187,3 +187,18 @@ def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
         h0, h = a * r0, r0 / (nr - 1)
         number = lambda n: np.sqrt(2 * g * h0) * 4 * np.sqrt(h0 / g) / n / h   # noqa: E731
         assert number(steps) <= courant * (1 + 1e-12) < number(steps - 1)
+
+
+@pytest.mark.parametrize("a", [0.25, 0.5, 0.7, 1.0, 2.0, 8.0])
+@pytest.mark.parametrize("nr", [6, 10])
+def test_a_short_column_gets_nr_particles_over_its_height(a, nr):
+    """The fewest particles across r0 whose spacing puts nr - 1 spacings over the smaller
+    of r0 and h0 = a r0 (nr across the radius when a >= 1)."""
+    from granular_column_axisymmetric import particles_across_radius
+    n = particles_across_radius(a, nr)
+    spacings = lambda n: min(1.0, a) * (n - 1)             # over min(r0, h0), r0 = 1  # noqa: E731
+    assert spacings(n) >= (nr - 1) * (1 - 1e-12) and spacings(n - 1) < nr - 1
+    assert n == nr if a >= 1 else n > nr
+    state, _ = granular_column_axisymmetric(a, n)
+    assert state.x[:, 1].max() == approx(a)                  # the top row at h0
+    assert len(np.unique(state.x[:, 1])) >= nr                # nr rows at least

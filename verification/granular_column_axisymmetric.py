@@ -161,6 +161,14 @@ def measure_deposit(state, alpha, alpha_advected=0.0):
     return wall_height(state, body, 0.0), toe
 
 
+def particles_across_radius(a, nr):
+    """Particles across r0 that put ``nr`` across the smaller of r0 and h0 = a r0: a short
+    column (a < 1) gets as many spacings over its height as a = 1 has over its radius
+    (at 10 across, a = 0.5 would otherwise stand 5 spacings high, and its foot, a few
+    particles, moves by whole spacings)."""
+    return int(nr) if a >= 1 else int(np.ceil((nr - 1) / a - 1e-9)) + 1
+
+
 def courant_steps(a, nr, courant):
     """Steps to t = 4 sqrt(h0/g) with sqrt(2 g h0) dt / h <= ``courant`` (h = r0/(nr - 1)):
     4 sqrt(2) a (nr - 1) / courant, whatever r0 and g. A step moves the falling top of a tall
@@ -175,16 +183,18 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
              volume_correction=False, adaptive_alpha=False, alpha_advected=0.0):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
+    ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`).
     ``courant``: at least the steps that hold the free-fall Courant number
     sqrt(2 g h0) dt / h to this (:func:`courant_steps`). ``soil``: a material object in
     place of ``material`` (as :func:`granular_column_axisymmetric`)."""
+    nr_radius = particles_across_radius(a, nr)
     if courant is not None:
-        steps = max(steps, courant_steps(a, nr, courant))
+        steps = max(steps, courant_steps(a, nr_radius, courant))
     h0 = a * r0
     t_scale = np.sqrt(h0 / g)
     dt = 4.0 * t_scale / steps
     n_stop = int(round(t_stop * t_scale / dt))
-    state, scene = granular_column_axisymmetric(a, nr, r0=r0, rho=rho, g=g, phi=phi,
+    state, scene = granular_column_axisymmetric(a, nr_radius, r0=r0, rho=rho, g=g, phi=phi,
                                                 phi_s=phi_s, material=material,
                                                 floor_fraction=floor, dt=dt, alpha=alpha,
                                                 passes=passes, soil=soil,
@@ -237,7 +247,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     on_axis = np.flatnonzero(np.abs(state.x[:, 0]) <= 1e-12 * r0)
     return {
         "a": a, "phi": phi, "phi_s": phi if phi_s is None else phi_s, "nr": nr,
-        "steps": steps, "courant_number": float(np.sqrt(2 * g * h0) * dt / (r0 / (nr - 1))),
+        "nr_radius": nr_radius, "steps": steps,
+        "courant_number": float(np.sqrt(2 * g * h0) * dt / (r0 / (nr_radius - 1))),
         "rho": rho, "r0": r0, "material": material, "label": label,
         "particles": int(len(x0)), "spacing_over_r0": float(np.median(state.h)) / r0,
         "h_inf_over_r0": height / r0, "runout_over_r0": (toe - r0) / r0,
@@ -279,7 +290,9 @@ def build_parser():
     p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
     p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
     p.add_argument("--r0", type=positive_float, default=1.0, help="initial radius [m]")
-    p.add_argument("--nr", type=PARTICLES_ACROSS, default=10, help="particles across the radius r0")
+    p.add_argument("--nr", type=PARTICLES_ACROSS, default=10,
+                   help="particles across the radius r0, or across the height h0 where it is "
+                        "smaller (a < 1)")
     p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
     p.add_argument("--courant", type=positive_float, default=None,
