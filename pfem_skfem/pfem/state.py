@@ -136,9 +136,10 @@ _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass"
 
 
 def save_checkpoint(path, state):
-    """Write the state to ``path`` (np.savez, ".npz" added if missing): arrays exactly,
-    history as JSON text. Written under a temporary name and then renamed, so that a stop
-    while writing leaves the previous checkpoint whole."""
+    """Write the state to ``path`` (np.savez_compressed, ".npz" added if missing): arrays
+    exactly, history as JSON text (which numpy stores at 4 bytes a character: it compresses
+    well). Written under a temporary name and then renamed, so that a stop while writing
+    leaves the previous checkpoint whole."""
     data = {k: getattr(state, k) for k in _ARRAYS if getattr(state, k) is not None}
     sc = state.scales
     scales = (np.full(3, np.nan) if sc is None
@@ -146,9 +147,9 @@ def save_checkpoint(path, state):
     path = Path(path)
     path = path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
     tmp = path.with_name(path.stem + ".tmp.npz")
-    np.savez(tmp, step=state.step, time=state.time, area0=state.area0, alpha=state.alpha,
-             scales=scales, history=json.dumps(state.history),
-             discharged=json.dumps(state.discharged), **data)
+    np.savez_compressed(tmp, step=state.step, time=state.time, area0=state.area0,
+                        alpha=state.alpha, scales=scales, history=json.dumps(state.history),
+                        discharged=json.dumps(state.discharged), **data)
     os.replace(tmp, path)
 
 
