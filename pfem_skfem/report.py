@@ -523,14 +523,20 @@ def checkpoint_path(directory, label, keys):
     """The checkpoint file of one run in ``directory`` (created): ``label`` and a digest of
     ``keys`` (the parameters that define the run, a dict of JSON values), so that a run
     never goes on from another run's state. Returns a Path."""
-    import hashlib
     if not str(label) or any(c in str(label) for c in "/\\"):
         raise ValueError(f"label must be a file name part, got {label!r}")
-    text = json.dumps({k: keys[k] for k in sorted(keys)}, default=float)
+    return _named_by(directory, label, keys, ".npz")
+
+
+def _named_by(directory, label, keys, suffix, default=float):
+    """``directory``/``label``-digest``suffix`` (the directory created), the digest that
+    of ``keys`` as sorted JSON (``default`` for values JSON has no form for)."""
+    import hashlib
+    text = json.dumps({k: keys[k] for k in sorted(keys)}, default=default)
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
     folder = Path(directory)
     folder.mkdir(parents=True, exist_ok=True)
-    return folder / f"{label}-{digest}.npz"
+    return folder / f"{label}-{digest}{suffix}"
 
 
 def save_run(path, state, loop):
@@ -685,14 +691,10 @@ def _key_value(value):
 
 def result_path(directory, desc, case):
     """Where :func:`run_cases` keeps the result of ``case`` (its keywords, but its
-    ``verbose``): ``directory``/``desc``-digest.result.pkl (:func:`checkpoint_path`)."""
-    import hashlib
+    ``verbose``): ``directory``/``desc``-digest.result.pkl, as :func:`checkpoint_path`."""
     keys = {k: v for k, v in case.items() if k != "verbose"}
-    text = json.dumps({k: keys[k] for k in sorted(keys)}, default=_key_value)
-    digest = hashlib.sha256(text.encode()).hexdigest()[:12]
-    folder = Path(directory)
-    folder.mkdir(parents=True, exist_ok=True)
-    return folder / f"{str(desc).replace(' ', '_').replace('/', '_')}-{digest}.result.pkl"
+    label = str(desc).replace(" ", "_").replace("/", "_").replace("\\", "_")
+    return _named_by(directory, label, keys, ".result.pkl", default=_key_value)
 
 
 def _call_kept(function, keywords, path, verbose=None):
