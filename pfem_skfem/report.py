@@ -546,15 +546,21 @@ def save_run(path, state, loop):
     Each file is written under a temporary name and then renamed, so that a stop while
     writing leaves the previous one whole (:func:`load_run` checks that the two are of
     the same step)."""
-    import os
-    import pickle
     from .pfem.state import save_checkpoint
     path = Path(path)
     save_checkpoint(path, state)
-    side = path.with_name(path.stem + ".loop.pkl")
-    with open(side.with_suffix(".tmp"), "wb") as stream:
-        pickle.dump({"step": state.step, "loop": loop}, stream)
-    os.replace(side.with_suffix(".tmp"), side)
+    _dump_pickle({"step": state.step, "loop": loop}, path.with_name(path.stem + ".loop.pkl"))
+
+
+def _dump_pickle(value, path):
+    """Pickle ``value`` at ``path`` under a temporary name and then rename it, so that a
+    stop while writing leaves the previous file whole (or none)."""
+    import os
+    import pickle
+    path = Path(path)
+    with open(path.with_suffix(".tmp"), "wb") as stream:
+        pickle.dump(value, stream)
+    os.replace(path.with_suffix(".tmp"), path)
 
 
 def load_run(path):
@@ -701,14 +707,10 @@ def _call_kept(function, keywords, path, verbose=None):
     """``function(**keywords)``, its result pickled at ``path`` (written under a temporary
     name and renamed: a stop while writing leaves no half file). ``verbose`` (None: as the
     keywords say) is the case's own, which :func:`run_cases` turns off on Dask workers."""
-    import os
-    import pickle
     if verbose is not None:
         keywords = dict(keywords, verbose=verbose)
     result = function(**keywords)
-    with open(Path(path).with_suffix(".tmp"), "wb") as stream:
-        pickle.dump(result, stream)
-    os.replace(Path(path).with_suffix(".tmp"), path)
+    _dump_pickle(result, path)
     return result
 
 

@@ -45,7 +45,6 @@ import numpy as np
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, load_checkpoint, run_to_rest
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
-from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
@@ -141,9 +140,7 @@ def deposit_extent(state, alpha, alpha_advected=0.0):
     would cut off the deposit.
     Returns (height, toe, main-body particle indices).
     """
-    advected = None if state.mesh_p is None else (state.mesh_p, state.mesh_t)
-    shape = alpha_shape(state.x, state.h, alpha, advected=advected,
-                        alpha_advected=alpha_advected)
+    shape = pfem_loop.detect_domain(state, alpha, alpha_advected)
     main = int(np.argmax(shape.body_area))
     idx = np.unique(shape.triangles[shape.body == main])
     return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx

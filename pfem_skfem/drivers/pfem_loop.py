@@ -185,6 +185,15 @@ class StageTimer:
 
 
 # -- the step ------------------------------------------------------------------------------
+def detect_domain(state, alpha, alpha_advected=0.0):
+    """The domain of the particles as a step detects it: their alpha-shape, which with
+    ``alpha_advected`` > 0 (:class:`PFEMConfig`) also reads the state's mesh moved to
+    t_n (None before the first step)."""
+    advected = None if state.mesh_p is None else (state.mesh_p, state.mesh_t)
+    return alpha_shape(state.x, state.h, alpha, advected=advected,
+                       alpha_advected=alpha_advected)
+
+
 def pfem_step(state, scene):
     """One PFEM step C^n -> C^{n+1} (Section 2.2) of ``scene``.
 
@@ -215,9 +224,7 @@ def pfem_step(state, scene):
                 if not keep.all():
                     state = hand_on_mass(state, keep)
                     thinned = int((~keep).sum())
-            advected = None if state.mesh_p is None else (state.mesh_p, state.mesh_t)
-            shape = alpha_shape(state.x, state.h, alpha, advected=advected,
-                                alpha_advected=config.alpha_advected)
+            shape = detect_domain(state, alpha, config.alpha_advected)
         if len(shape.triangles) == 0 and state.step > 0:  # the last few of a discharge
             return free_flight(state, scene, timer, t_start, alpha, thinned)
         with timer("detect"):
