@@ -24,6 +24,9 @@ from pfem_skfem.scene import Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
 from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_axisymmetric_pfem")
+
 G, RHO, R0 = 9.8, 2.0, 1.0
 COLLAPSE_STEPS = 50          # to t = 1.0 sqrt(h0/g) at dt = 0.02 sqrt(h0/g)
 

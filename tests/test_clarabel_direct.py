@@ -11,6 +11,9 @@ from pfem_skfem.problems.contact import (RigidSegment, potential_contacts, resul
                                          with_friction_bound)
 from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_clarabel_direct")
+
 G = 9.8
 
 

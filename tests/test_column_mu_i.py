@@ -8,6 +8,9 @@ from pfem_skfem.materials_rate import MuIRheology, MuIRheologyAxisymmetric
 from pfem_skfem.report import run_script
 from verification import granular_column_mu_i as column_mu_i
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_column_mu_i")
+
 
 @pytest.fixture(scope="module")
 def quick():

@@ -13,6 +13,9 @@ from pfem_skfem.operators_dynamic import (assemble_A, assemble_D, block_cholesky
                                           gravity_vector, mass_matrix, r_basis)
 from pfem_skfem.problems.dynamic import (ThetaMethod, dynamic_increment, dynamic_operators)
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_dynamics")
+
 G = 9.8
 
 

@@ -11,6 +11,9 @@ from pfem_skfem.report import run_script
 from pfem_skfem.scene import polygon_area
 from verification import landslide_yangbaodi as slide
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_landslide")
+
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):

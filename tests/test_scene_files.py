@@ -25,6 +25,9 @@ from pfem_skfem.scene.files import (EXAMPLES, SceneFileError, example_text, key_
 
 from verification.granular_column_plane import granular_column
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_scene_files")
+
 EXAMPLE = example_text("column")
 T_END = 0.02                                         # the example's
 

@@ -8,6 +8,9 @@ from pytest import approx
 from pfem_skfem.report import run_script
 from verification import silo_discharge as silo
 
+# every test of this file on one xdist worker: its module fixture is computed once
+pytestmark = pytest.mark.xdist_group("test_silo")
+
 # Stated for the coarse quick silo (2 particles across the outlet, dt = 0.04 s): the
 # rate fluctuates as the outlet's particles leave a few at a time, so the linear fit
 # of V(t) over 20-80 % discharged need only reach R^2 = 0.9 (0.97 at the full size).
