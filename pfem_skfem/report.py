@@ -563,6 +563,33 @@ def _dump_pickle(value, path):
     os.replace(path.with_suffix(".tmp"), path)
 
 
+def sitting():
+    """The machine and boot a kept result was made in: host, processor (model, family,
+    stepping, a digest of its feature flags), architecture and boot id. A PFEM run grows
+    its round-off through remeshing, so two runs compared bit for bit (the density
+    doubled, c = 0) must carry the same one."""
+    import hashlib
+    import platform
+    info = {}
+    try:
+        with open("/proc/cpuinfo") as stream:
+            for line in stream:
+                key, _, value = line.partition(":")
+                info.setdefault(key.strip(), value.strip())
+    except OSError:
+        pass
+    try:
+        with open("/proc/sys/kernel/random/boot_id") as stream:
+            boot = stream.read().strip()[:8]
+    except OSError:
+        boot = "?"
+    flags = hashlib.sha1(info.get("flags", "").encode()).hexdigest()[:8]
+    model = info.get("model name", platform.processor())
+    return (f"{platform.node()} ({model}, family {info.get('cpu family', '?')} model "
+            f"{info.get('model', '?')} stepping {info.get('stepping', '?')}, flags {flags}, "
+            f"{platform.machine()}), boot {boot}")
+
+
 def load_run(path):
     """(state, loop) written by :func:`save_run`, or None when ``path`` has no checkpoint
     or its two files are not of the same step (a stop between the two renames)."""

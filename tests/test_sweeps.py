@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.report import (SweepError, base_parser, relative_error, run_cases,
-                               scheduler_address, sweep_options)
+                               scheduler_address, sitting, sweep_options)
 from verification.granular_column_plane import run_case as column
 
 # two short columns (a few steps each, about 0.5 s): solves, remeshing, contact, histories
@@ -108,6 +108,13 @@ def test_kept_results_are_taken_instead_of_run_again(tmp_path):
     assert len(CALLS) == 3 and CALLS[-1][:2] == (1.0, 4.0)
     assert run_cases(counted_error, cases, workers=1, desc="checks") == first
     assert len(CALLS) == 5                                      # no directory: both run
+
+
+def test_the_sitting_a_kept_result_records_names_this_host_processor_and_boot():
+    import platform
+    here = sitting()
+    assert here.startswith(platform.node()) and platform.machine() in here
+    assert "boot " in here and sitting() == here          # one sitting, one name
 
 
 def test_kept_results_from_workers_and_failures_named_by_their_own_case(tmp_path):

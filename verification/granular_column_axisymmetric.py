@@ -62,7 +62,7 @@ from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
                                progress, progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options, thinned, volume_correction_option,
+                               sitting, sweep_options, thinned, volume_correction_option,
                                alpha_advected_option)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
@@ -276,6 +276,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                                "speed": np.linalg.norm(state.v, axis=1)}},
         "config": config_summary(scene),
         "pvd": str(series.pvd_path) if series is not None else None,
+        "sitting": sitting(),
     }
 
 
@@ -453,6 +454,11 @@ def _studies(report, res, args):
                   f"{r['runout_over_r0']:.3f}, {r['h_inf_over_r0']:.3f}")
     for r in res["density"]:
         s = sweep[sorted(sweep)[0]]
+        if r.get("sitting") is None or r.get("sitting") != s.get("sitting"):
+            # kept results of two sittings: round-off grows through remeshing, so the pair
+            # would measure the machines, not the physics (runs/README.md)
+            print(f"\nthe density pair may come from two sittings ({s.get('sitting')}; "
+                  f"{r.get('sitting')}): if it differs, run both again in one sitting")
         for key in ("runout_over_r0", "h_inf_over_r0"):
             report.add(f"density_rho{r['rho']:g}_{key}", r[key], s[key],
                        f"c = 0: the deposit of rho = {s['rho']:g} (every force scales with rho)",
