@@ -53,17 +53,17 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, run_to_rest
+from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
                                                ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
+from pfem_skfem.report import (Report, alpha_advected_option, base_parser, checkpoint_options,
+                               checkpoint_path, figure_dir, friction_angle, in_range, load_run,
                                nonnegative_float, nonnegative_int, positive_float, positive_int,
-                               progress, progress_bar, pyplot, run_cases, save_figure,
-                               sitting, sweep_options, thinned, volume_correction_option,
-                               alpha_advected_option)
+                               progress, progress_bar, pyplot, run_cases, save_figure, save_run,
+                               sitting, sweep_options, thinned, volume_correction_option)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -180,13 +180,20 @@ def courant_steps(a, nr, courant):
 def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
              save_every=0, verbose=False, history=False, label="", courant=None, soil=None,
-             volume_correction=False, adaptive_alpha=False, alpha_advected=0.0):
+             volume_correction=False, adaptive_alpha=False, alpha_advected=0.0,
+             checkpoint_dir=None, checkpoint_every=20):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`).
     ``courant``: at least the steps that hold the free-fall Courant number
     sqrt(2 g h0) dt / h to this (:func:`courant_steps`). ``soil``: a material object in
-    place of ``material`` (as :func:`granular_column_axisymmetric`)."""
+    place of ``material`` (as :func:`granular_column_axisymmetric`).
+
+    With ``checkpoint_dir`` the state and the measurements so far are saved there every
+    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`), under
+    a digest of the column's parameters; a run finds its own checkpoint and goes on from
+    it, the same steps bit for bit on the same machine (a fine short column takes hours).
+    ``seconds`` is then the time of the last sitting only."""
     nr_radius = particles_across_radius(a, nr)
     if courant is not None:
         steps = max(steps, courant_steps(a, nr_radius, courant))
@@ -213,32 +220,54 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     # snapshots for Fig 7.5 (t = 0.8, 1.0, 1.2), Fig 7.7 (1.0, 1.2, 1.28, 2.0, 4.0), history 7.6
     snap_times = (0.8, 1.0, 1.2, 1.28, 2.0, 4.0)
     snap_steps = {int(round(s * t_scale / dt)): s for s in snap_times}
-    track = {"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}
-
-    def on_step(st, rec, result):
+    n_settle = int(round(settle * steps / 4.0))
+    rest_speed = REST_SPEED * np.sqrt(g * h0)
+    # what a resumed run needs besides the state: the measurements so far
+    loop = dict(track={"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}, snaps={},
+                at_t_stop=None, settled=0)
+    checkpoint = None
+    if checkpoint_dir is not None:
+        keys = dict(a=a, nr=nr, steps=steps, phi=phi, phi_s=phi_s, rho=rho, g=g, r0=r0,
+                    material=material if soil is None else repr(soil), passes=passes,
+                    alpha=alpha, floor=floor, settle=settle, t_stop=t_stop,
+                    courant=courant, volume_correction=volume_correction,
+                    adaptive_alpha=adaptive_alpha, alpha_advected=alpha_advected)
+        checkpoint = checkpoint_path(checkpoint_dir, f"column_a{a:g}", keys)
+        saved = load_run(checkpoint)
+        if saved is not None:
+            state, loop = saved
+    track, snaps = loop["track"], loop["snaps"]
+    bar = progress_bar(total=n_stop + n_settle, initial=state.step, disable=not verbose,
+                       unit="step", desc=f"column of revolution ({label or f'a = {a:g}'})")
+    t0 = time.perf_counter()
+    while True:
+        if state.step >= n_stop:
+            if loop["at_t_stop"] is None:            # the deposit where the thesis stops
+                ke = np.asarray(state.history["kinetic_energy"])
+                loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
+                                     float(ke[-1] / ke.max()))
+            if loop["settled"] >= n_settle or np.max(np.linalg.norm(state.v, axis=1)) < rest_speed:
+                break
+            loop["settled"] += 1
+        state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
+                                    snapshots=set(snap_steps) if state.step < n_stop else ())
+        snaps.update({snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
+                      for k, v in more.items()})
         if history:
-            hz, toe = measure_deposit(st, alpha, alpha_advected)
-            track["t_bar"].append(st.time / t_scale)
+            hz, toe = measure_deposit(state, alpha, alpha_advected)
+            track["t_bar"].append(state.time / t_scale)
             track["h_over_r0"].append(hz / r0)
             track["r_over_r0"].append(toe / r0)
-
-    bar = progress_bar(total=n_stop + int(round(settle * steps / 4.0)), disable=not verbose,
-                       unit="step", desc=f"column of revolution ({label or f'a = {a:g}'})")
-
-    def tick(i, n, record):
-        bar.set_postfix_str(f"t/sqrt(h0/g) = {record['time'] / t_scale:.2f}", refresh=False)
+        bar.set_postfix_str(f"t/sqrt(h0/g) = {state.time / t_scale:.2f}", refresh=False)
         bar.update(1)
-
-    t0 = time.perf_counter()
-    state, snaps = pfem_loop.run(state, scene, n_stop, series=series, save_every=save_every,
-                                 snapshots=set(snap_steps), progress=tick, on_step=on_step)
-    height4, toe4 = measure_deposit(state, alpha, alpha_advected)
-    ke = np.asarray(state.history["kinetic_energy"])
-    ke4 = float(ke[-1] / ke.max())
-    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0),
-                                     int(round(settle * steps / 4.0)), series=series,
-                                     save_every=save_every, progress=tick, on_step=on_step)
+        if checkpoint is not None and state.step % checkpoint_every == 0:
+            save_run(checkpoint, state, loop)
+    if checkpoint is not None:
+        save_run(checkpoint, state, loop)
     bar.close()
+    height4, toe4, ke4 = loop["at_t_stop"]
+    extra = loop["settled"]
+    rest = bool(np.max(np.linalg.norm(state.v, axis=1)) < rest_speed)
     seconds = time.perf_counter() - t0
     height, toe = measure_deposit(state, alpha, alpha_advected) if extra else (height4, toe4)
     hist = state.history
@@ -269,9 +298,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
         "area_change": list(hist["area_change"]),
         "kinetic_energy_over_peak": (ke / ke.max()).tolist(),
         "track": track if history else None,
-        "snapshots": {0.0: {"points": x0, "speed": np.zeros(len(x0))},
-                      **{snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
-                         for k, v in snaps.items()},
+        "snapshots": {0.0: {"points": x0, "speed": np.zeros(len(x0))}, **snaps,
                       "rest": {"points": state.x.copy(),
                                "speed": np.linalg.norm(state.v, axis=1)}},
         "config": config_summary(scene),
@@ -335,6 +362,7 @@ def build_parser():
                                        "run detects")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none); PVD per case")
+    checkpoint_options(p, "column")
     sweep_options(p, what="the cases (sweep and studies)")
     return p
 
@@ -353,6 +381,8 @@ def run(args):
                 volume_correction=args.volume_correction == "on",
                 adaptive_alpha=args.adaptive_alpha, alpha_advected=args.alpha_advected,
                 verbose=args.progress)
+    if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
+        base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
