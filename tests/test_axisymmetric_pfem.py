@@ -235,3 +235,21 @@ def test_a_column_stopped_and_resumed_from_its_checkpoint_is_the_same_column(tmp
     assert resumed["snapshots"].keys() == whole["snapshots"].keys()
     for t, snap in whole["snapshots"].items():
         assert np.array_equal(resumed["snapshots"][t]["points"], snap["points"]), t
+
+
+def test_mass_moved_is_the_share_of_the_mass_on_the_other_side_of_a_radius():
+    """The base-friction effect at a = 0.5 (Fig 7.11) is measured as the largest share of
+    the mass two deposits put on opposite sides of one radius: zero for one deposit
+    (whatever the order of its particles or the unit of mass), the tail's own share when
+    only the tail slides further, however far, and one for deposits apart."""
+    from granular_column_axisymmetric import mass_moved
+    rng = np.random.default_rng(3)
+    r, m = rng.uniform(0, 2, 50), rng.uniform(0.5, 1.5, 50)
+    order = rng.permutation(50)
+    assert mass_moved(r, m, r[order], 2.5 * m[order]) == approx(0.0, abs=1e-14)
+    tail = np.argmax(r)
+    for reach in (2.5, 40.0):                           # the tail alone slides on
+        slid = r.copy()
+        slid[tail] = reach
+        assert mass_moved(r, m, slid, m) == approx(m[tail] / m.sum(), rel=1e-12)
+    assert mass_moved(r, m, r + 3.0, m) == approx(1.0, rel=1e-12)
