@@ -267,7 +267,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                 ke = np.asarray(state.history["kinetic_energy"])
                 loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
                                      float(ke[-1] / ke.max()))
-            if loop["settled"] >= n_settle or np.max(np.linalg.norm(state.v, axis=1)) < rest_speed:
+            at_rest = np.max(np.linalg.norm(state.v, axis=1)) < rest_speed
+            if at_rest or loop["settled"] >= n_settle:
                 break
             loop["settled"] += 1
         state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
@@ -699,7 +700,6 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
 
 
-
 def base_profiles(rows, path):
     """The deposits at rest of the base-friction study (cf. Fig 7.11), one column per a:
     the particles (top) and the share of the mass within each radius (bottom), whose
@@ -720,12 +720,13 @@ def base_profiles(rows, path):
         ax[0, j].set_ylabel("z / r0")
         ax[0, j].set_aspect("equal")
         ax[1, j].set_ylabel("share of the mass within r")
-        for x in ax[:, j]:
-            x.set_xlabel("r / r0")
-            x.legend(fontsize=7)
+        for axis in ax[:, j]:
+            axis.set_xlabel("r / r0")
+            axis.legend(fontsize=7)
     fig.suptitle("base-friction study: the deposits at rest (cf. Fig 7.11)")
     fig.tight_layout()
     save_figure(fig, path)
+
 
 if __name__ == "__main__":
     sys.exit(main())
