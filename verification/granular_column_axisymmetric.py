@@ -165,21 +165,27 @@ def measure_deposit(state, alpha, alpha_advected=0.0):
     return wall_height(state, body, 0.0), toe
 
 
+def mass_within(r, m):
+    """(radii in increasing order, share of the mass within each): the radial mass
+    distribution F of particles at radii ``r`` of masses ``m``."""
+    r, m = np.asarray(r, dtype=float), np.asarray(m, dtype=float)
+    order = np.argsort(r, kind="stable")
+    return r[order], np.cumsum(m[order]) / np.sum(m)
+
+
 def mass_moved(r_a, m_a, r_b, m_b):
     """The largest share of the material that two deposits put on opposite sides of one
     radius: max over r of |F_a(r) - F_b(r)|, F(r) the share of the mass within radius r
-    (particles at radii ``r_a`` of masses ``m_a``, and ``r_b``, ``m_b``; the
-    Kolmogorov-Smirnov distance of the radial mass distributions). 0 for the same
-    deposit, 1 for two that do not overlap; a thin tail that slides further moves only
-    its own mass, where the farthest particle moves by the tail's whole reach."""
+    (:func:`mass_within`; particles at radii ``r_a`` of masses ``m_a``, and ``r_b``,
+    ``m_b``; the Kolmogorov-Smirnov distance of the radial mass distributions). 0 for the
+    same deposit, 1 for two that do not overlap; a thin tail that slides further moves
+    only its own mass, where the farthest particle moves by the tail's whole reach."""
     grid = np.union1d(r_a, r_b)
 
-    def share_within(r, m):
-        order = np.argsort(r, kind="stable")
-        total = np.concatenate([[0.0], np.cumsum(m[order])]) / np.sum(m)
-        return total[np.searchsorted(r[order], grid, side="right")]
-    return float(np.max(np.abs(share_within(np.asarray(r_a, float), np.asarray(m_a, float))
-                               - share_within(np.asarray(r_b, float), np.asarray(m_b, float)))))
+    def share_at_grid(r, m):
+        radii, share = mass_within(r, m)
+        return np.concatenate([[0.0], share])[np.searchsorted(radii, grid, side="right")]
+    return float(np.max(np.abs(share_at_grid(r_a, m_a) - share_at_grid(r_b, m_b))))
 
 
 def particles_across_radius(a, nr):
@@ -289,7 +295,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     bar.close()
     height4, toe4, ke4 = loop["at_t_stop"]
     extra = loop["settled"]
-    rest = bool(np.max(np.linalg.norm(state.v, axis=1)) < rest_speed)
+    rest = bool(at_rest)                           # the loop ends only on its test
     seconds = time.perf_counter() - t0
     height, toe = measure_deposit(state, alpha, alpha_advected) if extra else (height4, toe4)
     hist = state.history
@@ -713,9 +719,8 @@ def base_profiles(rows, path):
             x, z, m = rest["points"][:, 0], rest["points"][:, 1], rest["mass"]
             label = f"phi_s = {r['phi_s']:g} deg"
             ax[0, j].plot(x / r["r0"], z / r["r0"], ".", ms=2, label=label)
-            order = np.argsort(x)
-            ax[1, j].step(x[order] / r["r0"], np.cumsum(m[order]) / m.sum(), where="post",
-                          label=label)
+            radii, share = mass_within(x, m)
+            ax[1, j].step(radii / r["r0"], share, where="post", label=label)
         ax[0, j].set_title(f"a = {a:g}", fontsize=9)
         ax[0, j].set_ylabel("z / r0")
         ax[0, j].set_aspect("equal")
