@@ -71,7 +71,7 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, fricti
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
                                save_figure, sweep_options, thinned, checkpoint_options,
-                               checkpoint_path)
+                               checkpoint_path, load_run, save_run)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -160,18 +160,26 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
              verbose=False, checkpoint_dir=None, checkpoint_every=20):
     """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
 
-    With ``checkpoint_dir`` the state is saved there every ``checkpoint_every`` steps and
-    at the end, under a name made of the label and the scene's parameters; a run finds
-    its own checkpoint and goes on from it (the same steps, bit for bit: a long study can
-    span several sessions). Snapshots are taken only in the steps run this time."""
+    With ``checkpoint_dir`` the state and the snapshots taken so far are saved there
+    every ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`),
+    under a name made of the label and the scene's parameters; a run finds its own
+    checkpoint and goes on from it (the same steps, bit for bit: a long study can span
+    several sessions). A checkpoint of the state alone (as written before the snapshots
+    were kept) is taken too: the snapshots of its earlier steps are then missing."""
     scene_keys = dict(W=W, H=H, Hh=Hh, B=B, h=h, rho=rho, c=c, phi=phi, mu=mu, g=g, dt=dt,
                       alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
     state, scene = silo(**scene_keys)
     x0, n0, m0 = state.x.copy(), state.n, state.total_mass
+    snaps = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     checkpoint = (None if checkpoint_dir is None
                   else checkpoint_path(checkpoint_dir, f"silo_{label}", scene_keys))
-    if checkpoint is not None and checkpoint.is_file():
-        state = pfem_loop.load_checkpoint(checkpoint)
+    if checkpoint is not None:
+        saved = load_run(checkpoint)
+        if saved is not None:
+            state, loop = saved
+            snaps.update(loop["snaps"])
+        elif checkpoint.is_file():
+            state = pfem_loop.load_checkpoint(checkpoint)
     series = None
     if outdir is not None and save_every:
         from pfem_skfem.io import TimeSeries
@@ -179,7 +187,6 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "silo")
     snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
-    snaps = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
     bar = progress_bar(total=steps, initial=min(state.step, steps), disable=not verbose,
@@ -194,10 +201,10 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
                             refresh=False)
         bar.update(1)
         if checkpoint is not None and checkpoint_every and state.step % checkpoint_every == 0:
-            pfem_loop.save_checkpoint(checkpoint, state)
+            save_run(checkpoint, state, {"snaps": snaps})
     bar.close()
     if checkpoint is not None:
-        pfem_loop.save_checkpoint(checkpoint, state)
+        save_run(checkpoint, state, {"snaps": snaps})
     seconds = time.perf_counter() - t0
     hist = state.history
     t = np.r_[0.0, hist["time"]]
