@@ -178,19 +178,6 @@ def steps_until(t_end, dt):
     return max(1, near if abs(n - near) <= 1e-9 * max(1.0, n) else math.ceil(n))
 
 
-def _pvd_entries(pvd, until):
-    """(time, file) of a PVD's steps at times <= ``until`` (the checkpoint's)."""
-    import xml.etree.ElementTree as ET
-    if not pvd.exists():
-        return []
-    entries = []
-    for ds in ET.parse(pvd).getroot().iter("DataSet"):
-        t = float(ds.get("timestep"))
-        if t <= until * (1 + 1e-12):
-            entries.append((t, pvd.parent / ds.get("file")))
-    return entries
-
-
 def _write_history(path, records):
     path.write_text(json.dumps(records, indent=1) + "\n")
 
@@ -273,15 +260,11 @@ def _advance(scene, out, last, resume, quiet):
         state = load_checkpoint(checkpoint)
         records = [r for r in json.loads(history.read_text()) if r["step"] <= state.step] \
             if history.is_file() else []
-        if series is not None:
-            series.entries = _pvd_entries(series.pvd_path, state.time)
     else:
         out.mkdir(parents=True, exist_ok=True)
         state, records = scene.initial_state(), []
-    if series is not None:                           # VTU files of steps not in the series
-        for old in out.glob("scene_*.vtu"):
-            if int(old.stem.rsplit("_", 1)[1]) >= len(series.entries):
-                old.unlink()
+    if series is not None:           # the steps up to the checkpoint's (none on a new run)
+        series.resume(state.time if resume else float("-inf"))
     copy.write_text(scene_to_toml(scene, header="the scene as run by pfem-skfem run"))
     first = state.step
     if first >= last:

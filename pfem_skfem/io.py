@@ -188,6 +188,24 @@ class TimeSeries:
     def pvd_path(self):
         return self.directory / f"{self.name}.pvd"
 
+    def resume(self, until):
+        """Go on from a checkpoint at time ``until``: the series keeps the steps of its PVD
+        at times <= ``until`` and deletes the VTU files numbered after them (written by
+        the run after its checkpoint), so the next step is numbered after the kept ones
+        instead of overwriting the first."""
+        import xml.etree.ElementTree as ET
+        self.entries = []
+        if self.pvd_path.exists():
+            for ds in ET.parse(self.pvd_path).getroot().iter("DataSet"):
+                t = float(ds.get("timestep"))
+                if t <= until * (1 + 1e-12):
+                    self.entries.append((t, self.directory / ds.get("file")))
+        for old in self.directory.glob(f"{self.name}_*.vtu"):
+            number = old.stem.rsplit("_", 1)[1]
+            if number.isdigit() and int(number) >= len(self.entries):
+                old.unlink()
+        return self
+
     def write(self, time, points, cells, point_data=None, cell_data=None):
         """Write one step; returns the VTU path."""
         vtu = self.directory / f"{self.name}_{len(self.entries):04d}.vtu"

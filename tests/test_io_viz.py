@@ -87,6 +87,22 @@ def test_time_series_pvd_lists_its_files(tmp_path, mesh):
         np.testing.assert_array_equal(grid.point_data["t"], times[k])
 
 
+def test_a_resumed_time_series_goes_on_after_the_checkpoint_s_steps(tmp_path, mesh):
+    """resume(t): the steps at times <= t stay, the later ones (written after the
+    checkpoint) are deleted, and the next step is numbered after the kept ones."""
+    points, cells = mesh_arrays(mesh)
+    first = TimeSeries(tmp_path, "box")
+    for t in (0.0, 0.1, 0.2, 0.3):
+        first.write(t, points, cells)
+    series = TimeSeries(tmp_path, "box").resume(0.1)
+    assert [t for t, _ in series.entries] == [0.0, 0.1]
+    assert sorted(f.name for f in tmp_path.glob("*.vtu")) == ["box_0000.vtu", "box_0001.vtu"]
+    assert series.write(0.2, points + 1, cells).name == "box_0002.vtu"
+    datasets = ET.parse(series.pvd_path).getroot().find("Collection").findall("DataSet")
+    assert [float(d.get("timestep")) for d in datasets] == [0.0, 0.1, 0.2]
+    assert TimeSeries(tmp_path / "none", "box").resume(1.0).entries == []
+
+
 def test_pvd_stores_paths_relative_to_itself(tmp_path):
     (tmp_path / "steps").mkdir()
     path = write_pvd(tmp_path / "out" / "c.pvd", [(1.5, tmp_path / "steps" / "a.vtu")])

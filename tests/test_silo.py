@@ -1,6 +1,8 @@
 """The silo of thesis 6.4.4 at its --quick size (a coarse, short silo): the mass is
 accounted for, the rate is constant while the bin is full, smooth walls empty it faster
 than rough ones; and the measuring functions on closed forms."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 from pytest import approx
@@ -103,11 +105,15 @@ def test_a_run_stopped_and_resumed_from_its_checkpoint_is_the_same_run(tmp_path)
     case = dict(label="smooth", walls="smooth", mu=0.0, W=0.5, H=0.2, Hh=0.35, B=0.08,
                 h=0.04, rho=1.5, c=0.0, phi=31.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005,
                 passes=2, outlet_depth=0.0, empty=0.02, snapshot_times=(0.0, 0.08, 0.2))
-    whole = silo.run_case(**case, t_max=6 * 0.04)
-    cut = silo.run_case(**case, t_max=3 * 0.04, checkpoint_dir=tmp_path, checkpoint_every=2)
+    whole = silo.run_case(**case, t_max=6 * 0.04, outdir=tmp_path / "whole", save_every=1)
+    cut = silo.run_case(**case, t_max=3 * 0.04, checkpoint_dir=tmp_path, checkpoint_every=2,
+                        outdir=tmp_path / "cut", save_every=1)
     assert len(list(tmp_path.glob("*.npz"))) == 1 and cut["steps"] == 3
     resumed = silo.run_case(**case, t_max=6 * 0.04, checkpoint_dir=tmp_path,
-                            checkpoint_every=2)
+                            checkpoint_every=2, outdir=tmp_path / "cut", save_every=1)
+    # the VTU files of the two sittings make one series, the uninterrupted run's
+    assert Path(resumed["pvd"]).read_text() == Path(whole["pvd"]).read_text()
+    assert len(list(Path(resumed["pvd"]).parent.glob("*.vtu"))) == 6
     assert resumed["steps"] == whole["steps"] == 6
     assert resumed["V"] == whole["V"] and resumed["t"] == whole["t"]
     assert resumed["mesh_area"] == whole["mesh_area"]

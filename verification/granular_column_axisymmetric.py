@@ -263,6 +263,8 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
         saved = load_run(checkpoint)
         if saved is not None:
             state, loop = saved
+            if series is not None:           # the VTU files up to the checkpoint
+                series.resume(state.time)
     track, snaps = loop["track"], loop["snaps"]
     bar = progress_bar(total=n_stop + n_settle, initial=state.step, disable=not verbose,
                        unit="step", desc=f"column of revolution ({label or f'a = {a:g}'})")

@@ -296,6 +296,8 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         saved = load_run(checkpoint)
         if saved is not None:
             state, loop = saved
+            if series is not None:           # the VTU files up to the checkpoint
+                series.resume(state.time)
     rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
     # how the held stress settles: the largest change of the lagged mean stress from one
     # held step to the next, in units of the stress scale rho g L

@@ -186,6 +186,8 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
         case_dir = Path(outdir) / label
         case_dir.mkdir(parents=True, exist_ok=True)
         series = TimeSeries(case_dir, "silo")
+        if state.step:                       # resumed: the VTU files up to the checkpoint
+            series.resume(state.time)
     snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
