@@ -213,6 +213,31 @@ def clouds(draw):
     return x, h, alpha
 
 
+def test_a_nearly_collinear_cloud_whose_delaunay_keeps_qhull_s_point_at_infinity():
+    """23 points on a line with y-jitter of 1e-13 (found by the test below): Qhull leaves
+    its point at infinity (index 23) in some simplices. They are dropped: every triangle
+    indexes real points, the neighbours stay mutual, and no triangle passes the alpha
+    test (the cloud is a line: every particle free)."""
+    from pfem_skfem.pfem.alpha_shape import _delaunay
+    x = np.c_[[3.18480844, 1.34893357, 0.204867620, 0.0826381776, 4.06635120, 4.56377789,
+               3.03317888, 3.64748280, 2.71812496, 4.67536212, 4.07926777, 0.0136925009,
+               4.28702138, 0.167927877, 3.64827723, 0.878278103, 4.31589461, 2.70730610,
+               1.49855945, 2.11343611, 0.141598356, 0.621416382, 3.35312207],
+              [6.47189512, 6.15385111, 3.83677554, 9.97209936, 9.80835339, 6.85541984,
+               6.50459276, 6.88446731, 3.88921424, 1.35096505, 7.21488340, 5.25354322,
+               3.10241876, 4.85835359, 8.89487834, 9.34043516, 3.57795197, 5.71529831,
+               3.21869391, 5.94300030, 3.37911226, 3.91619001, 8.90274352]]
+    x[:, 1] *= 1e-14
+    from scipy.spatial import Delaunay
+    assert Delaunay(x - x.mean(axis=0)).simplices.max() == len(x)      # the case itself
+    tri, nb = _delaunay(x, np.ones(len(x), dtype=bool))
+    assert len(tri) > 0 and tri.max() < len(x)
+    for k, j in zip(*np.nonzero(nb >= 0)):
+        assert k in nb[nb[k, j]]                      # a neighbour's neighbour is back
+    s = alpha_shape(x, 0.6, 1.0)
+    assert len(s.triangles) == 0 and s.free.all() and s.area == 0
+
+
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(clouds())
 def test_random_clouds_never_fail_and_give_valid_meshes(cloud):

@@ -237,7 +237,15 @@ def _delaunay(points, unique):
     except (QhullError, ValueError):
         # all points collinear (a flat initial simplex): no two-dimensional domain
         return np.empty((0, 3), dtype=int), np.empty((0, 3), dtype=int)
-    tri, nb = idx[d.simplices], d.neighbors.copy()
+    simplices, nb = d.simplices, d.neighbors.copy()
+    real = np.all(simplices < len(idx), axis=1)
+    if not real.all():
+        # a nearly collinear cloud: Qhull's point at infinity (option Qz, index len(idx))
+        # is left in some simplices; drop them, and renumber the neighbours (-1 stays -1)
+        renumber = np.full(len(simplices) + 1, -1)
+        renumber[:-1][real] = np.arange(real.sum())
+        simplices, nb = simplices[real], renumber[nb[real]]
+    tri = idx[simplices]
     flip = triangle_areas(points, tri) < 0
     # swapping vertices 1 and 2 swaps the neighbours opposite them
     tri[flip] = tri[flip][:, [0, 2, 1]]
