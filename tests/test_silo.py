@@ -97,14 +97,18 @@ def test_the_discharge_does_not_depend_on_the_density(quick, tmp_path):
     assert heavy["Q"] == light["Q"]
 
 
+# a silo filled 20 cm, two particles across its outlet, steps of 0.04 s: run for a few steps
+SHORT_SILO = dict(label="smooth", walls="smooth", mu=0.0, W=0.5, H=0.2, Hh=0.35, B=0.08,
+                  h=0.04, rho=1.5, c=0.0, phi=31.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005,
+                  passes=2, outlet_depth=0.0, empty=0.02)
+
+
 def test_a_run_stopped_and_resumed_from_its_checkpoint_is_the_same_run(tmp_path):
     """--checkpoint-dir: a run cut after 3 steps and run again to 6 goes on from its
     checkpoint and gives the uninterrupted run's volumes bit for bit, and its snapshots,
     those taken before the cut included; a run with another parameter does not take that
     checkpoint."""
-    case = dict(label="smooth", walls="smooth", mu=0.0, W=0.5, H=0.2, Hh=0.35, B=0.08,
-                h=0.04, rho=1.5, c=0.0, phi=31.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005,
-                passes=2, outlet_depth=0.0, empty=0.02, snapshot_times=(0.0, 0.08, 0.2))
+    case = dict(SHORT_SILO, snapshot_times=(0.0, 0.08, 0.2))
     whole = silo.run_case(**case, t_max=6 * 0.04, outdir=tmp_path / "whole", save_every=1)
     cut = silo.run_case(**case, t_max=3 * 0.04, checkpoint_dir=tmp_path, checkpoint_every=2,
                         outdir=tmp_path / "cut", save_every=1)
@@ -130,9 +134,7 @@ def test_a_checkpoint_of_the_state_alone_is_taken_without_its_snapshots(tmp_path
     file) is still resumed: the volumes go on bit for bit, the snapshots of the steps
     before it are missing and those after it are taken."""
     from pfem_skfem.drivers import pfem_loop
-    case = dict(label="smooth", walls="smooth", mu=0.0, W=0.5, H=0.2, Hh=0.35, B=0.08,
-                h=0.04, rho=1.5, c=0.0, phi=31.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005,
-                passes=2, outlet_depth=0.0, empty=0.02, snapshot_times=(0.08, 0.2))
+    case = dict(SHORT_SILO, snapshot_times=(0.08, 0.2))
     whole = silo.run_case(**case, t_max=5 * 0.04)
     silo.run_case(**case, t_max=3 * 0.04, checkpoint_dir=tmp_path)
     (state_file,) = tmp_path.glob("*.npz")
