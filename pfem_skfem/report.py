@@ -81,10 +81,13 @@ long loop, :func:`progress` one line. Conditions between options (``--a`` below
 """
 import argparse
 from dataclasses import asdict, dataclass
+import functools
+import io
 import json
 import math
 from pathlib import Path
 import sys
+import threading
 
 import numpy as np
 
@@ -441,10 +444,84 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
     from tqdm import tqdm
     disable = options.pop("disable", False) or (args is not None
                                                 and not getattr(args, "progress", True))
-    tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
-    options.setdefault("mininterval", 0.5 if tty else 20.0)
+    forward = getattr(_SWEEP_CASE, "forward", None)
+    if forward is not None and not disable:    # a case of a sweep, on a Dask worker
+        return _forwarded_bar()(iterable, forward, total=total, desc=desc, unit=unit,
+                                **options)
+    options.setdefault("mininterval", 0.5 if _tty() else 20.0)
     return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr,
                 disable=disable, dynamic_ncols=True, **options)
+
+
+def _tty():
+    return hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+
+# on a sweep's worker while a case runs: .forward = (topic, case index, seconds between
+# updates), where the case's progress bars send their counts (see run_cases)
+_SWEEP_CASE = threading.local()
+
+
+@functools.cache
+def _forwarded_bar():
+    from tqdm import tqdm
+
+    class ForwardedBar(tqdm):
+        """A case's bar on a sweep's worker: it draws nothing there and sends its count,
+        total and postfix to the client (a Dask event), which draws it (:class:`_CaseBars`)."""
+
+        monitor_interval = 0           # no refresh from tqdm's thread: counts go as updated
+
+        def __init__(self, iterable, forward, **options):
+            from distributed import get_worker
+            self._worker = get_worker()
+            self._topic, self._case, options["mininterval"] = forward
+            options.pop("file", None)
+            super().__init__(iterable, file=io.StringIO(), **options)
+
+        def display(self, msg=None, pos=None):
+            self._worker.log_event(self._topic, {
+                "case": self._case, "n": self.n, "total": self.total, "desc": self.desc,
+                "unit": self.unit, "postfix": self.postfix or ""})
+            return True
+
+    return ForwardedBar
+
+
+class _CaseBars:
+    """The progress bars of a sweep's running cases, drawn here from the counts their
+    workers send (the handler of the sweep's Dask topic; it runs on the client's event
+    loop, the cases' ends are told by the main thread)."""
+
+    def __init__(self):
+        self.bars, self.ended, self.lock = {}, set(), threading.Lock()
+
+    def __call__(self, event):
+        _, msg = event
+        with self.lock:
+            i = msg["case"]
+            if i in self.ended:                   # a late count of a case that ended
+                return
+            bar = self.bars.get(i)
+            if bar is None:                       # its first count: drawn as it is made
+                self.bars[i] = progress_bar(total=msg["total"], initial=msg["n"],
+                                            desc=msg["desc"], unit=msg["unit"],
+                                            postfix=msg["postfix"] or None, leave=False)
+                return
+            bar.total, bar.n = msg["total"], msg["n"]
+            bar.set_postfix_str(msg["postfix"], refresh=False)
+            bar.refresh()
+
+    def end(self, i):
+        with self.lock:
+            self.ended.add(i)
+            bar = self.bars.pop(i, None)
+        if bar is not None:
+            bar.close()
+
+    def close(self):
+        for i in list(self.bars):
+            self.end(i)
 
 
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
@@ -659,10 +736,11 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
     ``LocalCluster`` of ``workers`` single-threaded worker processes, started here and
     closed on return; with ``scheduler`` (an address, ``--scheduler``) on that existing
     cluster instead, whatever ``workers`` says. ``function`` must be importable there
-    (a module-level function). Results are gathered as they finish; a case's own progress
-    (its ``verbose`` keyword) is turned off on the workers and one bar over the cases shown
-    instead, so that their bars do not interleave. With ``workers`` = 1 the cases run one
-    after the other in this process, without Dask.
+    (a module-level function). Results are gathered as they finish. With progress (a
+    case's ``verbose`` keyword) a bar counts the cases and each running case's own bar
+    is drawn below it: the case's bar on its worker draws nothing and sends its counts
+    here (Dask events), so that the bars of several processes do not interleave. With
+    ``workers`` = 1 the cases run one after the other in this process, without Dask.
 
     A failing case is reported (one line with its parameters) when it fails and the others
     go on; at the end :class:`SweepError` lists every failure (the first one chained as
@@ -679,21 +757,26 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
     if scheduler is None and (workers <= 1 or len(cases) <= 1):
         return _run_serial(function, cases, desc)
     verbose = any(c.get("verbose") for c in cases)
-    remote = [dict(c, verbose=False) if "verbose" in c else c for c in cases]
     results = [None] * len(cases)
     failures = []
+    topic, bars = f"{desc}-progress-{_token()}", _CaseBars()
     with _dask_client(min(workers, len(cases)), scheduler) as client:
         where = (f"on the cluster at {scheduler}" if scheduler
                  else f"on {min(workers, len(cases))} workers")
+        if verbose:
+            client.subscribe_topic(topic, bars)
+        interval = 1.0 if _tty() else 20.0
         # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
-        futures = {client.submit(_call, function, c, pure=False,
-                                 key=f"{desc}-{i}-{_token()}"): i
-                   for i, c in enumerate(remote)}
+        futures = {client.submit(_call, function, c,
+                                 (topic, i, interval) if c.get("verbose") else None,
+                                 pure=False, key=f"{desc}-{i}-{_token()}"): i
+                   for i, c in enumerate(cases)}
         from distributed import as_completed
         with progress_bar(total=len(cases), disable=not verbose, unit="case",
                           desc=f"{desc} {where}") as bar:
             for future in as_completed(futures):
                 i = futures[future]
+                bars.end(i)
                 try:
                     results[i] = future.result()
                 except Exception as error:       # noqa: BLE001 - reported with its case
@@ -701,12 +784,21 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
                     progress(f"{desc}: case {i} failed ({_case_text(cases[i])}): "
                              f"{type(error).__name__}: {error}")
                 bar.update(1)
+        if verbose:
+            client.unsubscribe_topic(topic)
+    bars.close()
     _raise_failures(desc, failures, results)
     return results
 
 
-def _call(function, keywords):
-    return function(**keywords)
+def _call(function, keywords, forward=None):
+    """``function(**keywords)`` on a sweep's worker; ``forward``: where its progress bars
+    send their counts (:func:`progress_bar`), None for no progress."""
+    _SWEEP_CASE.forward = forward
+    try:
+        return function(**keywords)
+    finally:
+        _SWEEP_CASE.forward = None
 
 
 def _key_value(value):
@@ -733,7 +825,7 @@ def result_path(directory, desc, case):
 def _call_kept(function, keywords, path, verbose=None):
     """``function(**keywords)``, its result pickled at ``path`` (written under a temporary
     name and renamed: a stop while writing leaves no half file). ``verbose`` (None: as the
-    keywords say) is the case's own, which :func:`run_cases` turns off on Dask workers."""
+    keywords say) is the case's own."""
     if verbose is not None:
         keywords = dict(keywords, verbose=verbose)
     result = function(**keywords)
@@ -825,9 +917,12 @@ class _dask_client:
                     raise ValueError(f"--scheduler {self.scheduler}: no Dask scheduler "
                                      f"reachable there ({error})") from None
             else:
-                self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
-                                            processes=True, dashboard_address=None,
-                                            memory_limit=0, silence_logs=quiet)
+                import warnings
+                with warnings.catch_warnings():    # its HTTP server takes another port
+                    warnings.filterwarnings("ignore", "Port .* is already in use", UserWarning)
+                    self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
+                                                processes=True, dashboard_address=None,
+                                                memory_limit=0, silence_logs=quiet)
                 self.client = Client(self.cluster)
         except BaseException:
             self.__exit__(None, None, None)

@@ -130,3 +130,27 @@ def test_kept_results_from_workers_and_failures_named_by_their_own_case(tmp_path
         run_cases(relative_error, cases, workers=1, desc="checks", results_dir=tmp_path)
     assert error.value.results == [1.0, None, 0.75]
     assert [i for i, _, _ in error.value.failures] == [1]
+
+
+def test_each_running_case_s_progress_is_drawn_by_the_client(capsys):
+    """A case's bar on a worker draws nothing there (its process' stderr is not this
+    one's) and sends its counts: the client draws a bar per running case."""
+    def steps(name, n, verbose=False):             # pickled by value for the workers
+        import time
+        from pfem_skfem.report import progress_bar
+        bar = progress_bar(total=n, desc=f"case {name}", unit="step", disable=not verbose)
+        for k in range(n):
+            time.sleep(0.5)                        # the first count reaches the client
+            bar.set_postfix_str(f"k = {k}")
+            bar.update(1)
+        bar.close()
+        return name
+
+    cases = [dict(name=name, n=3, verbose=True) for name in ("first", "second")]
+    assert run_cases(steps, cases, workers=2, desc="steps") == ["first", "second"]
+    err = capsys.readouterr().err
+    assert "steps on 2 workers" in err                        # the bar over the cases
+    assert "case first" in err and "case second" in err       # each case's own bar
+    assert run_cases(steps, [dict(c, verbose=False) for c in cases], workers=2,
+                     desc="steps") == ["first", "second"]
+    assert capsys.readouterr().err == ""                      # no progress: no bars

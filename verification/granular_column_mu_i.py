@@ -222,8 +222,7 @@ def _cases(args):
     soil = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, h0_over_d=args.h0_over_d,
                 d0_over_d=args.d0_over_d, rho_s=rho_s, lag=args.lag, p_min=args.p_min,
                 k_min=args.k_min, phi_thesis=args.phi)
-    common = dict(settle=args.settle, g=args.g, passes=args.passes, alpha=args.alpha,
-                  verbose=args.progress)
+    common = dict(settle=args.settle, g=args.g, passes=args.passes, alpha=args.alpha)
     cases = [(plane_case, dict(common, a=a, law=law, soil=soil, nx=args.nx, steps=args.steps,
                                 rho=args.rho, mu_w=args.mu_w))
              for a in sorted(args.a) for law in args.laws]
@@ -242,9 +241,10 @@ def _cases(args):
     return cases
 
 
-def run_column(function, keywords):
-    """One case of :func:`_cases` (module level, for the Dask workers)."""
-    return function(**keywords)
+def run_column(function, keywords, verbose=False):
+    """One case of :func:`_cases` (module level, for the Dask workers); ``verbose``: its
+    progress bar."""
+    return function(**keywords, verbose=verbose)
 
 
 def _references(r):
@@ -273,7 +273,8 @@ def run(args):
     if args.progress:
         progress(f"{len(cases)} column(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
-    results = run_cases(run_column, [dict(function=f, keywords=k) for f, k in cases],
+    results = run_cases(run_column, [dict(function=f, keywords=k, verbose=args.progress)
+                                     for f, k in cases],
                         args.workers, desc="columns with mu(I)", scheduler=args.scheduler,
                         results_dir=args.results_dir)
     density = (results[-1] if args.a and args.density_factor != 1.0 and "mu(I)" in args.laws
