@@ -35,6 +35,14 @@ def test_the_reading_of_fig_6_16_has_the_initial_volume_of_fig_6_19():
     assert silo.hopper_height(0.5, 0.08, np.arctan(0.21 / 0.35)) == approx(0.35, rel=1e-12)
 
 
+@pytest.mark.parametrize("options, spacing", [([], 0.01), (["--B-study", "0.08", "0.16"], 0.02),
+                                              (["--h-study", "0.02"], 0.02),
+                                              (["--B-study", "--h", "0.04"], 0.04)])
+def test_the_outlet_study_has_four_spacings_across_its_narrowest_outlet(options, spacing):
+    args = silo.build_parser().parse_args(options)
+    assert silo.study_spacing(args) == approx(spacing, rel=1e-15)
+
+
 def test_rate_and_exponent_of_closed_forms():
     t = np.linspace(0, 6, 61)
     V = 0.6 - 0.1 * t

@@ -47,12 +47,16 @@ Usage::
     python verification/silo_discharge.py --quick --json results/silo_discharge.json  # < 1 min
     python verification/silo_discharge.py --h 0.04 --dt 0.02 --dt-study 0.04 0.01 --B-study
         # the thesis' silo, 2 particles across the outlet: both walls, 3 time steps (16 min)
-    python verification/silo_discharge.py --walls --dt-study --h 0.04 --h-study 0.02
-        # the outlet study alone: B = 4, 8, 16 cm on a silo filled 60 cm (1.5 h)
+    python verification/silo_discharge.py --walls --dt-study --checkpoint-dir runs/silo
+        # the outlet study alone: B = 4, 8, 16 cm on a silo filled 60 cm, 1 cm between
+        # particles (some 6 h of one core; stopped, the same command goes on)
+    python verification/silo_discharge.py --walls --dt-study --h-study 0.02
+        # the same at 2 cm, two spacings across the 4 cm outlet (1.5 h)
     python verification/silo_discharge.py --help                                      # every option
 
-The full thesis size (h = 2 cm, 1,600 particles, dt = 0.005-0.04 s, both walls, the
-outlet study) is some thousands of steps of 1-7 s here: hours on two cores.
+The defaults (h = 2 cm, 1,603 particles; both walls; dt = 0.04 to 0.005 s; the outlet
+study at 1 cm) are some 2,100 steps of 4-7 s and 950 of 18-42 s here, about 9 hours
+of one core; give --checkpoint-dir to stop and resume.
 """
 import json
 import os
@@ -86,6 +90,7 @@ BEVERLOO_EXPONENT = 1.5         # plane flow, no grain size
 EXPONENT_BAND = (1.3, 1.7)
 DT_TOLERANCE = 0.10             # thesis Fig 6.19: dt = 0.01 s "sufficient"
 LINEAR_WINDOW = (0.2, 0.8)      # discharged fraction over which the rate is fitted
+STUDY_SPACINGS = 4              # particle spacings across the outlet study's narrowest outlet
 MASS_TOLERANCE = 1e-12          # relative: the bookkeeping is exact up to round-off
 
 
@@ -242,7 +247,7 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
 def check(args):
     if not (args.walls or args.dt_study or args.B_study):
         return "nothing to run: give --walls, --dt-study or --B-study"
-    hs = args.h_study or args.h
+    hs = study_spacing(args)
     if args.B_study and hs > min(args.B_study) / 1.5:
         return (f"--h-study {hs:g} leaves fewer than 1.5 spacings across the outlet "
                 f"{min(args.B_study):g}")
@@ -253,6 +258,14 @@ def check(args):
     if not 0 < args.empty < LINEAR_WINDOW[0]:
         return f"--empty must lie in (0, {LINEAR_WINDOW[0]})"
     return None
+
+
+def study_spacing(args):
+    """The particle spacing of the outlet study: ``--h-study``, by default a quarter of the
+    narrowest outlet (with two spacings across it the rate is some 11 % high)."""
+    if args.h_study is not None:
+        return args.h_study
+    return min(args.B_study) / STUDY_SPACINGS if args.B_study else args.h
 
 
 def build_parser():
@@ -280,7 +293,9 @@ def build_parser():
                    help="fill height [m] of the bin in the outlet study (0.6: a fill of 0.2 "
                         "slows the 16 cm outlet's rate by 11 %%, see the book)")
     p.add_argument("--h-study", type=positive("h-study"), default=None,
-                   help="particle spacing [m] in the outlet study (default --h)")
+                   help=f"particle spacing [m] in the outlet study (default: the narrowest "
+                        f"outlet / {STUDY_SPACINGS}; at two spacings across, its rate is 11 %% "
+                        f"high, see the book)")
     p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
     p.add_argument("--floor", type=positive("floor"), default=0.005,
                    help="least cone radius, as a fraction of rho g (Hh + H)")
@@ -318,7 +333,7 @@ def _cases(args):
     smooth = dict(common, walls="smooth", mu=0.0, snapshot_times=())
     dts = [dict(smooth, dt=d, label=f"smooth_dt{d:g}") for d in args.dt_study if d != args.dt]
     angle = np.arctan(0.5 * (args.W - args.B) / args.Hh)
-    hs = args.h_study or args.h
+    hs = study_spacing(args)
     # only the rate is needed: each stops once 80 % is out (the end of the fitted window)
     outlets = [dict(smooth, B=b, H=args.H_study, Hh=hopper_height(args.W, b, angle), h=hs,
                     empty=1 - LINEAR_WINDOW[1], label=f"outlet_B{b:g}") for b in args.B_study]
