@@ -262,7 +262,7 @@ def check(args):
 
 def study_spacing(args):
     """The particle spacing of the outlet study: ``--h-study``, by default a quarter of the
-    narrowest outlet (with two spacings across it the rate is some 11 % high)."""
+    narrowest outlet (with two spacings across it the rate is 13 % above the rate with four)."""
     if args.h_study is not None:
         return args.h_study
     return min(args.B_study) / STUDY_SPACINGS if args.B_study else args.h
@@ -294,8 +294,8 @@ def build_parser():
                         "slows the 16 cm outlet's rate by 11 %%, see the book)")
     p.add_argument("--h-study", type=positive("h-study"), default=None,
                    help=f"particle spacing [m] in the outlet study (default: the narrowest "
-                        f"outlet / {STUDY_SPACINGS}; at two spacings across, its rate is 11 %% "
-                        f"high, see the book)")
+                        f"outlet / {STUDY_SPACINGS}; at two spacings across, its rate is 13 %% "
+                        f"above the rate at four, see the book)")
     p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
     p.add_argument("--floor", type=positive("floor"), default=0.005,
                    help="least cone radius, as a fraction of rho g (Hh + H)")
