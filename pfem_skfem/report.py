@@ -509,6 +509,7 @@ class _CaseBars:
                                             postfix=msg["postfix"] or None, leave=False)
                 return
             bar.total, bar.n = msg["total"], msg["n"]
+            bar.set_description_str(msg["desc"], refresh=False)   # a case may rename its stage
             bar.set_postfix_str(msg["postfix"], refresh=False)
             bar.refresh()
 
