@@ -477,12 +477,17 @@ def _forwarded_bar():
             self._worker = get_worker()
             self._topic, self._case, options["mininterval"] = forward
             options.pop("file", None)
+            options.setdefault("miniters", 1)     # no tqdm monitor to lower its own miniters
             super().__init__(iterable, file=io.StringIO(), **options)
 
         def display(self, msg=None, pos=None):
-            self._worker.log_event(self._topic, {
-                "case": self._case, "n": self.n, "total": self.total, "desc": self.desc,
-                "unit": self.unit, "postfix": self.postfix or ""})
+            try:              # a count must never fail its case; events take no numpy scalars
+                self._worker.log_event(self._topic, {
+                    "case": self._case, "n": _plain(self.n), "total": _plain(self.total),
+                    "desc": str(self.desc), "unit": str(self.unit),
+                    "postfix": str(self.postfix or "")})
+            except Exception:                     # noqa: BLE001 - progress only
+                pass
             return True
 
     return ForwardedBar
@@ -508,6 +513,9 @@ class _CaseBars:
                                             desc=msg["desc"], unit=msg["unit"],
                                             postfix=msg["postfix"] or None, leave=False)
                 return
+            if msg["n"] < bar.n:                  # the case's next bar (or a rerun)
+                bar.reset(total=msg["total"])
+                bar.initial = msg["n"]
             bar.total, bar.n = msg["total"], msg["n"]
             bar.set_description_str(msg["desc"], refresh=False)   # a case may rename its stage
             bar.set_postfix_str(msg["postfix"], refresh=False)
@@ -764,30 +772,33 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
     with _dask_client(min(workers, len(cases)), scheduler) as client:
         where = (f"on the cluster at {scheduler}" if scheduler
                  else f"on {min(workers, len(cases))} workers")
-        if verbose:
-            client.subscribe_topic(topic, bars)
-        interval = 1.0 if _tty() else 20.0
-        # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
-        futures = {client.submit(_call, function, c,
-                                 (topic, i, interval) if c.get("verbose") else None,
-                                 pure=False, key=f"{desc}-{i}-{_token()}"): i
-                   for i, c in enumerate(cases)}
-        from distributed import as_completed
+        # the bar over the cases first: the cases' own bars are drawn below it
         with progress_bar(total=len(cases), disable=not verbose, unit="case",
                           desc=f"{desc} {where}") as bar:
-            for future in as_completed(futures):
-                i = futures[future]
-                bars.end(i)
-                try:
-                    results[i] = future.result()
-                except Exception as error:       # noqa: BLE001 - reported with its case
-                    failures.append((i, cases[i], error))
-                    progress(f"{desc}: case {i} failed ({_case_text(cases[i])}): "
-                             f"{type(error).__name__}: {error}")
-                bar.update(1)
-        if verbose:
-            client.unsubscribe_topic(topic)
-    bars.close()
+            try:
+                if verbose:
+                    client.subscribe_topic(topic, bars)
+                interval = 1.0 if _tty() else 20.0
+                # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
+                futures = {client.submit(_call, function, c,
+                                         (topic, i, interval) if c.get("verbose") else None,
+                                         pure=False, key=f"{desc}-{i}-{_token()}"): i
+                           for i, c in enumerate(cases)}
+                from distributed import as_completed
+                for future in as_completed(futures):
+                    i = futures[future]
+                    bars.end(i)
+                    try:
+                        results[i] = future.result()
+                    except Exception as error:   # noqa: BLE001 - reported with its case
+                        failures.append((i, cases[i], error))
+                        progress(f"{desc}: case {i} failed ({_case_text(cases[i])}): "
+                                 f"{type(error).__name__}: {error}")
+                    bar.update(1)
+            finally:                             # also on an error or Ctrl-C
+                if verbose:
+                    client.unsubscribe_topic(topic)
+                bars.close()
     _raise_failures(desc, failures, results)
     return results
 

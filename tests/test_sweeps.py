@@ -137,12 +137,14 @@ def test_each_running_case_s_progress_is_drawn_by_the_client(capsys):
     one's) and sends its counts: the client draws a bar per running case."""
     def steps(name, n, verbose=False):             # pickled by value for the workers
         import time
+        import numpy as np
         from pfem_skfem.report import progress_bar
-        bar = progress_bar(total=n, desc=f"case {name}", unit="step", disable=not verbose)
+        bar = progress_bar(total=np.int64(n), desc=f"case {name}", unit="step",
+                           disable=not verbose)          # numpy counts go as Python ones
         for k in range(n):
             time.sleep(0.5)                        # the first count reaches the client
             bar.set_postfix_str(f"k = {k}")
-            bar.update(1)
+            bar.update(np.int64(1))
         bar.close()
         return name
 
@@ -154,3 +156,18 @@ def test_each_running_case_s_progress_is_drawn_by_the_client(capsys):
     assert run_cases(steps, [dict(c, verbose=False) for c in cases], workers=2,
                      desc="steps") == ["first", "second"]
     assert capsys.readouterr().err == ""                      # no progress: no bars
+
+
+def test_a_case_s_next_bar_starts_its_count_and_rate_again(capsys):
+    from pfem_skfem.report import _CaseBars
+    bars = _CaseBars()
+    count = dict(case=0, total=10, desc="case", unit="step", postfix="")
+    bars((0.0, dict(count, n=5)))
+    bars((0.0, dict(count, n=7)))
+    assert bars.bars[0].n == 7 and bars.bars[0].initial == 5    # the rate counts from 5
+    bars((0.0, dict(count, n=2, total=4, desc="settle")))      # the case's next bar
+    bar = bars.bars[0]
+    assert (bar.n, bar.initial, bar.total, bar.desc) == (2, 2, 4, "settle")
+    bars.end(0)
+    bars((0.0, dict(count, n=3)))                              # late: the case ended
+    assert not bars.bars
