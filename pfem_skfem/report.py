@@ -775,9 +775,11 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
         # the bar over the cases first: the cases' own bars are drawn below it
         with progress_bar(total=len(cases), disable=not verbose, unit="case",
                           desc=f"{desc} {where}") as bar:
+            subscribed = False
             try:
                 if verbose:
                     client.subscribe_topic(topic, bars)
+                    subscribed = True
                 interval = 1.0 if _tty() else 20.0
                 # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
                 futures = {client.submit(_call, function, c,
@@ -796,7 +798,7 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
                                  f"{type(error).__name__}: {error}")
                     bar.update(1)
             finally:                             # also on an error or Ctrl-C
-                if verbose:
+                if subscribed:
                     client.unsubscribe_topic(topic)
                 bars.close()
     _raise_failures(desc, failures, results)
