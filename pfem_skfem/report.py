@@ -448,13 +448,14 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
     if forward is not None and not disable:    # a case of a sweep, on a Dask worker
         return _forwarded_bar()(iterable, forward, total=total, desc=desc, unit=unit,
                                 **options)
-    options.setdefault("mininterval", 0.5 if _tty() else 20.0)
+    options.setdefault("mininterval", _redraw_seconds())
     return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr,
                 disable=disable, dynamic_ncols=True, **options)
 
 
-def _tty():
-    return hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+def _redraw_seconds():
+    """Seconds between two draws of a bar: often on a terminal, a line in 20 s in a log."""
+    return 0.5 if hasattr(sys.stderr, "isatty") and sys.stderr.isatty() else 20.0
 
 
 # on a sweep's worker while a case runs: .forward = (topic, case index, seconds between
@@ -780,7 +781,7 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
                 if verbose:
                     client.subscribe_topic(topic, bars)
                     subscribed = True
-                interval = 1.0 if _tty() else 20.0
+                interval = _redraw_seconds()
                 # the keywords go as one dict: a case's own 'key' or 'priority' is not submit's
                 futures = {client.submit(_call, function, c,
                                          (topic, i, interval) if c.get("verbose") else None,
