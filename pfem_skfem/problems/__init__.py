@@ -3,7 +3,7 @@
 static (3.45) and limit analysis, dynamic (4.23), contact (5.10)-(5.12),
 particle (5.1)-(5.9), bar (B.12).
 """
-from .conic import Scaling, SolveInfo, SolverError, solve  # noqa: F401
+from .conic import AlmostSolvedWarning, Scaling, SolveInfo, SolverError, solve  # noqa: F401
 from .contact import (RigidCircle, RigidPolyline, RigidSegment,  # noqa: F401
                       potential_contacts, resultants)
 from .dynamic import ThetaMethod, dynamic_increment, dynamic_operators  # noqa: F401

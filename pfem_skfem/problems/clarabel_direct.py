@@ -56,7 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status
+from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status, clarabel_measures
 
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
 #: ``settings`` override them): the package's (qdldl). Iterative refinement, the
@@ -448,6 +448,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     build = t1 - t0                          # our assembly (cvxpy's 'compile' counterpart)
     if form == "dual" and not n_l:           # the displacement form (exponential cones: primal)
         sol = solve_dual(Pmat, c, Amat, b, cones, opts)
+        solver = sol.solver                  # the dual's: its measures are the step's
         build += sol.setup_time              # stating the dual is our assembly
         wall = time.perf_counter() - t1 - sol.setup_time
     else:
@@ -455,7 +456,7 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         sol = solver.solve()
         wall = time.perf_counter() - t1      # Clarabel's setup and iterations
     status = _STATUS.get(str(sol.status), str(sol.status))
-    check_status(status, what, accept_inaccurate)
+    check_status(status, what, accept_inaccurate, clarabel_measures(solver))
     x, z = np.asarray(sol.x), np.asarray(sol.z)
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations), compile_time=build,

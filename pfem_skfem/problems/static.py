@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import Scaling, SolveInfo, SolverError, prescribed_values, solve, split_dofs
+from .conic import Scaling, SolveInfo, SolverError, certify, prescribed_values, solve, split_dofs
 from .contact import contact_terms
 
 
@@ -85,21 +85,25 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     # stresses in units of the strength, or of the stresses reached so far if larger
     sc = scaling or Scaling.from_operators(
         B, C, max(criterion.strength_scale(), float(np.sqrt(np.mean(sigma_n ** 2)))))
-    try:
-        return _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
-                                 closing, sc, solver_settings)
-    except SolverError as err:
+    accept = solver_settings.get("accept_inaccurate", False)
+    res = _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing,
+                            sc, solver_settings)
+    if res.info.status == cp.OPTIMAL_INACCURATE and scaling is None:
         # Frictional materials can carry stresses far above their cohesion, and the
         # solver's absolute tolerances then stop it short ('AlmostSolved'). Rescale
         # by the stress level of that near-solution and solve once more.
-        if scaling is not None or err.status != cp.OPTIMAL_INACCURATE or err.sigma is None:
+        level = float(np.sqrt(np.mean(res.sigma ** 2)))
+        if np.isfinite(level) and level > sc.stress:
+            sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
+            res = _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
+                                    closing, sc, solver_settings)
+    if not accept:          # an AlmostSolved end: certified by its measures, or raised
+        try:
+            certify(res.info.status, "static increment (3.45)", res.info.extra.get("measures"))
+        except SolverError as err:
+            err.sigma = res.sigma                    # the near-solution, for a caller's look
             raise
-        level = float(np.sqrt(np.mean(err.sigma ** 2)))
-        if not np.isfinite(level) or level <= sc.stress:
-            raise
-        sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
-        return _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
-                                 closing, sc, solver_settings)
+    return res
 
 
 def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing, sc,
@@ -139,11 +143,9 @@ def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, clos
     equilibrium = internal == f_h[free]           # B^T sigma_{n+1} (+ E^T rho) - f = 0
     yield_cone = criterion.scaled(sc.stress).constraint(S)   # F(sigma_j) <= 0
     problem = cp.Problem(objective, [equilibrium, yield_cone] + contact_cones)
-    try:
-        info = solve(problem, what="static increment (3.45)", **solver_settings)
-    except SolverError as err:
-        err.sigma = None if S.value is None else S.value * sc.stress
-        raise
+    # 'AlmostSolved' comes back: static_increment rescales, then certifies or raises
+    info = solve(problem, what="static increment (3.45)", defer_certify=True,
+                 **solver_settings)
 
     sigma = S.value * sc.stress
     du = np.zeros(n_u)
@@ -196,6 +198,25 @@ def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
 
     This is (3.45) with the compliance dropped (rigid-plastic) and the load
     scaled by alpha; the dual of equilibrium is the collapse mechanism.
+
+    Parameters
+    ----------
+    B : (4 n_points, n_u) sparse, (3.41).  f_live : (n_u,) the load multiplied by alpha.
+    criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
+    fixed : dofs with zero velocity.  f_dead : (n_u,) a load not multiplied, or None.
+    scaling : :class:`Scaling`; by default the criterion's strength and a median of B.
+    solver_settings : Clarabel settings, and ``accept_inaccurate``
+        (:func:`~pfem_skfem.problems.conic.solve`).
+
+    Returns
+    -------
+    LimitLoad
+
+    Warns
+    -----
+    AlmostSolvedWarning
+        Clarabel stopped 'AlmostSolved' and its measures certify the answer
+        (:func:`~pfem_skfem.problems.conic.certify`); uncertified, SolverError is raised.
     """
     n_s, n_u = B.shape
     n = n_s // 4
