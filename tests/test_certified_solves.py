@@ -127,3 +127,65 @@ def test_iteration_capped_solve_raises_naming_status_and_measures():
                                     max_iter=2)
     assert err.value.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE)
     assert f"'{err.value.status}'" in str(err.value) and "primal residual" in str(err.value)
+
+
+# -- an over-constrained scene: the status names what cannot be met ----------
+def closed_box_squeeze(backend):
+    """A cohesionless block filling a closed box whose right wall moves in: no
+    displacement field keeps the (zero-dilation) block inside, the motion is impossible
+    (../shared/RELIABILITY.md, section 4)."""
+    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
+
+    block = Region([(0, 0), (1, 0), (1, 0.5), (0, 0.5)], ZeroDilationMohrCoulomb(c=0, phi=30),
+                   rho=2.0, h=0.125, stress=Geostatic())
+    bodies = [Body("base", RigidSegment((-1, 0), (3, 0), mu=0.0)),
+              Body("lid", RigidSegment((3, 0.5), (-1, 0.5), mu=0.0)),
+              Body("left", RigidSegment((0, 2), (0, -1), mu=0.0)),
+              Body("right", RigidSegment((1, -1), (1, 2), mu=0.0),
+                   motion=ConstantVelocity((-0.5, 0.0)))]
+    config = PFEMConfig(theta=ThetaMethod(dt=0.02), backend=backend)
+    return Scene(regions=[block], bodies=bodies, config=config, t_end=0.2)
+
+
+@pytest.mark.parametrize("backend, form", [("clarabel", "primal"), ("clarabel", "dual"),
+                                           ("cvxpy", None)])
+def test_closed_box_squeeze_names_the_impossible_motion(backend, form, monkeypatch):
+    """The step's stated problem is the stress form: its displacement (dual) form is
+    infeasible, so the stress form is unbounded, whichever form Clarabel is handed. The
+    message must name the over-constrained motion, not 'a mechanism with no resistance'
+    (that is the reading of an infeasible stress form)."""
+    from pfem_skfem.drivers.pfem_loop import run
+    from pfem_skfem.problems import clarabel_direct
+
+    if form is not None:
+        monkeypatch.setattr(clarabel_direct, "FORM", form)
+    scene = closed_box_squeeze(backend)
+    with pytest.raises(SolverError) as err:
+        run(scene.initial_state(), scene, 1)
+    message = str(err.value)
+    assert err.value.status == cp.UNBOUNDED
+    assert "the prescribed motions cannot be met" in message
+    assert "over-constrained" in message and "closed box" in message
+    assert "no resistance" not in message
+
+
+def test_load_beyond_collapse_names_the_stress_form_infeasible():
+    """The other reading: a pressure 1.01 times the sphere's collapse load has no
+    admissible stress field (an elastoplastic increment, (3.45)); the message says so."""
+    from pfem_skfem.materials import Elastic
+    from pfem_skfem.operators import assemble_C
+    from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric
+
+    disc, B, f, fixed = sphere_model(0.2)
+    with pytest.raises(SolverError) as err:
+        static_increment_axisymmetric(disc, B, assemble_C(disc, Elastic(100.0, 0.3)),
+                                      1.01 * closed_form("tresca") * f,
+                                      np.zeros((disc.n_points, 4)), CRITERIA["tresca"],
+                                      fixed=fixed)
+    assert err.value.status == cp.INFEASIBLE
+    assert "no admissible stress field equilibrates the loads" in str(err.value)
+    assert "stress form is infeasible" in str(err.value)

@@ -149,8 +149,12 @@ def check_status(status, what, accept_inaccurate=False, measures=None):
     if status == cp.OPTIMAL_INACCURATE:
         bounds = ", ".join(f"{name} <= {bound:.0e}" for name, bound in CERTIFY.items())
         hint += f"; its measures do not certify the answer ({bounds})"
-    measured = "" if measures is None else (f" [Clarabel '{measures['status']}': "
-                                            f"{_describe(measures)}]")
+    if measures is None:
+        measured = ""
+    elif status in (cp.INFEASIBLE, cp.UNBOUNDED):      # a certificate: no residuals to read
+        measured = f" [Clarabel '{measures['status']}']"
+    else:
+        measured = f" [Clarabel '{measures['status']}': {_describe(measures)}]"
     err = SolverError(f"{what}: solver status '{status}'" + (f": {hint}" if hint else "")
                       + measured, status)
     err.measures = measures
