@@ -3,7 +3,8 @@
 Both are stated in cvxpy almost as printed, in scaled variables (see
 :class:`~pfem_skfem.problems.conic.Scaling`): stresses in units of the material
 strength, lengths in units of an element size. Displacement increments come back
-as the duals of the equilibrium constraints.
+as the duals of the equilibrium constraints. An 'AlmostSolved' end is returned only
+when its own measures certify it (:func:`~pfem_skfem.problems.conic.certify`).
 
 Sign convention, settled by the KKT conditions (3.47) and the tests: with the
 Lagrangian J = -1/2 ds^T C ds + du^T (B^T s - f) of (3.46), cvxpy's dual y of the
@@ -67,10 +68,19 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
     fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
     scaling : :class:`Scaling`; by default the criterion's strength and medians of B, C.
+    solver_settings : Clarabel settings, and ``accept_inaccurate``
+        (:func:`~pfem_skfem.problems.conic.solve`).
 
     Returns
     -------
     StaticIncrement
+
+    Warns
+    -----
+    AlmostSolvedWarning
+        Clarabel stopped 'AlmostSolved' (after the rescaled re-solve, where one applies)
+        and its measures certify the answer (:func:`~pfem_skfem.problems.conic.certify`);
+        uncertified, SolverError is raised.
     """
     n_s, n_u = B.shape
     n = n_s // 4
