@@ -91,13 +91,18 @@ def test_sphere_limit_load_returns_certified_and_right(h, elements, criterion):
 
 
 def test_solved_sphere_does_not_warn_and_matches_the_closed_form():
-    """A Solved end (Tresca on the same mesh) is returned as before, without a warning."""
+    """A Solved end (Tresca on the same mesh) is returned as before, without a warning;
+    its info carries Clarabel's measures, within Clarabel's full tolerances (1e-8)."""
     disc, B, f, fixed = sphere_model(0.11)
     with warnings.catch_warnings():
         warnings.simplefilter("error", AlmostSolvedWarning)
         lim = limit_analysis_axisymmetric(disc, B, f, CRITERIA["tresca"], fixed=fixed)
     assert lim.info.status == cp.OPTIMAL
     assert abs(lim.load_factor / closed_form("tresca") - 1) < 1e-5
+    measures = lim.info.extra["measures"]
+    assert measures["status"] == "Solved"
+    assert max(measures["res_primal"], measures["res_dual"]) <= 1e-8
+    assert min(measures["gap_rel"], measures["gap_abs"]) <= 1e-8
 
 
 def test_uncertified_almost_solved_raises_naming_status_and_measures():
