@@ -199,6 +199,9 @@ def test_a_million_particles_are_refused_before_any_is_placed(monkeypatch):
         Scene(regions=(Region(SQUARE, SAND, 2.0, 0.1),))
     assert Scene(regions=(Region(SQUARE, SAND, 2.0, 0.1),),
                  max_particles=200).initial_state().n == 121
+    monkeypatch.delenv("PFEM_SKFEM_MAX_PARTICLES")
+    with pytest.raises(SceneFileError, match="limit of 50 "):       # a scene file's key
+        scene_from_toml(column("t_end = 0.02", "max_particles = 50\nt_end = 0.02"))
 
 
 def test_the_self_intersection_check_is_fast_and_names_a_bowtie():
@@ -239,3 +242,28 @@ def test_passes_has_an_upper_bound():
     with pytest.raises(ValueError, match="passes"):
         PFEMConfig(passes=1001)
     PFEMConfig(passes=1000)
+
+
+def test_mistyped_arguments_are_refused_naming_the_parameter():
+    """These gave numpy TypeErrors naming no parameter, or (a class) were accepted."""
+    with pytest.raises(ValueError, match="rho"):
+        Region(SQUARE, SAND, "2", 0.1)
+    with pytest.raises(ValueError, match="h must"):
+        Region(SQUARE, SAND, 2.0, None)
+    with pytest.raises(ValueError, match="phi"):
+        ZeroDilationMohrCoulomb(0.0, "31")
+    with pytest.raises(ValueError, match="material"):
+        Region(SQUARE, ZeroDilationMohrCoulomb, 2.0, 0.1)
+    with pytest.raises(ValueError, match="polygon"):
+        Region(((0, 0), (1, 0, 2), (1, 1)), SAND, 2.0, 0.1)
+    with pytest.raises(ValueError, match="outlets must be a list"):
+        Scene(regions=(Region(SQUARE, SAND, 2.0, 0.25),),
+              outlets=Outlet("o", HalfPlane((0.0, 0.0), (0.0, -1.0))))
+
+
+def test_a_tensile_geostatic_k0_is_refused():
+    """k0 = -0.5 ran: a lateral tension in a cohesionless column."""
+    from pfem_skfem.scene import Geostatic
+    with pytest.raises(ValueError, match="k0"):
+        Geostatic(k0=-0.5)
+    assert Geostatic(k0=0.0).k0 == 0.0

@@ -110,7 +110,10 @@ def _edges(vertices):
 def check_polygon(vertices, name):
     """(k, 2) float vertices of a simple polygon with k >= 3 and non-zero area, or ValueError
     naming ``name``."""
-    v = np.asarray(vertices, dtype=float)
+    try:
+        v = np.asarray(vertices, dtype=float)
+    except (TypeError, ValueError) as err:              # ragged, None, text
+        raise ValueError(f"{name}: a polygon is a list of (x, y) vertices ({err})") from None
     if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
         raise ValueError(f"{name}: a polygon needs at least three (x, y) vertices, got shape "
                          f"{v.shape}")
@@ -185,6 +188,13 @@ class Geostatic:
     k0: float = None
     top: float = None
 
+    def __post_init__(self):
+        if self.k0 is not None and not (np.isfinite(self.k0) and self.k0 >= 0):
+            raise ValueError(f"Geostatic: k0 must be >= 0 (None: Jaky's 1 - sin(phi)), a "
+                             f"negative K0 is a tensile lateral stress; got {self.k0!r}")
+        if self.top is not None and not np.isfinite(self.top):
+            raise ValueError(f"Geostatic: top must be finite, got {self.top!r}")
+
 
 @dataclass(frozen=True)
 class Region:
@@ -220,11 +230,12 @@ class Region:
         object.__setattr__(self, "holes", holes)
         for key in ("rho", "h"):
             value = getattr(self, key)
-            if not np.isfinite(value) or value <= 0:
+            if (isinstance(value, bool) or not isinstance(value, (int, float, np.number))
+                    or not np.isfinite(value) or value <= 0):
                 raise ValueError(f"{label}: {key} must be positive, got {value!r}")
         if self.lattice not in LATTICES:
             raise ValueError(f"{label}: lattice must be one of {LATTICES}, got {self.lattice!r}")
-        if not hasattr(self.material, "cone"):
+        if isinstance(self.material, type) or not hasattr(self.material, "cone"):
             raise ValueError(f"{label}: material must be a PFEM material with a cone() "
                              f"(e.g. ZeroDilationMohrCoulomb), got {self.material!r}")
         if self.stress is not None and not isinstance(self.stress, Geostatic):

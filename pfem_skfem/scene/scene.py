@@ -121,6 +121,10 @@ class Scene:
             if not isinstance(r, Region):
                 raise ValueError(f"regions must be Region objects, got {r!r}")
         object.__setattr__(self, "regions", regions)
+        for key in ("bodies", "outlets", "phases"):
+            value = getattr(self, key)
+            if isinstance(value, (Body, Outlet, Phase, str)) or not hasattr(value, "__iter__"):
+                raise ValueError(f"{key} must be a list or tuple, got {value!r}")
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "outlets", tuple(self.outlets))
         object.__setattr__(self, "phases", tuple(self.phases))
@@ -225,8 +229,9 @@ class Scene:
         if total > limit:
             raise ValueError(f"the regions would hold about {total:,.0f} particles (area / h^2), "
                              f"more than the limit of {limit:,} ({source}); make h larger, or "
-                             f"raise the limit with Scene(max_particles=...) or the environment "
-                             f"variable {MAX_PARTICLES_ENV}")
+                             f"raise the limit with max_particles (Scene(max_particles=...), a "
+                             f"scene file's top-level key) or the environment variable "
+                             f"{MAX_PARTICLES_ENV}")
 
     def _check_overlaps(self):
         # each region's mass is rho times its own area: overlapping regions count the
