@@ -63,6 +63,15 @@ def test_run_refuses_steps_that_are_not_a_non_negative_int(steps, error):
         run(s, scene, steps)
 
 
+def test_run_refuses_what_is_not_a_state_or_a_scene():
+    """run(None, ...) and run(s, None, ...) gave raw Type/AttributeErrors."""
+    s, scene = granular_column(1.0, 4)
+    with pytest.raises(TypeError, match="state must be a PFEMState"):
+        run(None, scene, 1)
+    with pytest.raises(TypeError, match="scene must be a Scene"):
+        run(s, None, 1)
+
+
 def test_run_of_zero_steps_returns_the_state_itself():
     s, scene = granular_column(1.0, 4)
     out, snaps = run(s, scene, np.int64(0))
