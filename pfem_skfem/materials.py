@@ -13,13 +13,27 @@ import cvxpy as cp
 import numpy as np
 
 
+def _is_real(value):
+    """A real scalar (a 0-d array too), not a bool, text or None (a TypeError in isfinite)."""
+    kind = np.asarray(value).dtype if np.ndim(value) == 0 else None
+    return kind is not None and (np.issubdtype(kind, np.floating)
+                                 or np.issubdtype(kind, np.integer))
+
+
 def _check_positive(name, value):
-    if not np.isfinite(value) or value <= 0:
+    if not _is_real(value) or not np.isfinite(value) or value <= 0:
         raise ValueError(f"{name} must be positive and finite, got {value!r}")
 
 
+def check_cohesion(c):
+    """c (cohesion) must be finite and >= 0: checked before any stand-in value is put in
+    its place (a zero-c material validates phi on a MohrCoulomb of c = 1)."""
+    if not (_is_real(c) and np.isfinite(c) and c >= 0):
+        raise ValueError(f"c (cohesion) must be finite and >= 0, got {c!r}")
+
+
 def _check_angle(name, degrees, upper=90.0):
-    if not np.isfinite(degrees) or not 0.0 <= degrees < upper:
+    if not _is_real(degrees) or not np.isfinite(degrees) or not 0.0 <= degrees < upper:
         raise ValueError(f"{name} must lie in [0, {upper:g}) degrees, got {degrees!r}")
 
 
@@ -239,6 +253,7 @@ def mohr_coulomb_radius(c, phi, sigma_m, floor):
     is held at least ``floor`` > 0 where the mean stress is tensile, so that the
     cone keeps an interior.
     """
+    check_cohesion(c)
     MohrCoulomb(c if c > 0 else 1.0, phi)   # validates phi
     if not np.isfinite(floor) or floor <= 0:
         raise ValueError(f"floor must be positive, got {floor!r}")
@@ -252,6 +267,7 @@ def davis(c, phi, psi):
     beta = cos(psi) cos(phi) / (1 - sin(psi) sin(phi)); c* = beta c,
     tan(phi*) = beta tan(phi). With psi = 0, tan(phi*) = sin(phi).
     """
+    check_cohesion(c)
     MohrCoulomb(c if c > 0 else 1.0, phi)
     _check_angle("psi (dilation angle)", psi, upper=phi + 1e-12 if phi > 0 else 1e-12)
     ph, ps = np.radians(phi), np.radians(psi)
@@ -286,9 +302,12 @@ class ZeroDilationMohrCoulomb:
 
     name = "Mohr-Coulomb, zero dilation [80]"
     lagged = True           # the cone depends on the mean stress: fixed-point passes help
+    geometries = ("plane",)     # a Scene refuses it in another geometry, naming:
+    counterpart = "ZeroDilationMohrCoulombAxisymmetric (or ZeroDilationDruckerPrager)"
 
     def __post_init__(self):
-        MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)      # validates c and phi
+        check_cohesion(self.c)
+        MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)      # validates phi
         _check_positive("k_min (least cone radius / stress scale)", self.k_min)
 
     def radius(self, sigma_m, stress_scale=1.0):
@@ -342,6 +361,8 @@ class CohesiveTresca:
 
     name = "Tresca"
     lagged = False
+    geometries = ("plane",)     # a Scene refuses it in another geometry, naming:
+    counterpart = "ZeroDilationMohrCoulombAxisymmetric with phi = 0"
 
     def __post_init__(self):
         _check_positive("c (undrained shear strength)", self.c)

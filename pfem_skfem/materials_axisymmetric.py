@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .materials import DruckerPrager, MohrCoulomb, YieldCriterion
+from .materials import DruckerPrager, MohrCoulomb, YieldCriterion, check_cohesion
 
 
 #: the Drucker-Prager matches to Mohr-Coulomb of :func:`drucker_prager_match`
@@ -240,6 +240,7 @@ def mohr_coulomb_pair_radii(c, phi, sigma, floor):
     (s + R, s - R), (s + R, s_tt), (s_tt, s - R). Each radius is held at least
     ``floor`` > 0. Returns a (3, n) array.
     """
+    check_cohesion(c)
     MohrCoulomb(c if c > 0 else 1.0, phi)
     if not np.isfinite(floor) or floor <= 0:
         raise ValueError(f"floor must be positive, got {floor!r}")
@@ -313,6 +314,7 @@ class ZeroDilationDruckerPrager:
 
     name = "Drucker-Prager (7.10), zero dilation [80]"
     lagged = True
+    geometries = ("plane", "axisymmetric")    # J2 reads s_z: the hoop or out-of-plane stress
 
     def __post_init__(self):
         self.criterion                          # validates c, phi and match
@@ -373,8 +375,11 @@ class ZeroDilationMohrCoulombAxisymmetric:
 
     name = "Mohr-Coulomb (axisymmetric, 3 cones), zero dilation [80]"
     lagged = True
+    geometries = ("axisymmetric",)
+    counterpart = "ZeroDilationMohrCoulomb"
 
     def __post_init__(self):
+        check_cohesion(self.c)
         MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)
         if not np.isfinite(self.k_min) or self.k_min <= 0:
             raise ValueError(f"k_min (least cone radius / stress scale) must be positive, "

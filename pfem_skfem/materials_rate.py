@@ -86,6 +86,8 @@ class MuIRheology:
     lagged = True              # the cone depends on the mean stress and the shear rate
     rate_dependent = True      # lagged_step hands it the previous pass's shear rate
     hoop = False               # plane: the in-plane deviator is the whole deviator
+    geometries = ("plane",)    # a Scene refuses it in another geometry, naming:
+    counterpart = "MuIRheologyAxisymmetric"
 
     def __post_init__(self):
         for name in ("mu_s", "I_0", "d", "rho_s", "p_min", "k_min"):
@@ -182,6 +184,8 @@ class MuIRheologyAxisymmetric(MuIRheology):
 
     name = "mu(I), axisymmetric, lagged"
     hoop = True                # the rate deviator and shear rate count the hoop strain
+    geometries = ("axisymmetric",)
+    counterpart = "MuIRheology"
 
     @staticmethod
     def mean_stress(sigma):

@@ -44,10 +44,11 @@ from ..problems.dynamic import BACKENDS, ThetaMethod
 from ..problems.nonassociated import lagged_step
 
 __all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_to_rest",
-           "initial_state", "load_checkpoint", "save_checkpoint", "config_summary",
+           "check_run", "initial_state", "load_checkpoint", "save_checkpoint", "config_summary",
            "step_fields"]
 
 STRESS_MAPPINGS = ("uem_bounded", "uem", "ida", "spr")
+MAX_PASSES = 1000       # more is a typo or a hang (a pass is a conic solve)
 
 
 @dataclass(frozen=True)
@@ -113,8 +114,9 @@ class PFEMConfig:
         if not isinstance(self.contact, (CoulombCones, LaggedFriction)):
             raise ValueError(f"contact must be CoulombCones() or LaggedFriction(), got "
                              f"{self.contact!r}")
-        if int(self.passes) < 1:
-            raise ValueError(f"passes must be >= 1, got {self.passes!r}")
+        if not 1 <= int(self.passes) <= MAX_PASSES:
+            raise ValueError(f"passes must be in [1, {MAX_PASSES}] (solves per step), got "
+                             f"{self.passes!r}")
         if not (isinstance(self.pass_tolerance, (int, float, np.number))
                 and not isinstance(self.pass_tolerance, bool)
                 and self.pass_tolerance >= 0):      # inf: the least passes only
@@ -340,7 +342,7 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     ----------
     state : PFEMState (from ``scene.initial_state()`` or :func:`load_checkpoint`).
     scene : the :class:`~pfem_skfem.scene.Scene`.
-    steps : number of steps to take.
+    steps : number of steps to take, an int >= 0 (0: the input state itself is returned).
     checkpoint : path of the checkpoint file, written every ``checkpoint_every`` steps.
     series : a :class:`pfem_skfem.io.TimeSeries` to write a VTU every ``save_every`` steps.
     on_step : callable(state, record, result) after each step.
@@ -348,6 +350,8 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     snapshots : step numbers whose particles and fields are kept in the returned dict.
     progress : callable(step, steps, record) after each step (e.g. a progress bar).
 
+    The input state is not changed (the returned one has its own history), and it must be
+    a state of ``scene`` (:func:`check_run`).
     The run ends early when every particle has been discharged (the state is then empty).
     A step whose particles form no element has no mesh: it writes no VTU and keeps no
     snapshot.
@@ -356,11 +360,16 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     -------
     (state, snaps) with snaps {step: dict(x, points, cells, speed, deps)}.
     """
+    steps = check_run(state, scene, steps)
     snaps = {}
-    for i in range(int(steps)):
+    for i in range(steps):
         state, rec, result = pfem_step(state, scene)
-        for k, val in rec.items():                     # the history grows by one record
-            state.history.setdefault(k, []).append(val)
+        # each state owns its history (new lists, the old state's untouched), complete
+        # before any output: a stop in a VTU write leaves the last state's consistent
+        history = {k: list(v) for k, v in state.history.items()}
+        for k, val in rec.items():
+            history.setdefault(k, []).append(val)
+        state.history = history                       # state is pfem_step's new object
         if verbose:
             print(f"step {rec['step']:5d}  t = {rec['time']:.4f}  dA = {rec['area_change']:+.3%}"
                   f"  it = {rec['iterations']:3d}  elements = {rec['elements']:5d}"
@@ -377,10 +386,37 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
         if on_step is not None:
             on_step(state, rec, result)
         if progress is not None:
-            progress(i + 1, int(steps), rec)
+            progress(i + 1, steps, rec)
         if state.n == 0:                               # all discharged
             break
     return state, snaps
+
+
+def check_run(state, scene, steps):
+    """The number of steps of :func:`run` as an int, after checking that ``steps`` is a
+    non-negative int (TypeError, ValueError naming it) and that ``state`` can be a state
+    of ``scene`` (ValueError): its region indices are the scene's and its mass (with what
+    has been discharged) is the scene's mass (to 1e-6), so a state of another scene
+    (a resumed checkpoint, a branched study) is refused before any step."""
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
+        raise TypeError(f"steps must be a non-negative int, got {steps!r}")
+    if steps < 0:
+        raise ValueError(f"steps must be >= 0, got {steps!r}")
+    if not isinstance(state, PFEMState):
+        raise TypeError(f"state must be a PFEMState (scene.initial_state() or "
+                        f"load_checkpoint()), got {type(state).__name__}")
+    if not hasattr(scene, "regions") or not hasattr(scene, "config"):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    n_regions = len(scene.regions)
+    if state.n and (state.region.min() < 0 or state.region.max() >= n_regions):
+        raise ValueError(f"the state does not belong to the scene: its particles name region "
+                         f"{int(state.region.max())}, the scene has {n_regions} region(s)")
+    expected = scene.mass
+    held = state.total_mass + sum(float(m) for m, _ in state.discharged.values())
+    if state.total_mass > 0 and not abs(held - expected) <= 1e-6 * expected:
+        raise ValueError(f"the state does not belong to the scene: it holds mass {held:.6g} "
+                         f"(with the discharged), the scene's regions {expected:.6g}")
+    return int(steps)
 
 
 def run_to_rest(state, scene, speed, max_steps, **options):
@@ -410,4 +446,5 @@ def _plain(value):
 
 def config_summary(scene):
     """The scene as plain JSON-able values (objects by type and fields)."""
-    return {f.name: _plain(getattr(scene, f.name)) for f in fields(scene)}
+    return {f.name: _plain(getattr(scene, f.name)) for f in fields(scene)
+            if f.name != "max_particles"}                 # a guard, not the problem

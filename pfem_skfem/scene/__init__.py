@@ -13,10 +13,10 @@ The same scene as a TOML file: :func:`scene_to_toml` / :func:`scene_from_toml`
 from .bodies import Body, ConstantVelocity, Fixed, FunctionMotion, Motion, PiecewiseLinear
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region, fill_region, geostatic_stress, polygon_area
-from .scene import Output, Phase, Scene
+from .scene import MAX_PARTICLES, Output, Phase, Scene, scene_digest
 from .files import SceneFileError, load_scene, scene_from_toml, scene_to_toml
 
 __all__ = ["Body", "ConstantVelocity", "Fixed", "FunctionMotion", "Motion", "PiecewiseLinear",
            "HalfPlane", "Outlet", "PolygonZone", "Geostatic", "Region", "fill_region",
            "geostatic_stress", "polygon_area", "Output", "Phase", "Scene", "SceneFileError",
-           "load_scene", "scene_from_toml", "scene_to_toml"]
+           "load_scene", "scene_from_toml", "scene_to_toml", "scene_digest", "MAX_PARTICLES"]

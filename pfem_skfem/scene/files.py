@@ -345,7 +345,7 @@ SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
     "length": NUMBER, "regions": Tables(REGION), "bodies": Tables(BODY),
     "outlets": Tables(OUTLET), "phases": Tables(PHASE), "config": Table(CONFIG),
-    "output": Table(OUTPUT), "geometry": STRING})
+    "output": Table(OUTPUT), "geometry": STRING, "max_particles": INTEGER})
 
 
 # -- loading --------------------------------------------------------------------------------

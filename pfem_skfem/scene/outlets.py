@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .regions import _path, check_polygon
+from .regions import _path, _signed, check_polygon
 
 
 @dataclass(frozen=True)
@@ -26,8 +26,9 @@ class HalfPlane:
         object.__setattr__(self, "point", tuple(map(float, p)))
         object.__setattr__(self, "normal", tuple(map(float, n / np.linalg.norm(n))))
 
-    def contains(self, x):
-        return (np.atleast_2d(x) - np.asarray(self.point)) @ np.asarray(self.normal) > 0
+    def contains(self, x, tol=0.0):
+        """Points beyond the plane (``tol`` > 0: also those within tol of it)."""
+        return (np.atleast_2d(x) - np.asarray(self.point)) @ np.asarray(self.normal) > -tol
 
 
 @dataclass(frozen=True)
@@ -40,8 +41,10 @@ class PolygonZone:
         v = check_polygon(self.vertices, "outlet polygon")
         object.__setattr__(self, "vertices", tuple(map(tuple, v)))
 
-    def contains(self, x):
-        return _path(np.asarray(self.vertices)).contains_points(np.atleast_2d(x))
+    def contains(self, x, tol=0.0):
+        """Points inside (``tol`` > 0: also those within tol of its edges)."""
+        v = np.asarray(self.vertices)
+        return _path(v).contains_points(np.atleast_2d(x), radius=_signed(v, tol))
 
 
 @dataclass(frozen=True)

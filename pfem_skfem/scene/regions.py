@@ -58,32 +58,125 @@ def volume_shares(region, x, refinement=8):
     return region.volume * w / w.sum()
 
 
-def _segments_cross(p, q, r, s):
-    """Whether the open segments pq and rs intersect properly (not at shared ends)."""
-    def orient(a, b, c):
-        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
-    return (orient(p, q, r) * orient(p, q, s) < 0) and (orient(r, s, p) * orient(r, s, q) < 0)
+def _orient(a, b, c):
+    """Sign of the turn a -> b -> c for arrays of points (n, 2)."""
+    return np.sign((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                   - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def crossing_edges(a, b, chunk=1_000_000):
+    """Pairs (i, j) of edges a[i] and b[j] ((n, 2, 2) and (m, 2, 2) segments) whose open
+    segments intersect properly (not at shared ends, not along a common line).
+
+    A sweep in x: the edges are sorted by their left end and each is tested against those
+    that start before it ends (and overlap it in y), in chunks of at most ``chunk``
+    candidates, so a polygon of 10,000 vertices takes milliseconds, not the minutes of all
+    k^2 pairs.
+    """
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    seg = np.concatenate([a, b])
+    side = np.r_[np.zeros(len(a), dtype=bool), np.ones(len(b), dtype=bool)]
+    order = np.argsort(seg[:, :, 0].min(axis=1), kind="stable")
+    seg, side, index = seg[order], side[order], np.r_[np.arange(len(a)), np.arange(len(b))][order]
+    x0, x1 = seg[:, :, 0].min(axis=1), seg[:, :, 0].max(axis=1)
+    y0, y1 = seg[:, :, 1].min(axis=1), seg[:, :, 1].max(axis=1)
+    stop = np.searchsorted(x0, x1, side="right")       # edges starting before i ends
+    count = stop - np.arange(len(seg)) - 1
+    found = []
+    first = 0
+    while first < len(seg):
+        last = first + max(int(np.searchsorted(np.cumsum(count[first:]), chunk)), 1)
+        i = np.repeat(np.arange(first, min(last, len(seg))), count[first:last])
+        j = i + 1 + (np.arange(len(i)) - np.repeat(np.cumsum(count[first:last])
+                                                     - count[first:last], count[first:last]))
+        keep = (side[i] != side[j]) & (y0[j] <= y1[i]) & (y0[i] <= y1[j])
+        i, j = i[keep], j[keep]
+        p, q, r, t = seg[i, 0], seg[i, 1], seg[j, 0], seg[j, 1]
+        hit = ((_orient(p, q, r) * _orient(p, q, t) < 0)
+               & (_orient(r, t, p) * _orient(r, t, q) < 0))
+        i, j = i[hit], j[hit]
+        swap = side[i]                                  # report (edge of a, edge of b)
+        found.append(np.column_stack([np.where(swap, index[j], index[i]),
+                                      np.where(swap, index[i], index[j])]))
+        first = last
+    return np.vstack(found) if found else np.empty((0, 2), dtype=int)
+
+
+def _edges(vertices):
+    v = np.asarray(vertices, dtype=float)
+    return np.stack([v, np.roll(v, -1, axis=0)], axis=1)
 
 
 def check_polygon(vertices, name):
     """(k, 2) float vertices of a simple polygon with k >= 3 and non-zero area, or ValueError
     naming ``name``."""
-    v = np.asarray(vertices, dtype=float)
+    try:
+        v = np.asarray(vertices, dtype=float)
+    except (TypeError, ValueError) as err:              # ragged, None, text
+        raise ValueError(f"{name}: a polygon is a list of (x, y) vertices ({err})") from None
     if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
         raise ValueError(f"{name}: a polygon needs at least three (x, y) vertices, got shape "
                          f"{v.shape}")
     if not np.all(np.isfinite(v)):
         raise ValueError(f"{name}: polygon vertices must be finite")
+    # before the area: a bowtie's area is zero, and it intersects itself
+    pairs = crossing_edges(_edges(v), _edges(v))
+    k = len(v)
+    pairs = pairs[(pairs[:, 0] < pairs[:, 1]) & (pairs[:, 1] - pairs[:, 0] > 1)
+                  & ~((pairs[:, 0] == 0) & (pairs[:, 1] == k - 1))]   # neighbours touch
+    if len(pairs):
+        i, j = pairs[0]
+        raise ValueError(f"{name}: the polygon intersects itself (edges {i} and {j})")
     if abs(polygon_area(v)) <= 1e-12 * np.ptp(v, axis=0).max() ** 2:
         raise ValueError(f"{name}: the polygon is empty (zero area)")
-    k = len(v)
-    for i in range(k):
-        for j in range(i + 2, k):
-            if i == 0 and j == k - 1:
-                continue                                  # neighbours through the closure
-            if _segments_cross(v[i], v[(i + 1) % k], v[j], v[(j + 1) % k]):
-                raise ValueError(f"{name}: the polygon intersects itself (edges {i} and {j})")
     return v
+
+
+def _inside(vertices, x, tol):
+    """Points strictly inside a polygon by more than ``tol`` (its edges are not inside)."""
+    return _path(vertices).contains_points(x, radius=_signed(vertices, -tol))
+
+
+def _probe_points(loops):
+    """The vertices and edge midpoints of polygons (to test one inside another)."""
+    return np.vstack([np.vstack([e.mean(axis=1), e[:, 0]]) for e in map(_edges, loops)])
+
+
+def shapes_overlap(a, b, tol):
+    """Whether the interiors of two shapes overlap: each a list of loops, the outer polygon
+    and its holes. They overlap where their edges cross properly, or a vertex or edge
+    midpoint of one lies inside the other by more than ``tol`` (inside the polygon and
+    outside its holes); shapes that share edges or vertices only do not overlap."""
+    ea, eb = np.vstack([_edges(v) for v in a]), np.vstack([_edges(v) for v in b])
+    if len(crossing_edges(ea, eb)):
+        return True
+    for one, other in ((a, b), (b, a)):
+        x = _probe_points(one)
+        inside = _inside(other[0], x, tol)
+        for hole in other[1:]:
+            inside &= ~_path(hole).contains_points(x, radius=_signed(hole, tol))
+        if inside.any():
+            return True
+    return False
+
+
+def check_holes(polygon, holes, label):
+    """Each hole lies within the polygon (edges may touch), leaves some area and overlaps
+    no other hole; ValueError naming the region and the hole."""
+    tol = 1e-9 * np.ptp(np.asarray(polygon), axis=0).max()
+    for i, hole in enumerate(holes):
+        hole = np.asarray(hole)
+        outside = ~_path(polygon).contains_points(_probe_points([hole]),
+                                                  radius=_signed(polygon, tol))
+        if outside.any() or len(crossing_edges(_edges(hole), _edges(polygon))):
+            raise ValueError(f"{label}, hole {i}: the hole must lie inside the region's "
+                             f"polygon (it reaches outside it)")
+        if abs(polygon_area(hole)) >= abs(polygon_area(polygon)) * (1 - 1e-12):
+            raise ValueError(f"{label}, hole {i}: the hole covers the whole polygon (the "
+                             f"region has no area left)")
+        for j in range(i):
+            if shapes_overlap([hole], [np.asarray(holes[j])], tol):
+                raise ValueError(f"{label}, holes {j} and {i} overlap")
 
 
 @dataclass(frozen=True)
@@ -94,6 +187,13 @@ class Geostatic:
 
     k0: float = None
     top: float = None
+
+    def __post_init__(self):
+        if self.k0 is not None and not (np.isfinite(self.k0) and self.k0 >= 0):
+            raise ValueError(f"Geostatic: k0 must be >= 0 (None: Jaky's 1 - sin(phi)), a "
+                             f"negative K0 is a tensile lateral stress; got {self.k0!r}")
+        if self.top is not None and not np.isfinite(self.top):
+            raise ValueError(f"Geostatic: top must be finite, got {self.top!r}")
 
 
 @dataclass(frozen=True)
@@ -125,15 +225,17 @@ class Region:
         poly = check_polygon(self.polygon, label)
         holes = tuple(tuple(map(tuple, check_polygon(hole, f"{label}, hole {i}")))
                       for i, hole in enumerate(self.holes))
+        check_holes(poly, holes, label)
         object.__setattr__(self, "polygon", tuple(map(tuple, poly)))
         object.__setattr__(self, "holes", holes)
         for key in ("rho", "h"):
             value = getattr(self, key)
-            if not np.isfinite(value) or value <= 0:
+            if (isinstance(value, bool) or not isinstance(value, (int, float, np.number))
+                    or not np.isfinite(value) or value <= 0):
                 raise ValueError(f"{label}: {key} must be positive, got {value!r}")
         if self.lattice not in LATTICES:
             raise ValueError(f"{label}: lattice must be one of {LATTICES}, got {self.lattice!r}")
-        if not hasattr(self.material, "cone"):
+        if isinstance(self.material, type) or not hasattr(self.material, "cone"):
             raise ValueError(f"{label}: material must be a PFEM material with a cone() "
                              f"(e.g. ZeroDilationMohrCoulomb), got {self.material!r}")
         if self.stress is not None and not isinstance(self.stress, Geostatic):

@@ -9,7 +9,10 @@ and the numerical configuration of the loop
 scene is made, before any step runs. Its own scales, a characteristic length L and
 the stress rho g L, are the units of every tolerance the engine uses.
 """
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, is_dataclass
+import hashlib
+import json
+import os
 
 import numpy as np
 
@@ -19,9 +22,14 @@ from ..pfem.state import initial_state
 from ..problems.nonassociated import least_passes
 from .bodies import Body
 from .outlets import Outlet
-from .regions import Geostatic, Region, geostatic_stress, volume_shares
+from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 
 HOLDS = (None, "boundary", "free_surface")
+#: The most particles a scene may place (estimated from each region's area / h^2 before
+#: any is placed): about 30 times the largest study so far; a million took over 3.6 GB and
+#: died. Raise it with ``Scene(max_particles=...)`` or the environment variable below.
+MAX_PARTICLES = 200_000
+MAX_PARTICLES_ENV = "PFEM_SKFEM_MAX_PARTICLES"
 
 
 @dataclass(frozen=True)
@@ -80,6 +88,9 @@ class Scene:
     config : :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig` (time step, passes,
         contact rule, remesher, mappings, backend).
     output : :class:`Output`.
+    max_particles : the most particles the regions may hold (None: the environment
+        variable ``PFEM_SKFEM_MAX_PARTICLES``, else :data:`MAX_PARTICLES`); not part of the
+        scene's identity (:func:`scene_digest`) nor of its TOML form.
     geometry : 'plane' (plane strain, the default) or 'axisymmetric' (thesis Ch 7): x is
         the radius r >= 0 and y the axis z; every mesh of the loop is discretised with the
         2 pi r weight, particles on the axis r = 0 stay on it (u_r = 0), the axis is no
@@ -100,6 +111,7 @@ class Scene:
     config: PFEMConfig = field(default_factory=PFEMConfig)
     output: Output = field(default_factory=Output)
     geometry: str = "plane"
+    max_particles: int = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
         regions = tuple(self.regions) if isinstance(self.regions, (list, tuple)) else (self.regions,)
@@ -109,6 +121,10 @@ class Scene:
             if not isinstance(r, Region):
                 raise ValueError(f"regions must be Region objects, got {r!r}")
         object.__setattr__(self, "regions", regions)
+        for key in ("bodies", "outlets", "phases"):
+            value = getattr(self, key)
+            if isinstance(value, (Body, Outlet, Phase, str)) or not hasattr(value, "__iter__"):
+                raise ValueError(f"{key} must be a list or tuple, got {value!r}")
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "outlets", tuple(self.outlets))
         object.__setattr__(self, "phases", tuple(self.phases))
@@ -128,8 +144,8 @@ class Scene:
         object.__setattr__(self, "gravity", tuple(map(float, g)))
         if not (np.isfinite(self.alpha) and self.alpha > 0):
             raise ValueError(f"alpha must be positive, got {self.alpha!r}")
-        if self.t_end is not None and not (self.t_end > 0):
-            raise ValueError(f"t_end must be positive, got {self.t_end!r}")
+        if self.t_end is not None and not (self.t_end > 0 and np.isfinite(self.t_end)):
+            raise ValueError(f"t_end must be positive and finite, got {self.t_end!r}")
         if self.length is None:
             lo, hi = self._bounding_box()
             object.__setattr__(self, "length", float(hi[1] - lo[1]) or float(np.ptp([lo, hi])))
@@ -150,6 +166,9 @@ class Scene:
         if not self.stress_scale > 0:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
         self._check_passes()
+        self._check_materials(geometry)
+        self._check_size()
+        self._check_overlaps()
         self._check_particles()
 
     # -- checks ---------------------------------------------------------------------------
@@ -170,6 +189,64 @@ class Scene:
                              f"has the friction, pass 3 the mean stress with it); got "
                              f"passes={self.config.passes!r}")
 
+    def _check_materials(self, geometry):
+        # a plane cone in axisymmetry leaves the hoop stress unbounded (a column that
+        # never moves), an axisymmetric one in plane strain reads s_z as a hoop stress
+        name = "axisymmetric" if geometry.axisymmetric else "plane"
+        for r in self.regions:
+            allowed = getattr(r.material, "geometries", None)
+            if allowed is not None and name not in allowed:
+                raise ValueError(f"region {r.name!r}: its material "
+                                 f"{type(r.material).__name__} is for geometry "
+                                 f"{allowed[0]!r}, the scene's is {name!r}: use "
+                                 f"{getattr(r.material, 'counterpart', 'another material')}")
+
+    def _check_size(self):
+        # before any particle is placed: a lattice of spacing h holds about area / h^2
+        # (square) or area / (h^2 sqrt(3) / 2) (triangular) particles, and the edges more
+        limit = self.max_particles
+        source = "Scene(max_particles=...)"
+        if limit is None:
+            text = os.environ.get(MAX_PARTICLES_ENV)
+            limit, source = MAX_PARTICLES, "pfem_skfem.scene.scene.MAX_PARTICLES"
+            if text is not None:
+                try:
+                    limit, source = int(text), f"the environment variable {MAX_PARTICLES_ENV}"
+                except ValueError:
+                    raise ValueError(f"{MAX_PARTICLES_ENV} must be an integer, got "
+                                     f"{text!r}") from None
+        total = 0
+        for r in self.regions:
+            cell = r.h ** 2 * (1.0 if r.lattice == "square" else np.sqrt(3) / 2)
+            if r.area < r.h ** 2:
+                raise ValueError(f"region {r.name!r}: its area {r.area:.3g} is less than one "
+                                 f"particle cell h^2 = {r.h ** 2:.3g} (h = {r.h:g}): too few "
+                                 f"particles to form a body; make h smaller or the polygon larger")
+            rings = [r.polygon, *r.holes]
+            edges = sum(float(np.linalg.norm(np.diff(np.vstack([v, v[:1]]), axis=0),
+                                             axis=1).sum()) for v in map(np.asarray, rings))
+            total += r.area / cell + edges / r.h
+        if total > limit:
+            raise ValueError(f"the regions would hold about {total:,.0f} particles (area / h^2), "
+                             f"more than the limit of {limit:,} ({source}); make h larger, or "
+                             f"raise the limit with max_particles (Scene(max_particles=...), a "
+                             f"scene file's top-level key) or the environment variable "
+                             f"{MAX_PARTICLES_ENV}")
+
+    def _check_overlaps(self):
+        # each region's mass is rho times its own area: overlapping regions count the
+        # common part twice; regions that only share edges are fine (particles())
+        lo, hi = self._bounding_box()
+        tol = 1e-9 * float(np.max(hi - lo))
+        shapes = [[np.asarray(r.polygon)] + [np.asarray(h) for h in r.holes]
+                  for r in self.regions]
+        for k in range(len(shapes)):
+            for j in range(k):
+                if shapes_overlap(shapes[j], shapes[k], tol):
+                    raise ValueError(f"regions {self.regions[j].name!r} and "
+                                     f"{self.regions[k].name!r} overlap: regions may share "
+                                     f"edges, not area (each carries its own area's mass)")
+
     def _check_names(self):
         for kind, items in (("region", self.regions), ("body", self.bodies),
                             ("outlet", self.outlets)):
@@ -182,8 +259,21 @@ class Scene:
         return pts.min(axis=0), pts.max(axis=0)
 
     def _check_particles(self):
-        x, _, _ = self.particles()
+        x, _, region = self.particles()
         h = min(r.h for r in self.regions)
+        counts = np.bincount(region, minlength=len(self.regions))
+        for k, r in enumerate(self.regions):
+            others = region != k          # what the vertex test misses (equal polygons)
+            inside = r.contains(x[others], tol=-1e-6 * r.h)
+            if inside.any():
+                j = int(region[others][np.argmax(inside)])
+                raise ValueError(f"regions {self.regions[min(j, k)].name!r} and "
+                                 f"{self.regions[max(j, k)].name!r} overlap: regions may "
+                                 f"share edges, not area (each carries its own area's mass)")
+        for k, r in enumerate(self.regions):
+            if counts[k] < 3:
+                raise ValueError(f"region {r.name!r}: only {counts[k]} particle(s) at h = "
+                                 f"{r.h:g}: too few to form a body; make h smaller")
         for body in self.bodies:
             if body.present(0.0):
                 g0, _ = body.shape.gap(x)
@@ -192,8 +282,13 @@ class Scene:
                     raise ValueError(f"body {body.name!r}: {int(inside.sum())} particle(s) lie "
                                      f"inside it at t = 0 (deepest {-g0.min():.3g})")
         for outlet in self.outlets:
-            if outlet.zone.contains(x).all():
-                raise ValueError(f"outlet {outlet.name!r} contains every particle at t = 0")
+            # particles on the zone's edge count as in it: a silo's bottom row lies on the
+            # orifice's plane, and a reversed normal would discharge all the others
+            if outlet.zone.contains(x, tol=1e-6 * h).all():
+                raise ValueError(f"outlet {outlet.name!r} contains every particle at t = 0 "
+                                 f"(those on its edge included): they would all leave in "
+                                 f"step 1; a half-plane's normal points out of the body, "
+                                 f"into the discharge side (is it reversed?)")
 
     # -- scales ---------------------------------------------------------------------------
     @property
@@ -213,6 +308,14 @@ class Scene:
         if s > 0:
             return s
         return max(getattr(r.material, "c", 0.0) for r in self.regions)
+
+    @property
+    def mass(self):
+        """Total mass of the regions: rho times the area (plane strain, per unit length)
+        or the volume of revolution (axisymmetry); a state of the scene holds it, with
+        what it has discharged."""
+        axisymmetric = self.axisymmetric
+        return float(sum(r.rho * (r.volume if axisymmetric else r.area) for r in self.regions))
 
     @property
     def axisymmetric(self):
@@ -299,3 +402,40 @@ class Scene:
                 d_n = body.motion(t_n)
                 out.append((k, body.shape.translated(d_n), body.motion(t_n + dt) - d_n))
         return out
+
+
+# -- identity ------------------------------------------------------------------------------
+_NOT_IDENTITY = ("t_end", "output", "max_particles")
+
+
+def _identity(value):
+    """Plain JSON values of a scene's parts: dataclasses by type and fields, functions by
+    qualified name (a repr would hold a memory address), floats exactly (repr)."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return {"type": type(value).__name__,
+                **{f.name: _identity(getattr(value, f.name)) for f in fields(value)
+                   if f.compare}}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_identity(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return repr(value)
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    if callable(value):
+        return f"{getattr(value, '__module__', '')}.{getattr(value, '__qualname__', '')}"
+    return repr(value)
+
+
+def scene_digest(scene):
+    """A stable hex digest (SHA-256) of what defines a scene's states: its regions
+    (polygons, holes, materials, densities, spacings, initial stresses), bodies and their
+    motions, outlets, phases, gravity, alpha, length, geometry and numerical config.
+    Not ``t_end`` (a run may be extended), ``output`` nor ``max_particles``. The same scene
+    gives the same digest in every process (a checkpoint can store it and refuse another
+    scene's); a FunctionMotion is known by its function's qualified name only."""
+    parts = {f.name: _identity(getattr(scene, f.name)) for f in fields(scene)
+             if f.name not in _NOT_IDENTITY}
+    text = json.dumps(parts, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
