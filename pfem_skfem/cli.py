@@ -16,7 +16,6 @@ import os
 from pathlib import Path
 import subprocess
 import sys
-import threading
 import time
 
 from . import runfolder
@@ -247,9 +246,10 @@ def _run(args):
         path = Path(args.scene or f"{args.example}.toml")
         if path.exists():
             raise RunError(f"{path} exists; not overwritten")
-        if not path.parent.is_dir():
-            raise RunError(f"cannot write {path}: {path.parent} is not a folder")
-        path.write_text(text)
+        try:
+            path.write_text(text)
+        except OSError as err:
+            raise RunError(f"cannot write {path} ({err.strerror or err})") from None
         print(f"wrote {path}; run it with: {_me()} run {path}")
         return 0
     if not args.scene:

@@ -369,3 +369,8 @@ def test_an_infinite_t_end_is_a_clear_error(tmp_path, capsys):
     path.write_text(example_text("column").replace("\nt_end = ", "\nt_end = inf #", 1))
     assert _run(path, "--out", tmp_path / "o") == 2
     assert "t_end" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+def test_an_example_onto_a_path_that_cannot_be_written_is_a_usage_error(tmp_path, capsys):
+    assert cli.main(["run", "--example", "column", str(tmp_path / "no" / "c.toml")]) == 2
+    assert "cannot write" in capsys.readouterr().err
