@@ -318,6 +318,7 @@ def case_summary(case):
 
 
 def cmd_list(args):
+    """``pfem-skfem list``: each case with its one-line summary."""
     cases = available_cases()
     width = max(map(len, cases))
     for case in cases:

@@ -105,6 +105,7 @@ class RunLock:
             return None
 
     def acquire(self):
+        """Take the lock (creating the folder); RunFolderError if another run holds it."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
         me = {"pid": os.getpid(), "host": socket.gethostname(),
               "started": time.strftime("%Y-%m-%d %H:%M:%S %Z")}
@@ -138,6 +139,7 @@ class RunLock:
             return 0.0
 
     def release(self):
+        """Remove the lock file if this process holds it."""
         if self.held:
             owner = self.owner()
             if owner is not None and owner.get("pid") == os.getpid():
