@@ -1,13 +1,16 @@
-"""Command line: ``pfem-skfem verify [CASE ...] [--quick] [--json-dir DIR]``.
+"""Command line: ``pfem-skfem list | verify | run`` (plain-text help: :data:`DESCRIPTION`).
 
-Runs the verification scripts (one per thesis benchmark, in ``verification/``),
-each in its own process, shows progress, prints one summary table and exits
-non-zero if a case misses its tolerance or fails to run.
+``pfem-skfem list`` names the verification cases with one line each;
+``pfem-skfem verify [CASE ...] [--quick] [--json-dir DIR]`` runs the verification
+scripts (one per thesis benchmark, in ``verification/``), each in its own process, shows
+progress, prints one summary table and exits non-zero if a case misses its tolerance or
+fails to run.
 
-``pfem-skfem run SCENE.toml [--steps N] [--out DIR] [--resume]`` runs a scene written
-as a TOML file (:mod:`pfem_skfem.scene.files`) and writes its VTU/PVD series, the step
-records (``history.json``), the scene as run (``scene.toml``) and a checkpoint into an
-output folder; ``pfem-skfem run --example column [PATH]`` writes a commented example.
+``pfem-skfem run SCENE.toml [--steps N] [--out DIR] [--resume | --overwrite]`` runs a
+scene written as a TOML file (:mod:`pfem_skfem.scene.files`) and writes its VTU/PVD
+series, the step records (``history.json``), the scene as run (``scene.toml``) and a
+checkpoint into an output folder kept safe by :mod:`pfem_skfem.runfolder`;
+``pfem-skfem run --example NAME [PATH]`` writes a commented example.
 """
 import argparse
 from concurrent.futures import ThreadPoolExecutor

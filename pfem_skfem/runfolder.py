@@ -311,6 +311,8 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
 
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     digest = scene_digest(scene)
+    for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".history.json.*.tmp")):
+        tmp.unlink(missing_ok=True)                  # left by a killed writer; we hold the lock
     held = run_files(out)
     if held and not resume:
         if not overwrite:
