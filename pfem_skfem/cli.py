@@ -1,13 +1,16 @@
-"""Command line: ``pfem-skfem verify [CASE ...] [--quick] [--json-dir DIR]``.
+"""Command line: ``pfem-skfem list | verify | run`` (plain-text help: :data:`DESCRIPTION`).
 
-Runs the verification scripts (one per thesis benchmark, in ``verification/``),
-each in its own process, shows progress, prints one summary table and exits
-non-zero if a case misses its tolerance or fails to run.
+``pfem-skfem list`` names the verification cases with one line each;
+``pfem-skfem verify [CASE ...] [--quick] [--json-dir DIR]`` runs the verification
+scripts (one per thesis benchmark, in ``verification/``), each in its own process, shows
+progress, prints one summary table and exits non-zero if a case misses its tolerance or
+fails to run.
 
-``pfem-skfem run SCENE.toml [--steps N] [--out DIR] [--resume]`` runs a scene written
-as a TOML file (:mod:`pfem_skfem.scene.files`) and writes its VTU/PVD series, the step
-records (``history.json``), the scene as run (``scene.toml``) and a checkpoint into an
-output folder; ``pfem-skfem run --example column [PATH]`` writes a commented example.
+``pfem-skfem run SCENE.toml [--steps N] [--out DIR] [--resume | --overwrite]`` runs a
+scene written as a TOML file (:mod:`pfem_skfem.scene.files`) and writes its VTU/PVD
+series, the step records (``history.json``), the scene as run (``scene.toml``) and a
+checkpoint into an output folder kept safe by :mod:`pfem_skfem.runfolder`;
+``pfem-skfem run --example NAME [PATH]`` writes a commented example.
 """
 import argparse
 from concurrent.futures import ThreadPoolExecutor
@@ -18,6 +21,7 @@ import subprocess
 import sys
 import time
 
+from . import runfolder
 from .report import nonnegative_int, positive_int, workers
 
 
@@ -34,6 +38,12 @@ def available_cases():
     return sorted(p.stem for p in verification_dir().glob("*.py") if not p.stem.startswith("_"))
 
 
+def json_name(case, quick):
+    """``<case>.quick.json`` for a --quick run, ``<case>.json`` at full size: the quick
+    run never replaces a full-size result."""
+    return f"{case}.quick.json" if quick else f"{case}.json"
+
+
 def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False):
     """Run one verification script; return (case, exit code, seconds, json path, log).
 
@@ -41,7 +51,7 @@ def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False):
     otherwise it runs with ``--quiet`` and its stderr is part of the log.
     """
     script = verification_dir() / f"{case}.py"
-    json_path = Path(json_dir) / f"{case}.json"
+    json_path = Path(json_dir) / json_name(case, quick)
     cmd = [sys.executable, str(script), "--json", str(json_path), "--outdir", str(outdir)]
     cmd += ["--quick"] if quick else []
     cmd += [] if figures else ["--no-figures"]
@@ -96,7 +106,7 @@ def cmd_verify(args):
             write(log[-4000:])
 
     def json_path(case):
-        return Path(args.json_dir) / f"{case}.json"
+        return Path(args.json_dir) / json_name(case, args.quick)
 
     if args.jobs == 1:                       # one case at a time: its own progress bars live
         def write(text):
@@ -171,15 +181,35 @@ class ProgressBar:
 
 
 def steps_until(t_end, dt):
-    """Steps of dt to reach t_end: t_end / dt rounded up (to the nearest within 1e-9)."""
+    """Steps of dt to reach t_end: t_end / dt rounded up (to the nearest within 1e-9).
+
+    Raises
+    ------
+    ValueError when t_end / dt is not a finite number (t_end = inf).
+    """
     import math
     n = t_end / dt
+    if not math.isfinite(n):
+        raise ValueError(f"t_end = {t_end!r} with dt = {dt!r} is no number of steps: give a "
+                         "finite t_end, or --steps N")
     near = round(n)
     return max(1, near if abs(n - near) <= 1e-9 * max(1.0, n) else math.ceil(n))
 
 
-def _write_history(path, records):
-    path.write_text(json.dumps(records, indent=1) + "\n")
+def _me():
+    """How the user can call this program again: ``pfem-skfem`` when that is on the PATH
+    (an activated venv), else the path they typed (``.venv/bin/pfem-skfem``)."""
+    import shutil
+    argv0 = sys.argv[0] if sys.argv and sys.argv[0] else ""
+    if Path(argv0).name == "pfem-skfem":
+        found = shutil.which("pfem-skfem")
+        if found and Path(found).resolve() == Path(argv0).resolve():
+            return "pfem-skfem"
+        return argv0
+    on_path = shutil.which("pfem-skfem")
+    if on_path and Path(on_path).parent == Path(sys.executable).parent:
+        return "pfem-skfem"
+    return str(Path(sys.executable).parent / "pfem-skfem")
 
 
 class RunError(Exception):
@@ -189,13 +219,23 @@ class RunError(Exception):
 def cmd_run(args):
     try:
         return _run(args)
-    except RunError as err:
+    except (RunError, runfolder.RunFolderError) as err:
         print(f"pfem-skfem run: error: {err}", file=sys.stderr)
         return 2
 
 
+def _output_dir(args, scene, path):
+    """--out as given (from the current folder), else the scene's output.directory read
+    beside the scene file (a relative one)."""
+    if args.out:
+        return Path(args.out)
+    d = Path(scene.output.directory)
+    return d if d.is_absolute() else path.parent / d
+
+
 def _run(args):
     from dataclasses import replace
+    from .runfolder import check_output_dir
     from .scene import Output
     from .scene.files import EXAMPLES, example_text, load_scene
 
@@ -209,11 +249,17 @@ def _run(args):
         path = Path(args.scene or f"{args.example}.toml")
         if path.exists():
             raise RunError(f"{path} exists; not overwritten")
-        path.write_text(text)
-        print(f"wrote {path}; run it with: pfem-skfem run {path}")
+        try:
+            path.write_text(text)
+        except OSError as err:
+            raise RunError(f"cannot write {path} ({err.strerror or err})") from None
+        print(f"wrote {path}; run it with: {_me()} run {path}")
         return 0
     if not args.scene:
-        raise RunError("give a scene file (pfem-skfem run SCENE.toml), or --example column")
+        raise RunError(f"give a scene file ({_me()} run SCENE.toml), or --example NAME "
+                       f"({', '.join(EXAMPLES)})")
+    if args.resume and args.overwrite:
+        raise RunError("--resume and --overwrite exclude each other")
     path = Path(args.scene)
     if not path.is_file():
         raise RunError(f"no scene file {path}")
@@ -221,7 +267,8 @@ def _run(args):
         scene = load_scene(path)
     except ValueError as err:                        # a located SceneFileError
         raise RunError(str(err)) from None
-    out = Path(args.out or scene.output.directory)
+    out = _output_dir(args, scene, path)
+    check_output_dir(out)                            # a file, below a file, read-only
     every = scene.output.every if args.every is None else args.every
     checkpoint_every = (scene.output.checkpoint_every if args.checkpoint_every is None
                         else args.checkpoint_every)
@@ -233,82 +280,75 @@ def _run(args):
             raise RunError(f"--steps must be >= 1, got {args.steps}")
         last = args.steps
     elif scene.t_end is not None:
-        last = steps_until(scene.t_end, scene.config.dt)
+        try:
+            last = steps_until(scene.t_end, scene.config.dt)
+        except ValueError as err:
+            raise RunError(f"{path}: {err}") from None
     else:
         raise RunError(f"{path}: the scene has no t_end: give --steps N")
-    return _advance(scene, out, last, args.resume, args.quiet)
+    return _advance(scene, out, last, args.resume, args.quiet, overwrite=args.overwrite)
 
 
-def _advance(scene, out, last, resume, quiet):
-    """Run ``scene`` to step ``last`` in folder ``out`` (from its checkpoint if ``resume``)."""
-    from dataclasses import replace
-    from .drivers.pfem_loop import load_checkpoint, run, save_checkpoint
-    from .io import TimeSeries
-    from .problems.conic import SolverError
-    from .scene.files import load_scene, scene_to_toml
+def _advance(scene, out, last, resume, quiet, overwrite=False):
+    """Run ``scene`` to step ``last`` in folder ``out`` (see :func:`runfolder.run_in_folder`)."""
+    from .runfolder import run_in_folder
+    return run_in_folder(scene, out, last, resume=resume, overwrite=overwrite,
+                         progress=None if quiet else ProgressBar)
 
-    checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
-    series = TimeSeries(out, "scene") if scene.output.every else None
-    if resume:
-        if not checkpoint.is_file() or not copy.is_file():
-            raise RunError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
-        ran = load_scene(copy)
-        # the numbers of the run must be the same; its length and output may change
-        if replace(ran, t_end=None, output=scene.output) != replace(scene, t_end=None):
-            raise RunError(f"the scene differs from the one run in {out}/scene.toml: "
-                           "resume only the same scene (t_end and [output] may change)")
-        state = load_checkpoint(checkpoint)
-        records = [r for r in json.loads(history.read_text()) if r["step"] <= state.step] \
-            if history.is_file() else []
-    else:
-        out.mkdir(parents=True, exist_ok=True)
-        state, records = scene.initial_state(), []
-    if series is not None:           # the steps up to the checkpoint's (none on a new run)
-        series.resume(state.time if resume else float("-inf"))
-    copy.write_text(scene_to_toml(scene, header="the scene as run by pfem-skfem run"))
-    first = state.step
-    if first >= last:
-        print(f"{out}/ is already at step {first} (>= {last}): nothing to run")
-        return 0
-    done = [state]
 
-    def on_step(st, record, result):
-        records.append(record)
-        done[0] = st
-        if scene.output.checkpoint_every and st.step % scene.output.checkpoint_every == 0:
-            _write_history(history, records)         # with the checkpoint just written
+DESCRIPTION = """\
+The command line of pfem_skfem. Commands:
 
-    bar = None if quiet else ProgressBar(first, last)
-    try:
-        state, _ = run(state, scene, last - first, checkpoint=checkpoint,
-                       checkpoint_every=scene.output.checkpoint_every, series=series,
-                       save_every=scene.output.every, on_step=on_step, progress=bar)
-    except (SolverError, KeyboardInterrupt) as err:
-        save_checkpoint(checkpoint, done[0])         # the last step completed, to resume
-        _write_history(history, records)
-        if bar is not None:
-            bar.close()
-        what = ("interrupted" if isinstance(err, KeyboardInterrupt) else
-                f"solver failed ({err}; status {err.status})")
-        n = done[0].step
-        kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
-        print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
-              f"from step {n})", file=sys.stderr)
-        return 3 if isinstance(err, SolverError) else 130
-    save_checkpoint(checkpoint, state)
-    _write_history(history, records)
-    vtus = f"scene.pvd ({len(series.entries)} VTU), " if series is not None else ""
-    print(f"steps {first + 1}-{state.step} (t = {state.time:.6g}) written to {out}/: {vtus}"
-          "history.json, scene.toml, checkpoint.npz")
+  list     the verification cases, one line each
+  verify   run verification cases (one per thesis benchmark), print a summary table,
+           exit non-zero if a case misses its tolerance: pfem-skfem verify [CASE ...] --quick
+  run      run a PFEM scene file (TOML), or write an example:
+           pfem-skfem run --example column; pfem-skfem run column.toml
+
+'pfem-skfem COMMAND --help' tells more. Without an activated virtual environment, call
+it by its path, e.g. .venv/bin/pfem-skfem.
+"""
+
+
+def case_summary(case):
+    """One line on a verification case: the first line of its script's docstring and,
+    where the script's usage states it, how long its --quick run takes."""
+    import ast
+    doc = ast.get_docstring(ast.parse((verification_dir() / f"{case}.py").read_text())) or ""
+    lines = doc.strip().splitlines()
+    quick = [ln.split("#", 1)[1].strip() for ln in lines if "--quick" in ln and "#" in ln]
+    return (lines[0] if lines else "") + (f" (--quick: {quick[0]})" if quick else "")
+
+
+def cmd_list(args):
+    """``pfem-skfem list``: each case with its one-line summary."""
+    cases = available_cases()
+    width = max(map(len, cases))
+    for case in cases:
+        print(f"{case:{width}s}  {case_summary(case)}")
     return 0
 
 
+def _examples_help():
+    from .scene.files import EXAMPLES, example_text
+    lines = []
+    for name in EXAMPLES:               # the first line of each example's header
+        first = example_text(name).splitlines()[0].lstrip("# ").rstrip(".")
+        lines.append(f"{name} ({first})")
+    return "; ".join(lines)
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="pfem-skfem", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser = argparse.ArgumentParser(prog="pfem-skfem", description=DESCRIPTION,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{list,verify,run}")
+    ls = sub.add_parser("list", help="list the verification cases, one line each")
+    ls.set_defaults(func=cmd_list)
     v = sub.add_parser("verify", help="run verification cases and print a summary table")
     v.add_argument("cases", nargs="*", help="cases to run (default: all)")
-    v.add_argument("--quick", action="store_true", help="small sizes (seconds to a minute each)")
+    v.add_argument("--quick", action="store_true", help="small sizes (seconds to a minute "
+                   "each); the JSON is then <case>.quick.json, so that it never replaces "
+                   "a full-size <case>.json")
     v.add_argument("--json-dir", default="results", help="where to write <case>.json")
     v.add_argument("--outdir", default="results", help="where to write figures")
     v.add_argument("--no-figures", action="store_true")
@@ -319,24 +359,31 @@ def main(argv=None):
     v.add_argument("--extra", nargs=argparse.REMAINDER,
                    help="further options passed to every script")
     v.set_defaults(func=cmd_verify)
-    ls = sub.add_parser("list", help="list the verification cases")
-    ls.set_defaults(func=lambda a: print("\n".join(available_cases())) or 0)
-    r = sub.add_parser("run", help="run a scene file (TOML); --example column writes one",
+    r = sub.add_parser("run", help="run a scene file (TOML); --example NAME writes one",
                        description="Run a PFEM scene written as a TOML file: a progress bar "
                        "on stderr; the VTU/PVD series, history.json, scene.toml and "
-                       "checkpoint.npz in the output folder.")
+                       "checkpoint.npz in the output folder (beside the scene file unless "
+                       "--out is given). A folder holding another run is never replaced "
+                       "silently: --resume continues it, --overwrite replaces it. Examples: "
+                       + _examples_help() + ".")
     r.add_argument("scene", nargs="?", help="the scene file (with --example: where to write "
                    "it, default NAME.toml; '-' for stdout)")
+    from .scene.files import EXAMPLES
     r.add_argument("--example", metavar="NAME", help="write the commented example NAME "
-                   "(column) instead of running")
+                   f"({', '.join(EXAMPLES)}) instead of running")
     r.add_argument("--steps", type=positive_int, help="run until step N (default: until t_end)")
-    r.add_argument("--out", help="output folder (default: the file's output.directory)")
+    r.add_argument("--out", "--outdir", dest="out", help="output folder (default: the file's "
+                   "output.directory, read from the scene file's folder)")
     r.add_argument("--resume", action="store_true",
                    help="continue from the output folder's checkpoint")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace the results of another run in the output folder")
     r.add_argument("--every", type=nonnegative_int, help="a VTU every K steps (0: none; default: "
                    "output.every)")
     r.add_argument("--checkpoint-every", type=nonnegative_int, help="a checkpoint every K steps "
-                   "(default: output.checkpoint_every; one is always written at the end)")
+                   "(default: output.checkpoint_every, or "
+                   f"{runfolder.DEFAULT_CHECKPOINT_EVERY} when that is 0; one is always "
+                   "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
     r.set_defaults(func=cmd_run)

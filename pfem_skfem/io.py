@@ -138,7 +138,7 @@ def write_vtu(path, points, cells, point_data=None, cell_data=None):
     return path
 
 
-def write_pvd(path, entries):
+def write_pvd(path, entries, note=None):
     """Write a ParaView collection (PVD) of time steps.
 
     Parameters
@@ -147,6 +147,7 @@ def write_pvd(path, entries):
     entries : iterable of (time, file) pairs, each file as a path from the current
         directory (e.g. as returned by :func:`write_vtu`); the PVD stores it
         relative to its own directory, so the collection moves with its files.
+    note : optional text stored as an XML comment at the top (e.g. the units).
 
     Returns
     -------
@@ -157,6 +158,8 @@ def write_pvd(path, entries):
         raise ValueError(f"path must end in .pvd, got {str(path)!r}")
     root = ET.Element("VTKFile", type="Collection", version="0.1",
                       byte_order="LittleEndian")
+    if note:
+        root.append(ET.Comment(f" {note} "))
     collection = ET.SubElement(root, "Collection")
     base = path.parent.resolve()
     for time, file in entries:
@@ -176,12 +179,23 @@ class TimeSeries:
     """VTU files ``<name>_0000.vtu, ...`` of a run and their PVD ``<name>.pvd``.
 
     The PVD is rewritten after every step, so an interrupted run leaves a valid
-    collection of the steps written so far.
+    collection of the steps written so far. Before each file the free space is checked
+    against twice the size of the last one (or an estimate for the first) plus
+    ``reserve`` bytes: a full disk stops the run with an ``OSError`` (ENOSPC) before
+    VTK's writer fails (it crashes the process), leaving room for a checkpoint.
+
+    Parameters
+    ----------
+    directory, name : where and under which name the files are written.
+    note : text put in the PVD as a comment (e.g. :data:`STEP_UNITS`).
+    reserve : bytes to leave free after a frame (e.g. for a checkpoint).
     """
 
-    def __init__(self, directory, name):
+    def __init__(self, directory, name, note=None, reserve=0):
         self.directory = Path(directory)
         self.name = name
+        self.note = note
+        self.reserve = reserve
         self.entries = []
 
     @property
@@ -192,38 +206,83 @@ class TimeSeries:
         """Go on from a checkpoint at time ``until``: the series keeps the steps of its PVD
         at times <= ``until`` and deletes the VTU files numbered after them (written by
         the run after its checkpoint), so the next step is numbered after the kept ones
-        instead of overwriting the first."""
-        import xml.etree.ElementTree as ET
+        instead of overwriting the first.
+
+        Raises
+        ------
+        ValueError, deleting nothing, when the PVD is missing while VTU files of the
+        series are there, or cannot be read.
+        """
         self.entries = []
-        if self.pvd_path.exists():
+        vtus = list(self.directory.glob(f"{self.name}_*.vtu"))
+        if not self.pvd_path.exists():
+            if vtus:
+                raise ValueError(f"{self.pvd_path} is missing while {len(vtus)} VTU file(s) "
+                                 f"of the series are in {self.directory}/: restore it, or "
+                                 "move the VTU files away to go on without them")
+            return self
+        try:
             for ds in ET.parse(self.pvd_path).getroot().iter("DataSet"):
                 t = float(ds.get("timestep"))
                 if t <= until * (1 + 1e-12):
                     self.entries.append((t, self.directory / ds.get("file")))
-        for old in self.directory.glob(f"{self.name}_*.vtu"):
+        except (ET.ParseError, TypeError, ValueError) as err:
+            raise ValueError(f"{self.pvd_path} is damaged ({err}): restore it, or delete "
+                             "it and move the VTU files away to go on without them") from None
+        for old in vtus:
             number = old.stem.rsplit("_", 1)[1]
             if number.isdigit() and int(number) >= len(self.entries):
                 old.unlink()
         return self
 
+    def _check_space(self, vtu, n_points):
+        import errno
+        import shutil
+        last = self.entries[-1][1] if self.entries else None
+        size = last.stat().st_size if last is not None and last.exists() else 400 * n_points
+        free = shutil.disk_usage(self.directory).free
+        if free < 2 * size + self.reserve:
+            raise OSError(errno.ENOSPC, f"disk nearly full ({free} bytes free, a frame takes "
+                          f"about {size}): {vtu.name} not written", str(self.directory))
+
     def write(self, time, points, cells, point_data=None, cell_data=None):
         """Write one step; returns the VTU path."""
         vtu = self.directory / f"{self.name}_{len(self.entries):04d}.vtu"
+        self.directory.mkdir(parents=True, exist_ok=True)
+        self._check_space(vtu, len(points))
         write_vtu(vtu, points, cells, point_data, cell_data)
         self.entries.append((float(time), vtu))
-        write_pvd(self.pvd_path, self.entries)
+        write_pvd(self.pvd_path, self.entries, note=self.note)
         return vtu
 
 
 # -- PFEM steps -----------------------------------------------------------------------------
+#: The units of the PFEM fields, for the PVD (the scene's units are consistent SI).
+STEP_UNITS = ("units: x, y (or r, z) in m; time in s; velocity, speed in m/s; stresses "
+              "(stress, sxx, syy, sxy, stt, hoop_stress, mean_stress, pressure) in Pa when "
+              "rho is in kg/m^3 (kPa when rho is in t/m^3); tension positive, pressure "
+              "= -mean_stress; plastic_strain_increment per step, dimensionless")
+
+
+def _stress_components(cell_data, stress, axisymmetric):
+    """Each stress component as its own scalar array (what ParaView lists by name)."""
+    cell_data["sxx"], cell_data["syy"], cell_data["sxy"] = stress[:, 0], stress[:, 1], \
+        stress[:, 3]
+    if axisymmetric:                          # x = r, y = z; the hoop stress s_tt
+        cell_data["stt"] = stress[:, 2]
+    return cell_data
+
+
 def step_fields(state, result):
     """Points, triangles and fields of a step for VTU output.
 
     Point data: velocity (3 components, z = 0 for ParaView), speed, smoothed mean stress
     and pressure p = -(sx + sy)/2, the tags free_surface and contact (0/1), region;
-    cell data: element mean stress (sx, sy, sxy), equivalent plastic strain increment (in
+    cell data: element mean stress (sx, sy, sxy) as one array ``stress`` and as the
+    scalars ``sxx``, ``syy``, ``sxy``, equivalent plastic strain increment (in
     axisymmetry x = r and y = z: the stress is (s_rr, s_zz, s_rz), the hoop stress s_tt
-    beside it, and the mean stress the material's lag, I1/3).
+    beside it as ``hoop_stress`` and ``stt``, and the mean stress the material's lag,
+    I1/3). Units: :data:`STEP_UNITS`.
     """
     disc, inc = result.disc, result.increment
     points = state.mesh_p
@@ -242,4 +301,42 @@ def step_fields(state, result):
                  "plastic_strain_increment": element_mean(disc, result.plastic_strain)}
     if disc.geometry.axisymmetric:            # (s_rr, s_zz, s_rz) above; the hoop stress
         cell_data["hoop_stress"] = stress[:, 2]
+    _stress_components(cell_data, stress, disc.geometry.axisymmetric)
     return points, disc.mesh.t.T, point_data, cell_data
+
+
+def initial_fields(state, alpha, axisymmetric=False):
+    """The fields of :func:`step_fields` at t = 0, before any step: the particles and
+    the triangles of their alpha-shape, at rest, with the initial stresses (the
+    particles' ``stress0`` averaged over each triangle; zero without) and the lagged
+    mean stress.
+
+    Parameters
+    ----------
+    state : the initial PFEMState.
+    alpha : the scene's alpha-shape parameter.
+    axisymmetric : add the hoop stress arrays.
+
+    Returns
+    -------
+    points, cells, point_data, cell_data (as :func:`step_fields`).
+    """
+    from .pfem import alpha_shape
+    cells = alpha_shape(state.x, state.h, alpha).triangles
+    n = state.n
+    vel = np.zeros((n, 3))
+    vel[:, :2] = state.v
+    sm = np.asarray(state.sigma_m, dtype=float)
+    point_data = {"velocity": vel, "speed": np.linalg.norm(vel, axis=1),
+                  "pressure": -sm, "mean_stress": sm,
+                  "free_surface": state.free_surface.astype(float),
+                  "contact": state.contact.astype(float),
+                  "region": state.region.astype(float)}
+    s0 = np.zeros((n, 4)) if state.stress0 is None else state.stress0
+    stress = s0[cells].mean(axis=1)
+    cell_data = {"stress": stress[:, [0, 1, 3]],
+                 "plastic_strain_increment": np.zeros(len(cells))}
+    if axisymmetric:
+        cell_data["hoop_stress"] = stress[:, 2]
+    _stress_components(cell_data, stress, axisymmetric)
+    return state.x, cells, point_data, cell_data

@@ -175,3 +175,70 @@ def test_render_png_draws_the_field(tmp_path, mesh):
     left = np.argmin(np.linalg.norm(row - lo, axis=1))
     right = np.argmin(np.linalg.norm(row - hi, axis=1))
     assert left < right
+
+
+# -- what a ParaView user reads (issue 36, item 8) -----------------------------------------
+def test_a_run_s_vtu_names_each_stress_component_states_units_and_starts_at_t_0(tmp_path):
+    import pyvista as pv
+    from pfem_skfem import cli
+    from pfem_skfem.scene.files import example_text
+    scene = tmp_path / "column.toml"
+    scene.write_text(example_text("column"))
+    assert cli.main(["run", str(scene), "--out", str(tmp_path / "o"), "--steps", "1",
+                     "--quiet"]) == 0
+    pvd = (tmp_path / "o" / "scene.pvd").read_text()
+    assert "units:" in pvd and "Pa" in pvd and "m/s" in pvd
+    datasets = ET.parse(tmp_path / "o" / "scene.pvd").getroot().iter("DataSet")
+    assert [float(d.get("timestep")) for d in datasets][0] == 0.0
+    for frame in ("scene_0000.vtu", "scene_0001.vtu"):     # t = 0, step 1
+        grid = pv.read(tmp_path / "o" / frame)
+        stress = grid.cell_data["stress"]
+        for k, name in enumerate(("sxx", "syy", "sxy")):
+            np.testing.assert_array_equal(grid.cell_data[name], stress[:, k])
+        assert {"velocity", "speed", "mean_stress", "pressure"} <= set(grid.point_data.keys())
+    grid = pv.read(tmp_path / "o" / "scene_0000.vtu")
+    assert np.all(grid.point_data["speed"] == 0) and grid.n_cells > 0
+
+
+def test_the_initial_frame_of_an_axisymmetric_state_has_the_hoop_stress():
+    from pfem_skfem.io import initial_fields
+    from pfem_skfem.pfem.state import initial_state
+    x = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    stress = np.tile([-1.0, -2.0, -3.0, 0.5], (4, 1))
+    state = initial_state(x, np.ones(4), stress=stress)
+    points, cells, pd, cd = initial_fields(state, 1.6, axisymmetric=True)
+    assert len(cells) == 2
+    np.testing.assert_array_equal(cd["stt"], -3.0)
+    np.testing.assert_array_equal(cd["hoop_stress"], -3.0)
+    np.testing.assert_array_equal(cd["sxy"], 0.5)
+    assert "stt" not in initial_fields(state, 1.6)[3]
+
+
+def test_a_series_without_its_pvd_refuses_to_resume_and_deletes_nothing(tmp_path, mesh):
+    points, cells = mesh_arrays(mesh)
+    series = TimeSeries(tmp_path, "box")
+    for t in (0.0, 0.1):
+        series.write(t, points, cells)
+    series.pvd_path.unlink()
+    with pytest.raises(ValueError, match="box.pvd is missing"):
+        TimeSeries(tmp_path, "box").resume(0.1)
+    assert len(list(tmp_path.glob("box_*.vtu"))) == 2
+    series.pvd_path.write_text("<VTKFile")
+    with pytest.raises(ValueError, match="damaged"):
+        TimeSeries(tmp_path, "box").resume(0.1)
+    assert len(list(tmp_path.glob("box_*.vtu"))) == 2
+
+
+def test_a_nearly_full_disk_stops_a_series_before_vtk_s_writer(tmp_path, mesh, monkeypatch):
+    import errno
+    import shutil
+    points, cells = mesh_arrays(mesh)
+    series = TimeSeries(tmp_path, "box")
+    series.write(0.0, points, cells)
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=100))
+    with pytest.raises(OSError) as err:
+        series.write(0.1, points, cells)
+    assert err.value.errno == errno.ENOSPC
+    assert [p.name for p in tmp_path.glob("box_*.vtu")] == ["box_0000.vtu"]
+    assert len(series.entries) == 1

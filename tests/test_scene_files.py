@@ -29,7 +29,7 @@ from verification.granular_column_plane import granular_column
 pytestmark = pytest.mark.xdist_group("test_scene_files")
 
 EXAMPLE = example_text("column")
-T_END = 0.02                                         # the example's
+T_END = 1.6                                          # the example's
 
 
 def rich_scene():
@@ -126,7 +126,7 @@ def test_the_schema_has_every_field_of_each_class(spec):
 def test_the_example_is_the_column_of_the_column_script():
     scene = scene_from_toml(EXAMPLE)
     state0, column = granular_column(1, 8, t_end=T_END)
-    assert scene.output == Output("column_run", 1, 0)
+    assert scene.output == Output("column_run", 1, 50)
     assert replace(scene, output=column.output) == column
     state = scene.initial_state()
     assert state.n == 64
@@ -247,27 +247,27 @@ def _run(*args):
 
 @pytest.fixture(scope="module")
 def example_run(tmp_path_factory):
-    """The example written by --example and run to its t_end (7 steps)."""
+    """The example written by --example and run for 7 steps (of the 501 to its t_end)."""
     tmp = tmp_path_factory.mktemp("example")
     assert cli.main(["run", "--example", "column", str(tmp / "column.toml")]) == 0
-    assert _run(tmp / "column.toml", "--out", tmp / "full") == 0
+    assert _run(tmp / "column.toml", "--out", tmp / "full", "--steps", 7) == 0
     return tmp
 
 
 def test_run_of_the_example_writes_series_history_scene_and_checkpoint(example_run, capsys):
     assert (example_run / "column.toml").read_text() == EXAMPLE
     out = example_run / "full"
-    steps = int(np.ceil(T_END / scene_from_toml(EXAMPLE).config.dt))
+    steps = 7
     records = json.loads((out / "history.json").read_text())
     assert [r["step"] for r in records] == list(range(1, steps + 1)) and steps == 7
     assert records[-1]["particles"] == 64 and records[-1]["status"]
     assert records[-1]["forces"]["base"][1] < 0       # the column presses on its base
-    assert len(list(out.glob("scene_*.vtu"))) == steps
-    assert (out / "scene.pvd").read_text().count("<DataSet") == steps
+    assert len(list(out.glob("scene_*.vtu"))) == steps + 1          # and t = 0
+    assert (out / "scene.pvd").read_text().count("<DataSet") == steps + 1
     assert load_checkpoint(out / "checkpoint.npz").step == steps
     ran = files.load_scene(out / "scene.toml")
     assert ran.output.directory == str(out)
-    assert replace(ran, output=Output("column_run", 1, 0)) == scene_from_toml(EXAMPLE)
+    assert replace(ran, output=Output("column_run", 1, 50)) == scene_from_toml(EXAMPLE)
     assert cli.main(["run", "--example", "column", str(example_run / "column.toml")]) == 2
     assert "not overwritten" in capsys.readouterr().err
 
@@ -277,7 +277,7 @@ def test_resume_continues_bit_identically(example_run):
     scene = example_run / "column.toml"
     assert _run(scene, "--out", part, "--steps", 3) == 0
     assert load_checkpoint(part / "checkpoint.npz").step == 3
-    assert _run(scene, "--out", part, "--resume") == 0
+    assert _run(scene, "--out", part, "--resume", "--steps", 7) == 0
     a, b = load_checkpoint(full / "checkpoint.npz"), load_checkpoint(part / "checkpoint.npz")
     assert a.step == b.step == 7
     for f in ("x", "v", "h", "mass", "sigma_m", "mesh_p", "mesh_t", "v_dofs", "sigma",
@@ -296,7 +296,7 @@ def test_a_bad_file_exits_non_zero_with_one_line(tmp_path, capsys):
     assert _run(bad, "--out", tmp_path / "o") == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1
-    assert "bad.toml, line 34: regions[0].material.phi:" in err
+    assert "bad.toml, line 36: regions[0].material.phi:" in err
     assert not (tmp_path / "o").exists()             # refused before any work
 
 

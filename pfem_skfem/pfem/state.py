@@ -11,6 +11,7 @@ from typing import ClassVar
 import json
 import os
 from pathlib import Path
+import secrets
 
 import numpy as np
 
@@ -135,31 +136,73 @@ _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass"
            "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0")
 
 
-def save_checkpoint(path, state):
-    """Write the state to ``path`` (np.savez_compressed, ".npz" added if missing): arrays
-    exactly, history as JSON text (which numpy stores at 4 bytes a character: it compresses
-    well). Written under a temporary name and then renamed, so that a stop while writing
-    leaves the previous checkpoint whole."""
+class CheckpointError(ValueError):
+    """A checkpoint file that cannot be read: damaged, truncated, or not a checkpoint."""
+
+
+def save_checkpoint(path, state, *, meta=None):
+    """Write the state to ``path`` (np.savez_compressed, ".npz" added if missing).
+
+    Arrays are stored exactly, the history as JSON text (which numpy stores at 4 bytes a
+    character: it compresses well). The file is written under a temporary name unique
+    to this writer and then renamed, so that a stop while writing leaves the previous
+    checkpoint whole and two writers never share a temporary file.
+
+    Parameters
+    ----------
+    path : the checkpoint file.
+    state : the :class:`PFEMState`.
+    meta : optional JSON-able dict stored with the state (e.g. the scene's digest and
+        the step records of a run), read back by ``load_checkpoint(path, meta=True)``.
+    """
     data = {k: getattr(state, k) for k in _ARRAYS if getattr(state, k) is not None}
     sc = state.scales
     scales = (np.full(3, np.nan) if sc is None
               else np.array([sc.stress, sc.displacement, sc.dynamic_force]))
     path = Path(path)
     path = path if path.suffix == ".npz" else path.with_name(path.name + ".npz")
-    tmp = path.with_name(path.stem + ".tmp.npz")
-    np.savez_compressed(tmp, step=state.step, time=state.time, area0=state.area0,
-                        alpha=state.alpha, scales=scales, history=json.dumps(state.history),
-                        discharged=json.dumps(state.discharged), **data)
-    os.replace(tmp, path)
+    tmp = path.with_name(f"{path.stem}.{os.getpid()}.{secrets.token_hex(4)}.tmp.npz")
+    extra = {} if meta is None else {"meta": json.dumps(meta)}
+    try:
+        np.savez_compressed(tmp, step=state.step, time=state.time, area0=state.area0,
+                            alpha=state.alpha, scales=scales, history=json.dumps(state.history),
+                            discharged=json.dumps(state.discharged), **extra, **data)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
-def load_checkpoint(path):
-    """A state written by :func:`save_checkpoint`."""
-    with np.load(path) as z:
-        kw = {k: z[k].copy() for k in _ARRAYS if k in z.files}
-        s = z["scales"]
-        scales = DynamicScales(*map(float, s)) if np.all(np.isfinite(s)) else None
-        discharged = json.loads(str(z["discharged"])) if "discharged" in z.files else {}
-        return PFEMState(step=int(z["step"]), time=float(z["time"]), area0=float(z["area0"]),
-                         alpha=float(z["alpha"]), scales=scales, discharged=discharged,
-                         history=json.loads(str(z["history"])), **kw)
+def load_checkpoint(path, *, meta=False):
+    """A state written by :func:`save_checkpoint`.
+
+    Parameters
+    ----------
+    path : the checkpoint file.
+    meta : also return the ``meta`` dict stored with it ({} if none).
+
+    Returns
+    -------
+    PFEMState, or (PFEMState, dict) with ``meta``.
+
+    Raises
+    ------
+    CheckpointError (a ValueError) naming the file when it is damaged or not a checkpoint.
+    """
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            kw = {k: z[k].copy() for k in _ARRAYS if k in z.files}
+            s = z["scales"]
+            scales = DynamicScales(*map(float, s)) if np.all(np.isfinite(s)) else None
+            discharged = json.loads(str(z["discharged"])) if "discharged" in z.files else {}
+            info = json.loads(str(z["meta"])) if "meta" in z.files else {}
+            state = PFEMState(step=int(z["step"]), time=float(z["time"]),
+                              area0=float(z["area0"]), alpha=float(z["alpha"]), scales=scales,
+                              discharged=discharged, history=json.loads(str(z["history"])), **kw)
+    except FileNotFoundError:
+        raise
+    except Exception as err:        # BadZipFile, EOFError, zlib, KeyError, a pickle refusal
+        why = type(err).__name__ if "pickle" in str(err) else f"{type(err).__name__}: {err}"
+        raise CheckpointError(f"{path} is damaged or not a checkpoint ({why})") from None
+    if state.step < 0:
+        raise CheckpointError(f"{path} is damaged (step {state.step} < 0)")
+    return (state, info) if meta else state

@@ -1,0 +1,396 @@
+"""The output folder of a resumable run, kept safe: nothing deleted silently, one writer
+at a time, files written whole.
+
+A run is hours of CPU, so its folder is guarded against the ways it was lost before:
+a second run into it (refused unless the caller resumes or overwrites), two processes
+at once (a lock file naming its owner), a stop between two files (the step records
+travel inside the checkpoint, history.json is a copy rebuilt from it) and a full disk
+(checked before each frame, see :class:`pfem_skfem.io.TimeSeries`). Plain functions of
+paths and arrays, so that any run loop (the CLI's, a script's) can use them.
+"""
+from dataclasses import replace
+import hashlib
+import json
+import os
+from pathlib import Path
+import secrets
+import signal
+import socket
+import sys
+import threading
+import time
+
+#: A checkpoint every this many steps when the scene asks for none (output.checkpoint_every
+#: = 0): a stop (a kill, a crash) then loses at most this many steps.
+DEFAULT_CHECKPOINT_EVERY = 20
+
+#: The files a run writes into its folder (besides ``<series>_NNNN.vtu``).
+RUN_FILES = ("checkpoint.npz", "history.json", "scene.toml", "scene.pvd")
+LOCK = "run.lock"
+
+
+class RunFolderError(Exception):
+    """The folder cannot be used as asked; the message says why and what to do."""
+
+
+def check_output_dir(out):
+    """Refuse, before any work, a folder that cannot be created or written.
+
+    Parameters
+    ----------
+    out : path of the output folder (it need not exist).
+
+    Raises
+    ------
+    RunFolderError naming the path: it is a file, lies below a file, or is not writable.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise RunFolderError(f"{out} is a file, not a folder")
+    probe = out
+    while not probe.exists():                  # the first existing ancestor must be a folder
+        probe = probe.parent
+    if not probe.is_dir():
+        raise RunFolderError(f"{out} lies below {probe}, which is a file")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise RunFolderError(f"{probe} is not writable" +
+                             ("" if probe == out else f" (cannot create {out})"))
+
+
+def run_files(out, series="scene"):
+    """The files of a run found in ``out`` (sorted; empty when it holds none)."""
+    out = Path(out)
+    if not out.is_dir():
+        return []
+    found = [out / name for name in RUN_FILES if (out / name).exists()]
+    return sorted(found + list(out.glob(f"{series}_*.vtu")))
+
+
+def clear_run(out, series="scene"):
+    """Delete the files of a run in ``out`` (and stale temporary checkpoints); nothing else."""
+    out = Path(out)
+    for path in run_files(out, series) + list(out.glob("checkpoint.*.tmp.npz")):
+        path.unlink()
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:                    # another user's process
+        return True
+    return True
+
+
+class RunLock:
+    """A lock file ``run.lock`` in the folder naming its owner (pid, host, start time).
+
+    Taken with an exclusive create, so two processes cannot both hold it. A lock whose
+    owner is a process of this host that no longer runs is stale and taken over; a
+    live owner, or one on another host (which cannot be checked), is refused.
+
+    Use as a context manager; :meth:`acquire` creates the folder.
+    """
+
+    def __init__(self, directory):
+        self.path = Path(directory) / LOCK
+        self.held = False
+
+    def owner(self):
+        """The owner recorded in the lock file (a dict), or None if unreadable."""
+        try:
+            return json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            return None
+
+    def acquire(self):
+        """Take the lock (creating the folder); RunFolderError if another run holds it."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        me = {"pid": os.getpid(), "host": socket.gethostname(),
+              "started": time.strftime("%Y-%m-%d %H:%M:%S %Z")}
+        for _ in range(3):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                owner = self.owner()
+                if owner is None and time.time() - self._mtime() < 10:
+                    time.sleep(0.2)            # being written by its owner right now
+                    continue
+                if owner is not None and (owner.get("host") != me["host"]
+                                          or _alive(int(owner.get("pid", -1)))):
+                    raise RunFolderError(
+                        f"{self.path.parent}/ is in use by another run (pid {owner.get('pid')} "
+                        f"on {owner.get('host')}, started {owner.get('started')}): wait for "
+                        f"it, or choose another output folder; if that run is known to be "
+                        f"gone, delete {self.path}") from None
+                self.path.unlink(missing_ok=True)  # stale: its owner is dead
+                continue
+            with os.fdopen(fd, "w") as f:
+                json.dump(me, f)
+            self.held = True
+            return self
+        raise RunFolderError(f"cannot take the lock {self.path}")
+
+    def _mtime(self):
+        try:
+            return self.path.stat().st_mtime
+        except OSError:
+            return 0.0
+
+    def release(self):
+        """Remove the lock file if this process holds it."""
+        if self.held:
+            owner = self.owner()
+            if owner is not None and owner.get("pid") == os.getpid():
+                self.path.unlink(missing_ok=True)
+            self.held = False
+
+    def __enter__(self):
+        return self.acquire()
+
+    def __exit__(self, *exc):
+        self.release()
+
+
+def write_text_atomic(path, text):
+    """Write ``text`` to ``path`` whole: a temporary file unique to this writer, synced,
+    then renamed over ``path`` (a stop while writing leaves the old file)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def scene_digest(scene):
+    """SHA-256 of the scene as TOML, without what a resume may change (t_end, [output]).
+
+    Stored in each checkpoint, so that a checkpoint is never resumed with another scene.
+    """
+    from .scene import Output
+    from .scene.files import scene_to_toml
+    text = scene_to_toml(replace(scene, t_end=None, output=Output()))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def history_columns(records):
+    """The records as the driver's ``state.history`` holds them: {key: [values]}, each
+    record's values appended in its own key order (as ``drivers.pfem_loop.run`` does)."""
+    history = {}
+    for rec in records:
+        for k, val in rec.items():
+            history.setdefault(k, []).append(val)
+    return history
+
+
+def read_history(path):
+    """The records of ``history.json`` (a list of dicts with a "step"); None if missing.
+
+    Raises
+    ------
+    RunFolderError when the file is damaged (not JSON, or not a list of step records).
+    """
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        records = json.loads(path.read_text())
+        if not isinstance(records, list) or not all(isinstance(r, dict) and "step" in r
+                                                    for r in records):
+            raise ValueError("not a list of step records")
+    except (ValueError, UnicodeDecodeError) as err:
+        raise RunFolderError(f"{path} is damaged ({err})") from None
+    return records
+
+
+# -- a run in its folder ------------------------------------------------------------------
+class Terminated(BaseException):
+    """SIGTERM (``kill``, ``timeout``, a batch system) raised in the run, to be handled
+    as Ctrl-C is: checkpoint the last step and stop."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=None):
+    """Run ``scene`` to step ``last`` in folder ``out``, under the folder's lock, every
+    file written whole, the last completed step checkpointed on any stop.
+
+    Parameters
+    ----------
+    scene : the Scene (its ``output`` says how often a VTU and a checkpoint are written;
+        a checkpoint_every of 0 means :data:`DEFAULT_CHECKPOINT_EVERY`).
+    out : the output folder (pathlib.Path).
+    last : the step to reach.
+    resume : go on from the folder's checkpoint (refused if it is of another scene).
+    overwrite : replace the run the folder holds (refused otherwise).
+    progress : None, or a factory ``progress(first, last)`` of a callable
+        (step, steps, record) with a ``close()`` (the CLI's progress bar).
+
+    Returns
+    -------
+    The exit code: 0 done, 130 Ctrl-C, 143 SIGTERM, 3 a solver failure or a full disk
+    (each with the last completed step checkpointed, and a line on stderr saying so).
+
+    Raises
+    ------
+    RunFolderError before any work when the folder cannot be used as asked.
+    """
+    out = Path(out)
+    if resume and not (out / "checkpoint.npz").is_file():
+        raise RunFolderError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
+    created = not out.exists()
+    try:
+        with RunLock(out):
+            return _run_locked(scene, out, last, resume, progress, overwrite)
+    finally:
+        if created and out.is_dir() and not any(out.iterdir()):
+            out.rmdir()                              # refused before writing: leave no trace
+
+
+def _resume_state(scene, out, digest):
+    """The checkpoint's state and step records; history.json is checked against them."""
+    from .pfem.state import CheckpointError, load_checkpoint
+    from .scene.files import load_scene
+
+    checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
+    if not checkpoint.is_file() or not copy.is_file():
+        raise RunFolderError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
+    try:
+        ran = load_scene(copy)
+    except ValueError as err:
+        raise RunFolderError(f"{copy} is damaged ({err}); start again with --overwrite") \
+            from None
+    # the numbers of the run must be the same; its length and output may change
+    if replace(ran, t_end=None, output=scene.output) != replace(scene, t_end=None):
+        raise RunFolderError(f"the scene differs from the one run in {out}/scene.toml: "
+                             "resume only the same scene (t_end and [output] may change)")
+    try:
+        state, meta = load_checkpoint(checkpoint, meta=True)
+    except CheckpointError as err:
+        raise RunFolderError(f"{err}: it cannot be resumed; delete it or start again with "
+                             "--overwrite (or run into another --out)") from None
+    if meta.get("scene_digest", digest) != digest:
+        raise RunFolderError(f"{checkpoint} belongs to another scene than {copy} (its scene "
+                             "digest differs): it cannot be resumed; start again with "
+                             "--overwrite")
+    try:
+        on_disk = read_history(history) or []
+    except RunFolderError as err:
+        print(f"pfem-skfem run: {err}; rebuilt from the checkpoint", file=sys.stderr)
+        on_disk = []
+    if "records" in meta:                            # the checkpoint's records are the truth
+        records = meta["records"]
+        mine = [r["step"] for r in on_disk if r["step"] <= state.step]
+        if mine and mine != [r["step"] for r in records]:
+            print(f"pfem-skfem run: {history} disagrees with the checkpoint ({len(mine)} of "
+                  f"{len(records)} steps); rebuilt from the checkpoint", file=sys.stderr)
+    else:                                            # a checkpoint of an older version
+        records = [r for r in on_disk if r["step"] <= state.step]
+        if [r["step"] for r in records] != list(range(1, state.step + 1)):
+            raise RunFolderError(f"{history} does not hold steps 1-{state.step} of the "
+                                 "checkpoint (written by an older version, without its "
+                                 "records): restore it, or start again with --overwrite")
+    return replace(state, history=history_columns(records)), records
+
+
+def _run_locked(scene, out, last, resume, progress, overwrite):
+    from .drivers.pfem_loop import run
+    from .geometry import as_geometry
+    from .io import STEP_UNITS, TimeSeries, initial_fields
+    from .pfem.state import save_checkpoint
+    from .problems.conic import SolverError
+    from .scene.files import scene_to_toml
+
+    checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
+    digest = scene_digest(scene)
+    for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".history.json.*.tmp")):
+        tmp.unlink(missing_ok=True)                  # left by a killed writer; we hold the lock
+    held = run_files(out)
+    if held and not resume:
+        if not overwrite:
+            names = ", ".join(p.name for p in held[:4]) + (", ..." if len(held) > 4 else "")
+            raise RunFolderError(
+                f"{out}/ holds the results of another run ({names}): nothing written. "
+                "Continue it with --resume, replace it with --overwrite, or write elsewhere "
+                "with --out DIR")
+        clear_run(out)
+    if resume:
+        state, records = _resume_state(scene, out, digest)
+    else:
+        state, records = scene.initial_state(), []
+    size = checkpoint.stat().st_size if checkpoint.exists() else 0
+    series = (TimeSeries(out, "scene", note=STEP_UNITS, reserve=2 * size + (1 << 20))
+              if scene.output.every else None)
+    if series is not None:           # the steps up to the checkpoint's (none on a new run)
+        try:
+            series.resume(state.time if resume else float("-inf"))
+        except ValueError as err:
+            raise RunFolderError(str(err)) from None
+    write_text_atomic(copy, scene_to_toml(scene, header="the scene as run by pfem-skfem run"))
+    first = state.step
+    if first >= last:
+        print(f"{out}/ is already at step {first} (>= {last}): nothing to run")
+        return 0
+    print(f"pfem-skfem run: steps {first + 1}-{last} into {out}/", file=sys.stderr)
+    if series is not None and not resume:            # the frame at t = 0
+        series.write(0.0, *initial_fields(state, scene.alpha,
+                                          as_geometry(scene.geometry).axisymmetric))
+    every = scene.output.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
+    done = [state]
+
+    def save(st):
+        """The checkpoint with the records up to its step (one file: they agree), then
+        history.json as a copy of those records."""
+        kept = [r for r in records if r["step"] <= st.step]
+        save_checkpoint(checkpoint, replace(st, history=history_columns(kept)),
+                        meta={"scene_digest": digest, "records": kept})
+        write_text_atomic(history, json.dumps(kept, indent=1) + "\n")
+
+    def on_step(st, record, result):
+        records.append(record)
+        done[0] = st
+        if st.step % every == 0:
+            save(st)
+
+    bar = None if progress is None else progress(first, last)
+    in_main = threading.current_thread() is threading.main_thread()   # signal's rule
+    old_term = signal.signal(signal.SIGTERM, _raise_terminated) if in_main else None
+    try:
+        state, _ = run(state, scene, last - first, series=series,
+                       save_every=scene.output.every, on_step=on_step, progress=bar)
+    except (SolverError, KeyboardInterrupt, Terminated, OSError) as err:
+        if in_main:                                  # a second TERM must not cut the save
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        if bar is not None:
+            bar.close()
+        try:
+            save(done[0])                            # the last step completed, to resume
+        except OSError as save_err:
+            print(f"pfem-skfem run: the checkpoint of step {done[0].step} could not be "
+                  f"written ({save_err}); the folder keeps the previous one", file=sys.stderr)
+        if isinstance(err, SolverError):
+            what = f"solver failed ({err}; status {err.status})"
+        else:
+            what = {KeyboardInterrupt: "interrupted", Terminated: "terminated (SIGTERM)"}.get(
+                type(err), f"stopped: {err}")
+        n = done[0].step
+        kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
+        print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
+              f"from step {n})", file=sys.stderr)
+        return {KeyboardInterrupt: 130, Terminated: 143}.get(type(err), 3)
+    finally:
+        if in_main:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if old_term is None else old_term)
+    save(state)
+    vtus = f"scene.pvd ({len(series.entries)} VTU), " if series is not None else ""
+    print(f"steps {first + 1}-{state.step} (t = {state.time:.6g}) written to {out}/: {vtus}"
+          "history.json, scene.toml, checkpoint.npz")
+    return 0
