@@ -36,7 +36,10 @@ JSON layout::
 ``rel_error`` is |value - reference| / |reference|, or the absolute error when the
 reference is zero; ``pass`` is ``rel_error <= tolerance``. A quantity checked
 against an interval (a bound, a range of published values) gives ``lower`` and
-``upper`` instead; its ``rel_error`` is the relative distance outside the interval.
+``upper`` instead (null for an infinite end); its ``rel_error`` is the distance outside
+the interval relative to the larger end, or to the finite end of a one-sided interval
+(absolute where it is 0). A NaN or infinite value (an undefined ratio) never passes;
+the JSON writes it as null.
 
 Options are checked when they are parsed, before any work, with the shared argparse
 types below: a bad value is a usage error (exit code 2) whose message names the
@@ -175,20 +178,36 @@ class Report:
         """Compare ``value`` with ``reference`` to a relative ``tolerance``."""
         value, reference = float(value), float(reference)
         err = relative_error(value, reference)
-        q = Quantity(name, value, reference, source, float(tolerance), err,
-                     bool(err <= tolerance))
+        # a NaN or infinite value (an undefined ratio) never passes: NaN <= tol is False,
+        # but inf - inf in the error is NaN and an infinite reference makes any error finite
+        passed = math.isfinite(value) and math.isfinite(reference) and err <= tolerance
+        q = Quantity(name, value, reference, source, float(tolerance), err, bool(passed))
         self.quantities.append(q)
         return q
 
     def add_interval(self, name, value, lower, upper, source, tolerance=0.0,
                      reference=None):
-        """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative)."""
-        value = float(value)
+        """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative).
+
+        The excess outside the interval is relative to max(|lower|, |upper|) when both
+        ends are finite; to the finite end's magnitude for a one-sided interval (absolute
+        where that end is 0): an infinite scale would let any finite value pass. A NaN or
+        infinite value fails (its ``rel_error`` NaN or inf).
+        """
+        value, lower, upper = float(value), float(lower), float(upper)
         ref = float(reference) if reference is not None else 0.5 * (lower + upper)
-        scale = max(abs(lower), abs(upper), 1e-300)
-        outside = max(lower - value, value - upper, 0.0) / scale
+        finite = [abs(b) for b in (lower, upper) if math.isfinite(b)]
+        if len(finite) == 2:
+            scale = max(abs(lower), abs(upper), 1e-300)
+        else:                                    # one-sided (or unbounded: always inside)
+            scale = (finite[0] or 1.0) if finite else 1.0
+        if math.isfinite(value) and lower <= upper:    # a NaN end (undefined bound) fails
+            outside = max(lower - value, value - upper, 0.0) / scale
+        else:
+            outside = abs(value) if lower <= upper else math.nan   # fails below
         q = Quantity(name, value, ref, source, float(tolerance), outside,
-                     bool(outside <= tolerance), float(lower), float(upper))
+                     bool(math.isfinite(value) and lower <= upper and outside <= tolerance),
+                     lower, upper)
         self.quantities.append(q)
         return q
 
