@@ -81,11 +81,11 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # 
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
-                               nonnegative_float, nonnegative_int, positive_float,
-                               positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, theta_weight, volume_correction_option,
-                               alpha_advected_option, checkpoint_options, checkpoint_path,
-                               load_run, save_run)
+                               nonnegative_float, nonnegative_int, positive_float, positive_int, progress,
+                               progress_bar, pyplot, run_cases, save_figure, theta_weight,
+                               volume_correction_option, alpha_advected_option,
+                               checkpoint_options, checkpoint_path, load_run, save_run,
+                               script_main, positive_angle)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -388,7 +388,8 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         "t_rest": float(t[-1]) if at_rest else np.nan,
         "front0": float(np.max(x0[:, 0])), "front_max": float(fr.max()) if len(fr) else np.nan,
         "t_front_max": float(t[k_peak]) if len(t) else np.nan,
-        "front_beyond_profile": bool(len(fr) and fr.max() > profile.x[-1]),
+        # a NaN front is not on the profile (NaN > x is False)
+        "front_beyond_profile": bool(len(fr) and not fr.max() <= profile.x[-1]),
         "ke_peak": float(ke.max()) if len(ke) else 0.0,
         "ke_end_over_peak": float(ke[-1] / ke.max()) if len(ke) and ke.max() > 0 else np.nan,
         "mass_change_max": float(np.max(np.abs(rec["area_change"]))) if len(t) else 0.0,
@@ -424,6 +425,8 @@ def check(args):
         return f"--t-after {args.t_after:g} is shorter than two steps --dt {args.dt:g}"
     if args.snapshot_every and args.snapshot_every < args.dt:
         return f"--snapshot-every {args.snapshot_every:g} is shorter than one step --dt"
+    if args.phi == 0 and args.c == 0:
+        return "--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
     if not 0 < args.rest < 1:
         return f"--rest must lie in (0, 1), got {args.rest:g}"
     return None
@@ -437,10 +440,11 @@ def build_parser():
     p.add_argument("--rho", type=positive_float, default=1.25, help="density [t/m3]")
     p.add_argument("--phi", type=friction_angle, default=28.0, help="friction angle [deg]")
     p.add_argument("--c", type=nonnegative_float, default=0.0, help="cohesion [kPa]")
-    p.add_argument("--mu-deg", type=friction_angle, default=10.0,
+    p.add_argument("--mu-deg", type=positive_angle("the energy bound divides by mu"), default=10.0,
                    help="basal friction angle [deg] of the main run, mu = tan(mu_deg) "
                         "(thesis: tan 10 deg)")
-    p.add_argument("--mu-study", type=friction_angle, nargs="*", default=[8.0, 10.0, 12.0],
+    p.add_argument("--mu-study", type=positive_angle("the energy bound divides by mu"),
+                   nargs="*", default=[8.0, 10.0, 12.0],
                    help="basal friction angles [deg] of the back-analysis (Fig 8.4)")
     p.add_argument("--rho-study", type=positive_float, nargs="*", default=[0.5, 2.5],
                    help="further densities [t/m3] at --mu-deg (Fig 8.5-8.6)")
@@ -560,7 +564,8 @@ def run(args):
         report.add_interval(f"{r['label']}_energy_ratio",
                             r["energy_ratio"] if r["at_rest"] else np.nan, 1.0, np.inf,
                             "energy bound: tan(travel angle of the centre of mass) / mu >= 1 "
-                            "(at rest; undefined, a failure, if not at rest or not moved)" + ("" if r["concave_profile"] else
+                            "(at rest; undefined, a failure, if not at rest or not moved)"
+                            + ("" if r["concave_profile"] else
                                            "; the profile is not concave: a soft bound"))
     if len(mu_runs) >= 2:
         reach = np.array([r["front_max"] for r in mu_runs])
@@ -600,8 +605,7 @@ def run(args):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 def _summary(r):
