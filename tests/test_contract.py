@@ -74,3 +74,37 @@ def test_a_failed_degenerate_value_shows_in_the_table_and_the_json(tmp_path):
     qs = json.loads((tmp_path / "r.json").read_text())["quantities"]
     assert [q["pass"] for q in qs] == [False, False]
     assert qs[0]["value"] is None and qs[0]["upper"] is None and qs[0]["lower"] == 1.0
+
+
+# The one-sided checks of the --quick suite (issue 36: 16 of its quantities), each with its
+# interval and its quick value (the values of the checked-in code, 2026-12-04): each passes
+# at its value and fails at a value beyond its finite end, at NaN and at inf.
+ONE_SIDED = [
+    ("accretionary_wedge", "taper3_plastic_max", 10.476, 1.0, np.inf),
+    ("alpha_shape", "holes at alpha=0.5 (voids)", 15.0, 1.0, np.inf),
+    ("alpha_shape", "bodies at alpha=0.4", 75.0, 3.0, np.inf),
+    ("buried_pipe", "min_contact_pressure", 1.44e-9, -1e-6, np.inf),
+    ("cylinder_soil", "F_H_jump_at_switch", 7.801, 2.674, np.inf),
+    ("cylinder_soil", "F_V_drop_at_switch", 8.307, 0.0, np.inf),
+    ("cylinder_soil", "F_V_min_lateral", 2.995, 0.0, np.inf),
+    ("granular_column_plane", "a1_phi31_runout_over_d0", 2.364, 0.0, np.inf),
+    ("inclined_plane_flow", "fast_acceleration_over_bound", 1.281, 0.97, np.inf),
+    ("landslide_yangbaodi", "mu14_energy_ratio", 1.217, 1.0, np.inf),
+    ("landslide_yangbaodi", "mu18_energy_ratio", 1.195, 1.0, np.inf),
+    ("landslide_yangbaodi", "runout_decrease_with_mu", -62.76, -np.inf, -3.671e-7),
+    ("plastic_vibration", "max_energy_increase", -1.215e-6, -np.inf, 1e-7),
+    ("plastic_vibration", "min_step_dissipation", 1.215e-6, -1e-9, np.inf),
+    ("silo_discharge", "Q_smooth_over_rough", 3.274, 1.0, np.inf),
+    ("sliding_box", "dilation_order", 0.5802, 0.4, np.inf),
+]
+
+
+@pytest.mark.parametrize("case, name, value, lower, upper", ONE_SIDED,
+                         ids=[f"{c}:{n}" for c, n, *_ in ONE_SIDED])
+def test_each_one_sided_check_of_the_quick_suite_can_fail(case, name, value, lower, upper):
+    r = Report(case)
+    assert r.add_interval(name, value, lower, upper, "s").passed
+    end = lower if np.isfinite(lower) else upper
+    beyond = end - (abs(end) or 1.0) if np.isfinite(lower) else end + (abs(end) or 1.0)
+    for bad in (beyond, math.nan, math.inf, -math.inf):
+        assert not r.add_interval(name, bad, lower, upper, "s").passed, bad
