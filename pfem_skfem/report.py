@@ -17,13 +17,15 @@ Every script under ``verification/`` has the same shape::
     def figures(args, **data):             # from report.data; skipped by --no-figures
         ...
 
-    def main(argv=None):
-        args = build_parser().parse_args(argv)     # --quick applied, options checked
-        return run(args).finish(args, figures)     # figures, table, --json, exit code
+    def main(argv=None):                   # --quick applied, options and output paths
+        return script_main(build_parser, run, figures, argv)   # checked; then run(args),
+                                           # figures, table, --json, exit code; ^C one line
 
 so that tests, the book and the benchmarks call ``run`` in-process
 (``from verification import strip_footing``; :func:`run_script`) and ``pfem-skfem verify`` runs the
-same script in a subprocess. :meth:`Report.finish` prints the table, writes
+same script in a subprocess. :func:`script_main` parses, runs and finishes (Ctrl-C,
+an unreachable ``--scheduler`` and a damaged kept file are one line, not a traceback);
+:meth:`Report.finish` prints the table, writes
 ``--json PATH`` and returns the exit code; :func:`pyplot`, :func:`figure_dir` and
 :func:`save_figure` hold the figure boilerplate.
 
