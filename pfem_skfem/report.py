@@ -17,13 +17,15 @@ Every script under ``verification/`` has the same shape::
     def figures(args, **data):             # from report.data; skipped by --no-figures
         ...
 
-    def main(argv=None):
-        args = build_parser().parse_args(argv)     # --quick applied, options checked
-        return run(args).finish(args, figures)     # figures, table, --json, exit code
+    def main(argv=None):                   # --quick applied, options and output paths
+        return script_main(build_parser, run, figures, argv)   # checked; then run(args),
+                                           # figures, table, --json, exit code; ^C one line
 
 so that tests, the book and the benchmarks call ``run`` in-process
 (``from verification import strip_footing``; :func:`run_script`) and ``pfem-skfem verify`` runs the
-same script in a subprocess. :meth:`Report.finish` prints the table, writes
+same script in a subprocess. :func:`script_main` parses, runs and finishes (Ctrl-C,
+an unreachable ``--scheduler`` and a damaged kept file are one line, not a traceback);
+:meth:`Report.finish` prints the table, writes
 ``--json PATH`` and returns the exit code; :func:`pyplot`, :func:`figure_dir` and
 :func:`save_figure` hold the figure boilerplate.
 
@@ -36,12 +38,15 @@ JSON layout::
 ``rel_error`` is |value - reference| / |reference|, or the absolute error when the
 reference is zero; ``pass`` is ``rel_error <= tolerance``. A quantity checked
 against an interval (a bound, a range of published values) gives ``lower`` and
-``upper`` instead; its ``rel_error`` is the relative distance outside the interval.
+``upper`` instead (null for an infinite end); its ``rel_error`` is the distance outside
+the interval relative to the larger end, or to the finite end of a one-sided interval
+(absolute where it is 0). A NaN or infinite value (an undefined ratio) never passes;
+the JSON writes it as null.
 
 Options are checked when they are parsed, before any work, with the shared argparse
 types below: a bad value is a usage error (exit code 2) whose message names the
 option, its allowed range and the value given, e.g. ``argument --phi: must be an
-angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``::
+angle in [0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``::
 
     p.add_argument("--elements", type=positive_int, nargs="+", default=[100, 400])
     p.add_argument("--phi", type=friction_angle, default=30.0)
@@ -54,7 +59,8 @@ angle in (0, 90) degrees, got '95'``. Use them as ``type=`` of ``add_argument``:
 ``nonnegative_int``        an integer >= 0 (``--save-every``: 0 for none)
 ``workers``                an integer >= 1 (parallel processes)
 ``scheduler_address``      a Dask scheduler address ``[tcp://]host:port``
-``friction_angle``         an angle in (0, 90) degrees
+``friction_angle``         an angle in [0, 90) degrees (as a TOML scene)
+``positive_angle(why)``    an angle in (0, 90) where phi = 0 has no meaning, saying why
 ``poisson_ratio``          a number in (-1, 0.5)
 ``fraction``               a number in [0, 1]
 ``theta_weight``           a theta-method weight in [1/2, 1] (4.4)
@@ -175,20 +181,36 @@ class Report:
         """Compare ``value`` with ``reference`` to a relative ``tolerance``."""
         value, reference = float(value), float(reference)
         err = relative_error(value, reference)
-        q = Quantity(name, value, reference, source, float(tolerance), err,
-                     bool(err <= tolerance))
+        # a NaN or infinite value (an undefined ratio) never passes: NaN <= tol is False,
+        # but inf - inf in the error is NaN and an infinite reference makes any error finite
+        passed = math.isfinite(value) and math.isfinite(reference) and err <= tolerance
+        q = Quantity(name, value, reference, source, float(tolerance), err, bool(passed))
         self.quantities.append(q)
         return q
 
     def add_interval(self, name, value, lower, upper, source, tolerance=0.0,
                      reference=None):
-        """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative)."""
-        value = float(value)
+        """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative).
+
+        The excess outside the interval is relative to max(|lower|, |upper|) when both
+        ends are finite; to the finite end's magnitude for a one-sided interval (absolute
+        where that end is 0): an infinite scale would let any finite value pass. A NaN or
+        infinite value fails (its ``rel_error`` NaN or inf).
+        """
+        value, lower, upper = float(value), float(lower), float(upper)
         ref = float(reference) if reference is not None else 0.5 * (lower + upper)
-        scale = max(abs(lower), abs(upper), 1e-300)
-        outside = max(lower - value, value - upper, 0.0) / scale
+        finite = [abs(b) for b in (lower, upper) if math.isfinite(b)]
+        if len(finite) == 2:
+            scale = max(abs(lower), abs(upper), 1e-300)
+        else:                                    # one-sided (or unbounded: always inside)
+            scale = (finite[0] or 1.0) if finite else 1.0
+        if math.isfinite(value) and lower <= upper:    # a NaN end (undefined bound) fails
+            outside = max(lower - value, value - upper, 0.0) / scale
+        else:
+            outside = abs(value) if lower <= upper else math.nan   # fails below
         q = Quantity(name, value, ref, source, float(tolerance), outside,
-                     bool(outside <= tolerance), float(lower), float(upper))
+                     bool(math.isfinite(value) and lower <= upper and outside <= tolerance),
+                     lower, upper)
         self.quantities.append(q)
         return q
 
@@ -251,6 +273,59 @@ class Report:
         return 0 if self.passed else 1
 
 
+class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
+    """argparse's "(default: ...)", once: not where the help states its default itself,
+    nor for a flag or an option whose default is None (it said "(default: False)")."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if "default" in text.lower() or action.default is None or action.default is False:
+            return text
+        return super()._get_help_string(action)
+
+
+# options naming files or folders the run writes: checked when parsed (a usage error)
+# rather than after the computation, which was lost (dest -> what it names)
+OUTPUT_PATHS = {"json": "file", "outdir": "directory", "results_dir": "directory",
+                "checkpoint_dir": "directory"}
+
+
+def output_path_problem(path, kind="file"):
+    """Why ``path`` cannot be written as a ``kind`` ("file" or "directory"), or None.
+
+    Nothing is created: the nearest existing folder on the way must be a folder in which a
+    file can be made (a probe file, removed); an existing ``path`` must be of its kind (and
+    a file writable)."""
+    import os
+    import tempfile
+    target = Path(path).expanduser()
+    if target.exists():
+        if kind == "file" and target.is_dir():
+            return f"{path} is a directory, not a file"
+        if kind == "directory" and not target.is_dir():
+            return f"{path} exists and is not a directory"
+        if kind == "file":
+            try:
+                with open(target, "r+b"):
+                    pass
+            except OSError as error:
+                return f"cannot write {path} ({error.strerror or error})"
+            return None
+        folder = target
+    else:
+        folder = target.parent
+        while not folder.exists() and folder != folder.parent:
+            folder = folder.parent
+        if not folder.is_dir():
+            return f"{folder} (on the way to {path}) is a file, not a directory"
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".write-probe-"):
+            pass
+    except OSError as error:
+        return f"cannot write in {folder} ({error.strerror or error})"
+    return None
+
+
 class ScriptParser(argparse.ArgumentParser):
     """An argument parser whose ``parse_args`` applies ``--quick`` and the script's checks.
 
@@ -261,7 +336,7 @@ class ScriptParser(argparse.ArgumentParser):
 
     def __init__(self, description, quick=None, check=None):
         super().__init__(description=description,
-                         formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+                         formatter_class=_DefaultsOnce)
         self.quick = dict(quick or {})
         self.check = check
 
@@ -276,6 +351,15 @@ class ScriptParser(argparse.ArgumentParser):
         message = self.check(parsed) if self.check else None
         if message:
             self.error(message)
+        for dest, kind in OUTPUT_PATHS.items():
+            value = getattr(parsed, dest, None)
+            if value is None or (dest == "outdir" and value == self.get_default(dest)
+                                 and getattr(parsed, "no_figures", False)
+                                 and not getattr(parsed, "save_every", 0)):
+                continue                         # the default outdir, unused
+            problem = output_path_problem(value, kind)
+            if problem:
+                self.error(f"argument --{dest.replace('_', '-')}: {problem}")
         return parsed
 
 
@@ -343,6 +427,42 @@ def run_script(script, *argv):
     return script.run(script.build_parser().parse_args(argv))
 
 
+class OptionError(ValueError):
+    """An option found wrong only when used (an unreachable ``--scheduler``): a usage
+    error of the script (:func:`script_main`), not a traceback."""
+
+
+class DamagedFileError(RuntimeError):
+    """A kept file (a checkpoint, a sweep's result) that cannot be read: its message names
+    the file and what to do."""
+
+
+def script_main(build_parser, run, figures=None, argv=None):
+    """A verification script's ``main``: parse, ``run(args)``, :meth:`Report.finish`.
+
+    Ctrl-C is one line (exit 130), not a traceback; an :class:`OptionError` is a usage error
+    (exit 2) and a :class:`DamagedFileError` one line (exit 1), also when every failed case
+    of a sweep (:class:`SweepError`) failed with one."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return run(args).finish(args, figures)
+    except KeyboardInterrupt:
+        print(f"{parser.prog}: interrupted", file=sys.stderr)
+        return 130
+    except OptionError as error:
+        parser.error(str(error))
+    except (DamagedFileError, SweepError) as error:
+        causes = ([e for _, _, e in error.failures] if isinstance(error, SweepError)
+                  else [error])
+        if isinstance(error, SweepError) and not all(
+                isinstance(e, (DamagedFileError, OptionError)) for e in causes):
+            raise
+        for cause in causes:
+            print(f"{parser.prog}: error: {cause}", file=sys.stderr)
+        return 2 if all(isinstance(e, OptionError) for e in causes) else 1
+
+
 def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
              integer=False, unit="", what=None):
     """argparse type: a number in an interval, its error naming the range and the value.
@@ -400,8 +520,14 @@ nonnegative_float = in_range(0, what="a number >= 0")
 positive_int = in_range(1, integer=True, what="a positive integer")
 nonnegative_int = in_range(0, integer=True, what="an integer >= 0")
 workers = in_range(1, integer=True, what="a number of workers >= 1")
-friction_angle = in_range(0, 90, low_open=True, high_open=True, unit="degrees",
-                          what="an angle in (0, 90) degrees")
+friction_angle = in_range(0, 90, high_open=True, what="an angle in [0, 90) degrees")
+
+
+def positive_angle(why):
+    """argparse type: an angle in (0, 90) degrees, for a script whose physics or reference
+    needs phi > 0; ``why`` is said in the message (``friction_angle`` allows 0, as TOML)."""
+    return in_range(0, 90, low_open=True, high_open=True,
+                    what=f"an angle in (0, 90) degrees ({why})")
 poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
                          what="a Poisson's ratio in (-1, 0.5)")
 fraction = in_range(0, 1, what="a fraction in [0, 1]")
@@ -449,8 +575,29 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
         return _forwarded_bar()(iterable, forward, total=total, desc=desc, unit=unit,
                                 **options)
     options.setdefault("mininterval", _redraw_seconds())
-    return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr,
-                disable=disable, dynamic_ncols=True, **options)
+    terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+    return tqdm(iterable, total=total, desc=desc, unit=unit,
+                file=sys.stderr if terminal else _PlainLines(sys.stderr),
+                disable=disable, dynamic_ncols=terminal, **options)
+
+
+class _PlainLines:
+    """A bar's stream for a log (stderr not a terminal): each redraw a line of its own, the
+    cursor moves of stacked bars (ESC [A) and carriage returns left out."""
+
+    def __init__(self, stream):
+        self.stream, self.last = stream, None
+
+    def write(self, text):
+        import re
+        for line in re.split(r"[\r\n]", re.sub(r"\x1b\[[0-9;]*[A-Za-z]", "", text)):
+            if line.strip() and line != self.last:
+                self.stream.write(line.rstrip() + "\n")
+                self.last = line
+        return len(text)
+
+    def flush(self):
+        self.stream.flush()
 
 
 def _redraw_seconds():
@@ -686,9 +833,14 @@ def load_run(path):
     side = path.with_name(path.stem + ".loop.pkl")
     if not (path.is_file() and side.is_file()):
         return None
-    state = load_checkpoint(path)
-    with open(side, "rb") as stream:
-        saved = pickle.load(stream)
+    try:
+        state = load_checkpoint(path)
+        with open(side, "rb") as stream:
+            saved = pickle.load(stream)
+    except Exception as error:                   # noqa: BLE001 - any damage, named
+        raise DamagedFileError(
+            f"checkpoint {path} (with {side.name}) cannot be read ({type(error).__name__}: "
+            f"{error}); delete both files to start that run again") from None
     return (state, saved["loop"]) if saved["step"] == state.step else None
 
 
@@ -855,8 +1007,14 @@ def _run_cached(function, cases, workers, desc, scheduler, results_dir):
     todo = []
     for i, path in enumerate(paths):
         if path.is_file():
-            with open(path, "rb") as stream:
-                results[i] = pickle.load(stream)
+            try:
+                with open(path, "rb") as stream:
+                    results[i] = pickle.load(stream)
+            except Exception as error:           # noqa: BLE001 - any damage, named
+                raise DamagedFileError(
+                    f"{path}: a kept result of --results-dir cannot be read "
+                    f"({type(error).__name__}: {error}); delete it to run that case "
+                    f"again") from None
         else:
             todo.append(i)
     if todo and any(c.get("verbose") for c in cases):
@@ -929,7 +1087,7 @@ class _dask_client:
                 try:
                     self.client = Client(self.scheduler, timeout="10s")
                 except (OSError, TimeoutError) as error:
-                    raise ValueError(f"--scheduler {self.scheduler}: no Dask scheduler "
+                    raise OptionError(f"--scheduler {self.scheduler}: no Dask scheduler "
                                      f"reachable there ({error})") from None
             else:
                 import warnings

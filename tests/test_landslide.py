@@ -131,3 +131,34 @@ def test_a_slide_stopped_and_resumed_from_its_checkpoint_is_the_same_slide(tmp_p
     for key in ("t", "front", "ke", "area_change", "track_x", "track_v", "x_end"):
         assert np.array_equal(resumed[key], whole[key]), key
     assert resumed["hold_sigma_m_changes"] == whole["hold_sigma_m_changes"]
+
+
+# -- a mass that does not move: the checks fail, never pass (issue 36, item 6) ----------
+def test_the_release_transient_is_not_the_peak_of_a_slide():
+    """The kinetic energy of the release transient falls below 1e-3 of its own peak within
+    a few steps: without travel that is not rest (it was, after 5 steps of a static run)."""
+    ke = [1.0, 0.1, 1e-3, 1e-4]
+    assert not slide.came_to_rest(ke[-1], max(ke), ke[0], travel=0.0, h=4.0, rest=1e-3)
+    assert slide.came_to_rest(ke[-1], max(ke), ke[0], travel=4.0, h=4.0, rest=1e-3)
+    assert not slide.came_to_rest(0.0, 0.0, 0.0, travel=10.0, h=4.0, rest=1e-3)
+
+
+@pytest.mark.parametrize("H, L, mu, travel", [(1e-10, -1e-12, 0.25, 1e-10),   # did not move
+                                              (0.0, 0.0, 0.25, 0.0), (5.0, -1.0, 0.25, 5.1),
+                                              (5.0, 10.0, 0.0, 11.2), (np.nan, 1.0, 0.25, 5.0)])
+def test_an_undefined_energy_ratio_is_nan_and_fails(H, L, mu, travel):
+    from pfem_skfem.report import Report
+    ratio = slide.energy_ratio(H, L, mu, travel, h=4.0)
+    assert np.isnan(ratio)
+    assert not Report("c").add_interval("ratio", ratio, 1.0, np.inf, "energy bound").passed
+
+
+def test_a_mass_that_does_not_move_fails_the_energy_bound():
+    """c = 1000 kPa holds the mass: no travel angle, no rest after motion; each check of
+    it fails (the ratio was inf and passed, or 0.0 in [1, inf] and passed)."""
+    report = run_script(slide, "--quick", "--no-figures", "--workers", "1", "--c", "1000",
+                        "--t-after", "1", "--mu-study", "14", "--rho-study")
+    q = report.quantity("mu14_energy_ratio")
+    assert np.isnan(q.value) and not q.passed
+    assert not report.quantity("mu14_at_rest").passed and not report.passed
+    assert np.isnan(report.data["base"]["travel_angle_deg"])

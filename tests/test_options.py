@@ -60,7 +60,7 @@ BAD = {
                                      (["--nr", "1"], "--nr"), (["--a", "0"], "--a"),
                                      (["--settle", "-1"], "--settle"),
                                      (["--workers", "0"], "--workers"),
-                                     (["--base-study", "0"], "--base-study"),
+                                     (["--base-study", "90"], "--base-study"),
                                      (["--mesh-study", "1"], "--mesh-study"),
                                      (["--courant", "0"], "--courant"),
                                      (["--volume-correction", "yes"], "--volume-correction")],
@@ -183,7 +183,8 @@ def test_the_cli_checks_its_options(argv, option, capsys):
     (rep.positive_float, ["1e-3", "4"], ["0", "-1", "inf", "nan", "x"]),
     (rep.nonnegative_float, ["0", "0.3"], ["-1e-9", "inf"]),
     (rep.workers, ["1", "4"], ["0", "-1"]),
-    (rep.friction_angle, ["0.1", "45", "89.9"], ["0", "90", "95", "-5"]),
+    (rep.friction_angle, ["0", "0.1", "45", "89.9"], ["90", "95", "-5", "-0.1"]),   # TOML's
+    (rep.positive_angle("cot phi"), ["0.1", "45"], ["0", "90", "-5"]),
     (rep.poisson_ratio, ["-0.9", "0", "0.499"], ["-1", "0.5", "0.6"]),
     (rep.fraction, ["0", "0.5", "1"], ["-0.1", "1.1"]),
     (rep.theta_weight, ["0.5", "1"], ["0.49", "1.01"]),
@@ -196,3 +197,152 @@ def test_validators_accept_their_range_and_refuse_the_rest(validator, good, bad)
     for text in bad:
         with pytest.raises(argparse.ArgumentTypeError, match=f"got '{text}'"):
             validator(text)
+
+
+# -- issue 36: one rule for angles, output paths checked before the work, one line on ^C --
+@pytest.mark.parametrize("name, argv, words", [
+    ("strip_footing", ["--phi", "0"], ["cot phi", "Tresca"]),
+    ("thick_cylinder", ["--phi", "0"], ["cot phi"]),
+    ("granular_column_plane", ["--phi", "0"], ["without strength"]),
+    ("silo_discharge", ["--phi", "0"], ["without strength", "--c"]),
+    ("landslide_yangbaodi", ["--mu-deg", "0"], ["divides by mu"]),
+    ("silo_discharge", ["--outlet-depth", "-0.3"], ["inside the hopper"]),
+    ("silo_discharge", ["--outlet-depth", "-1"], ["inside the hopper"]),
+    ("granular_column_plane", ["--nu", "0.3"], ["--E"]),
+    ("granular_column_plane", ["--h0", "0.2", "--d0", "0.1"], ["--h0"]),
+])
+def test_a_script_says_why_it_refuses(name, argv, words, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        importlib.import_module(f"verification.{name}").build_parser().parse_args(argv)
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert all(w in err for w in words), err
+
+
+def test_phi_0_is_an_angle_where_the_physics_allows_it():
+    """TOML's [0, 90): a cohesive mass of phi = 0, a smooth base (phi_s = 0)."""
+    silo = importlib.import_module("verification.silo_discharge")
+    assert silo.build_parser().parse_args(["--phi", "0", "--c", "5"]).phi == 0
+    slide = importlib.import_module("verification.landslide_yangbaodi")
+    assert slide.build_parser().parse_args(["--phi", "0", "--c", "50"]).phi == 0
+    axi = importlib.import_module("verification.granular_column_axisymmetric")
+    assert axi.build_parser().parse_args(["--base-study", "0"]).base_study == [0.0]
+
+
+def test_the_plane_column_takes_a_size_in_metres():
+    plane = importlib.import_module("verification.granular_column_plane")
+    args = plane.build_parser().parse_args(["--a", "0.5", "2", "--h0", "0.1"])
+    assert [plane._size(args, a) for a in args.a] == [{"d0": 0.2}, {"d0": 0.05}]
+    args = plane.build_parser().parse_args([])
+    assert plane._size(args, 2.0) == {} and args.nu == plane.NU    # the default: as before
+    assert plane._size(plane.build_parser().parse_args(["--d0", "0.3"]), 2.0) == {"d0": 0.3}
+
+
+@pytest.fixture
+def afile(tmp_path):
+    path = tmp_path / "afile"
+    path.write_text("hi\n")
+    return path
+
+
+@pytest.mark.parametrize("name, option, target", [
+    ("strip_footing", "--json", "{dir}"), ("strip_footing", "--json", "/proc/nope/x.json"),
+    ("strip_footing", "--json", "{file}/x.json"), ("strip_footing", "--outdir", "{file}"),
+    ("sliding_box", "--outdir", "{file}/sub"), ("cylinder_soil", "--json", "{dir}"),
+    ("granular_column_plane", "--results-dir", "{file}"),
+    ("silo_discharge", "--checkpoint-dir", "{file}"),
+])
+def test_an_unwritable_output_is_a_usage_error_before_the_work(name, option, target, afile,
+                                                                tmp_path, capsys):
+    path = target.format(dir=tmp_path, file=afile)
+    with pytest.raises(SystemExit) as exit_:
+        importlib.import_module(f"verification.{name}").build_parser().parse_args(
+            ["--quick", option, path])
+    assert exit_.value.code == 2
+    assert f"argument {option}:" in capsys.readouterr().err
+
+
+def test_a_writable_output_is_not_created_when_parsed(tmp_path):
+    sb = importlib.import_module("verification.sliding_box")
+    args = sb.build_parser().parse_args(["--json", str(tmp_path / "a" / "b.json"),
+                                         "--outdir", str(tmp_path / "out")])
+    assert args.json and not (tmp_path / "a").exists() and not (tmp_path / "out").exists()
+    assert list(tmp_path.iterdir()) == []                       # the probe file is gone
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_help_says_each_default_once(name):
+    parser = importlib.import_module(f"verification.{name}").build_parser()
+    formatter = parser._get_formatter()
+    for action in parser._actions:
+        text = (formatter._get_help_string(action) or "").replace("%(default)s", "")
+        assert text.lower().count("default") <= 1, (action.dest, text)
+    text = " ".join(parser.format_help().split())
+    assert "(default: False)" not in text and "(default: None)" not in text
+
+
+def test_help_keeps_the_stated_defaults():
+    text = " ".join(importlib.import_module("verification.strip_footing").build_parser()
+                    .format_help().split())
+    assert "(default: the finest)" in text and "(default: results)" in text
+
+
+def test_ctrl_c_in_a_script_is_one_line(capsys):
+    def run(args):
+        raise KeyboardInterrupt
+    code = rep.script_main(lambda: rep.base_parser("x"), run, None, [])
+    assert code == 130
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.strip().endswith("interrupted")
+
+
+def test_an_unreachable_scheduler_is_a_usage_error(capsys):
+    def run(args):
+        with rep._dask_client(1, "tcp://127.0.0.1:1"):
+            pass
+    from unittest import mock
+    with mock.patch("distributed.Client", side_effect=OSError("timed out")):
+        with pytest.raises(SystemExit) as exit_:
+            rep.script_main(lambda: rep.base_parser("x"), run, None, [])
+    assert exit_.value.code == 2 and "--scheduler tcp://127.0.0.1:1" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("damage", [b"", b"not a pickle at all"])
+def test_a_damaged_kept_result_names_its_file(tmp_path, damage, capsys):
+    cases = [dict(value=2.0, reference=1.0)]
+    path = rep.result_path(tmp_path, "cases", cases[0])
+    path.write_bytes(damage)
+    with pytest.raises(rep.DamagedFileError, match=str(path.name)) as error:
+        rep.run_cases(rep.relative_error, cases, results_dir=tmp_path)
+    assert "delete it" in str(error.value)
+
+    def run(args):
+        rep.run_cases(rep.relative_error, cases, results_dir=tmp_path)
+    assert rep.script_main(lambda: rep.base_parser("x"), run, None, []) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and path.name in err
+
+
+def test_a_damaged_checkpoint_names_its_files(tmp_path):
+    path = tmp_path / "run-abc.npz"
+    path.write_bytes(b"PK\x03\x04 truncated")
+    path.with_name(path.stem + ".loop.pkl").write_bytes(b"")
+    with pytest.raises(rep.DamagedFileError, match="run-abc.npz.*delete both"):
+        rep.load_run(path)
+
+
+def test_progress_bars_in_a_log_are_plain_lines(monkeypatch):
+    """Stacked bars (a sweep's cases) move the cursor (ESC [A) on a terminal; in a log
+    each redraw is a line of its own."""
+    import io
+    log = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", log)
+    outer = rep.progress_bar(total=3, desc="cases", mininterval=0)
+    inner = rep.progress_bar(total=2, desc="case 0", leave=False, mininterval=0)
+    for bar in (inner, inner, outer):
+        bar.update(1)
+    inner.close()
+    outer.close()
+    text = log.getvalue()
+    assert "\x1b[" not in text and "\r" not in text
+    assert any(line.startswith("case 0:") and "2/2" in line for line in text.splitlines())

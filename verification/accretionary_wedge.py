@@ -69,10 +69,10 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
-                               nonnegative_float, nonnegative_int, positive, positive_int,
-                               progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options)
+from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
+                               nonnegative_int, positive, positive_int, progress_bar,
+                               pyplot, run_cases, save_figure, sweep_options, script_main,
+                               positive_angle)
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
@@ -346,7 +346,9 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--h0", type=positive("h0"), default=0.08, help="layer height [m]")
     p.add_argument("--L", type=positive("L"), default=1.4, help="layer length [m]")
-    p.add_argument("--phi", type=friction_angle, default=30.0, help="friction angle [deg]")
+    p.add_argument("--phi", type=positive_angle("the critical taper (Dahlen 1984) divides by sin "
+                                                "phi"),
+                   default=30.0, help="friction angle [deg]")
     p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
     p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
     p.add_argument("--mu-wall", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
@@ -614,8 +616,7 @@ def figures(args, stability, layer, increment_runs=()):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from scipy.spatial import ConvexHull
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float, progress,
-                               pyplot, save_figure)
+                               pyplot, save_figure, script_main)
 
 QUICK = dict(alpha_step=0.1)
 SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"
@@ -170,8 +170,7 @@ def figures(args, points, rows, exact=None, hull=None):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

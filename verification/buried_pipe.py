@@ -45,7 +45,7 @@ from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resulta
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
                                nonnegative_float, positive_float, progress_bar, pyplot,
-                               save_figure)
+                               save_figure, script_main)
 
 QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29
@@ -193,8 +193,7 @@ def figures(args, rows, last):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -45,7 +45,7 @@ from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
                                poisson_ratio, positive_float, positive_int, progress,
-                               pyplot, save_figure, theta_weight)
+                               pyplot, save_figure, theta_weight, script_main)
 
 QUICK = dict(nx=20, ny=2, t_end=10.0)
 
@@ -264,8 +264,7 @@ def figures(args, runs, tip_static):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -46,9 +46,9 @@ from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
 from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
-                               friction_angle, nonnegative_float, poisson_ratio,
-                               positive_float, positive_int, progress_bar, pyplot,
-                               save_figure)
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress_bar, pyplot, save_figure, script_main,
+                               positive_angle)
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)
@@ -138,7 +138,9 @@ def build_parser():
                    help="final footing displacement of the Nc-settlement curves [m]")
     p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of each Nc-settlement curve")
-    p.add_argument("--phi", type=friction_angle, nargs="*", default=[10, 20, 30],
+    p.add_argument("--phi", type=positive_angle("the Mohr-Coulomb reference has cot phi; phi = 0 "
+                                                "is the Tresca case, always run"),
+                   nargs="*", default=[10, 20, 30],
                    help="friction angles of the Mohr-Coulomb footings [deg] (none to skip)")
     p.add_argument("--mc-elements", type=element_count, default=1000,
                    help="elements of the Mohr-Coulomb meshes")
@@ -262,8 +264,7 @@ def figures(args, models, curves):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

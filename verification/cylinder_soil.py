@@ -74,8 +74,9 @@ from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               nonnegative_int, positive, positive_float, progress_bar, pyplot,
-                               run_cases, save_figure, sweep_options, theta_weight)
+                               nonnegative_int, positive, positive_float, progress_bar,
+                               pyplot, run_cases, save_figure, sweep_options, theta_weight,
+                               script_main)
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
 
 QUICK = dict(h_fine=0.25, h_coarse=0.5, du=0.05, dt=0.2, W=6.0, H=2.5)
@@ -504,8 +505,7 @@ def figures(args, runs, band, dt_runs=(), mesh_runs=()):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

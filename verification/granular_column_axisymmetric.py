@@ -63,11 +63,13 @@ from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, alpha_advected_option, base_parser, checkpoint_options,
-                               checkpoint_path, figure_dir, friction_angle, in_range, load_run,
-                               nonnegative_float, nonnegative_int, positive_float, positive_int,
-                               progress, progress_bar, pyplot, run_cases, save_figure, save_run,
-                               sitting, sweep_options, thinned, volume_correction_option)
+from pfem_skfem.report import (Report, alpha_advected_option, base_parser,
+                               checkpoint_options, checkpoint_path, figure_dir,
+                               friction_angle, in_range, load_run, nonnegative_float,
+                               nonnegative_int, positive_float, positive_int, progress,
+                               progress_bar, pyplot, run_cases, save_figure, save_run,
+                               sitting, sweep_options, thinned, volume_correction_option,
+                               script_main, positive_angle)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -341,7 +343,8 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios a = h0/r0")
-    p.add_argument("--phi", type=friction_angle, default=30.0,
+    p.add_argument("--phi", type=positive_angle("c = 0: phi = 0 is a material without strength"),
+                   default=30.0,
                    help="friction angle phi_g of the material [deg]")
     p.add_argument("--phi-s", type=friction_angle, default=None,
                    help="base friction angle phi_s [deg], mu = tan phi_s (default phi_g)")
@@ -364,7 +367,9 @@ def build_parser():
                    help="aspect ratios also run with the other material (compared once)")
     p.add_argument("--density", type=positive_float, nargs="*", default=[],
                    help="densities for the invariance check (c = 0), at the first a")
-    p.add_argument("--friction-study", type=friction_angle, nargs="*", default=[],
+    p.add_argument("--friction-study", type=positive_angle("c = 0: phi = 0 is a material without "
+                                                           "strength"),
+                   nargs="*", default=[],
                    help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
     p.add_argument("--base-study", type=friction_angle, nargs="*", default=[],
                    help="phi_s values for Fig 7.11, at every a of --base-a")
@@ -599,8 +604,7 @@ def _mass_moved(lo, hi):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")

@@ -48,10 +48,10 @@ from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoul
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle, in_range,
-                               nonnegative_float, nonnegative_int, poisson_ratio, positive_float,
-                               positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options, thinned)
+from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
+                               nonnegative_int, poisson_ratio, positive_float, positive_int,
+                               progress, progress_bar, pyplot, run_cases, save_figure,
+                               sweep_options, thinned, script_main, positive_angle)
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
@@ -288,7 +288,14 @@ def passes(args):
     return args.passes if args.passes is not None else (3 if lagged_both(args) else 2)
 
 
+NU = 0.3                         # Poisson's ratio of an elastoplastic material (--E)
+
+
 def check(args):
+    if args.nu is not None and args.E is None:
+        return "--nu is the Poisson's ratio of an elastoplastic material: give --E with it"
+    if args.nu is None:
+        args.nu = NU
     if lagged_both(args) and args.passes is not None and args.passes < 3:
         return (f"--passes must be >= 3 with --contact zero-dilation and --material "
                 f"tresca-mc, got {args.passes}")
@@ -299,12 +306,20 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios h0/d0")
-    p.add_argument("--phi", type=friction_angle, nargs="+", default=[31.0],
+    p.add_argument("--phi", type=positive_angle("c = 0: phi = 0 is a material without strength"),
+                   nargs="+", default=[31.0],
                    help="friction angles [deg] (the thesis: 31 and 35)")
     p.add_argument("--mu", type=nonnegative_float, default=None,
                    help="base and wall friction coefficient (default tan phi)")
     p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
     p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--d0", type=positive_float, default=1.0,
+                      help="column width d0 [m] (h0 = a d0); the results are in d0 and "
+                           "sqrt(h0/g): a rigid-plastic column of c = 0 scales")
+    size.add_argument("--h0", type=positive_float, default=None,
+                      help="column height h0 [m] instead (d0 = h0 / a for each a): a "
+                           "laboratory column")
     p.add_argument("--nx", type=PARTICLES_ACROSS, default=20, help="particles across the column width d0")
     p.add_argument("--steps", type=positive_int, default=400,
                    help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
@@ -319,7 +334,8 @@ def build_parser():
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")
     p.add_argument("--E", type=positive_float, default=None,
                    help="Young's modulus [kPa] of an elastoplastic material (default: rigid-plastic)")
-    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio (with --E)")
+    p.add_argument("--nu", type=poisson_ratio, default=None,
+                   help=f"Poisson's ratio, with --E (default {NU:g})")
     p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
     p.add_argument("--passes", type=positive_int, default=None,
                    help="fixed-point passes on the mean stress (default 2; 3 with "
@@ -344,6 +360,13 @@ def build_parser():
     return p
 
 
+def _size(args, a):
+    """The width d0 [m] of the column of aspect ratio ``a`` (``--d0``, or ``--h0`` / a) as a
+    case keyword; none at 1 m, the default, so that kept results (--results-dir) are found."""
+    d0 = args.h0 / a if args.h0 is not None else args.d0
+    return {} if d0 == 1.0 else {"d0": d0}
+
+
 def run(args):
     """The sweep, the time-step and mesh studies of ``args``; the Report of their checks."""
     out = Path(args.outdir) / "granular_column_plane"
@@ -355,9 +378,11 @@ def run(args):
                   contact=args.contact, E=args.E, nu=args.nu, settle=args.settle,
                   save_every=args.save_every, verbose=args.progress,
                   checkpoint_every=args.checkpoint_every, checkpoint_dir=out / "checkpoints")
-             for phi in args.phi for a in sorted(args.a)]
-    study = [dict(cases[0], a=1.0, phi=args.phi[0], steps=n) for n in args.time_steps]
-    meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) for n in args.mesh_study]
+             | _size(args, a) for phi in args.phi for a in sorted(args.a)]
+    study = [dict(cases[0], a=1.0, phi=args.phi[0], steps=n) | _size(args, 1.0)
+             for n in args.time_steps]
+    meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) | _size(args, 1.0)
+              for n in args.mesh_study]
     if args.progress:
         progress(f"{len(cases) + len(study) + len(meshes)} case(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
@@ -434,8 +459,7 @@ def run(args):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")

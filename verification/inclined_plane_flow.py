@@ -41,7 +41,7 @@ import sys
 import numpy as np
 
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure)
+                               positive_int, progress_bar, pyplot, save_figure, script_main)
 
 QUICK = dict(ny=12, steps=60)
 
@@ -307,8 +307,7 @@ def figures(args, runs, law, h):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -65,7 +65,8 @@ import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, pyplot, save_figure)
+                               positive_float, positive_int, pyplot, save_figure,
+                               script_main)
 
 QUICK = dict(steps=[25, 50, 100, 200])
 
@@ -194,8 +195,7 @@ def figures(args, runs, steps, err):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

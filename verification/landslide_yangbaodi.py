@@ -14,7 +14,8 @@ Here the slide is a scene of the PFEM engine (:mod:`pfem_skfem.drivers.pfem_loop
 one region (the mass between the slip surface and the ground surface of a profile), one
 rigid polyline body (the slip surface, contact cones (5.12) of friction mu), a held
 phase ``Phase(until=t_hold, hold="boundary")`` (every boundary node of the mesh held
-still), then free motion until the kinetic energy is below ``--rest`` times its peak.
+still), then free motion until the kinetic energy is below ``--rest`` times its peak (once the centre
+of mass has moved a spacing: the release transient's own peak does not count).
 The move stage's volume projection (``PFEMConfig(volume_correction=True)``,
 :mod:`pfem_skfem.pfem.volume_projection`) is on by default (``--volume-correction off``):
 without it every step loses the second-order part of its area change, O(dt) over a run.
@@ -43,7 +44,9 @@ Checks
   history of rho = 1.25 bit for bit (a factor of two scales every floating-point number
   exactly) and rho = 0.5 within 2 % of the front's travel (round-off grows through
   remeshing); the thesis finds "little difference";
-* the motion ends (kinetic energy below 1e-3 of its peak) within the run.
+* the motion ends (kinetic energy below 1e-3 of its peak, the centre of mass moved at least
+  one spacing h) within the run; a mass that does not move fails this and the energy bound
+  (undefined: no travel angle), it never passes them.
 
 Reported beside the thesis, not gated (the geometry is reconstructed): the front's
 largest reach and its time (thesis: about 325 m, about 20 s after release) and the end
@@ -78,11 +81,11 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # 
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
-                               nonnegative_float, nonnegative_int, positive_float,
-                               positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, theta_weight, volume_correction_option,
-                               alpha_advected_option, checkpoint_options, checkpoint_path,
-                               load_run, save_run)
+                               nonnegative_float, nonnegative_int, positive_float, positive_int, progress,
+                               progress_bar, pyplot, run_cases, save_figure, theta_weight,
+                               volume_correction_option, alpha_advected_option,
+                               checkpoint_options, checkpoint_path, load_run, save_run,
+                               script_main, positive_angle)
 from pfem_skfem.report import workers as worker_count                         # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
@@ -243,6 +246,26 @@ def centre_of_mass(state):
     return state.mass @ state.x / state.mass.sum()
 
 
+def came_to_rest(ke, peak, ke_first, travel, h, rest):
+    """Whether a slide is at rest: its kinetic energy ``ke`` below ``rest`` times its
+    ``peak`` and below its first value after release, once its centre of mass has travelled
+    ``travel`` >= one spacing ``h``. The release transient (the held stress settling into
+    the free mass) has a kinetic energy peak of its own: a mass that never moves, or one
+    that starts to slide only slowly, fell below ``rest`` of that peak within a few steps
+    and was called at rest. A mass that never moves runs to ``--t-after`` and is reported
+    not at rest (and its travel angle undefined)."""
+    return bool(peak > 0 and ke < rest * peak and ke < ke_first and travel >= h)
+
+
+def energy_ratio(H, L, mu, travel, h):
+    """tan(travel angle of the centre of mass) / mu = H / (mu L); NaN (undefined: a failed
+    check, never a pass) when the centre of mass moved less than one spacing ``h`` or not
+    forwards (L <= 0), or mu = 0."""
+    if not (travel >= h and L > 0 and mu > 0):
+        return np.nan
+    return float(H / (mu * L))
+
+
 def front(state):
     """The front: the largest x of the mesh's vertices (of the mass, not a flying particle)."""
     return float(np.max(state.mesh_p[:, 0]))
@@ -332,8 +355,8 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                 snaps[k * dt] = {"x": state.x.copy(),
                                  "speed": np.linalg.norm(state.v, axis=1)}
             peak = max(peak, rec["ke"][-1])
-            if peak > 0 and rec["ke"][-1] < rest * peak and rec["ke"][-1] < rec["ke"][0]:
-                at_rest = True
+            travel = float(np.linalg.norm(rec["cm"][-1] - cm0))
+            at_rest = came_to_rest(rec["ke"][-1], peak, rec["ke"][0], travel, h, rest)
         bar.set_postfix_str(f"t = {state.time:.2f} s, front {front(state):.1f} m", refresh=False)
         bar.update(1)
         last = state.step == n_hold + n_after or at_rest
@@ -348,6 +371,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     cm = np.asarray(rec["cm"]) if rec["cm"] else cm0[None]
     cm_end = cm[-1]
     H, L = float(cm0[1] - cm_end[1]), float(cm_end[0] - cm0[0])
+    travel = float(np.hypot(H, L))
     k_peak = int(np.argmax(fr)) if len(fr) else 0
     hist = state.history
     return {
@@ -364,14 +388,16 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         "t_rest": float(t[-1]) if at_rest else np.nan,
         "front0": float(np.max(x0[:, 0])), "front_max": float(fr.max()) if len(fr) else np.nan,
         "t_front_max": float(t[k_peak]) if len(t) else np.nan,
-        "front_beyond_profile": bool(len(fr) and fr.max() > profile.x[-1]),
+        # a NaN front is not on the profile (NaN > x is False)
+        "front_beyond_profile": bool(len(fr) and not fr.max() <= profile.x[-1]),
         "ke_peak": float(ke.max()) if len(ke) else 0.0,
         "ke_end_over_peak": float(ke[-1] / ke.max()) if len(ke) and ke.max() > 0 else np.nan,
         "mass_change_max": float(np.max(np.abs(rec["area_change"]))) if len(t) else 0.0,
         "mass_change_end": float(rec["area_change"][-1]) if len(t) else 0.0,
         "cm0": cm0.tolist(), "cm_end": cm_end.tolist(), "H_cm": H, "L_cm": L,
-        "travel_angle_deg": float(np.degrees(np.arctan2(H, L))),
-        "energy_ratio": float(H / (mu * L)) if L > 0 and mu > 0 else np.inf,
+        "cm_travel": travel,
+        "travel_angle_deg": float(np.degrees(np.arctan2(H, L))) if travel >= h else np.nan,
+        "energy_ratio": energy_ratio(H, L, mu, travel, h),
         "concave_profile": profile.concave,
         "seconds": seconds, "seconds_per_step": float(np.mean(hist["seconds"])),
         "t": t, "front": fr, "ke": ke, "area_change": np.asarray(rec["area_change"]),
@@ -399,6 +425,8 @@ def check(args):
         return f"--t-after {args.t_after:g} is shorter than two steps --dt {args.dt:g}"
     if args.snapshot_every and args.snapshot_every < args.dt:
         return f"--snapshot-every {args.snapshot_every:g} is shorter than one step --dt"
+    if args.phi == 0 and args.c == 0:
+        return "--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
     if not 0 < args.rest < 1:
         return f"--rest must lie in (0, 1), got {args.rest:g}"
     return None
@@ -412,10 +440,11 @@ def build_parser():
     p.add_argument("--rho", type=positive_float, default=1.25, help="density [t/m3]")
     p.add_argument("--phi", type=friction_angle, default=28.0, help="friction angle [deg]")
     p.add_argument("--c", type=nonnegative_float, default=0.0, help="cohesion [kPa]")
-    p.add_argument("--mu-deg", type=friction_angle, default=10.0,
+    p.add_argument("--mu-deg", type=positive_angle("the energy bound divides by mu"), default=10.0,
                    help="basal friction angle [deg] of the main run, mu = tan(mu_deg) "
                         "(thesis: tan 10 deg)")
-    p.add_argument("--mu-study", type=friction_angle, nargs="*", default=[8.0, 10.0, 12.0],
+    p.add_argument("--mu-study", type=positive_angle("the energy bound divides by mu"),
+                   nargs="*", default=[8.0, 10.0, 12.0],
                    help="basal friction angles [deg] of the back-analysis (Fig 8.4)")
     p.add_argument("--rho-study", type=positive_float, nargs="*", default=[0.5, 2.5],
                    help="further densities [t/m3] at --mu-deg (Fig 8.5-8.6)")
@@ -436,7 +465,9 @@ def build_parser():
     p.add_argument("--t-after", type=positive_float, default=30.0,
                    help="longest time [s] after release (600 steps of 0.05 s)")
     p.add_argument("--rest", type=positive_float, default=1e-3,
-                   help="at rest when the kinetic energy is below this fraction of its peak")
+                   help="at rest when the kinetic energy is below this fraction of its peak "
+                        "and the centre of mass has moved at least --h (a mass that never "
+                        "moves runs to --t-after)")
     p.add_argument("--floor", type=positive_float, default=0.005,
                    help="least cone radius, a fraction of rho g L (L: the mass's thickness)")
     p.add_argument("--passes", type=positive_int, default=2,
@@ -524,15 +555,17 @@ def run(args):
                                 MASS_TOLERANCE, "thesis 8.3: adaptive alpha keeps the mass "
                                 "within 2 %")
         report.add_interval(f"{r['label']}_at_rest", float(r["at_rest"]), 1.0, 1.0,
-                            f"kinetic energy below {args.rest:g} of its peak within the run")
+                            f"moved a spacing, then kinetic energy below {args.rest:g} of "
+                            f"its peak within the run")
         report.add_interval(f"{r['label']}_front_on_profile",
                             float(not r["front_beyond_profile"]), 1.0, 1.0,
                             "the mass stays on the profile's slip surface")
     for r in mu_runs:
         report.add_interval(f"{r['label']}_energy_ratio",
-                            r["energy_ratio"] if r["at_rest"] else 0.0, 1.0, np.inf,
+                            r["energy_ratio"] if r["at_rest"] else np.nan, 1.0, np.inf,
                             "energy bound: tan(travel angle of the centre of mass) / mu >= 1 "
-                            "(at rest)" + ("" if r["concave_profile"] else
+                            "(at rest; undefined, a failure, if not at rest or not moved)"
+                            + ("" if r["concave_profile"] else
                                            "; the profile is not concave: a soft bound"))
     if len(mu_runs) >= 2:
         reach = np.array([r["front_max"] for r in mu_runs])
@@ -572,8 +605,7 @@ def run(args):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 def _summary(r):

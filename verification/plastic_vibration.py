@@ -35,7 +35,7 @@ from pfem_skfem.operators import boundary_dofs, discretise
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
 from pfem_skfem.report import (Report, base_parser, figure_dir, poisson_ratio,
                                positive_float, positive_int, pyplot, save_figure,
-                               theta_weight)
+                               theta_weight, script_main)
 
 QUICK = dict(nx=20, ny=2, steps=30)
 
@@ -120,8 +120,7 @@ def figures(args, el, pl):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

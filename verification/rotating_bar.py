@@ -38,7 +38,7 @@ import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float,
-                               positive_int, progress, pyplot, save_figure)
+                               positive_int, progress, pyplot, save_figure, script_main)
 
 QUICK = dict(steps=[4, 8, 16, 32])
 
@@ -145,8 +145,7 @@ def figures(args, theta, steps, strains):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

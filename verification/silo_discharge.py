@@ -76,7 +76,7 @@ from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, fricti
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,
                                save_figure, sweep_options, thinned, checkpoint_options,
-                               checkpoint_path, load_run, save_run)
+                               checkpoint_path, load_run, save_run, script_main, in_range)
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -246,6 +246,8 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
 
 
 def check(args):
+    if args.phi == 0 and args.c == 0:
+        return "--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
     if not (args.walls or args.dt_study or args.B_study):
         return "nothing to run: give --walls, --dt-study or --B-study"
     hs = study_spacing(args)
@@ -267,6 +269,13 @@ def study_spacing(args):
     if args.h_study is not None:
         return args.h_study
     return min(args.B_study) / STUDY_SPACINGS if args.B_study else args.h
+
+
+# an outlet plane above the orifice lies inside the hopper: it removes material that has not
+# flowed out (at --outlet-depth -1, every particle at t = 0)
+OUTLET_DEPTH = in_range(0.0, what="a depth >= 0 [m] below the orifice (a negative one puts "
+                                  "the outlet plane inside the hopper, where it removes "
+                                  "material that has not flowed out)")
 
 
 def build_parser():
@@ -302,7 +311,7 @@ def build_parser():
     p.add_argument("--floor", type=positive("floor"), default=0.005,
                    help="least cone radius, as a fraction of rho g (Hh + H)")
     p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
-    p.add_argument("--outlet-depth", type=float, default=0.0,
+    p.add_argument("--outlet-depth", type=OUTLET_DEPTH, default=0.0,
                    help="the outlet plane lies this far below the orifice [m]")
     p.add_argument("--t-max", type=positive("t-max"), default=14.0,
                    help="longest simulated time [s] of a run")
@@ -410,8 +419,7 @@ def run(args):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 def _summary(r):

@@ -36,7 +36,7 @@ import numpy as np
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.particle import rigid_particle_step
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
-                               positive_int, pyplot, save_figure)
+                               positive_int, pyplot, save_figure, script_main)
 
 QUICK = dict(steps=[10, 20, 40])
 
@@ -189,8 +189,7 @@ def figures(args, runs, total, travel_ref):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -39,9 +39,9 @@ from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
-                               friction_angle, nonnegative_float, poisson_ratio,
-                               positive_float, positive_int, progress_bar, pyplot,
-                               save_figure)
+                               nonnegative_float, poisson_ratio, positive_float,
+                               positive_int, progress_bar, pyplot, save_figure, script_main,
+                               positive_angle)
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
@@ -134,7 +134,9 @@ def build_parser():
                    help="approximate element counts of the graded meshes")
     p.add_argument("--increments", type=positive_int, nargs="+", default=[5, 10, 100],
                    help="numbers of increments of the Nc-settlement curves")
-    p.add_argument("--phi", type=friction_angle, nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
+    p.add_argument("--phi", type=positive_angle("Prandtl-Reissner Nc has cot phi; phi = 0 is the "
+                                                "Tresca case, always run"),
+                   nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
                    help="friction angles of the Mohr-Coulomb sweep [deg] (none to skip)")
     p.add_argument("--mc-elements", type=element_count, default=None,
                    help="elements of the Mohr-Coulomb meshes (default: the finest)")
@@ -295,8 +297,7 @@ def figures(args, models, curves, limits, mc, su, elastic):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

@@ -49,9 +49,9 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,
-                               nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure)
+from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
+                               poisson_ratio, positive_float, positive_int, progress_bar,
+                               pyplot, save_figure, script_main, positive_angle)
 
 
 def collapse_pressures(a, b, c, phi):
@@ -186,7 +186,9 @@ def build_parser():
     p.add_argument("--a", type=positive_float, default=1.0, help="inner radius [m]")
     p.add_argument("--b", type=positive_float, default=2.0, help="outer radius [m]")
     p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--phi", type=friction_angle, default=30.0,
+    p.add_argument("--phi", type=positive_angle("the Mohr-Coulomb closed form has c cot phi; phi "
+                                                "= 0 is the Tresca case, always run"),
+                   default=30.0,
                    help="friction angle of the Mohr-Coulomb run [deg]")
     p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
     p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
@@ -323,8 +325,7 @@ def figures(args, report, curves, elastic):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":

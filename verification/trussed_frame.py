@@ -73,7 +73,8 @@ import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, progress, pyplot, save_figure)
+                               positive_float, positive_int, progress, pyplot, save_figure,
+                               script_main)
 
 QUICK = dict(uV=20.0, steps=100)
 
@@ -379,8 +380,7 @@ def figures(args, frame, hist, u, F, u_ref, F_ref, x_ref):
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
-    return run(args).finish(args, figures)
+    return script_main(build_parser, run, figures, argv)
 
 
 if __name__ == "__main__":
