@@ -184,7 +184,8 @@ def check_page(html, chromium=None, timeout=120):
             for _ in range(ATTEMPTS):    # a Chromium that exits without the page's report
                 proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
                                       env={**os.environ, "HOME": profile})
-                m = re.search(rf'<pre id="{MARK}">(.*?)</pre>', proc.stdout, re.S)
+                # (the theme may add attributes, e.g. tabindex, to a <pre> of a page without maths)
+                m = re.search(rf'<pre id="{MARK}"[^>]*>(.*?)</pre>', proc.stdout, re.S)
                 if m:                     # failed itself (seen once in ~30 runs): try again
                     break
     finally:

@@ -20,10 +20,14 @@ Steps:
    figures printed), the local MathJax is there and each page loads at most one
    MathJax script, and no page loads anything from another host or names a CDN.
    The execution time of each page and the Sphinx warnings are printed.
-5. Every page opened in headless Chromium (``book/browser_check.py``): no MathJax
+5. Every page opened in headless Chromium at 1280 x 900 px (``book/browser_check.py``;
+   ``python book/browser_check.py`` runs this step alone on a built book): no MathJax
    error, no display equation wider than the content column, every image loaded, no
    raw ``$`` in the text, no bare object repr in an output. Without Chromium (Debian
    package ``chromium``) this step is skipped with a warning (``--no-browser`` skips it).
+
+``bash scripts/book.sh`` (its arguments passed on) makes ``.venv``, installs the
+``book`` extras and runs this script; the book is ``book/_build/html/index.html``.
 
 Exit code 0 only if all of this holds.
 """

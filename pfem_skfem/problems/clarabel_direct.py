@@ -61,13 +61,13 @@ from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status, clarabel_measures
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
 #: ``settings`` override them): the package's (qdldl). Iterative refinement, the
 #: regularisations and the step fraction stay Clarabel's: none makes the solve faster
-#: without moving the figures (benchmarks/iteration_cost.py, README "Performance").
+#: without moving the figures (benchmarks/iteration_cost.py, book/performance.md).
 SETTINGS = dict(CLARABEL_DEFAULTS)
 
 #: Clean the data before the call: drop A's stored zeros (the yield block's zero entries
 #: of D, ~15 % of A) and P's round-off (:func:`drop_roundoff`); the same problem, a
-#: factor with 0.91x the entries. Measured (issue 19; benchmarks/iteration_cost.py, README
-#: "Performance"): at 2,048 elements 27.5 iterations instead of 30.5, every solve 'Solved'
+#: factor with 0.91x the entries. Measured (issue 19; benchmarks/iteration_cost.py,
+#: book/performance.md): at 2,048 elements 27.5 iterations instead of 30.5, every solve 'Solved'
 #: (1 of 4 before), 0.83x the solve time; the quick a = 1 column's figures move within
 #: the round-off spread of six density-scaled reruns (benchmarks/solver_tolerances.py).
 #: Turning off Clarabel's iterative refinement as well (0.60x) moves the height at rest
@@ -92,7 +92,7 @@ FORMS = ("primal", "dual")
 #: 21.3 on the a = 1 column's steps 2-7 at 512 elements; 20.6 without the constant, 21.0
 #: in the primal form). On those steps the dual's du is 5e-5 and its r' 1.3e-4 from a
 #: primal solve at 1e-11 whatever the placement and tolerance (1e-8 to 1e-10), the
-#: primal's 5.5e-6 and 1.1e-5 (README "Performance").
+#: primal's 5.5e-6 and 1.1e-5 (book/performance.md).
 DUAL_CONSTANT = True
 
 #: A block of P whose least eigenvalue is below this fraction of its largest is singular
