@@ -9,7 +9,6 @@ travel inside the checkpoint, history.json is a copy rebuilt from it) and a full
 paths and arrays, so that any run loop (the CLI's, a script's) can use them.
 """
 from dataclasses import replace
-import hashlib
 import json
 import os
 from pathlib import Path
@@ -168,17 +167,6 @@ def write_text_atomic(path, text):
         tmp.unlink(missing_ok=True)
 
 
-def scene_digest(scene):
-    """SHA-256 of the scene as TOML, without what a resume may change (t_end, [output]).
-
-    Stored in each checkpoint, so that a checkpoint is never resumed with another scene.
-    """
-    from .scene import Output
-    from .scene.files import scene_to_toml
-    text = scene_to_toml(replace(scene, t_end=None, output=Output()))
-    return hashlib.sha256(text.encode()).hexdigest()
-
-
 def history_columns(records):
     """The records as the driver's ``state.history`` holds them: {key: [values]}, each
     record's values appended in its own key order (as ``drivers.pfem_loop.run`` does)."""
@@ -307,6 +295,7 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
     from .io import STEP_UNITS, TimeSeries, initial_fields
     from .pfem.state import save_checkpoint
     from .problems.conic import SolverError
+    from .scene import scene_digest
     from .scene.files import scene_to_toml
 
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"

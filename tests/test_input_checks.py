@@ -96,8 +96,8 @@ def test_scene_digest_is_the_scene_s_identity():
     assert scene_digest(a) == scene_digest(scene_from_toml(example_text("column")))
     assert len(scene_digest(a)) == 64
     assert scene_digest(a) != scene_digest(scene_from_toml(column("rho = 2.0", "rho = 2.5")))
-    assert scene_digest(a) == scene_digest(scene_from_toml(column("t_end = 0.02",
-                                                                  "t_end = 1.0")))
+    assert scene_digest(a) == scene_digest(scene_from_toml(column("\nt_end = 1.6",
+                                                                  "\nt_end = 1.0")))
 
 
 # -- materials and geometry ----------------------------------------------------------------
@@ -210,7 +210,7 @@ def test_a_million_particles_are_refused_before_any_is_placed(monkeypatch):
                  max_particles=200).initial_state().n == 121
     monkeypatch.delenv("PFEM_SKFEM_MAX_PARTICLES")
     with pytest.raises(SceneFileError, match="limit of 50 "):       # a scene file's key
-        scene_from_toml(column("t_end = 0.02", "max_particles = 50\nt_end = 0.02"))
+        scene_from_toml(column("\nt_end = 1.6", "\nmax_particles = 50\nt_end = 1.6"))
 
 
 def test_the_self_intersection_check_is_fast_and_names_a_bowtie():
@@ -241,7 +241,7 @@ def test_a_region_too_small_for_its_spacing_is_refused():
 def test_a_non_finite_end_time_is_refused(value):
     """t_end = inf gave an OverflowError traceback when the steps were counted."""
     with pytest.raises(SceneFileError, match="t_end"):
-        scene_from_toml(column("t_end = 0.02", f"t_end = {value}"))
+        scene_from_toml(column("\nt_end = 1.6", f"\nt_end = {value}"))
 
 
 def test_passes_has_an_upper_bound():
