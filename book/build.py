@@ -48,6 +48,8 @@ MATHJAX_DIR = BOOK / "_static" / "mathjax"
 BUILD = BOOK / "_build"
 HTML = BUILD / "html"
 PAGE_SUFFIXES = (".md", ".ipynb", ".rst")
+FIGURE_CHECK = BOOK / "_ext" / "figure_check.py"
+PAGE_WIDTH = 688   # CSS px: the content column in browser_check's 1280 px window (measured)
 
 # a script, style sheet or font fetched from another host when a page is opened
 REMOTE_LOAD = re.compile(
@@ -127,9 +129,15 @@ def _filter_part(part, missing):
     return part if part["chapters"] else None
 
 
-def write_toc():
-    """Copy book/_toc.yml to book/_build/_toc.yml without the pages not written yet."""
+def write_toc(only=None):
+    """Copy book/_toc.yml to book/_build/_toc.yml without the pages not written yet.
+
+    ``only``: page names; the other chapters are left out as well (the root stays).
+    """
     toc = yaml.safe_load((BOOK / "_toc.yml").read_text())
+    if only:
+        keep = {Path(p).stem for p in only}
+        toc["chapters"] = [c for c in toc.get("chapters", []) if Path(c["file"]).stem in keep]
     if not _page_exists(toc["root"]):
         raise SystemExit(f"[book] error: the root page {toc['root']!r} does not exist")
     missing = []
@@ -170,13 +178,15 @@ def pin_kernel():
     """
     spec_dir = BUILD / "jupyter" / "kernels" / "python3"
     spec_dir.mkdir(parents=True, exist_ok=True)
-    spec = {"argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+    # every figure a page shows is checked as it is shown (book/_ext/figure_check.py)
+    spec = {"argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}",
+                     f"--IPKernelApp.exec_files={FIGURE_CHECK}"],
             "display_name": "Python 3", "language": "python"}
     (spec_dir / "kernel.json").write_text(json.dumps(spec, indent=1))
     return str(BUILD / "jupyter")
 
 
-def run_jupyter_book(toc_path, strict, incremental):
+def run_jupyter_book(toc_path, strict, incremental, figures="fail"):
     """Run jupyter-book build; return (exit code, warning lines)."""
     cmd = [sys.executable, "-c",
            "import sys; from jupyter_book.cli.main import main; sys.exit(main())",
@@ -192,6 +202,8 @@ def run_jupyter_book(toc_path, strict, incremental):
     # the kernel shows figures inline unless MPLBACKEND (e.g. Agg, set for the tests) says otherwise
     env.pop("MPLBACKEND", None)
     env["PYVISTA_OFF_SCREEN"] = "true"
+    env["PFEM_BOOK_PAGE_WIDTH"] = str(PAGE_WIDTH)
+    env["PFEM_BOOK_FIGURES"] = figures
     log("jupyter-book build (executing every page)")
     warnings, times = [], []
     with subprocess.Popen(cmd, env=env, cwd=ROOT, stdout=subprocess.PIPE,
@@ -245,11 +257,16 @@ def main(argv=None):
                    help="rebuild only changed pages (default: all pages, all executed)")
     p.add_argument("--no-browser", action="store_true",
                    help="skip opening the pages in headless Chromium")
+    p.add_argument("--pages", nargs="+", metavar="PAGE",
+                   help="build only these chapters (and the root page): to iterate on a page")
+    p.add_argument("--figures", choices=("fail", "warn"), default="fail",
+                   help="a figure hard to read fails its page (default) or is printed "
+                        "in its cell's output (warn: to survey the whole book)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     ensure_mathjax()
-    toc_path, toc = write_toc()
-    code, warnings = run_jupyter_book(toc_path, args.strict, args.incremental)
+    toc_path, toc = write_toc(args.pages)
+    code, warnings = run_jupyter_book(toc_path, args.strict, args.incremental, args.figures)
     if code != 0:
         log(f"error: jupyter-book build failed (exit code {code})")
         return code
