@@ -4,6 +4,7 @@ Usage (from the repository root, in an environment with the ``book`` extras)::
 
     python book/build.py            # full build into book/_build/html
     python book/build.py --strict   # also fail on any Sphinx warning
+    python book/build.py --pages silo --figures warn   # one chapter; list figure problems
 
 Steps:
 
@@ -15,14 +16,18 @@ Steps:
    yet, and says which it left out.
 3. ``jupyter-book build`` with every page executed (``execute_notebooks: force``);
    an error in a cell fails the build. The repository root is put first on
-   ``PYTHONPATH`` so that the pages run this checkout's package.
+   ``PYTHONPATH`` so that the pages run this checkout's package. Every figure a
+   page shows is checked as the scripts' figures are, at the page's width
+   (``book/_ext/figure_check.py``, which the kernel runs first): a figure with
+   a problem fails its cell, and the build names the page and the figure.
 4. Checks on the HTML: every listed page was written (with its number of
    figures printed), the local MathJax is there and each page loads at most one
    MathJax script, and no page loads anything from another host or names a CDN.
    The execution time of each page and the Sphinx warnings are printed.
 5. Every page opened in headless Chromium (``book/browser_check.py``): no MathJax
    error, no display equation wider than the content column, every image loaded, no
-   raw ``$`` in the text, no bare object repr in an output. Without Chromium (Debian
+   raw ``$`` in the text, no bare object repr in an output, no code cell wider than
+   its box. Without Chromium (Debian
    package ``chromium``) this step is skipped with a warning (``--no-browser`` skips it).
 
 Exit code 0 only if all of this holds.
@@ -249,6 +254,22 @@ def check_html(toc):
     return problems
 
 
+def figure_reports(toc):
+    """(page, text) of each cell whose figures the kernel found hard to read (``warn``)."""
+    found = []
+    for page in _pages(toc):
+        nb = BUILD / "jupyter_execute" / (str(Path(page).with_suffix("")) + ".ipynb")
+        if not nb.is_file():
+            continue
+        for cell in json.loads(nb.read_text()).get("cells", []):
+            for out in cell.get("outputs", []):
+                text = out.get("text", "")
+                text = "".join(text) if isinstance(text, list) else text
+                if "[figure check]" in text:
+                    found.append((nb.stem, text[text.index("[figure check]"):].strip()))
+    return found
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--strict", action="store_true",
@@ -271,6 +292,9 @@ def main(argv=None):
         log(f"error: jupyter-book build failed (exit code {code})")
         return code
     problems = check_html(toc)
+    for page, text in figure_reports(toc):      # --figures warn: the cells did not fail
+        log(f"figures of {page}: {text}")
+        problems.append(f"{page}: figures hard to read (above)")
     for line in problems:
         log(f"error: {line}")
     log(f"{len(warnings)} warning(s) from the build" + (":" if warnings else ""))

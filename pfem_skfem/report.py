@@ -1057,7 +1057,8 @@ def figure_problems(fig, dpi=120, page_width=None):
     Every figure has a title (an axes title or ``suptitle``) and a saved size within
     :data:`FIGURE_PIXELS`, no wider than 4.5 times its height; every visible axes
     has something drawn in it; every axes with data has x and y labels (a colour bar:
-    its label), and its tick labels are at least :data:`SMALLEST_FONT` points; colour
+    its label; an axis without ticks, a picture's, or sharing a labelled one: none),
+    and its tick labels are at least :data:`SMALLEST_FONT` points; colour
     that encodes a quantity (a scatter's ``c``, an image, a ``tripcolor``) has a colour
     bar (or a legend), and a title that speaks of colour has one too. Given
     ``page_width``, the figure is judged as a page shows it (scaled down to that many
@@ -1111,7 +1112,8 @@ def figure_problems(fig, dpi=120, page_width=None):
         if not ax.axison:
             continue
         for axis, label in (("x", ax.get_xlabel()), ("y", ax.get_ylabel())):
-            if not label.strip() and not _labelled_sibling(ax, axis):
+            ticked = len(getattr(ax, f"get_{axis}ticks")()) > 0   # no ticks: a picture
+            if ticked and not label.strip() and not _labelled_sibling(ax, axis):
                 problems.append(f"{name}: no {axis} label")
         for tick in ax.get_xticklabels() + ax.get_yticklabels():
             if tick.get_visible() and tick.get_fontsize() < SMALLEST_FONT:

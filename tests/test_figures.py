@@ -143,3 +143,12 @@ def test_the_book_kernel_fails_a_cell_that_shows_a_bad_figure(tmp_path, monkeypa
     assert "figure 'two of three'" in text and "axes 2 (untitled): empty" in text, text
     assert nb.cells[0].outputs and not any(o.output_type == "error"
                                            for o in nb.cells[0].outputs)
+
+
+def test_a_picture_without_ticks_needs_no_axis_labels():
+    fig, ax = pyplot().subplots(figsize=(6, 4))
+    ax.plot([0, 1, 1, 0], [0, 0, 1, 1], "k.")
+    ax.set_xticks([]), ax.set_yticks([])
+    ax.set_title("a cloud of particles")
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
