@@ -14,7 +14,9 @@ offline; a script added to a copy of the page waits for MathJax and then reports
   equation number overlaps it,
 * an image that did not load,
 * a raw ``$`` or ``\\(`` left in the text (maths that MyST or MathJax did not take),
-* a cell output that is a bare object repr (``<matplotlib.legend.Legend at 0x...>``).
+* a cell output that is a bare object repr (``<matplotlib.legend.Legend at 0x...>``),
+* a code cell wider than its box (its longest line cut or scrolled; ``_static/code.css``
+  wraps long lines, so this finds a cell that escapes it).
 
 The browser is the Debian package ``chromium`` (``apt-get install chromium``);
 :func:`find_chromium` returns None where there is none.
@@ -122,10 +124,26 @@ CHECK_JS = r"""
       var m = text(out).match(/<[\w.]+(?: object)? at 0x[0-9a-fA-F]+>/g);
       if (m) m.forEach(function (s) { problems.push("a bare object repr in an output: " + s + " in " + where(out)); });
     });
+    // a code cell cut (or scrolled) where its longest line is wider than its box; outputs
+    // are left to scroll (a printed table keeps its columns)
+    var n_code = 0;
+    column.querySelectorAll("div.highlight pre").forEach(function (code) {
+      if (code.id === MARK || code.closest(".cell_output, .output")) return;
+      n_code += 1;
+      if (code.scrollWidth > code.clientWidth + 1) {
+        var longest = "";
+        (code.textContent || "").split("\n").forEach(function (l) {
+          if (l.length > longest.length) longest = l;
+        });
+        problems.push("a code cell wider than its box (" + code.scrollWidth + " px of " +
+                      code.clientWidth + ") in " + where(code) + ": '" + longest.trim().slice(0, 80) + "'");
+      }
+    });
     var pre = document.createElement("pre");
     pre.id = MARK;
     pre.textContent = JSON.stringify({problems: problems, equations: items.length,
-                                      images: column.querySelectorAll("img").length});
+                                      images: column.querySelectorAll("img").length,
+                                      code: n_code, column: Math.round(right - left)});
     document.body.appendChild(pre);
   }
   function start() {
@@ -225,7 +243,9 @@ def check_pages(pages=None):
     for page in pages:
         problems, counts = check_page(page, chromium)
         print(f"[browser] {page.name}: {counts.get('equations', '?')} equation(s), "
-              f"{counts.get('images', '?')} image(s), {len(problems)} problem(s)", flush=True)
+              f"{counts.get('images', '?')} image(s), {counts.get('code', '?')} code block(s) "
+              f"in a column of {counts.get('column', '?')} px, {len(problems)} problem(s)",
+              flush=True)
         for line in problems:
             print(f"[browser]   {line}")
         failed += bool(problems)

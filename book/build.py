@@ -4,6 +4,7 @@ Usage (from the repository root, in an environment with the ``book`` extras)::
 
     python book/build.py            # full build into book/_build/html
     python book/build.py --strict   # also fail on any Sphinx warning
+    python book/build.py --pages silo --figures warn   # one chapter; list figure problems
 
 Steps:
 
@@ -15,7 +16,10 @@ Steps:
    yet, and says which it left out.
 3. ``jupyter-book build`` with every page executed (``execute_notebooks: force``);
    an error in a cell fails the build. The repository root is put first on
-   ``PYTHONPATH`` so that the pages run this checkout's package.
+   ``PYTHONPATH`` so that the pages run this checkout's package. Every figure a
+   page shows is checked as the scripts' figures are, at the page's width
+   (``book/_ext/figure_check.py``, which the kernel runs first): a figure with
+   a problem fails its cell, and the build names the page and the figure.
 4. Checks on the HTML: every listed page was written (with its number of
    figures printed), the local MathJax is there and each page loads at most one
    MathJax script, and no page loads anything from another host or names a CDN.
@@ -23,7 +27,8 @@ Steps:
 5. Every page opened in headless Chromium at 1280 x 900 px (``book/browser_check.py``;
    ``python book/browser_check.py`` runs this step alone on a built book): no MathJax
    error, no display equation wider than the content column, every image loaded, no
-   raw ``$`` in the text, no bare object repr in an output. Without Chromium (Debian
+   raw ``$`` in the text, no bare object repr in an output, no code cell wider than
+   its box. Without Chromium (Debian
    package ``chromium``) this step is skipped with a warning (``--no-browser`` skips it).
 
 ``bash scripts/book.sh`` (its arguments passed on) makes ``.venv``, installs the
@@ -52,6 +57,8 @@ MATHJAX_DIR = BOOK / "_static" / "mathjax"
 BUILD = BOOK / "_build"
 HTML = BUILD / "html"
 PAGE_SUFFIXES = (".md", ".ipynb", ".rst")
+FIGURE_CHECK = BOOK / "_ext" / "figure_check.py"
+PAGE_WIDTH = 688   # CSS px: the content column in browser_check's 1280 px window (measured)
 
 # a script, style sheet or font fetched from another host when a page is opened
 REMOTE_LOAD = re.compile(
@@ -131,9 +138,15 @@ def _filter_part(part, missing):
     return part if part["chapters"] else None
 
 
-def write_toc():
-    """Copy book/_toc.yml to book/_build/_toc.yml without the pages not written yet."""
+def write_toc(only=None):
+    """Copy book/_toc.yml to book/_build/_toc.yml without the pages not written yet.
+
+    ``only``: page names; the other chapters are left out as well (the root stays).
+    """
     toc = yaml.safe_load((BOOK / "_toc.yml").read_text())
+    if only:
+        keep = {Path(p).stem for p in only}
+        toc["chapters"] = [c for c in toc.get("chapters", []) if Path(c["file"]).stem in keep]
     if not _page_exists(toc["root"]):
         raise SystemExit(f"[book] error: the root page {toc['root']!r} does not exist")
     missing = []
@@ -174,13 +187,15 @@ def pin_kernel():
     """
     spec_dir = BUILD / "jupyter" / "kernels" / "python3"
     spec_dir.mkdir(parents=True, exist_ok=True)
-    spec = {"argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+    # every figure a page shows is checked as it is shown (book/_ext/figure_check.py)
+    spec = {"argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}",
+                     f"--IPKernelApp.exec_files={FIGURE_CHECK}"],
             "display_name": "Python 3", "language": "python"}
     (spec_dir / "kernel.json").write_text(json.dumps(spec, indent=1))
     return str(BUILD / "jupyter")
 
 
-def run_jupyter_book(toc_path, strict, incremental):
+def run_jupyter_book(toc_path, strict, incremental, figures="fail"):
     """Run jupyter-book build; return (exit code, warning lines)."""
     cmd = [sys.executable, "-c",
            "import sys; from jupyter_book.cli.main import main; sys.exit(main())",
@@ -196,6 +211,8 @@ def run_jupyter_book(toc_path, strict, incremental):
     # the kernel shows figures inline unless MPLBACKEND (e.g. Agg, set for the tests) says otherwise
     env.pop("MPLBACKEND", None)
     env["PYVISTA_OFF_SCREEN"] = "true"
+    env["PFEM_BOOK_PAGE_WIDTH"] = str(PAGE_WIDTH)
+    env["PFEM_BOOK_FIGURES"] = figures
     log("jupyter-book build (executing every page)")
     warnings, times = [], []
     with subprocess.Popen(cmd, env=env, cwd=ROOT, stdout=subprocess.PIPE,
@@ -241,6 +258,22 @@ def check_html(toc):
     return problems
 
 
+def figure_reports(toc):
+    """(page, text) of each cell whose figures the kernel found hard to read (``warn``)."""
+    found = []
+    for page in _pages(toc):
+        nb = BUILD / "jupyter_execute" / (str(Path(page).with_suffix("")) + ".ipynb")
+        if not nb.is_file():
+            continue
+        for cell in json.loads(nb.read_text()).get("cells", []):
+            for out in cell.get("outputs", []):
+                text = out.get("text", "")
+                text = "".join(text) if isinstance(text, list) else text
+                if "[figure check]" in text:
+                    found.append((nb.stem, text[text.index("[figure check]"):].strip()))
+    return found
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--strict", action="store_true",
@@ -249,15 +282,23 @@ def main(argv=None):
                    help="rebuild only changed pages (default: all pages, all executed)")
     p.add_argument("--no-browser", action="store_true",
                    help="skip opening the pages in headless Chromium")
+    p.add_argument("--pages", nargs="+", metavar="PAGE",
+                   help="build only these chapters (and the root page): to iterate on a page")
+    p.add_argument("--figures", choices=("fail", "warn"), default="fail",
+                   help="a figure hard to read fails its page (default) or is printed "
+                        "in its cell's output (warn: to survey the whole book)")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
     ensure_mathjax()
-    toc_path, toc = write_toc()
-    code, warnings = run_jupyter_book(toc_path, args.strict, args.incremental)
+    toc_path, toc = write_toc(args.pages)
+    code, warnings = run_jupyter_book(toc_path, args.strict, args.incremental, args.figures)
     if code != 0:
         log(f"error: jupyter-book build failed (exit code {code})")
         return code
     problems = check_html(toc)
+    for page, text in figure_reports(toc):      # --figures warn: the cells did not fail
+        log(f"figures of {page}: {text}")
+        problems.append(f"{page}: figures hard to read (above)")
     for line in problems:
         log(f"error: {line}")
     log(f"{len(warnings)} warning(s) from the build" + (":" if warnings else ""))

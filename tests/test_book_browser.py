@@ -2,8 +2,8 @@
 
 ``test_the_checker_finds_every_kind_of_defect`` opens a small page with one defect of
 each kind (a MathJax error, an equation wider than the column, a missing image, a raw
-``$``, a bare object repr) and a clean page, so that a check that cannot fail fails
-here. ``test_every_page_of_the_built_book_reads_well`` opens every page of
+``$``, a bare object repr, a code cell wider than its box) and a clean page, so that a
+check that cannot fail fails here. ``test_every_page_of_the_built_book_reads_well`` opens every page of
 ``book/_build/html`` (``python book/build.py`` writes it, and runs the same check).
 Both skip, saying why, where there is no Chromium (Debian: ``apt-get install chromium``)
 or no MathJax copy / no built book.
@@ -31,6 +31,7 @@ PAGE = """<!DOCTYPE html><html><head><meta charset="utf-8">
 <section><h1>A page</h1>
 <p>Inline maths \\(a + b\\) and a display equation:</p>
 <div class="math">\\[ E = m c^2 \\]</div>
+<div class="highlight"><pre>print("a code cell that fits")</pre></div>
 {defects}
 </section></article></body></html>"""
 
@@ -42,6 +43,9 @@ DEFECTS = {
     "raw maths": "<ul><li>+ \\Delta\\lambda \\nabla F$. In</li></ul>",
     "bare object repr": '<div class="cell_output"><pre>&lt;matplotlib.legend.Legend at '
                         '0x7f3a2c1d9e50&gt;</pre></div>',
+    "a code cell wider than its box": ('<div class="highlight"><pre>total = '
+                                       + " + ".join(f"term_{i}" for i in range(40))
+                                       + "</pre></div>"),
 }
 
 
