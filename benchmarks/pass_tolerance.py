@@ -46,7 +46,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from pfem_skfem.drivers import pfem_loop                            # noqa: E402
-from pfem_skfem.report import relative_error, run_script            # noqa: E402
+from pfem_skfem.harness.report import relative_error, run_script  # noqa: E402
 
 # case: (script, its arguments, its default density)
 CASES = {

@@ -37,7 +37,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 import clarabel                                                     # noqa: E402
 
-from pfem_skfem.report import relative_error, run_script            # noqa: E402
+from pfem_skfem.harness.report import relative_error, run_script  # noqa: E402
 
 FAMILIES = {
     "static": ("strip_footing", ["--quick"]),

@@ -17,7 +17,8 @@ sys.path.insert(0, str(ROOT))
 
 from pfem_skfem import io, viz                                   # noqa: E402
 from pfem_skfem.materials import Tresca                           # noqa: E402
-from pfem_skfem.report import pyplot, run_script, save_figure     # noqa: E402
+from pfem_skfem.harness.figures import pyplot, save_figure  # noqa: E402
+from pfem_skfem.harness.report import run_script  # noqa: E402
 from verification import granular_column_plane, strip_footing     # noqa: E402
 
 OUT = ROOT / "docs" / "pfem_skfem_results.png"

@@ -22,7 +22,8 @@ import sys
 import time
 
 from . import runfolder
-from .report import nonnegative_int, positive_int, workers
+from .harness.options import nonnegative_int, positive_int, workers
+from .harness.progress import StepBar, progress, progress_bar
 
 
 def verification_dir():
@@ -118,7 +119,6 @@ def cmd_verify(args):
                                              extra=args.extra or [], live=not args.quiet)
             report(i, case, code, secs, log)
     else:                                    # several at once: one bar over the cases
-        from tqdm import tqdm
         running = set()
 
         def job(case):
@@ -131,10 +131,10 @@ def cmd_verify(args):
             finally:
                 running.discard(case)
 
-        with tqdm(total=len(cases), unit="case", file=sys.stderr, disable=args.quiet,
-                  dynamic_ncols=True) as bar, ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        with progress_bar(total=len(cases), unit="case", disable=args.quiet) as bar, \
+                ThreadPoolExecutor(max_workers=args.jobs) as pool:
             def write(text):
-                tqdm.write(text, file=sys.stdout)
+                progress(text, file=sys.stdout)
             for i, (case, code, secs, _, log) in enumerate(pool.map(job, cases), 1):
                 report(i, case, code, secs, log)
                 bar.update()
@@ -158,28 +158,6 @@ def cmd_verify(args):
 
 
 # -- run: a scene file -----------------------------------------------------------------
-class ProgressBar:
-    """The progress bar of a run (tqdm on stderr): step, time t, solver iterations, ETA."""
-
-    def __init__(self, first, last, stream=None):
-        from tqdm import tqdm
-        self.stream = sys.stderr if stream is None else stream
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.bar = tqdm(total=last - first, initial=0, desc=f"steps {first + 1}-{last}",
-                        unit="step", file=self.stream, dynamic_ncols=True,
-                        mininterval=0.5 if self.tty else 30.0)
-
-    def __call__(self, i, n, record):
-        self.bar.set_postfix_str(f"t = {record['time']:.4g}, it = {record['iterations']}",
-                                 refresh=False)
-        self.bar.update(i - self.bar.n)
-        if i == n:
-            self.close()
-
-    def close(self):
-        self.bar.close()
-
-
 def steps_until(t_end, dt):
     """Steps of dt to reach t_end: t_end / dt rounded up (to the nearest within 1e-9).
 
@@ -293,7 +271,7 @@ def _advance(scene, out, last, resume, quiet, overwrite=False):
     """Run ``scene`` to step ``last`` in folder ``out`` (see :func:`runfolder.run_in_folder`)."""
     from .runfolder import run_in_folder
     return run_in_folder(scene, out, last, resume=resume, overwrite=overwrite,
-                         progress=None if quiet else ProgressBar)
+                         progress=None if quiet else StepBar)
 
 
 DESCRIPTION = """\

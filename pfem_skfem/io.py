@@ -5,7 +5,7 @@ or (m, 6) for quadratic ones, whose nodes are ordered corners 0, 1, 2, then the
 midside nodes of edges 01, 12, 20. That is both VTK's quadratic triangle and the
 order of scikit-fem's P2 dofs, so a P2 displacement vector ``u`` reshaped to
 (n, 2) is a point field of the mesh returned by :func:`mesh_arrays` with
-``order=2``. Results as JSON are written by :mod:`pfem_skfem.report`.
+``order=2``. Results as JSON are written by :mod:`pfem_skfem.harness.report`.
 """
 from pathlib import Path
 import os

@@ -5,7 +5,7 @@ import pytest
 
 from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager, mean_stress
 from pfem_skfem.materials_rate import MuIRheology, MuIRheologyAxisymmetric
-from pfem_skfem.report import run_script
+from pfem_skfem.harness.report import run_script
 from verification import granular_column_mu_i as column_mu_i
 
 # every test of this file on one xdist worker: its module fixture is computed once

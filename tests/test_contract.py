@@ -1,4 +1,4 @@
-"""The verification contract (:class:`pfem_skfem.report.Report`): a check can fail.
+"""The verification contract (:class:`pfem_skfem.harness.report.Report`): a check can fail.
 
 A one-sided interval used to divide the excess by an infinite scale, so any finite value
 passed ``[1, inf]``; NaN and inf values (undefined ratios) passed or were compared with
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from pfem_skfem.report import Report
+from pfem_skfem.harness.report import Report
 
 
 @pytest.mark.parametrize("value, lower, upper", [

@@ -1,4 +1,4 @@
-"""The figure checks (:func:`pfem_skfem.report.figure_problems`) find what a reader misses.
+"""The figure checks (:func:`pfem_skfem.harness.figures.figure_problems`) find what a reader misses.
 
 The quick suite (``tests/test_verification.py``) applies them to every figure the
 verification scripts write; here each check meets a figure that breaks it, so that a
@@ -6,7 +6,7 @@ check that cannot fail fails here.
 """
 import pytest
 
-from pfem_skfem.report import figure_problems, pyplot
+from pfem_skfem.harness.figures import figure_problems, pyplot
 
 
 def readable():

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.report import run_script
+from pfem_skfem.harness.report import run_script
 from pfem_skfem.scene import polygon_area
 from verification import landslide_yangbaodi as slide
 
@@ -147,7 +147,7 @@ def test_the_release_transient_is_not_the_peak_of_a_slide():
                                               (0.0, 0.0, 0.25, 0.0), (5.0, -1.0, 0.25, 5.1),
                                               (5.0, 10.0, 0.0, 11.2), (np.nan, 1.0, 0.25, 5.0)])
 def test_an_undefined_energy_ratio_is_nan_and_fails(H, L, mu, travel):
-    from pfem_skfem.report import Report
+    from pfem_skfem.harness.report import Report
     ratio = slide.energy_ratio(H, L, mu, travel, h=4.0)
     assert np.isnan(ratio)
     assert not Report("c").add_interval("ratio", ratio, 1.0, np.inf, "energy bound").passed

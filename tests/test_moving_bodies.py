@@ -103,7 +103,7 @@ def steady_run(F_H, F_V, **options):
 def test_cylinder_studies_compare_each_run_with_the_most_refined():
     """The time-step and mesh checks compare the steady forces of every run with those of
     the smallest dt (finest h) to 15 %: 10 % off passes, 20 % off fails, whatever the order."""
-    from pfem_skfem.report import Report
+    from pfem_skfem.harness.report import Report
     from verification.cylinder_soil import STUDY_TOLERANCE, convergence_checks
     import argparse
     assert STUDY_TOLERANCE == 0.15

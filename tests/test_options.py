@@ -20,7 +20,8 @@ import time
 import pytest
 
 from pfem_skfem import cli
-from pfem_skfem import report as rep
+from pfem_skfem.drivers import resumable
+from pfem_skfem.harness import options, progress, report, store, sweeps
 
 ROOT = Path(__file__).resolve().parents[1]
 ALARM = 10                                    # seconds before a script that started work is stopped
@@ -178,17 +179,17 @@ def test_the_cli_checks_its_options(argv, option, capsys):
 
 
 @pytest.mark.parametrize("validator, good, bad", [
-    (rep.positive_int, ["1", "12"], ["0", "-3", "1.5", "x"]),
-    (rep.nonnegative_int, ["0", "7"], ["-1", "2.0"]),
-    (rep.positive_float, ["1e-3", "4"], ["0", "-1", "inf", "nan", "x"]),
-    (rep.nonnegative_float, ["0", "0.3"], ["-1e-9", "inf"]),
-    (rep.workers, ["1", "4"], ["0", "-1"]),
-    (rep.friction_angle, ["0", "0.1", "45", "89.9"], ["90", "95", "-5", "-0.1"]),   # TOML's
-    (rep.positive_angle("cot phi"), ["0.1", "45"], ["0", "90", "-5"]),
-    (rep.poisson_ratio, ["-0.9", "0", "0.499"], ["-1", "0.5", "0.6"]),
-    (rep.fraction, ["0", "0.5", "1"], ["-0.1", "1.1"]),
-    (rep.theta_weight, ["0.5", "1"], ["0.49", "1.01"]),
-    (rep.element_count, ["4", "1000"], ["3", "0"]),
+    (options.positive_int, ["1", "12"], ["0", "-3", "1.5", "x"]),
+    (options.nonnegative_int, ["0", "7"], ["-1", "2.0"]),
+    (options.positive_float, ["1e-3", "4"], ["0", "-1", "inf", "nan", "x"]),
+    (options.nonnegative_float, ["0", "0.3"], ["-1e-9", "inf"]),
+    (options.workers, ["1", "4"], ["0", "-1"]),
+    (options.friction_angle, ["0", "0.1", "45", "89.9"], ["90", "95", "-5", "-0.1"]),   # TOML's
+    (options.positive_angle("cot phi"), ["0.1", "45"], ["0", "90", "-5"]),
+    (options.poisson_ratio, ["-0.9", "0", "0.499"], ["-1", "0.5", "0.6"]),
+    (options.fraction, ["0", "0.5", "1"], ["-0.1", "1.1"]),
+    (options.theta_weight, ["0.5", "1"], ["0.49", "1.01"]),
+    (options.element_count, ["4", "1000"], ["3", "0"]),
 ])
 def test_validators_accept_their_range_and_refuse_the_rest(validator, good, bad):
     import argparse
@@ -290,7 +291,7 @@ def test_help_keeps_the_stated_defaults():
 def test_ctrl_c_in_a_script_is_one_line(capsys):
     def run(args):
         raise KeyboardInterrupt
-    code = rep.script_main(lambda: rep.base_parser("x"), run, None, [])
+    code = report.script_main(lambda: options.base_parser("x"), run, None, [])
     assert code == 130
     err = capsys.readouterr().err
     assert "Traceback" not in err and err.strip().endswith("interrupted")
@@ -298,27 +299,27 @@ def test_ctrl_c_in_a_script_is_one_line(capsys):
 
 def test_an_unreachable_scheduler_is_a_usage_error(capsys):
     def run(args):
-        with rep._dask_client(1, "tcp://127.0.0.1:1"):
+        with sweeps._dask_client(1, "tcp://127.0.0.1:1"):
             pass
     from unittest import mock
     with mock.patch("distributed.Client", side_effect=OSError("timed out")):
         with pytest.raises(SystemExit) as exit_:
-            rep.script_main(lambda: rep.base_parser("x"), run, None, [])
+            report.script_main(lambda: options.base_parser("x"), run, None, [])
     assert exit_.value.code == 2 and "--scheduler tcp://127.0.0.1:1" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("damage", [b"", b"not a pickle at all"])
 def test_a_damaged_kept_result_names_its_file(tmp_path, damage, capsys):
     cases = [dict(value=2.0, reference=1.0)]
-    path = rep.result_path(tmp_path, "cases", cases[0])
+    path = sweeps.result_path(tmp_path, "cases", cases[0])
     path.write_bytes(damage)
-    with pytest.raises(rep.DamagedFileError, match=str(path.name)) as error:
-        rep.run_cases(rep.relative_error, cases, results_dir=tmp_path)
+    with pytest.raises(store.DamagedFileError, match=str(path.name)) as error:
+        sweeps.run_cases(report.relative_error, cases, results_dir=tmp_path)
     assert "delete it" in str(error.value)
 
     def run(args):
-        rep.run_cases(rep.relative_error, cases, results_dir=tmp_path)
-    assert rep.script_main(lambda: rep.base_parser("x"), run, None, []) == 1
+        sweeps.run_cases(report.relative_error, cases, results_dir=tmp_path)
+    assert report.script_main(lambda: options.base_parser("x"), run, None, []) == 1
     err = capsys.readouterr().err
     assert "Traceback" not in err and path.name in err
 
@@ -327,8 +328,8 @@ def test_a_damaged_checkpoint_names_its_files(tmp_path):
     path = tmp_path / "run-abc.npz"
     path.write_bytes(b"PK\x03\x04 truncated")
     path.with_name(path.stem + ".loop.pkl").write_bytes(b"")
-    with pytest.raises(rep.DamagedFileError, match="run-abc.npz.*delete both"):
-        rep.load_run(path)
+    with pytest.raises(store.DamagedFileError, match="run-abc.npz.*delete both"):
+        resumable.load_run(path)
 
 
 def test_progress_bars_in_a_log_are_plain_lines(monkeypatch):
@@ -337,8 +338,8 @@ def test_progress_bars_in_a_log_are_plain_lines(monkeypatch):
     import io
     log = io.StringIO()
     monkeypatch.setattr(sys, "stderr", log)
-    outer = rep.progress_bar(total=3, desc="cases", mininterval=0)
-    inner = rep.progress_bar(total=2, desc="case 0", leave=False, mininterval=0)
+    outer = progress.progress_bar(total=3, desc="cases", mininterval=0)
+    inner = progress.progress_bar(total=2, desc="case 0", leave=False, mininterval=0)
     for bar in (inner, inner, outer):
         bar.update(1)
     inner.close()

@@ -340,7 +340,8 @@ def test_steps_until_t_end_round_up_but_not_round_off(t_end, dt, steps):
 def test_the_progress_bar_shows_the_steps_time_iterations_and_the_end():
     import io
     stream = io.StringIO()
-    bar = cli.ProgressBar(5, 25, stream=stream)
+    from pfem_skfem.harness.progress import StepBar
+    bar = StepBar(5, 25, stream=stream)
     for i in range(1, 21):
         bar(i, 20, {"time": 0.01 * (5 + i), "iterations": 40})
     last = stream.getvalue().replace("\r", "\n").strip().splitlines()[-1]

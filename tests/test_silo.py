@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.report import run_script
+from pfem_skfem.harness.report import run_script
 from verification import silo_discharge as silo
 
 # every test of this file on one xdist worker: its module fixture is computed once

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from pfem_skfem.report import checkpoint_path, result_path
+from pfem_skfem.harness.store import checkpoint_path
+from pfem_skfem.harness.sweeps import result_path
 from verification import granular_column_axisymmetric, silo_discharge
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -6,8 +6,10 @@ import argparse
 import numpy as np
 import pytest
 
-from pfem_skfem.report import (SweepError, base_parser, relative_error, run_cases,
-                               scheduler_address, sitting, sweep_options)
+from pfem_skfem.drivers.resumable import sitting
+from pfem_skfem.harness.options import base_parser, scheduler_address, sweep_options
+from pfem_skfem.harness.report import relative_error
+from pfem_skfem.harness.sweeps import SweepError, run_cases
 from verification.granular_column_plane import run_case as column
 
 # two short columns (a few steps each, about 0.5 s): solves, remeshing, contact, histories
@@ -138,7 +140,7 @@ def test_each_running_case_s_progress_is_drawn_by_the_client(capsys):
     def steps(name, n, verbose=False):             # pickled by value for the workers
         import time
         import numpy as np
-        from pfem_skfem.report import progress_bar
+        from pfem_skfem.harness.progress import progress_bar
         bar = progress_bar(total=np.int64(n), desc=f"case {name}", unit="step",
                            disable=not verbose)          # numpy counts go as Python ones
         for k in range(n):
@@ -159,7 +161,7 @@ def test_each_running_case_s_progress_is_drawn_by_the_client(capsys):
 
 
 def test_a_case_s_next_bar_starts_its_count_and_rate_again(capsys):
-    from pfem_skfem.report import _CaseBars
+    from pfem_skfem.harness.progress import _CaseBars
     bars = _CaseBars()
     count = dict(case=0, total=10, desc="case", unit="step", postfix="")
     bars((0.0, dict(count, n=5)))

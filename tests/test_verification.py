@@ -2,7 +2,7 @@
 
 Each case runs ``run(build_parser().parse_args(["--quick", *extra]))`` once, then its
 ``figures``, each figure checked before it is saved
-(:func:`pfem_skfem.report.inspect_figures`: a title, axis labels, readable ticks, a
+(:func:`pfem_skfem.harness.figures.inspect_figures`: a title, axis labels, readable ticks, a
 reasonable size). All of the report's checks must pass, and the physically meaningful quantities,
 named here, must lie where the literature or a closed form stated *here* puts them
 (not the script's own reference), so that a renamed, missing or mis-referenced
@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.report import HARNESS_OPTIONS, Report, inspect_figures
+from pfem_skfem.harness.figures import inspect_figures
+from pfem_skfem.harness.report import HARNESS_OPTIONS, Report
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.8
@@ -283,7 +284,8 @@ def test_report_extras_with_arrays_write_as_json(tmp_path):
 def test_the_sweep_runner_gives_the_serial_results_in_order():
     """One runner for every script's sweep: in processes, the results of the cases in the
     order given, as a serial run gives them."""
-    from pfem_skfem.report import relative_error, run_cases
+    from pfem_skfem.harness.report import relative_error
+    from pfem_skfem.harness.sweeps import run_cases
     cases = [dict(value=v, reference=r) for v, r in ((2.0, 1.0), (3.0, 2.0), (1.0, 4.0))]
     assert run_cases(relative_error, cases, workers=2) == \
         run_cases(relative_error, cases) == [1.0, 0.5, 0.75]

@@ -53,7 +53,7 @@ Usage::
     python verification/accretionary_wedge.py --help                                    # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -69,10 +69,13 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               nonnegative_int, positive, positive_int, progress_bar,
-                               pyplot, run_cases, save_figure, sweep_options, script_main,
-                               positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+                                        nonnegative_int, positive, positive_int,
+                                        sweep_options, positive_angle)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)

@@ -23,7 +23,7 @@ Usage::
     python verification/alpha_shape.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 
@@ -32,8 +32,10 @@ from scipy.spatial import ConvexHull
 
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
-from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float, progress,
-                               pyplot, save_figure, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import base_parser, positive_float
+from pfem_skfem.harness.progress import progress
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(alpha_step=0.1)
 SOURCE = "Zhang 2014 Sec 2.3.2, Fig 2.4"

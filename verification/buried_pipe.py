@@ -31,7 +31,7 @@ Usage::
     python verification/buried_pipe.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -43,9 +43,11 @@ from pfem_skfem.meshes import fit_element_count, pipe_half_domain
 from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
-                               nonnegative_float, positive_float, progress_bar, pyplot,
-                               save_figure, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
+                                        positive_float)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(elements=[700])
 LOWER_RH, UPPER, THESIS = 9.14, 9.20, 9.29

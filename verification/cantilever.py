@@ -27,7 +27,7 @@ Usage::
     python verification/cantilever.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -43,9 +43,11 @@ from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundar
                                   traction_vector)
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               poisson_ratio, positive_float, positive_int, progress,
-                               pyplot, save_figure, theta_weight, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,
+                                        positive_float, positive_int, theta_weight)
+from pfem_skfem.harness.progress import progress
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=20, ny=2, t_end=10.0)
 

@@ -45,10 +45,12 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
-from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
-                               nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure, script_main,
-                               positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
+                                        poisson_ratio, positive_float, positive_int,
+                                        positive_angle)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
 
 NC_SMOOTH = 5.69       # Shield 1955; Cox, Eason & Hopkins 1961
 NC_ROUGH = 6.05        # Eason & Shield 1960 (quoted, not verified here)

@@ -60,7 +60,7 @@ Usage::
     python verification/cylinder_soil.py --help                                     # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--progress``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -73,10 +73,13 @@ from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               nonnegative_int, positive, positive_float, progress_bar,
-                               pyplot, run_cases, save_figure, sweep_options, theta_weight,
-                               script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+                                        nonnegative_int, positive, positive_float,
+                                        sweep_options, theta_weight)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
 
 QUICK = dict(h_fine=0.25, h_coarse=0.5, du=0.05, dt=0.2, W=6.0, H=2.5)

@@ -63,13 +63,17 @@ from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, alpha_advected_option, base_parser,
-                               checkpoint_options, checkpoint_path, figure_dir,
-                               friction_angle, in_range, load_run, nonnegative_float,
-                               nonnegative_int, positive_float, positive_int, progress,
-                               progress_bar, pyplot, run_cases, save_figure, save_run,
-                               sitting, sweep_options, thinned, volume_correction_option,
-                               script_main, positive_angle)
+from pfem_skfem.drivers.resumable import load_run, save_run, sitting
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
+                                        checkpoint_options, friction_angle, in_range,
+                                        nonnegative_float, nonnegative_int, positive_float,
+                                        positive_int, sweep_options, volume_correction_option,
+                                        positive_angle)
+from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.harness.report import Report, thinned, script_main
+from pfem_skfem.harness.store import checkpoint_path
+from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
@@ -219,7 +223,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     place of ``material`` (as :func:`granular_column_axisymmetric`).
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
-    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`), under
+    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`), under
     a digest of the column's parameters; a run finds its own checkpoint and goes on from
     it, the same steps bit for bit on the same machine (a fine short column takes hours).
     ``seconds`` is then the time of the last sitting only."""

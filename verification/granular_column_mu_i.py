@@ -61,10 +61,13 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               positive_float, positive_int, progress, pyplot, run_cases,
-                               save_figure, sweep_options, volume_correction_option,
-                               script_main, positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+                                        positive_float, positive_int, sweep_options,
+                                        volume_correction_option, positive_angle)
+from pfem_skfem.harness.progress import progress
+from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.sweeps import run_cases
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
 from verification import granular_column_axisymmetric as axi  # noqa: E402

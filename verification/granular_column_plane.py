@@ -33,7 +33,7 @@ Usage::
     python verification/granular_column_plane.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import json
 import sys
@@ -48,10 +48,13 @@ from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoul
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
-                               nonnegative_int, poisson_ratio, positive_float, positive_int,
-                               progress, progress_bar, pyplot, run_cases, save_figure,
-                               sweep_options, thinned, script_main, positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+                                        nonnegative_int, poisson_ratio, positive_float,
+                                        positive_int, sweep_options, positive_angle)
+from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.harness.report import Report, thinned, script_main
+from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)

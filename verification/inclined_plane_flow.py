@@ -40,8 +40,10 @@ import sys
 
 import numpy as np
 
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import base_parser, in_range, positive_float, positive_int
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=12, steps=60)
 

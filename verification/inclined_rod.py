@@ -57,16 +57,17 @@ Usage::
     python verification/inclined_rod.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 
 import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, pyplot, save_figure,
-                               script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, nonnegative_float, positive_float,
+                                        positive_int)
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(steps=[25, 50, 100, 200])
 

@@ -80,13 +80,18 @@ from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary           # 
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
-from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
-                               nonnegative_float, nonnegative_int, positive_float, positive_int, progress,
-                               progress_bar, pyplot, run_cases, save_figure, theta_weight,
-                               volume_correction_option, alpha_advected_option,
-                               checkpoint_options, checkpoint_path, load_run, save_run,
-                               script_main, positive_angle)
-from pfem_skfem.report import workers as worker_count                         # noqa: E402
+from pfem_skfem.drivers.resumable import load_run, save_run  # noqa: E402
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
+from pfem_skfem.harness.options import (base_parser, friction_angle, nonnegative_float,  # noqa: E402
+                                        nonnegative_int, positive_float, positive_int,
+                                        theta_weight, volume_correction_option,
+                                        alpha_advected_option, checkpoint_options,
+                                        positive_angle)
+from pfem_skfem.harness.progress import progress, progress_bar  # noqa: E402
+from pfem_skfem.harness.report import Report, script_main  # noqa: E402
+from pfem_skfem.harness.store import checkpoint_path  # noqa: E402
+from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
+from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 
 PROFILE = Path(__file__).resolve().parent / "data" / "yangbaodi_profile.csv"
@@ -279,7 +284,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     ``rest`` times its peak (after the peak) or ``t_after`` after release.
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
-    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`), under
+    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`), under
     the label and a digest of the slide's parameters and profile; a run finds its own
     checkpoint and goes on from it, the same steps bit for bit (a slide of the thesis'
     size takes hours here). Snapshots are taken only in the steps run this time."""

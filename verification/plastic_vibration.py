@@ -22,7 +22,7 @@ Usage::
     python verification/plastic_vibration.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 
@@ -33,9 +33,10 @@ from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
 from pfem_skfem.operators import boundary_dofs, discretise
 from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
-from pfem_skfem.report import (Report, base_parser, figure_dir, poisson_ratio,
-                               positive_float, positive_int, pyplot, save_figure,
-                               theta_weight, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, poisson_ratio, positive_float,
+                                        positive_int, theta_weight)
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=20, ny=2, steps=30)
 

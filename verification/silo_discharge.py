@@ -72,11 +72,16 @@ from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
-                               nonnegative_float, nonnegative_int, positive, positive_float,
-                               positive_int, progress, progress_bar, pyplot, run_cases,
-                               save_figure, sweep_options, thinned, checkpoint_options,
-                               checkpoint_path, load_run, save_run, script_main, in_range)
+from pfem_skfem.drivers.resumable import load_run, save_run
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, fraction, friction_angle,
+                                        nonnegative_float, nonnegative_int, positive,
+                                        positive_float, positive_int, sweep_options,
+                                        checkpoint_options, in_range)
+from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.harness.report import Report, thinned, script_main
+from pfem_skfem.harness.store import checkpoint_path
+from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
 # A coarse, short silo (2 particles across the outlet, dt = 0.04 s as the coarsest of
@@ -167,7 +172,7 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
 
     With ``checkpoint_dir`` the state and the snapshots taken so far are saved there
-    every ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.report.save_run`),
+    every ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`),
     under a name made of the label and the scene's parameters; a run finds its own
     checkpoint and goes on from it (the same steps, bit for bit: a long study can span
     several sessions). A checkpoint of the state alone (as written before the snapshots

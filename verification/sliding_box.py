@@ -27,7 +27,7 @@ Usage::
     python verification/sliding_box.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 
@@ -35,8 +35,9 @@ import numpy as np
 
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.particle import rigid_particle_step
-from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, positive_float,
-                               positive_int, pyplot, save_figure, script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import base_parser, in_range, positive_float, positive_int
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(steps=[10, 20, 40])
 

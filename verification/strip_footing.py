@@ -26,7 +26,7 @@ Usage::
     python verification/strip_footing.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -38,10 +38,12 @@ from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
-from pfem_skfem.report import (Report, base_parser, element_count, figure_dir,
-                               nonnegative_float, poisson_ratio, positive_float,
-                               positive_int, progress_bar, pyplot, save_figure, script_main,
-                               positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
+                                        poisson_ratio, positive_float, positive_int,
+                                        positive_angle)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)

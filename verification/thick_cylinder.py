@@ -49,9 +49,11 @@ from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAx
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
-from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               poisson_ratio, positive_float, positive_int, progress_bar,
-                               pyplot, save_figure, script_main, positive_angle)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,
+                                        positive_float, positive_int, positive_angle)
+from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.report import Report, script_main
 
 
 def collapse_pressures(a, b, c, phi):

@@ -63,7 +63,7 @@ Usage::
     python verification/trussed_frame.py --help                                # every option
 
 ``--quick`` and ``--json PATH`` (and ``--outdir``, ``--no-figures``, ``--quiet``)
-come from :func:`pfem_skfem.report.base_parser`.
+come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
@@ -72,9 +72,11 @@ import numpy as np
 import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
-from pfem_skfem.report import (Report, base_parser, figure_dir, nonnegative_float,
-                               positive_float, positive_int, progress, pyplot, save_figure,
-                               script_main)
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, nonnegative_float, positive_float,
+                                        positive_int)
+from pfem_skfem.harness.progress import progress
+from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(uV=20.0, steps=100)
 

@@ -6,7 +6,7 @@ in the kernel spec it writes). It registers two IPython hooks:
 * ``post_execute``, registered before matplotlib's inline backend registers its own
   (which shows and closes the figures open at the end of a cell), and a wrapper
   of ``pyplot.show`` (which shows and closes them mid-cell): each figure is
-  checked by :func:`pfem_skfem.report.figure_problems` at the page's width
+  checked by :func:`pfem_skfem.harness.figures.figure_problems` at the page's width
   (``PFEM_BOOK_PAGE_WIDTH`` CSS pixels) as it is about to be shown;
 * ``post_run_cell``: a cell that showed a figure with problems fails
   (``FigureProblems``, naming each figure by its title), so the page's execution
@@ -21,7 +21,7 @@ is checked as drawn, after every call the cell made on it.
 def _register(shell):
     import os
 
-    from pfem_skfem.report import figure_problems
+    from pfem_skfem.harness.figures import figure_problems
 
     page_width = float(os.environ.get("PFEM_BOOK_PAGE_WIDTH", "688"))
     warn = os.environ.get("PFEM_BOOK_FIGURES") == "warn"

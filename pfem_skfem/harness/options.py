@@ -1,0 +1,314 @@
+"""Command-line options of the verification scripts: the parser (``--quick``, the checks,
+the output paths), the typed validators (an error names the option, its range and the
+value given) and the option groups several scripts share (sweep, checkpoint, PFEM
+numerics). The table of the validators is in :mod:`pfem_skfem.harness.report`.
+"""
+import argparse
+import math
+from pathlib import Path
+
+class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
+    """argparse's "(default: ...)", once: not where the help states its default itself,
+    nor for a flag or an option whose default is None (it said "(default: False)")."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if "default" in text.lower() or action.default is None or action.default is False:
+            return text
+        return super()._get_help_string(action)
+
+
+# options naming files or folders the run writes: checked when parsed (a usage error)
+# rather than after the computation, which was lost (dest -> what it names)
+OUTPUT_PATHS = {"json": "file", "outdir": "directory", "results_dir": "directory",
+                "checkpoint_dir": "directory"}
+
+
+def output_path_problem(path, kind="file"):
+    """Why ``path`` cannot be written as a ``kind`` ("file" or "directory"), or None.
+
+    Nothing is created: the nearest existing folder on the way must be a folder in which a
+    file can be made (a probe file, removed); an existing ``path`` must be of its kind (and
+    a file writable)."""
+    import os
+    import tempfile
+    target = Path(path).expanduser()
+    if target.exists():
+        if kind == "file" and target.is_dir():
+            return f"{path} is a directory, not a file"
+        if kind == "directory" and not target.is_dir():
+            return f"{path} exists and is not a directory"
+        if kind == "file":
+            try:
+                with open(target, "r+b"):
+                    pass
+            except OSError as error:
+                return f"cannot write {path} ({error.strerror or error})"
+            return None
+        folder = target
+    else:
+        folder = target.parent
+        while not folder.exists() and folder != folder.parent:
+            folder = folder.parent
+        if not folder.is_dir():
+            return f"{folder} (on the way to {path}) is a file, not a directory"
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".write-probe-"):
+            pass
+    except OSError as error:
+        return f"cannot write in {folder} ({error.strerror or error})"
+    return None
+
+
+class ScriptParser(argparse.ArgumentParser):
+    """An argument parser whose ``parse_args`` applies ``--quick`` and the script's checks.
+
+    With ``--quick``, each option named in ``quick`` takes its quick value unless
+    the user gave it a value other than its default; then ``check(args)`` may
+    return a message, reported as a usage error (exit code 2).
+    """
+
+    def __init__(self, description, quick=None, check=None):
+        super().__init__(description=description,
+                         formatter_class=_DefaultsOnce)
+        self.quick = dict(quick or {})
+        self.check = check
+
+    def parse_args(self, args=None, namespace=None):
+        parsed = super().parse_args(args, namespace)
+        if hasattr(parsed, "quiet"):             # progress is the default; --quiet turns it off
+            parsed.progress = not parsed.quiet
+        if parsed.quick:
+            for key, value in self.quick.items():
+                if getattr(parsed, key) == self.get_default(key):
+                    setattr(parsed, key, value)
+        message = self.check(parsed) if self.check else None
+        if message:
+            self.error(message)
+        for dest, kind in OUTPUT_PATHS.items():
+            value = getattr(parsed, dest, None)
+            if value is None or (dest == "outdir" and value == self.get_default(dest)
+                                 and getattr(parsed, "no_figures", False)
+                                 and not getattr(parsed, "save_every", 0)):
+                continue                         # the default outdir, unused
+            problem = output_path_problem(value, kind)
+            if problem:
+                self.error(f"argument --{dest.replace('_', '-')}: {problem}")
+        return parsed
+
+
+def base_parser(description, quick=None, check=None):
+    """An argument parser with the options every verification script shares.
+
+    Parameters
+    ----------
+    description : str
+        First line of ``--help``.
+    quick : dict, optional
+        Option (dest) name -> value for ``--quick``; applied only where the user
+        kept the default.
+    check : callable, optional
+        ``check(args) -> str or None``: a message for options that are
+        inconsistent (a usage error), None when they are fine.
+
+    Returns
+    -------
+    ScriptParser
+    """
+    p = ScriptParser(description, quick, check)
+    sizes = ", ".join(f"{k}={v}" for k, v in p.quick.items())
+    p.add_argument("--quick", action="store_true",
+                   help="a small size that runs in seconds to a minute (tests, CI)"
+                        + (f": {sizes}" if sizes else ""))
+    p.add_argument("--json", metavar="PATH", help="write the results as JSON to PATH")
+    p.add_argument("--outdir", default="results",
+                   help="directory for figures and VTU files")
+    p.add_argument("--no-figures", action="store_true", help="skip figures")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress bars on stderr (they are on by default)")
+    p.add_argument("--progress", action="store_true",
+                   help="progress bars on stderr (the default; kept for older command lines)")
+    return p
+
+
+class OptionError(ValueError):
+    """An option found wrong only when used (an unreachable ``--scheduler``): a usage
+    error of the script (:func:`script_main`), not a traceback."""
+
+
+
+def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
+             integer=False, unit="", what=None):
+    """argparse type: a number in an interval, its error naming the range and the value.
+
+    Parameters
+    ----------
+    low, high : float
+        The ends of the interval (infinite: unbounded).
+    low_open, high_open : bool
+        Whether the ends are excluded.
+    integer : bool
+        Accept integers only.
+    unit : str
+        Shown after the interval ("degrees").
+    what : str, optional
+        The whole description ("a positive integer"); by default built from the rest.
+
+    Returns
+    -------
+    callable
+        ``parse(text) -> float or int``, raising ``argparse.ArgumentTypeError``; argparse
+        prefixes its message with the option (``argument --phi: ...``).
+    """
+    if what is None:
+        kind = "an integer" if integer else "a number"
+        if math.isinf(low) and math.isinf(high):
+            what = kind
+        elif math.isinf(high):
+            what = f"{kind} {'>' if low_open else '>='} {low:g}"
+        elif math.isinf(low):
+            what = f"{kind} {'<' if high_open else '<='} {high:g}"
+        else:
+            what = (f"{kind} in {'(' if low_open else '['}{low:g}, {high:g}"
+                    f"{')' if high_open else ']'}")
+        what += f" {unit}" if unit else ""
+
+    def parse(text):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+        inside = (math.isfinite(value)
+                  and (value > low if low_open else value >= low)
+                  and (value < high if high_open else value <= high))
+        if not inside:
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
+        return value
+    parse.__name__ = what                       # argparse's name for the type
+    parse.what = what
+    return parse
+
+
+positive_float = in_range(0, low_open=True, what="a positive number")
+nonnegative_float = in_range(0, what="a number >= 0")
+positive_int = in_range(1, integer=True, what="a positive integer")
+nonnegative_int = in_range(0, integer=True, what="an integer >= 0")
+workers = in_range(1, integer=True, what="a number of workers >= 1")
+friction_angle = in_range(0, 90, high_open=True, what="an angle in [0, 90) degrees")
+
+
+def positive_angle(why):
+    """argparse type: an angle in (0, 90) degrees, for a script whose physics or reference
+    needs phi > 0; ``why`` is said in the message (``friction_angle`` allows 0, as TOML)."""
+    return in_range(0, 90, low_open=True, high_open=True,
+                    what=f"an angle in (0, 90) degrees ({why})")
+poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
+                         what="a Poisson's ratio in (-1, 0.5)")
+fraction = in_range(0, 1, what="a fraction in [0, 1]")
+theta_weight = in_range(0.5, 1, what="a theta-method weight in [1/2, 1]")
+element_count = in_range(4, integer=True, what="a number of elements >= 4")
+
+
+def positive(name=None):
+    """argparse type: a positive float (the older spelling of :data:`positive_float`).
+
+    ``name`` is not needed (argparse names the option) and kept for older scripts.
+    """
+    return positive_float
+
+
+SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
+
+
+def scheduler_address(text):
+    """argparse type: a Dask scheduler's address, ``[tcp://]host:port`` (``--scheduler``).
+
+    Only its form is checked here (no connection is made while options are parsed);
+    :func:`run_cases` connects before any case runs, and an unreachable scheduler is an
+    error naming ``--scheduler``.
+    """
+    import re
+    match = re.fullmatch(r"(?:(?P<scheme>[a-z]+)://)?(?P<host>[^\s:/]+|\[[0-9a-fA-F:]+\])"
+                         r":(?P<port>\d{1,5})", text.strip())
+    if match is None or (match["scheme"] or "tcp") not in SCHEDULER_SCHEMES \
+            or not 0 < int(match["port"]) < 65536:
+        raise argparse.ArgumentTypeError(
+            f"must be a Dask scheduler address [SCHEME://]HOST:PORT with SCHEME in "
+            f"{', '.join(SCHEDULER_SCHEMES)} (e.g. tcp://127.0.0.1:8786), got {text!r}")
+    return text.strip() if match["scheme"] else f"tcp://{text.strip()}"
+
+
+scheduler_address.__name__ = "a Dask scheduler address"
+
+
+def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
+    """Add ``--workers``, ``--scheduler`` and ``--results-dir``, the options of
+    :func:`run_cases`, to ``parser``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    default_workers : int, optional
+        Default of ``--workers``; the number of cores when None.
+    what : str
+        What runs in parallel (the help text).
+    """
+    import os
+    parser.add_argument("--workers", type=workers, default=default_workers or os.cpu_count() or 1,
+                        help=f"local Dask worker processes (one thread each) for {what}; "
+                             "1: one after the other in this process")
+    parser.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
+                        help=f"run {what} on the existing Dask cluster at ADDRESS "
+                             "(tcp://host:port; its workers must import pfem_skfem); "
+                             "--workers is then ignored")
+    parser.add_argument("--results-dir", metavar="DIR", default=None,
+                        help=f"keep the result of each of {what} in DIR as it finishes, and "
+                             "take those already there instead of running them again (a "
+                             "long study stopped and resumed; for the same code)")
+    return parser
+
+
+def volume_correction_option(parser, default="off", why=""):
+    """Add ``--volume-correction {on,off}``, ``PFEMConfig.volume_correction`` (the move
+    stage's volume projection, :mod:`pfem_skfem.pfem.volume_projection`), to ``parser``;
+    the script reads it as ``args.volume_correction == "on"``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    default : "on" or "off"
+    why : str
+        Appended to the help text (e.g. what the default is chosen for).
+    """
+    if default not in ("on", "off"):
+        raise ValueError(f"default must be 'on' or 'off', got {default!r}")
+    parser.add_argument("--volume-correction", choices=("on", "off"), default=default,
+                        help="shift the moved particles so that every vertex patch keeps the "
+                             "volume their linearised motion states "
+                             "(PFEMConfig.volume_correction)" + (f"; {why}" if why else ""))
+    return parser
+
+
+def checkpoint_options(parser, what="run"):
+    """Add ``--checkpoint-dir DIR`` and ``--checkpoint-every K`` to ``parser``: each
+    ``what`` saves itself in DIR (every K steps and at the end, :func:`checkpoint_path`)
+    and goes on from its own checkpoint when the script is run again."""
+    parser.add_argument("--checkpoint-dir", default=None,
+                        help=f"save each {what}'s state in this directory (every "
+                             f"--checkpoint-every steps and at the end) and go on from a "
+                             f"{what}'s checkpoint if there is one: a long study can be "
+                             f"stopped and resumed")
+    parser.add_argument("--checkpoint-every", type=positive_int, default=20,
+                        help=f"steps between a {what}'s checkpoints")
+    return parser
+
+
+def alpha_advected_option(parser, default=0.0, why=""):
+    """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
+    previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape)."""
+    parser.add_argument("--alpha-advected", type=nonnegative_float, default=default,
+                        help="keep a Delaunay triangle inside the previous step's moved mesh "
+                             "while its circumradius is at most this many h "
+                             "(PFEMConfig.alpha_advected; 0: off, the plain alpha-shape)"
+                             + (f"; {why}" if why else ""))
+    return parser
