@@ -7,16 +7,19 @@ at once (a lock file naming its owner), a stop between two files (the step recor
 travel inside the checkpoint, history.json is a copy rebuilt from it) and a full disk
 (checked before each frame, see :class:`pfem_skfem.io.TimeSeries`). Plain functions of
 paths and arrays, so that any run loop (the CLI's, a script's) can use them.
+
+The steps are a :class:`~pfem_skfem.drivers.resumable.ResumableRun`'s, which holds the
+crash-safety every resumable run shares (SIGTERM raised as :class:`Terminated`, the last
+completed step saved on any stop); this module adds what a run *folder* needs: its lock,
+the refusal to overwrite, the scene's copy and digest, and ``history.json``.
 """
 from dataclasses import replace
 import json
 import os
 from pathlib import Path
 import secrets
-import signal
 import socket
 import sys
-import threading
 import time
 
 #: A checkpoint every this many steps when the scene asks for none (output.checkpoint_every
@@ -83,7 +86,8 @@ def _alive(pid):
 
 
 class RunLock:
-    """A lock file ``run.lock`` in the folder naming its owner (pid, host, start time).
+    """A lock file ``run.lock`` (or ``name``) in the folder naming its owner (pid, host,
+    start time).
 
     Taken with an exclusive create, so two processes cannot both hold it. A lock whose
     owner is a process of this host that no longer runs is stale and taken over; a
@@ -92,8 +96,8 @@ class RunLock:
     Use as a context manager; :meth:`acquire` creates the folder.
     """
 
-    def __init__(self, directory):
-        self.path = Path(directory) / LOCK
+    def __init__(self, directory, name=LOCK):
+        self.path = Path(directory) / name
         self.held = False
 
     def owner(self):
@@ -198,9 +202,9 @@ def read_history(path):
 
 
 # -- a run in its folder ------------------------------------------------------------------
-class Terminated(BaseException):
+class Terminated(KeyboardInterrupt):
     """SIGTERM (``kill``, ``timeout``, a batch system) raised in the run, to be handled
-    as Ctrl-C is: checkpoint the last step and stop."""
+    as Ctrl-C is (a KeyboardInterrupt): checkpoint the last step and stop."""
 
 
 def _raise_terminated(signum, frame):
@@ -290,7 +294,7 @@ def _resume_state(scene, out, digest):
 
 
 def _run_locked(scene, out, last, resume, progress, overwrite):
-    from .drivers.pfem_loop import run
+    from .drivers.resumable import ResumableRun
     from .geometry import as_geometry
     from .io import STEP_UNITS, TimeSeries, initial_fields
     from .pfem.state import save_checkpoint
@@ -333,52 +337,45 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
         series.write(0.0, *initial_fields(state, scene.alpha,
                                           as_geometry(scene.geometry).axisymmetric))
     every = scene.output.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
-    done = [state]
 
-    def save(st):
+    def save(st, _):
         """The checkpoint with the records up to its step (one file: they agree), then
-        history.json as a copy of those records."""
+        history.json as a copy of those records (the run's ``kept`` is ``records``)."""
         kept = [r for r in records if r["step"] <= st.step]
         save_checkpoint(checkpoint, replace(st, history=history_columns(kept)),
                         meta={"scene_digest": digest, "records": kept})
         write_text_atomic(history, json.dumps(kept, indent=1) + "\n")
 
+    bar = None if progress is None else progress(first, last)
+    # the run's steps one at a time (the same steps as one call of pfem_loop.run: each
+    # step's state owns its history), checkpointed every ``every`` and on any stop
     def on_step(st, record, result):
         records.append(record)
-        done[0] = st
-        if st.step % every == 0:
-            save(st)
+        if bar is not None:
+            bar(st.step - first, last - first, record)
 
-    bar = None if progress is None else progress(first, last)
-    in_main = threading.current_thread() is threading.main_thread()   # signal's rule
-    old_term = signal.signal(signal.SIGTERM, _raise_terminated) if in_main else None
+    run = ResumableRun(scene, state, checkpoint=checkpoint, every=every, series=series,
+                       save_every=scene.output.every, save=save, on_step=on_step)
     try:
-        state, _ = run(state, scene, last - first, series=series,
-                       save_every=scene.output.every, on_step=on_step, progress=bar)
-    except (SolverError, KeyboardInterrupt, Terminated, OSError) as err:
-        if in_main:                                  # a second TERM must not cut the save
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        run.advance(lambda run: run.state.step >= last or run.state.n == 0)
+    except (SolverError, KeyboardInterrupt, OSError) as err:
         if bar is not None:
             bar.close()
-        try:
-            save(done[0])                            # the last step completed, to resume
-        except OSError as save_err:
-            print(f"pfem-skfem run: the checkpoint of step {done[0].step} could not be "
-                  f"written ({save_err}); the folder keeps the previous one", file=sys.stderr)
+        n = run.state.step
+        if err.save_error is not None:
+            print(f"pfem-skfem run: the checkpoint of step {n} could not be "
+                  f"written ({err.save_error}); the folder keeps the previous one",
+                  file=sys.stderr)
         if isinstance(err, SolverError):
             what = f"solver failed ({err}; status {err.status})"
         else:
             what = {KeyboardInterrupt: "interrupted", Terminated: "terminated (SIGTERM)"}.get(
                 type(err), f"stopped: {err}")
-        n = done[0].step
         kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
         print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
               f"from step {n})", file=sys.stderr)
         return {KeyboardInterrupt: 130, Terminated: 143}.get(type(err), 3)
-    finally:
-        if in_main:
-            signal.signal(signal.SIGTERM, signal.SIG_DFL if old_term is None else old_term)
-    save(state)
+    state = run.state
     vtus = f"scene.pvd ({len(series.entries)} VTU), " if series is not None else ""
     print(f"steps {first + 1}-{state.step} (t = {state.time:.6g}) written to {out}/: {vtus}"
           "history.json, scene.toml, checkpoint.npz")

@@ -213,21 +213,22 @@ def test_a_column_stopped_and_resumed_from_its_checkpoint_is_the_same_column(tmp
     deposit at t_stop and the history are in the saved measurements) and run again goes
     on from its checkpoint and gives the uninterrupted column bit for bit."""
     import granular_column_axisymmetric as column
+    from pfem_skfem.drivers import pfem_loop          # the steps of its ResumableRun
     case = dict(nr=4, steps=24, phi=30.0, settle=2.0, t_stop=1.5, history=True,
                 volume_correction=True, alpha_advected=3.0)
     whole = column.run_case(2.0, **case)
     assert whole["track"]["t_bar"][-1] > 1.5          # it settles after t_stop
-    real, calls = column.pfem_loop.run, []
+    real, calls = pfem_loop.run, []
 
     def stopping(*args, **kwargs):                    # a stop after 12 of the steps
         calls.append(1)
         if len(calls) > 12:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
-    monkeypatch.setattr(column.pfem_loop, "run", stopping)
+    monkeypatch.setattr(pfem_loop, "run", stopping)
     with pytest.raises(KeyboardInterrupt):
         column.run_case(2.0, **case, checkpoint_dir=tmp_path, checkpoint_every=4)
-    monkeypatch.setattr(column.pfem_loop, "run", real)
+    monkeypatch.setattr(pfem_loop, "run", real)
     resumed = column.run_case(2.0, **case, checkpoint_dir=tmp_path, checkpoint_every=4)
     for key in ("runout_over_r0", "h_inf_over_r0", "runout_t4_over_r0", "h_t4_over_r0",
                 "kinetic_energy_t4_over_peak", "t_rest", "area_change", "track"):

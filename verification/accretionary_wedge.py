@@ -73,7 +73,8 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, positive, positive_int,
                                         sweep_options, positive_angle)
-from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.drivers.resumable import open_series
+from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
@@ -292,22 +293,15 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, **options):
     du = s / steps
     state = scene.initial_state()
     snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / f"h{options['h']:g}_n{steps}"
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "wedge")
-    bar = progress_bar(total=steps, disable=not verbose, unit="step", desc=f"wedge ({steps} steps)")
-
-    def tick(i, n, rec):
-        bar.set_postfix_str(f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
-                            f"dA = {rec['area_change']:+.2%}", refresh=False)
-        bar.update(1)
+    series = open_series(Path(outdir) / f"h{options['h']:g}_n{steps}"
+                         if outdir is not None and save_every else None, "wedge")
+    tick = StepBar(0, steps, disable=not verbose, desc=f"wedge ({steps} steps)",
+                   postfix=lambda rec: f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
+                                       f"dA = {rec['area_change']:+.2%}")
     t0 = time.perf_counter()
     state, snaps = pfem_loop.run(state, scene, steps, series=series, save_every=save_every,
                                  snapshots=set(snap), progress=tick)
-    bar.close()
+    tick.close()
     hist = state.history
     h0, alpha, h = options.get("h0", 0.08), options.get("alpha", 1.4), options["h"]
     bins = np.arange(s, options.get("L", 1.4) + h, h)          # from the wall's final place

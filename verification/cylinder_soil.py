@@ -77,7 +77,8 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, positive, positive_float,
                                         sweep_options, theta_weight)
-from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.drivers.resumable import open_series
+from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
@@ -173,25 +174,19 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", **op
     snap_steps = {int(round(u / du)): f"u_V = {u:g} m" for u in SNAP_UV}
     snap_steps |= {n_v + int(round(u / du)): f"u_H = {u:g} m" for u in SNAP_UH}
     snap_steps = {k: v for k, v in snap_steps.items() if k <= n_v + n_h}
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "cylinder")
+    series = open_series(Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"
+                         if outdir is not None and save_every else None, "cylinder")
     t0 = time.perf_counter()
-    bar = progress_bar(total=n_v + n_h, disable=not verbose, unit="step",
-                       desc=f"cylinder ({label})")
 
-    def tick(i, n, rec):
+    def postfix(rec):
         F = rec["forces"]["cylinder"]
-        bar.set_postfix_str(f"F = ({-F[0]:.2f}, {F[1]:.2f}) kN/m, dA = {rec['area_change']:+.2%}",
-                            refresh=False)
-        bar.update(1)
+        return f"F = ({-F[0]:.2f}, {F[1]:.2f}) kN/m, dA = {rec['area_change']:+.2%}"
+    tick = StepBar(0, n_v + n_h, disable=not verbose, desc=f"cylinder ({label})",
+                   postfix=postfix)
     x0 = state.x.copy()
     state, snaps = pfem_loop.run(state, scene, n_v + n_h, series=series, save_every=save_every,
                                  snapshots=set(snap_steps), progress=tick)
-    bar.close()
+    tick.close()
     seconds = time.perf_counter() - t0
     hist = state.history
     F = np.array([f["cylinder"] for f in hist["forces"]])

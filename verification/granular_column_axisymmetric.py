@@ -56,23 +56,21 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
                                                ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.drivers.resumable import load_run, save_run, sitting
+from pfem_skfem.drivers.resumable import ResumableRun, sitting
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
                                         checkpoint_options, friction_angle, in_range,
                                         nonnegative_float, nonnegative_int, positive_float,
                                         positive_int, sweep_options, volume_correction_option,
                                         positive_angle)
-from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.store import checkpoint_path
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
@@ -223,8 +221,9 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     place of ``material`` (as :func:`granular_column_axisymmetric`).
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
-    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`), under
-    a digest of the column's parameters; a run finds its own checkpoint and goes on from
+    ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`),
+    under a digest of the column's parameters; a run finds its own checkpoint and goes on from
     it, the same steps bit for bit on the same machine (a fine short column takes hours).
     ``seconds`` is then the time of the last sitting only."""
     nr_radius = particles_across_radius(a, nr)
@@ -241,12 +240,6 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                                                 adaptive_alpha=adaptive_alpha,
                                                 volume_correction=volume_correction,
                                                 alpha_advected=alpha_advected)
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "column")
     volume0 = float(rho * scene.regions[0].volume)
     x0 = state.x.copy()
     axis0 = np.flatnonzero(x0[:, 0] == 0.0)
@@ -258,49 +251,51 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     # what a resumed run needs besides the state: the measurements so far
     loop = dict(track={"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}, snaps={},
                 at_t_stop=None, settled=0)
-    checkpoint = None
-    if checkpoint_dir is not None:
-        keys = dict(a=a, nr=nr, steps=steps, phi=phi, phi_s=phi_s, rho=rho, g=g, r0=r0,
-                    material=material if soil is None else repr(soil), passes=passes,
-                    alpha=alpha, floor=floor, settle=settle, t_stop=t_stop,
-                    courant=courant, volume_correction=volume_correction,
-                    adaptive_alpha=adaptive_alpha, alpha_advected=alpha_advected)
-        checkpoint = checkpoint_path(checkpoint_dir, f"column_a{a:g}", keys)
-        saved = load_run(checkpoint)
-        if saved is not None:
-            state, loop = saved
-            if series is not None:           # the VTU files up to the checkpoint
-                series.resume(state.time)
-    track, snaps = loop["track"], loop["snaps"]
-    bar = progress_bar(total=n_stop + n_settle, initial=state.step, disable=not verbose,
-                       unit="step", desc=f"column of revolution ({label or f'a = {a:g}'})")
+    keys = dict(a=a, nr=nr, steps=steps, phi=phi, phi_s=phi_s, rho=rho, g=g, r0=r0,
+                material=material if soil is None else repr(soil), passes=passes,
+                alpha=alpha, floor=floor, settle=settle, t_stop=t_stop,
+                courant=courant, volume_correction=volume_correction,
+                adaptive_alpha=adaptive_alpha, alpha_advected=alpha_advected)
     t0 = time.perf_counter()
-    while True:
-        if state.step >= n_stop:
-            if loop["at_t_stop"] is None:            # the deposit where the thesis stops
-                ke = np.asarray(state.history["kinetic_energy"])
-                loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
-                                     float(ke[-1] / ke.max()))
-            at_rest = np.max(np.linalg.norm(state.v, axis=1)) < rest_speed
-            if at_rest or loop["settled"] >= n_settle:
-                break
-            loop["settled"] += 1
-        state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
-                                    snapshots=set(snap_steps) if state.step < n_stop else ())
+    run = ResumableRun.open(
+        scene, state, loop, directory=checkpoint_dir, label=f"column_a{a:g}", keys=keys,
+        every=checkpoint_every, save_every=save_every, vtu_name="column",
+        vtu_dir=(None if outdir is None else
+                 Path(outdir) / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"),
+        total=n_stop + n_settle, desc=f"column of revolution ({label or f'a = {a:g}'})",
+        verbose=verbose)
+    loop = run.kept
+    track, snaps = loop["track"], loop["snaps"]
+    rest = [False]
+
+    def done(run):
+        """The thesis' deposit at t_stop, then at rest or ``settle`` more (once a step)."""
+        state = run.state
+        if state.step < n_stop:
+            return False
+        if loop["at_t_stop"] is None:            # the deposit where the thesis stops
+            ke = np.asarray(state.history["kinetic_energy"])
+            loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
+                                 float(ke[-1] / ke.max()))
+        rest[0] = np.max(np.linalg.norm(state.v, axis=1)) < rest_speed
+        if rest[0] or loop["settled"] >= n_settle:
+            return True
+        loop["settled"] += 1
+        return False
+
+    def observe(run, more):
         snaps.update({snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
                       for k, v in more.items()})
         if history:
-            hz, toe = measure_deposit(state, alpha, alpha_advected)
-            track["t_bar"].append(state.time / t_scale)
+            hz, toe = measure_deposit(run.state, alpha, alpha_advected)
+            track["t_bar"].append(run.state.time / t_scale)
             track["h_over_r0"].append(hz / r0)
             track["r_over_r0"].append(toe / r0)
-        bar.set_postfix_str(f"t/sqrt(h0/g) = {state.time / t_scale:.2f}", refresh=False)
-        bar.update(1)
-        if checkpoint is not None and state.step % checkpoint_every == 0:
-            save_run(checkpoint, state, loop)
-    if checkpoint is not None:
-        save_run(checkpoint, state, loop)
-    bar.close()
+
+    run.advance(done, observe,
+                snapshots=lambda run: set(snap_steps) if run.state.step < n_stop else (),
+                postfix=lambda run: f"t/sqrt(h0/g) = {run.state.time / t_scale:.2f}")
+    state, series, at_rest = run.state, run.series, rest[0]
     height4, toe4, ke4 = loop["at_t_stop"]
     extra = loop["settled"]
     rest = bool(at_rest)                           # the loop ends only on its test

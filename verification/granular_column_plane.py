@@ -52,7 +52,8 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, poisson_ratio, positive_float,
                                         positive_int, sweep_options, positive_angle)
-from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.drivers.resumable import open_series
+from pfem_skfem.harness.progress import StepBar, progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
@@ -201,12 +202,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                                     passes=passes, alpha=alpha, dt=t_end / steps,
                                     contact=contact, E=E, nu=nu,
                                     refine_surface=refine_surface, bulge=bulge, soil=soil)
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "column")
+    series = open_series(Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
+                         if outdir is not None and save_every else None, "column")
     snap_steps = {int(round(s * steps / 4)) for s in (1.0, 4.0)}
     x0 = state.x.copy()
     checkpoint = None
@@ -218,13 +215,9 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
             print(f"resuming {checkpoint} at step {state.step}", flush=True)
     t0 = time.perf_counter()
     rest_steps = int(round(settle * steps / 4.0))
-    bar = progress_bar(total=steps - state.step + rest_steps, disable=not verbose, unit="step",
-                       desc=f"column a = {a:g}, phi = {phi:g}, {nx} across")
-
-    def tick(i, n, record):
-        bar.set_postfix_str(f"t/sqrt(h0/g) = {record['time'] / np.sqrt(h0 / g):.2f}",
-                            refresh=False)
-        bar.update(1)
+    tick = StepBar(state.step, steps + rest_steps, disable=not verbose,
+                   desc=f"column a = {a:g}, phi = {phi:g}, {nx} across",
+                   postfix=lambda record: f"t/sqrt(h0/g) = {record['time'] / np.sqrt(h0 / g):.2f}")
     state, snaps = pfem_loop.run(state, scene, steps - state.step, series=series,
                                  save_every=save_every, snapshots=snap_steps, progress=tick,
                                  checkpoint=checkpoint, checkpoint_every=checkpoint_every)
@@ -232,10 +225,10 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
     ke = np.asarray(state.history["kinetic_energy"])
     ke4 = float(ke[-1] / ke.max())
     # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    bar.set_description(f"column a = {a:g}, phi = {phi:g}, {nx} across, until at rest")
+    tick.bar.set_description(f"column a = {a:g}, phi = {phi:g}, {nx} across, until at rest")
     state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0), rest_steps,
                                      series=series, save_every=save_every, progress=tick)
-    bar.close()
+    tick.close()
     if extra:                                             # the deposit at rest, for Fig 6.12
         snaps[state.step] = {"points": state.x.copy(),
                              "speed": np.linalg.norm(state.v, axis=1)}

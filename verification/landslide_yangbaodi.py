@@ -75,21 +75,19 @@ import numpy as np
 if __package__ in (None, ""):                     # run as a file: the repository's root
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from pfem_skfem.drivers import pfem_loop                                      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary           # noqa: E402
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
-from pfem_skfem.drivers.resumable import load_run, save_run  # noqa: E402
+from pfem_skfem.drivers.resumable import ResumableRun  # noqa: E402
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
 from pfem_skfem.harness.options import (base_parser, friction_angle, nonnegative_float,  # noqa: E402
                                         nonnegative_int, positive_float, positive_int,
                                         theta_weight, volume_correction_option,
                                         alpha_advected_option, checkpoint_options,
                                         positive_angle)
-from pfem_skfem.harness.progress import progress, progress_bar  # noqa: E402
+from pfem_skfem.harness.progress import progress  # noqa: E402
 from pfem_skfem.harness.report import Report, script_main  # noqa: E402
-from pfem_skfem.harness.store import checkpoint_path  # noqa: E402
 from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
 from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
@@ -284,8 +282,9 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     ``rest`` times its peak (after the peak) or ``t_after`` after release.
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
-    ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`), under
-    the label and a digest of the slide's parameters and profile; a run finds its own
+    ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`),
+    under the label and a digest of the slide's parameters and profile; a run finds its own
     checkpoint and goes on from it, the same steps bit for bit (a slide of the thesis'
     size takes hours here). Snapshots are taken only in the steps run this time."""
     profile = read_profile(profile_path)
@@ -295,12 +294,6 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                              adaptive_alpha=adaptive_alpha, t_hold=t_hold, hold=hold,
                              floor=floor, passes=passes, volume_correction=volume_correction,
                              alpha_advected=alpha_advected)
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / label
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "landslide")
     x0, n0 = state.x.copy(), state.n
     points = material_points(state, profile)
     n_hold = int(round(t_hold / dt))
@@ -308,67 +301,64 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     snap_every = int(round(snapshot_every / dt)) if snapshot_every else 0
     t_release = n_hold * dt
     cm0 = centre_of_mass(state)
+    # how the held stress settles (hold_changes): the largest change of the lagged mean
+    # stress from one held step to the next, in units of the stress scale rho g L
     loop = dict(rec={k: [] for k in ("t", "front", "ke", "area_change", "alpha", "cm",
                                      "sigma_m_min")},
                 track={"x": [], "v": []}, snaps={0.0: {"x": x0, "speed": np.zeros(n0)}},
                 hold_moved=0.0, hold_changes=[], sigma_m_held=None, at_rest=False, peak=0.0)
-    checkpoint = None
-    if checkpoint_dir is not None:
-        keys = dict(h=h, rho=rho, phi=phi, c=c, mu_deg=mu_deg, g=g, dt=dt, theta1=theta1,
-                    theta2=theta2, alpha=alpha, adaptive_alpha=adaptive_alpha,
-                    t_hold=t_hold, hold=hold, floor=floor, passes=passes,
-                    volume_correction=volume_correction, alpha_advected=alpha_advected,
-                    profile=[profile.x.tolist(), profile.z_slip.tolist(),
-                             profile.z_surface.tolist()])
-        checkpoint = checkpoint_path(checkpoint_dir, f"landslide_{label}", keys)
-        saved = load_run(checkpoint)
-        if saved is not None:
-            state, loop = saved
-            if series is not None:           # the VTU files up to the checkpoint
-                series.resume(state.time)
-    rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
-    # how the held stress settles: the largest change of the lagged mean stress from one
-    # held step to the next, in units of the stress scale rho g L
-    hold_changes, sigma_m_held = loop["hold_changes"], loop["sigma_m_held"]
-    hold_moved, at_rest, peak = loop["hold_moved"], loop["at_rest"], loop["peak"]
+    keys = dict(h=h, rho=rho, phi=phi, c=c, mu_deg=mu_deg, g=g, dt=dt, theta1=theta1,
+                theta2=theta2, alpha=alpha, adaptive_alpha=adaptive_alpha,
+                t_hold=t_hold, hold=hold, floor=floor, passes=passes,
+                volume_correction=volume_correction, alpha_advected=alpha_advected,
+                profile=[profile.x.tolist(), profile.z_slip.tolist(),
+                         profile.z_surface.tolist()])
     t0 = time.perf_counter()
-    bar = progress_bar(total=n_hold + n_after, initial=min(state.step, n_hold + n_after),
-                       disable=not verbose, unit="step", desc=f"landslide ({label})")
-    while state.step < n_hold + n_after and not at_rest:
-        state, _ = pfem_loop.run(state, scene, 1, series=series, save_every=save_every)
-        hist = state.history
+    run = ResumableRun.open(scene, state, loop, directory=checkpoint_dir,
+                            label=f"landslide_{label}", keys=keys, every=checkpoint_every,
+                            vtu_dir=None if outdir is None else Path(outdir) / label,
+                            vtu_name="landslide", save_every=save_every,
+                            total=n_hold + n_after, desc=f"landslide ({label})",
+                            verbose=verbose)
+    loop = run.kept
+    rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
+
+    def observe(run, more):
+        state, hist = run.state, run.state.history
         if np.any(np.asarray(hist["thinned"])) or state.n < n0:
             raise RuntimeError("particles were removed: the material points are lost")
         if state.step <= n_hold:                     # the held phase
-            hold_moved = max(hold_moved, float(np.max(np.abs(state.x[:n0] - x0))))
-            if sigma_m_held is not None:
-                hold_changes.append(float(np.max(np.abs(state.sigma_m[:n0] - sigma_m_held)))
-                                    / scene.stress_scale)
-            sigma_m_held = state.sigma_m[:n0].copy()
-        else:
-            rec["t"].append(state.time - t_release)
-            rec["front"].append(front(state))
-            rec["ke"].append(hist["kinetic_energy"][-1])
-            rec["area_change"].append(hist["area_change"][-1])
-            rec["alpha"].append(hist["alpha"][-1])
-            rec["cm"].append(centre_of_mass(state))
-            rec["sigma_m_min"].append(float(state.sigma_m.min()))
-            track["x"].append(state.x[points].copy())
-            track["v"].append(state.v[points].copy())
-            k = state.step - n_hold
-            if snap_every and k % snap_every == 0:
-                snaps[k * dt] = {"x": state.x.copy(),
-                                 "speed": np.linalg.norm(state.v, axis=1)}
-            peak = max(peak, rec["ke"][-1])
-            travel = float(np.linalg.norm(rec["cm"][-1] - cm0))
-            at_rest = came_to_rest(rec["ke"][-1], peak, rec["ke"][0], travel, h, rest)
-        bar.set_postfix_str(f"t = {state.time:.2f} s, front {front(state):.1f} m", refresh=False)
-        bar.update(1)
-        last = state.step == n_hold + n_after or at_rest
-        if checkpoint is not None and (last or state.step % checkpoint_every == 0):
-            save_run(checkpoint, state, dict(loop, hold_moved=hold_moved, at_rest=at_rest,
-                                             peak=peak, sigma_m_held=sigma_m_held))
-    bar.close()
+            loop["hold_moved"] = max(loop["hold_moved"],
+                                     float(np.max(np.abs(state.x[:n0] - x0))))
+            if loop["sigma_m_held"] is not None:
+                loop["hold_changes"].append(
+                    float(np.max(np.abs(state.sigma_m[:n0] - loop["sigma_m_held"])))
+                    / scene.stress_scale)
+            loop["sigma_m_held"] = state.sigma_m[:n0].copy()
+            return
+        rec["t"].append(state.time - t_release)
+        rec["front"].append(front(state))
+        rec["ke"].append(hist["kinetic_energy"][-1])
+        rec["area_change"].append(hist["area_change"][-1])
+        rec["alpha"].append(hist["alpha"][-1])
+        rec["cm"].append(centre_of_mass(state))
+        rec["sigma_m_min"].append(float(state.sigma_m.min()))
+        track["x"].append(state.x[points].copy())
+        track["v"].append(state.v[points].copy())
+        k = state.step - n_hold
+        if snap_every and k % snap_every == 0:
+            snaps[k * dt] = {"x": state.x.copy(), "speed": np.linalg.norm(state.v, axis=1)}
+        loop["peak"] = max(loop["peak"], rec["ke"][-1])
+        travel = float(np.linalg.norm(rec["cm"][-1] - cm0))
+        loop["at_rest"] = came_to_rest(rec["ke"][-1], loop["peak"], rec["ke"][0], travel, h,
+                                       rest)
+
+    run.advance(lambda run: run.state.step >= n_hold + n_after or loop["at_rest"], observe,
+                postfix=lambda run: f"t = {run.state.time:.2f} s, "
+                                    f"front {front(run.state):.1f} m")
+    state, series = run.state, run.series
+    hold_changes, sigma_m_held = loop["hold_changes"], loop["sigma_m_held"]
+    hold_moved, at_rest = loop["hold_moved"], loop["at_rest"]
     seconds = time.perf_counter() - t0
     t = np.asarray(rec["t"])
     fr = np.asarray(rec["front"])

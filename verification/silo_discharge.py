@@ -67,20 +67,18 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod
-from pfem_skfem.drivers.resumable import load_run, save_run
+from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, fraction, friction_angle,
                                         nonnegative_float, nonnegative_int, positive,
                                         positive_float, positive_int, sweep_options,
                                         checkpoint_options, in_range)
-from pfem_skfem.harness.progress import progress, progress_bar
+from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.store import checkpoint_path
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, Geostatic, HalfPlane, Outlet, Region, Scene
 
@@ -172,8 +170,9 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
 
     With ``checkpoint_dir`` the state and the snapshots taken so far are saved there
-    every ``checkpoint_every`` steps and at the end (:func:`~pfem_skfem.drivers.resumable.save_run`),
-    under a name made of the label and the scene's parameters; a run finds its own
+    every ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a name made of the
+    label and the scene's parameters; a run finds its own
     checkpoint and goes on from it (the same steps, bit for bit: a long study can span
     several sessions). A checkpoint of the state alone (as written before the snapshots
     were kept) is taken too: the snapshots of its earlier steps are then missing."""
@@ -181,43 +180,27 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
                       alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
     state, scene = silo(**scene_keys)
     x0, n0, m0 = state.x.copy(), state.n, state.total_mass
-    snaps = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
-    checkpoint = (None if checkpoint_dir is None
-                  else checkpoint_path(checkpoint_dir, f"silo_{label}", scene_keys))
-    if checkpoint is not None:
-        saved = load_run(checkpoint)
-        if saved is not None:
-            state, loop = saved
-            snaps.update(loop["snaps"])
-        elif checkpoint.is_file():
-            state = pfem_loop.load_checkpoint(checkpoint)
-    series = None
-    if outdir is not None and save_every:
-        from pfem_skfem.io import TimeSeries
-        case_dir = Path(outdir) / label
-        case_dir.mkdir(parents=True, exist_ok=True)
-        series = TimeSeries(case_dir, "silo")
-        if state.step:                       # resumed: the VTU files up to the checkpoint
-            series.resume(state.time)
-    snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
+    first = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
-    bar = progress_bar(total=steps, initial=min(state.step, steps), disable=not verbose,
-                       unit="step", desc=f"silo ({label})")
-    while (state.step < steps and state.n > 0          # n = 0: every particle left
-           and state.total_mass >= empty * m0):        # (a resumed run may be done)
-        state, more = pfem_loop.run(state, scene, 1, series=series, save_every=save_every,
-                                    snapshots=snap_steps)
-        snaps.update({k: {"x": v["x"], "speed": np.linalg.norm(state.v, axis=1)}
+    run = ResumableRun.open(scene, state, {"snaps": first}, directory=checkpoint_dir,
+                            label=f"silo_{label}", keys=scene_keys, every=checkpoint_every,
+                            vtu_dir=None if outdir is None else Path(outdir) / label,
+                            vtu_name="silo", save_every=save_every, total=steps,
+                            desc=f"silo ({label})", verbose=verbose, state_alone=True)
+    snaps = run.kept["snaps"] = {**first, **run.kept["snaps"]}
+    snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
+
+    def observe(run, more):
+        snaps.update({k: {"x": v["x"], "speed": np.linalg.norm(run.state.v, axis=1)}
                       for k, v in more.items()})
-        bar.set_postfix_str(f"t = {state.time:.2f} s, V/V0 = {state.total_mass / m0:.3f}",
-                            refresh=False)
-        bar.update(1)
-        if checkpoint is not None and checkpoint_every and state.step % checkpoint_every == 0:
-            save_run(checkpoint, state, {"snaps": snaps})
-    bar.close()
-    if checkpoint is not None:
-        save_run(checkpoint, state, {"snaps": snaps})
+
+    run.advance(lambda run: not (run.state.step < steps and run.state.n > 0   # n = 0: all out
+                                 and run.state.total_mass >= empty * m0),       # (or resumed done)
+                observe, snapshots=snap_steps,
+                postfix=lambda run: f"t = {run.state.time:.2f} s, "
+                                    f"V/V0 = {run.state.total_mass / m0:.3f}")
+    state, series = run.state, run.series
     seconds = time.perf_counter() - t0
     hist = state.history
     t = np.r_[0.0, hist["time"]]

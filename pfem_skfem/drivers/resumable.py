@@ -1,13 +1,27 @@
-"""Run persistence of the PFEM drivers: a run's state and its driver's own measurements
-saved together (:func:`save_run`, :func:`load_run`) under
-:func:`~pfem_skfem.harness.store.checkpoint_path`, and the machine a kept result was
-made in (:func:`sitting`).
+"""A PFEM run that stops and goes on (:class:`ResumableRun`), and its persistence.
+
+A study of the thesis' size runs for hours to a day, longer than a working session: a run
+saves its state and what its caller measures as it goes (``kept``) every k steps under
+a name derived from its parameters (:func:`~pfem_skfem.harness.store.checkpoint_path`),
+and a run with the same parameters finds that checkpoint and goes on from it, bit for bit
+(the steps are the same calls of :func:`pfem_skfem.drivers.pfem_loop.run`). The
+crash-safety of ``pfem-skfem run`` (issue 36) is the run's, so every resumable run has it:
+one writer per checkpoint (a lock file), files written whole, and on Ctrl-C, SIGTERM, a
+solver failure or a full disk the last completed step saved before the stop goes on.
+
+:func:`save_run` and :func:`load_run` are the two files of a script's checkpoint (the
+state, and ``kept`` beside it); :func:`sitting` names the machine a kept result was made
+in.
 """
 from pathlib import Path
+import signal
+import threading
 
+from ..harness.progress import progress_bar
 from ..harness.store import DamagedFileError, _dump_pickle, checkpoint_path
 
-__all__ = ["checkpoint_path", "save_run", "load_run", "sitting"]
+__all__ = ["ResumableRun", "open_series", "checkpoint_path", "save_run", "load_run",
+           "sitting"]
 
 
 def save_run(path, state, loop):
@@ -68,3 +82,208 @@ def load_run(path):
             f"checkpoint {path} (with {side.name}) cannot be read ({type(error).__name__}: "
             f"{error}); delete both files to start that run again") from None
     return (state, saved["loop"]) if saved["step"] == state.step else None
+
+
+def _wait_for_lock(checkpoint, poll=5.0):
+    """The lock of ``checkpoint`` (``<name>.lock`` beside it), waiting while another live
+    run holds it: the same case twice in a sweep (or two sweeps) then runs once, and the
+    second takes the first's checkpoint when it is released."""
+    import os
+    import socket
+    import time
+    from ..harness.progress import progress
+    from ..runfolder import RunFolderError, RunLock
+    lock = RunLock(checkpoint.parent, checkpoint.stem + ".lock")
+    told = False
+    while True:
+        try:
+            return lock.acquire()
+        except RunFolderError as busy:
+            owner = lock.owner() or {}
+            if owner.get("pid") == os.getpid() and owner.get("host") == socket.gethostname():
+                raise                          # this process: waiting would never end
+            if not told:
+                progress(f"waiting for another run of {checkpoint.name}: {busy}")
+                told = True
+            time.sleep(poll)
+
+
+def open_series(directory, name, resume_at=None):
+    """A VTU series ``name`` in ``directory`` (created), or None when ``directory`` is None.
+
+    ``resume_at``: the time of the checkpoint a run goes on from; the series keeps its
+    frames up to that time (:meth:`pfem_skfem.io.TimeSeries.resume`)."""
+    if directory is None:
+        return None
+    from ..io import TimeSeries
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    series = TimeSeries(directory, name)
+    if resume_at is not None:
+        series.resume(resume_at)
+    return series
+
+
+class ResumableRun:
+    """A PFEM run that can stop and go on: the scene, its state, and what the caller
+    measures as it goes (``kept``, a dict of plain values and arrays), saved together
+    every ``every`` steps and named by the run's parameters.
+
+    Make one with :meth:`open` (which takes the state and ``kept`` from the run's
+    checkpoint when there is one), then :meth:`advance` it; ``run.state`` and
+    ``run.kept`` are the results. :meth:`step` is one step, the same call of
+    :func:`pfem_skfem.drivers.pfem_loop.run` as a hand-written loop makes, so that the
+    numbers do not depend on whether a run was stopped.
+
+    Parameters
+    ----------
+    scene, state : the :class:`~pfem_skfem.scene.Scene` and its :class:`PFEMState`.
+    kept : dict, optional
+        The caller's measurements so far (saved with the state).
+    checkpoint : Path, optional
+        The checkpoint file (None: the run is not saved).
+    every : int
+        Steps between two checkpoints (0: only at the end and on a stop).
+    series : :class:`pfem_skfem.io.TimeSeries`, optional
+        Written every ``save_every`` steps.
+    save_every : int
+    bar : a tqdm-like bar (``update``, ``set_postfix_str``, ``close``), or None.
+    save : callable ``save(state, kept)``, optional
+        How a checkpoint is written (default: :func:`save_run` at ``checkpoint``).
+    on_step : callable ``on_step(state, record, result)``, optional
+        Passed to :func:`~pfem_skfem.drivers.pfem_loop.run` (the CLI's step records).
+    """
+
+    def __init__(self, scene, state, kept=None, *, checkpoint=None, every=20, series=None,
+                 save_every=0, bar=None, save=None, on_step=None):
+        self.scene, self.state = scene, state
+        self.kept = {} if kept is None else kept
+        self.checkpoint = None if checkpoint is None else Path(checkpoint)
+        self.every, self.series, self.save_every = every, series, save_every
+        self.bar, self.on_step = bar, on_step
+        self._save = save
+        self.resumed = False
+        self._clean = True            # state and kept agree (a stop may save them)
+        self._lock = None             # the checkpoint's lock, held from open to advance's end
+
+    @classmethod
+    def open(cls, scene, state, kept=None, *, directory=None, label=None, keys=None,
+             every=20, vtu_dir=None, vtu_name="scene", save_every=0, total=None, desc=None,
+             verbose=False, state_alone=False):
+        """A run of ``scene`` from ``state``, or from its checkpoint if ``directory`` holds
+        one.
+
+        Parameters
+        ----------
+        directory : path, optional
+            Where the checkpoint is kept (``--checkpoint-dir``; None: not kept).
+        label, keys : the checkpoint's name: ``label`` and a digest of ``keys``, the
+            parameters that define the run (a dict of JSON values;
+            :func:`~pfem_skfem.harness.store.checkpoint_path`). A checkpoint of another
+            scene has another name, so a run never goes on from another run's state.
+        every : steps between checkpoints (``--checkpoint-every``).
+        vtu_dir, vtu_name, save_every : a VTU series ``vtu_name`` in ``vtu_dir`` written
+            every ``save_every`` steps (none when either is unset); a resumed run keeps
+            the frames up to its checkpoint.
+        total, desc, verbose : the progress bar (steps; shown when ``verbose``).
+        state_alone : also go on from a checkpoint of the state without ``kept`` (written
+            before the measurements were kept, or by a stop between the two files);
+            ``kept`` is then the one given.
+        """
+        checkpoint = None if directory is None else checkpoint_path(directory, label, keys)
+        resumed, lock = False, None
+        if checkpoint is not None:
+            lock = _wait_for_lock(checkpoint)     # one writer; a twin case takes its result
+            try:
+                saved = load_run(checkpoint)
+                if saved is not None:
+                    (state, kept), resumed = saved, True
+                elif state_alone and checkpoint.is_file():
+                    from ..pfem.state import load_checkpoint
+                    state, resumed = load_checkpoint(checkpoint), True
+            except BaseException:
+                lock.release()
+                raise
+        series = (open_series(vtu_dir, vtu_name, state.time if resumed else None)
+                  if vtu_dir is not None and save_every else None)
+        bar = None
+        if total is not None:
+            bar = progress_bar(total=total, initial=min(state.step, total),
+                               disable=not verbose, unit="step", desc=desc)
+        run = cls(scene, state, kept, checkpoint=checkpoint, every=every, series=series,
+                  save_every=save_every, bar=bar)
+        run.resumed, run._lock = resumed, lock
+        return run
+
+    def step(self, snapshots=()):
+        """One PFEM step: ``pfem_loop.run(state, scene, 1, series=..., save_every=...,
+        snapshots=...)``; returns its snapshots ({step: dict})."""
+        from .pfem_loop import run
+        state, more = run(self.state, self.scene, 1, series=self.series,
+                          save_every=self.save_every, snapshots=snapshots,
+                          on_step=self.on_step)
+        self._clean = False            # kept is the previous step's until observed
+        self.state = state
+        return more
+
+    def save(self):
+        """Write the checkpoint (the state and ``kept``); nothing without one."""
+        if self._save is not None:
+            self._save(self.state, self.kept)
+        elif self.checkpoint is not None:
+            save_run(self.checkpoint, self.state, self.kept)
+
+    def advance(self, done, observe=None, snapshots=(), postfix=None):
+        """Step until ``done(run)``; after each step ``observe(run, snapshots)`` updates
+        ``kept``, the bar moves, and every ``every`` steps the run is saved; at the end
+        it is saved once more and the bar closed.
+
+        ``snapshots``: step numbers to keep (as :func:`~pfem_skfem.drivers.pfem_loop.run`),
+        or a callable ``snapshots(run)`` giving them before each step. ``postfix(run)``:
+        the bar's text after each step. On Ctrl-C, SIGTERM (raised as
+        :class:`~pfem_skfem.runfolder.Terminated`), a solver failure or an OSError the
+        last completed step is saved (when its measurements are complete) and the error
+        raised again. Returns the run.
+        """
+        from ..runfolder import _raise_terminated
+        from ..problems.conic import SolverError
+        lock, self._lock = self._lock, None
+        in_main = threading.current_thread() is threading.main_thread()   # signal's rule
+        guarded = in_main and (self.checkpoint is not None or self._save is not None)
+        old = signal.signal(signal.SIGTERM, _raise_terminated) if guarded else None
+        try:
+            while not done(self):
+                more = self.step(snapshots(self) if callable(snapshots) else snapshots)
+                if observe is not None:
+                    observe(self, more)
+                self._clean = True
+                if self.bar is not None:
+                    if postfix is not None:
+                        self.bar.set_postfix_str(postfix(self), refresh=False)
+                    self.bar.update(1)
+                if self.every and self.state.step % self.every == 0:
+                    self.save()
+            if self.bar is not None:
+                self.bar.close()
+            self.save()
+        except (SolverError, KeyboardInterrupt, OSError) as error:
+            if guarded:                        # a second TERM must not cut the save
+                signal.signal(signal.SIGTERM, signal.SIG_IGN)
+            if self.bar is not None:
+                self.bar.close()
+            # the state of the last completed step, when the caller's measurements of it
+            # are complete (a stop inside observe leaves the previous checkpoint)
+            error.saved_step, error.save_error = None, None
+            if self._clean:
+                try:
+                    self.save()
+                    error.saved_step = self.state.step
+                except OSError as save_error:
+                    error.save_error = save_error
+            raise
+        finally:
+            if guarded:
+                signal.signal(signal.SIGTERM, signal.SIG_DFL if old is None else old)
+            if lock is not None:
+                lock.release()
+        return self

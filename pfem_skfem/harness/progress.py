@@ -155,21 +155,31 @@ class _CaseBars:
 
 
 class StepBar:
-    """The bar of a PFEM run's steps ``first + 1``-``last`` (:func:`progress_bar`):
-    simulated time t and solver iterations of the latest step, rate and time left.
+    """The bar of a PFEM run's steps ``first + 1``-``last`` (:func:`progress_bar`): by
+    default the simulated time t and the solver iterations of the latest step.
 
     Called as the ``progress`` of :func:`pfem_skfem.drivers.pfem_loop.run`:
-    ``bar(i, n, record)`` after step i of n; closed after the last."""
+    ``bar(i, n, record)`` after each step; closed once at ``last``.
 
-    def __init__(self, first, last, stream=None):
-        self.bar = progress_bar(total=last - first, initial=0, desc=f"steps {first + 1}-{last}",
-                                unit="step", stream=stream)
+    Parameters
+    ----------
+    first, last : the steps before and at the end of the run.
+    stream : where it is drawn (stderr).
+    desc : its title ("steps 1-100").
+    postfix : callable ``postfix(record)``, the text after the bar.
+    disable : no bar (``--quiet``).
+    """
+
+    def __init__(self, first, last, stream=None, *, desc=None, postfix=None, disable=False):
+        self.bar = progress_bar(total=last - first, initial=0, unit="step", stream=stream,
+                                desc=desc or f"steps {first + 1}-{last}", disable=disable)
+        self.postfix = postfix or (lambda record: f"t = {record['time']:.4g}, "
+                                                  f"it = {record['iterations']}")
 
     def __call__(self, i, n, record):
-        self.bar.set_postfix_str(f"t = {record['time']:.4g}, it = {record['iterations']}",
-                                 refresh=False)
-        self.bar.update(i - self.bar.n)
-        if i == n:
+        self.bar.set_postfix_str(self.postfix(record), refresh=False)
+        self.bar.update(1)
+        if self.bar.n >= self.bar.total:
             self.close()
 
     def close(self):

@@ -1,0 +1,185 @@
+"""A PFEM run that stops and goes on (:class:`pfem_skfem.drivers.resumable.ResumableRun`):
+a run stopped at step k and resumed from its checkpoint is the run that never stopped,
+bit for bit (the state's arrays and what the caller measured), and a run never goes on
+from another scene's checkpoint."""
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pfem_skfem.drivers import pfem_loop
+from pfem_skfem.drivers.resumable import ResumableRun, load_run
+from pfem_skfem.harness.store import checkpoint_path
+from verification.granular_column_plane import granular_column
+
+STEPS = 6
+KEYS = dict(a=1.0, nx=6)
+
+
+def _run(directory, stop=STEPS, keys=KEYS, every=2):
+    """The column of ``keys`` to step ``stop``, measuring the top speed of each step."""
+    state, scene = granular_column(keys["a"], keys["nx"])
+
+    def observe(run, more):
+        run.kept["speed"].append(float(np.max(np.linalg.norm(run.state.v, axis=1))))
+        run.kept["snaps"].update({k: v["x"] for k, v in more.items()})
+
+    run = ResumableRun.open(scene, state, {"speed": [], "snaps": {}}, directory=directory,
+                            label="column", keys=keys, every=every)
+    return run.advance(lambda run: run.state.step >= stop, observe, snapshots={2, 5})
+
+
+def _clock(key):
+    """A record's wall-clock time (seconds, t_solve, t_conic, ...): not a result."""
+    return key == "seconds" or key.startswith("t_")
+
+
+def _same(a, b):
+    for f in fields(a.state):
+        x, y = getattr(a.state, f.name), getattr(b.state, f.name)
+        if f.name == "history":
+            assert x.keys() == y.keys()
+            x = {k: v for k, v in x.items() if not _clock(k)}
+            y = {k: v for k, v in y.items() if not _clock(k)}
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name
+    assert a.kept["speed"] == b.kept["speed"]
+    assert a.kept["snaps"].keys() == b.kept["snaps"].keys()
+    for k in a.kept["snaps"]:
+        assert np.array_equal(a.kept["snaps"][k], b.kept["snaps"][k])
+
+
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory):
+    return _run(tmp_path_factory.mktemp("whole"))
+
+
+def test_a_run_stopped_and_resumed_is_the_run_that_never_stopped(whole, tmp_path):
+    first = _run(tmp_path, stop=3)                   # stopped at step 3 (saved at 2 and 3)
+    assert first.state.step == 3 and not first.resumed
+    again = _run(tmp_path)
+    assert again.resumed
+    assert again.kept["speed"][:3] == first.kept["speed"]
+    _same(again, whole)
+
+
+def test_a_run_interrupted_in_a_step_goes_on_from_the_last_completed_one(whole, tmp_path,
+                                                                        monkeypatch):
+    calls = []
+    real = pfem_loop.run
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 4:                          # Ctrl-C in step 4
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    with monkeypatch.context() as m:
+        m.setattr(pfem_loop, "run", interrupted)
+        with pytest.raises(KeyboardInterrupt) as stop:
+            _run(tmp_path, every=0)                  # no periodic checkpoint: only the stop's
+    assert stop.value.saved_step == 3
+    path = checkpoint_path(tmp_path, "column", KEYS)
+    state, kept = load_run(path)
+    assert state.step == 3 and len(kept["speed"]) == 3
+    assert not list(tmp_path.glob("*.lock"))         # the lock is released
+    _same(_run(tmp_path), whole)
+
+
+def test_a_run_never_goes_on_from_another_scenes_checkpoint(tmp_path):
+    _run(tmp_path, stop=2)
+    other = dict(KEYS, a=0.5)                        # another mass
+    run = _run(tmp_path, stop=1, keys=other)         # its own name: from the start
+    assert not run.resumed and run.state.step == 1
+    # another scene's checkpoint under this scene's name is refused before any step
+    mine, theirs = (checkpoint_path(tmp_path, "column", k) for k in (other, KEYS))
+    for suffix in ("", ".loop.pkl"):
+        name = (lambda p: p.with_name(p.stem + suffix)) if suffix else (lambda p: p)
+        name(theirs).replace(name(mine))
+    with pytest.raises(ValueError, match="does not belong to the scene"):
+        _run(tmp_path, stop=3, keys=other)
+
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.skipif(not (ROOT / "runs" / "silo").is_dir(), reason="runs/silo deleted")
+def test_the_kept_silo_runs_are_found_and_read_back(tmp_path):
+    """The thesis' silo at 1 cm (runs/README.md, command 3): the five finished runs are
+    taken from their checkpoints (a copy: the end writes them again), not one step is run,
+    and the table is the book's (book/data/silo_discharge_1cm.json), timings aside."""
+    import json
+    import shutil
+    from verification import silo_discharge
+    from pfem_skfem.harness.report import run_script
+
+    shutil.copytree(ROOT / "runs" / "silo", tmp_path / "silo")
+    report = run_script(silo_discharge, "--B-study", "--checkpoint-dir", str(tmp_path / "silo"),
+                        "--checkpoint-every", "10", "--workers", "1", "--no-figures")
+    book = json.loads((ROOT / "book" / "data" / "silo_discharge_1cm.json").read_text())
+    assert report.as_json()["quantities"] == book["quantities"]
+
+    def untimed(value):
+        if isinstance(value, dict):
+            return {k: untimed(v) for k, v in value.items() if not k.startswith("seconds")}
+        return [untimed(v) for v in value] if isinstance(value, list) else value
+    mine = json.loads(json.dumps(report.as_json()["extra"]))
+    assert untimed(mine) == untimed(book["extra"])
+    assert not list((tmp_path / "silo").glob("*.lock"))
+
+
+def test_one_writer_per_checkpoint(tmp_path):
+    """A run holds its checkpoint's lock from open to the end of advance; a second open of
+    the same run in this process is refused (another process waits for it)."""
+    from pfem_skfem.runfolder import RunFolderError
+    state, scene = granular_column(KEYS["a"], KEYS["nx"])
+    first = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    with pytest.raises(RunFolderError, match="in use by another run"):
+        ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    first.advance(lambda run: run.state.step >= 1)
+    assert not list(tmp_path.glob("*.lock"))
+    again = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    assert again.resumed and again.state.step == 1
+    again.advance(lambda run: True)
+
+
+def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch):
+    """granular_column_axisymmetric.run_case on its ResumableRun: Ctrl-C in step 8 keeps
+    step 7 (with the deposit history measured so far), and the run started again from it
+    returns the uninterrupted run's result."""
+    from verification import granular_column_axisymmetric as column
+    case = dict(a=0.5, nr=4, steps=12, phi=20.0, settle=0.7, history=True)
+    whole = column.run_case(**case)
+    calls, real = [], pfem_loop.run
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 8:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    with monkeypatch.context() as m:
+        m.setattr(pfem_loop, "run", interrupted)
+        with pytest.raises(KeyboardInterrupt) as stop:
+            column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
+    assert stop.value.saved_step == 7
+    again = column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
+    timing = {"seconds", "seconds_per_step", "sitting", "pvd"}
+    assert whole.keys() == again.keys()
+    for key in whole.keys() - timing:
+        assert _equal(whole[key], again[key]), key
+
+
+def _equal(a, b):
+    """Equal bit for bit, NaN equal to NaN, through dicts, lists and arrays."""
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)) and not all(np.isscalar(v) for v in a):
+        return len(a) == len(b) and all(_equal(x, y) for x, y in zip(a, b))
+    if isinstance(a, (list, tuple, np.ndarray, float, np.floating)):
+        a, b = np.asarray(a), np.asarray(b)
+        return a.shape == b.shape and np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
+    return a == b
