@@ -60,7 +60,7 @@ def test_empty_panels_and_unexplained_colour_are_found():
     b.plot([0, 1], [0, 1])
     b.set(xlabel="t [s]", ylabel="V [m2]")
     found = figure_problems(fig)                               # c: nothing drawn
-    scripts = figure_problems(fig, content=False)              # the scripts' checks so far
+    scripts = figure_problems(fig, content=False)              # without the content checks
     pyplot().close(fig)
     assert not any("empty" in p or "colour" in p for p in scripts), scripts
     assert any("axes 3 (untitled): empty" in p for p in found), found

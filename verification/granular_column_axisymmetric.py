@@ -624,12 +624,16 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         keys = [k for k in r["snapshots"]]
         ncol = 4
         nrow = -(-len(keys) // ncol)
-        fig, axes = plt.subplots(nrow, ncol, figsize=(12, 3.0 * nrow), squeeze=False)
+        fig, axes = plt.subplots(nrow, ncol, figsize=(12, 1.6 * nrow + 0.8), squeeze=False,
+                                 layout="constrained")      # room for the colour bar
         width = 1.2 + max(r["runout_over_r0"], 0) + 0.2
+        # one colour scale for every snapshot, so that one colour bar reads them all
+        top = max((float(np.max(r["snapshots"][k]["speed"], initial=0.0)) for k in keys),
+                  default=0.0) or 1.0
         for ax, k in zip(axes.flat, keys):
             s = r["snapshots"][k]
-            ax.scatter(s["points"][:, 0] / r["r0"], s["points"][:, 1] / r["r0"], c=s["speed"],
-                       s=2, cmap="viridis")
+            dots = ax.scatter(s["points"][:, 0] / r["r0"], s["points"][:, 1] / r["r0"],
+                              c=s["speed"], s=2, cmap="viridis", vmin=0.0, vmax=top)
             ax.set_aspect("equal")
             ax.set_xlim(0, width)
             ax.set_title("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}", fontsize=8)
@@ -640,7 +644,8 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
             ax.axis("off")
         fig.suptitle(f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
                      fontsize=9)
-        fig.tight_layout()
+        if keys:
+            fig.colorbar(dots, ax=list(axes.flat), label="speed [m/s]", shrink=0.8)
         save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
     a_fit = np.logspace(-1, np.log10(20), 200)
     r_fit, h_fit, _ = lube_2004(a_fit)

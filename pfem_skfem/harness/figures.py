@@ -197,9 +197,7 @@ def inspect_figures(script, argv, outdir):
     original = getattr(script, "save_figure", None)
 
     def checked(fig, path, dpi=120):
-        # the content checks (empty panels, colour without a bar) are the book's so far:
-        # the scripts' figures have not been surveyed for them (issue 36, item 7)
-        found[str(path)] = figure_problems(fig, dpi, content=False)
+        found[str(path)] = figure_problems(fig, dpi)
         save_figure(fig, path, dpi)
 
     script.save_figure = checked
