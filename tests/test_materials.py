@@ -140,3 +140,26 @@ def test_region_cones_refuse_cones_that_cannot_be_stitched():
         RegionCones((ZeroDilationMohrCoulomb(), DavisMohrCoulomb(phi=30.0, psi=5.0)), region)
     with pytest.raises(ValueError, match="different kinds"):
         RegionCones((ZeroDilationMohrCoulomb(), ZeroDilationDruckerPrager()), region)
+
+
+def test_regions_of_a_cohesive_and_a_frictional_material_share_a_scene(monkeypatch):
+    """A frictional block beside a Tresca clay (refused before RegionCones: the clay had no
+    radius) runs; each step's material is RegionCones of the two."""
+    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.drivers.pfem_loop import PFEMConfig, run
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.scene import Body, Scene
+    seen = []
+    step_material = pfem_loop.step_material
+    monkeypatch.setattr(pfem_loop, "step_material",
+                        lambda *a: seen.append(step_material(*a)) or seen[-1])
+    sand = Region(((0, 0), (0.5, 0), (0.5, 0.5), (0, 0.5)), ZeroDilationMohrCoulomb(phi=30.0),
+                  2.0, 0.125, name="sand")
+    clay = Region(((0.5, 0), (1, 0), (1, 0.5), (0.5, 0.5)), CohesiveTresca(2.0), 2.0, 0.125,
+                  name="clay")
+    scene = Scene((sand, clay), (Body("base", RigidSegment((-1, 0), (2, 0), 0.5)),),
+                  gravity=(0.0, -9.8), config=PFEMConfig(theta=ThetaMethod(0.01)))
+    state, _ = run(scene.initial_state(), scene, 2)
+    assert state.step == 2 and np.all(np.isfinite(state.x))
+    assert seen and all(isinstance(m, RegionCones) for m in seen)

@@ -371,7 +371,7 @@ class Scene:
                 phi = r.material.phi
                 k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
-                nu = getattr(self.elastic, "nu", 0.0)
+                nu = 0.0 if self.elastic is None else self.elastic.nu
                 sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
                 if axisymmetric:
                     sigma[mine, 2] = sigma[mine, 0]
