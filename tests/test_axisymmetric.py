@@ -8,11 +8,9 @@ import scipy.sparse as sp
 from skfem import MeshTri
 
 from pfem_skfem.geometry import AXISYMMETRIC, THESIS_ORDER, to_thesis_order
-from pfem_skfem.materials import Elastic
-from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAxisymmetric,
-                                               TrescaField3, VonMisesField,
-                                               drucker_prager_match, drucker_prager_radius,
-                                               mohr_coulomb_pair_radii)
+from pfem_skfem.materials import (drucker_prager_match, drucker_prager_radius, Elastic,
+                                  mohr_coulomb_pair_radii, MohrCoulombAxisymmetric,
+                                  TrescaAxisymmetric, TrescaField3, VonMisesField)
 from pfem_skfem.operators import (assemble_B, assemble_C, axis_dofs, body_force_vector,
                                   boundary_dofs, boundary_facets, consistent_mass, discretise,
                                   stiffness_matrix, stress_mass, traction_vector)

@@ -16,9 +16,9 @@ import pytest
 from pytest import approx
 
 from pfem_skfem.drivers.pfem_loop import run
-from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
-                                               ZeroDilationMohrCoulombAxisymmetric,
-                                               drucker_prager_match, mean_stress)
+from pfem_skfem.materials import (ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric,
+                                  drucker_prager_match)
+from pfem_skfem.materials.axisymmetric import mean_stress
 from pfem_skfem.scene import Region, Scene
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))

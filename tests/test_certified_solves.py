@@ -18,8 +18,7 @@ import numpy as np
 import pytest
 from skfem import MeshTri2
 
-from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAxisymmetric,
-                                               drucker_prager_match)
+from pfem_skfem.materials import MohrCoulombAxisymmetric, TrescaAxisymmetric, drucker_prager_match
 from pfem_skfem.meshes import triangulate_polygon
 from pfem_skfem.operators import (assemble_B, boundary_dofs, boundary_facets, discretise,
                                   traction_vector)

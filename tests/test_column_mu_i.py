@@ -3,8 +3,8 @@ checks, the direction of the rate effect, the axisymmetric material's rate-indep
 import numpy as np
 import pytest
 
-from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager, mean_stress
-from pfem_skfem.materials_rate import MuIRheology, MuIRheologyAxisymmetric
+from pfem_skfem.materials import MuIRheology, MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
+from pfem_skfem.materials.axisymmetric import mean_stress
 from pfem_skfem.harness.report import run_script
 from verification import granular_column_mu_i as column_mu_i
 

@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, run
-from pfem_skfem.materials import CohesiveTresca, DavisMohrCoulomb, ZeroDilationMohrCoulomb
-from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
-                                               ZeroDilationMohrCoulombAxisymmetric)
-from pfem_skfem.materials_rate import MuIRheology, MuIRheologyAxisymmetric
+from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, MuIRheology,
+                                  MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
+                                  ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.scene import (HalfPlane, Outlet, Region, Scene, SceneFileError, scene_digest,
                               scene_from_toml)
 from pfem_skfem.scene.files import example_text

@@ -1,4 +1,4 @@
-"""The mu(I) rheology (pfem_skfem.materials_rate) and the steady inclined-plane flow.
+"""The mu(I) rheology (pfem_skfem.materials.rate) and the steady inclined-plane flow.
 
 Facts checked: mu(I) is mu_s at I = 0, half-way at I_0 and tends to mu_2; with
 mu_2 = mu_s it is the rate-independent zero-dilation Mohr-Coulomb of sin(phi) = mu_s to
@@ -12,8 +12,7 @@ layer below atan(mu_s) stops.
 import numpy as np
 import pytest
 
-from pfem_skfem.materials import ZeroDilationMohrCoulomb
-from pfem_skfem.materials_rate import MuIRheology
+from pfem_skfem.materials import MuIRheology, ZeroDilationMohrCoulomb
 from pfem_skfem.periodic import periodic_operators, periodic_tie
 from verification.inclined_plane_flow import (bagnold_velocity, flow, layer, profile_error,
                                               time_unit)

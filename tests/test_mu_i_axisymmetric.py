@@ -1,4 +1,4 @@
-"""mu(I) in axisymmetry with the full rate term (pfem_skfem.materials_rate.MuIRheologyAxisymmetric).
+"""mu(I) in axisymmetry with the full rate term (pfem_skfem.materials.rate.MuIRheologyAxisymmetric).
 
 Facts checked: the rate deviator (a, -a, 0, b) + c (1, 1, -2, 0)/sqrt3 is traceless with
 sqrt(J2) = ||(a, b, c)||; in a homogeneous uniaxial extension of a cylinder
@@ -18,8 +18,7 @@ import pytest
 import skfem
 
 from pfem_skfem.fields import plastic_strain_increment
-from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager
-from pfem_skfem.materials_rate import MuIRheologyAxisymmetric
+from pfem_skfem.materials import MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
 from pfem_skfem.operators import discretise
 from pfem_skfem.problems.clarabel_direct import viscous_stress_map
 from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, pfem_step, run
-from pfem_skfem.materials_rate import MuIRheology
+from pfem_skfem.materials import MuIRheology
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.problems.nonassociated import least_passes
 from pfem_skfem.scene import Region, Scene

@@ -8,9 +8,9 @@ import pytest
 from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, load_checkpoint
-from pfem_skfem.materials import CohesiveTresca, DavisMohrCoulomb, Elastic
-from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
-                                               ZeroDilationMohrCoulombAxisymmetric)
+from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
+                                  MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
+                                  ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
@@ -88,10 +88,17 @@ def make_scene(name):
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, soils)),
                        geometry="axisymmetric")
+    if name == "mu_i":
+        soil = MuIRheology(mu_2=0.7, d=1e-3, lag="friction", elastic=Elastic(1e4, 0.3))
+        return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions))
+    if name == "mu_i_axisymmetric":
+        soil = MuIRheologyAxisymmetric(I_0=0.3, p_min=2e-3, lag="implicit")
+        return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions),
+                       geometry="axisymmetric")
     return scene_from_toml(EXAMPLE)
 
 
-ROUND_TRIP = ("rich", "davis", "axisymmetric", "example")
+ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -108,7 +115,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 20
+    assert len(names) == 22
     for name in names:
         assert f'type = "{name}"' in text, name
 

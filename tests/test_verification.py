@@ -110,7 +110,7 @@ def thick_cylinder_mohr_coulomb(c=100.0, phi=30.0, b_over_a=2.0):
 def thick_cylinder_zero_dilation(report):
     """With zero dilation ([80]) Mohr-Coulomb keeps its collapse pressure, and the (7.10)
     cone behaves as Mohr-Coulomb of sin phi' = 3 alpha (phi' = 43.85 deg at phi = 30)."""
-    from pfem_skfem.materials_axisymmetric import drucker_prager_match
+    from pfem_skfem.materials import drucker_prager_match
     from verification.thick_cylinder import dp_zero_dilation_pressure
     dp = drucker_prager_match(100.0, 30.0)
     assert np.degrees(np.arcsin(3 * dp.alpha)) == approx(43.85, abs=0.01)

@@ -39,9 +39,8 @@ import time
 import numpy as np
 
 from pfem_skfem.drivers.incremental import displacement_control
-from pfem_skfem.materials import Elastic
-from pfem_skfem.materials_axisymmetric import (MohrCoulombAxisymmetric, TrescaAxisymmetric,
-                                               drucker_prager_match)
+from pfem_skfem.materials import (drucker_prager_match, Elastic, MohrCoulombAxisymmetric,
+                                  TrescaAxisymmetric)
 from pfem_skfem.meshes import graded_rectangle_with_elements
 from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis

@@ -9,7 +9,7 @@ axisymmetry (``Scene(geometry="axisymmetric")``): x is the radius r, y the axis 
 integral carries 2 pi r, u_r = 0 on the axis, the volume is the integral of 2 pi r dA.
 The material is the thesis' Drucker-Prager cone (7.10) (the compression-meridian match)
 with zero dilation by the scheme of [80]
-(:class:`~pfem_skfem.materials_axisymmetric.ZeroDilationDruckerPrager`, the lagged mean
+(:class:`~pfem_skfem.materials.pfem.ZeroDilationDruckerPrager`, the lagged mean
 stress I1/3), rho = 2 t/m3, c = 0, phi_g = 30 deg, base friction tan phi_s with
 phi_s = phi_g, dt / sqrt(h0/g) = 0.01 (``--steps 400``), alpha = 1.6.
 
@@ -57,8 +57,7 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
-from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
-                                               ZeroDilationMohrCoulombAxisymmetric)
+from pfem_skfem.materials import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.dynamic import ThetaMethod

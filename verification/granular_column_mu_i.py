@@ -5,7 +5,7 @@ the thesis names the cure it did not try (6.4.3, 7.2.3): a friction that grows w
 shear rate. This script reruns the plane columns of 6.4.3
 (:mod:`verification.granular_column_plane`) and the axisymmetric columns of 7.4
 (:mod:`verification.granular_column_axisymmetric`) with the mu(I) rheology of Jop,
-Forterre & Pouliquen (2006) (:mod:`pfem_skfem.materials_rate`, the lagged viscosity by
+Forterre & Pouliquen (2006) (:mod:`pfem_skfem.materials.rate`, the lagged viscosity by
 default), each beside rate-independent runs of the same size and resolution:
 
 * ``mu_s``: zero-dilation Mohr-Coulomb (plane) / Drucker-Prager with sqrt(J2) <= mu p
@@ -27,7 +27,7 @@ depends on a and on h0 / d, and on the solid fraction rho / rho_s).
   d = 0.53 mm, rho_s = 2450 kg/m3, solid fraction 0.6) at the one laboratory size the
   thesis gives, r0 = 3.9 cm (Fig 7.6, Lajeunesse et al.'s glass beads), at every a. The
   rate part acts on the whole deviator, the hoop strain counted in the shear rate
-  (:class:`~pfem_skfem.materials_rate.MuIRheologyAxisymmetric`). ``--volume-correction on``
+  (:class:`~pfem_skfem.materials.rate.MuIRheologyAxisymmetric`). ``--volume-correction on``
   applies the move stage's volume projection to these columns (off by default, as the
   axisymmetric script).
 
@@ -87,8 +87,7 @@ def plane_soil(law, a, *, mu_s, mu_2, I_0, h0_over_d, d0_over_d, rho_s, lag, p_m
     """The material of one plane column: mu(I) with d = h0 / h0_over_d (or d0 / d0_over_d),
     or a rate-independent twin (zero-dilation Mohr-Coulomb, sin phi = mu_s, mu_2, or the
     thesis' phi)."""
-    from pfem_skfem.materials import ZeroDilationMohrCoulomb
-    from pfem_skfem.materials_rate import MuIRheology
+    from pfem_skfem.materials import MuIRheology, ZeroDilationMohrCoulomb
     if law == "mu(I)":
         d = a * d0 / h0_over_d if d0_over_d is None else d0 / d0_over_d
         return MuIRheology(mu_s=mu_s, mu_2=mu_2, I_0=I_0, d=d, rho_s=rho_s, p_min=p_min,
@@ -101,8 +100,7 @@ def plane_soil(law, a, *, mu_s, mu_2, I_0, h0_over_d, d0_over_d, rho_s, lag, p_m
 def axisymmetric_soil(law, *, mu_s, mu_2, I_0, d, rho_s, lag, p_min, k_min, phi_thesis):
     """The material of one axisymmetric column: mu(I) (the full rate), the Drucker-Prager
     cone sqrt(J2) <= mu p of mu_s or mu_2 (zero dilation), or the thesis' (7.10) cone."""
-    from pfem_skfem.materials_axisymmetric import ZeroDilationDruckerPrager
-    from pfem_skfem.materials_rate import MuIRheologyAxisymmetric
+    from pfem_skfem.materials import MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
     if law == "mu(I)":
         return MuIRheologyAxisymmetric(mu_s=mu_s, mu_2=mu_2, I_0=I_0, d=d, rho_s=rho_s,
                                        p_min=p_min, k_min=k_min, lag=lag)

@@ -102,7 +102,7 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     ``floor_fraction`` is the least cone radius in units of rho g h0; ``material``
     'tresca-mc' (the psi = 0 scheme of [80]) or 'davis'; ``contact`` 'coulomb' or
     'zero-dilation'; ``soil`` a material object in place of ``material`` (e.g.
-    :class:`~pfem_skfem.materials_rate.MuIRheology`); dt defaults to 0.01 sqrt(h0/g).
+    :class:`~pfem_skfem.materials.rate.MuIRheology`); dt defaults to 0.01 sqrt(h0/g).
     Other keywords go to
     :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
 

@@ -16,7 +16,7 @@ velocity grows at least at g (sin(theta) - mu_2 cos(theta)).
 Set-up: a strip one element wide, periodic in x (the two ends' dofs tied,
 :mod:`pfem_skfem.periodic`), no-slip base, free surface, on a fixed mesh (a uniform
 flow needs no remeshing), x along the slope; each step is the dynamic problem (4.23)
-with the rigid-plastic :class:`~pfem_skfem.materials_rate.MuIRheology` in
+with the rigid-plastic :class:`~pfem_skfem.materials.rate.MuIRheology` in
 :func:`~pfem_skfem.problems.nonassociated.lagged_step`, run from rest to a steady state.
 ``--lag`` picks its statement: ``viscosity`` (mu_s in the cone, the rate part a viscous
 stress of lagged viscosity; the default), ``implicit`` (the rate part's dissipation in
@@ -208,7 +208,7 @@ def build_parser():
 
 def run(args):
     """Five runs: theta (profile), 2h, theta_2, theta_stop (from the steady profile), theta_fast."""
-    from pfem_skfem.materials_rate import MuIRheology
+    from pfem_skfem.materials import MuIRheology
 
     material = MuIRheology(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, d=args.d,
                            rho_s=args.rho_s, p_min=args.p_min, k_min=args.k_min, lag=args.lag)

@@ -7,7 +7,7 @@ of each stress point's material, and the scales of the conic problem.
 """
 import numpy as np
 
-from ..materials import TrescaField
+from ..materials import RegionCones
 from ..operators import body_force_vector
 from ..operators_dynamic import gravity_vector
 from ..problems.contact import boundary_nodes, potential_contacts
@@ -45,41 +45,14 @@ def held_dofs(disc, phase, contacts):
     return np.unique(dofs.ravel())
 
 
-class _MultiCone:
-    """The step's cone when regions have different materials: one Tresca-type radius per
-    stress point from each point's material (materials with a ``radius``)."""
-
-    def __init__(self, materials, point_region):
-        self.materials = materials
-        self.point_region = point_region
-
-    def cone(self, sigma_m, stress_scale):
-        k = np.empty(len(sigma_m))
-        for i, m in enumerate(self.materials):
-            mine = self.point_region == i
-            k[mine] = m.radius(sigma_m[mine], stress_scale)
-        return TrescaField(k)
-
-    def strength_scale(self, sigma_m, stress_scale):
-        return float(np.median(self.cone(sigma_m, stress_scale).k)) / 2
-
-    @property
-    def lagged(self):
-        return any(m.lagged for m in self.materials)
-
-
 def step_material(scene, disc, regions):
-    """The material object of the step (one region's, or a per-point combination)."""
+    """The material of the step: one region's, or each point's
+    (:class:`~pfem_skfem.materials.RegionCones`)."""
     materials = [r.material for r in scene.regions]
     if len({repr(m) for m in materials}) == 1:
         return materials[0]
-    if any(getattr(m, "rate_dependent", False) for m in materials):
-        raise ValueError("regions of different materials: a rate-dependent material "
-                         "(MuIRheology) must be the scene's only material")
-    if not all(hasattr(m, "radius") for m in materials):
-        raise ValueError("regions of different materials need materials with a radius "
-                         "(ZeroDilationMohrCoulomb, CohesiveTresca)")
-    return _MultiCone(materials, regions[disc.point_element])
+    RegionCones.check(materials)                  # before the step's points are known
+    return RegionCones(materials, regions[disc.point_element])
 
 
 def assemble_operators(scene, disc, regions, theta):

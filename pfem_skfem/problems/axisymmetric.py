@@ -14,9 +14,9 @@ Clarabel) code, on axisymmetric operators, plus what the axis demands:
 
 The stress rows are (s_rr, s_zz, s_tt, s_rz) (:mod:`pfem_skfem.geometry`); the
 yield criteria that read the hoop stress are the Drucker-Prager cones of
-:func:`~pfem_skfem.materials_axisymmetric.drucker_prager_match` ((7.10) by default)
+:func:`~pfem_skfem.materials.axisymmetric.drucker_prager_match` ((7.10) by default)
 and the exact three-cone Mohr-Coulomb / Tresca
-(:class:`~pfem_skfem.materials_axisymmetric.MohrCoulombAxisymmetric`).
+(:class:`~pfem_skfem.materials.axisymmetric.MohrCoulombAxisymmetric`).
 
 Clarabel ends these problems 'AlmostSolved' more often than the plane ones (measured:
 10 of 45 limit analyses of a thick sphere, book/axisymmetry.md). As every static
@@ -132,7 +132,7 @@ def zero_dilation(solve_pass, criterion, *, floor, measure=None, passes=40, rela
 
     Pass 0 solves ``solve_pass(criterion)`` (associated flow) and takes its stresses
     as the lagged stresses; every further pass solves the problem on
-    :func:`~pfem_skfem.materials_axisymmetric.zero_dilation_cone` of ``criterion`` at the lagged
+    :func:`~pfem_skfem.materials.axisymmetric.zero_dilation_cone` of ``criterion`` at the lagged
     stresses, which then move a fraction ``relaxation`` towards the new ones, until
     ``measure`` changes by less than ``rtol`` (relative) or ``passes`` are done.
     The stresses themselves are no measure of convergence: those of a rigid-plastic
@@ -155,7 +155,7 @@ def zero_dilation(solve_pass, criterion, *, floor, measure=None, passes=40, rela
     (result, changes) : the last pass's result and the relative change of
     ``measure`` at each pass.
     """
-    from ..materials_axisymmetric import zero_dilation_cone
+    from ..materials.axisymmetric import zero_dilation_cone
 
     if int(passes) != passes or passes < 1:
         raise ValueError(f"passes must be a positive integer, got {passes!r}")

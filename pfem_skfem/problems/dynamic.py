@@ -45,6 +45,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
+from ..materials.rate import RateDissipation, ViscousStress
 from ..operators import assemble_B, assemble_C
 from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
                                  mass_matrix, r_basis)
@@ -185,42 +186,6 @@ class DynamicIncrement:
     scales: "DynamicScales" = None
     p: np.ndarray = None
     q: np.ndarray = None
-
-
-@dataclass(frozen=True)
-class ViscousStress:
-    """A viscous stress beside the yield cone (see ``viscous`` of :func:`dynamic_increment`):
-    eta (n_points,) viscosities > 0, weights (n_points,) the stress points' weights;
-    ``hoop``: the deviator has the hoop component of axisymmetry (3 components, not 2)."""
-
-    eta: np.ndarray
-    weights: np.ndarray
-    hoop: bool = False
-
-    def __post_init__(self):
-        eta, w = np.asarray(self.eta, dtype=float), np.asarray(self.weights, dtype=float)
-        if eta.shape != w.shape or not np.all(np.isfinite(eta)) or np.any(eta <= 0):
-            raise ValueError("eta (viscosities) must be positive, one per stress point")
-
-
-@dataclass(frozen=True)
-class RateDissipation:
-    """The rate part of mu(I) at frozen pressure beside the yield cone (``viscous`` of
-    :func:`dynamic_increment`): per point c_j = (mu_2 - mu_s) p_j I_0 / kappa_j,
-    kappa_j = d / sqrt(p_j / rho_s), tau_max_j = (mu_2 - mu_s) p_j (both > 0), and the
-    stress points' weights; ``hoop`` as :class:`ViscousStress`."""
-
-    c: np.ndarray
-    tau_max: np.ndarray
-    weights: np.ndarray
-    hoop: bool = False
-
-    def __post_init__(self):
-        for name in ("c", "tau_max"):
-            value = np.asarray(getattr(self, name), dtype=float)
-            if value.shape != np.shape(self.weights) or not np.all(np.isfinite(value)) \
-                    or np.any(value <= 0):
-                raise ValueError(f"{name} must be positive, one per stress point")
 
 
 @dataclass(frozen=True)

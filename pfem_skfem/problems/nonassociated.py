@@ -81,12 +81,11 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     ----------
     ops, f : the step's DynamicOperators and load vector (3.42).
     contacts : ContactSet or None.  disc : the Discretisation.
-    material : a PFEM material (``cone(sigma_m, stress_scale)``, ``lagged``; its
-        ``mean_stress(sigma)``, if it has one, is the lagged quantity, else (sx + sy)/2;
-        a ``rate_dependent`` one is given ``shear_rate=`` at the points too, that of v_n
-        in the first pass, of du / dt of the previous pass after, and its
-        ``viscous(sigma_m, stress_scale, shear_rate, weights)`` is the step's viscous stress;
-        its ``hoop``, if true, counts the hoop strain in the shear rate (axisymmetry)).
+    material : a :class:`~pfem_skfem.materials.PFEMMaterial`: each pass solves on its
+        ``cone(sigma_m, stress_scale, shear_rate=...)`` with its ``viscous(...)`` stress and
+        lags its ``mean_stress``; a ``rate_dependent`` one is given the shear rate at the
+        points (counting the hoop strain if ``hoop``), that of v_n in the first pass, of
+        du / dt of the previous pass after (None for the others).
     contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
     v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
     sigma_m : (n_vertices,) lagged mean stress at the vertices.
@@ -107,7 +106,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     """
     lagged_contact = contacts is not None and contact_rule.passes_needed > 1
     passes = int(passes) if material.lagged or lagged_contact else 1
-    rate = getattr(material, "rate_dependent", False)
+    rate = material.rate_dependent
     if not pass_tolerance >= 0:                    # nan refused; inf: least passes
         raise ValueError(f"pass_tolerance must be >= 0, got {pass_tolerance!r}")
     if rate and pass_tolerance > 0:
@@ -124,14 +123,11 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     sm = sigma_m
     p_lag = np.zeros(contacts.size) if lagged_contact else None    # the smooth first pass
     changes = []
-    hoop = getattr(material, "hoop", False)        # the shear rate of axisymmetry's deviator
-    gamma_dot = plastic_strain_increment(disc, ops.B, v_n, hoop) if rate else None
+    gamma_dot = plastic_strain_increment(disc, ops.B, v_n, material.hoop) if rate else None
     for k in range(1, passes + 1):
         at_points = vertex_to_points(disc, sm)
-        cone = (material.cone(at_points, stress_scale, shear_rate=gamma_dot) if rate
-                else material.cone(at_points, stress_scale))
-        viscous = (material.viscous(at_points, stress_scale, gamma_dot, disc.weights)
-                   if rate else None)
+        cone = material.cone(at_points, stress_scale, shear_rate=gamma_dot)
+        viscous = material.viscous(at_points, stress_scale, gamma_dot, disc.weights)
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
         inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, contacts=step_contacts,
                                 fixed=fixed, scaling=scales, accept_inaccurate=True,
@@ -140,13 +136,13 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time
         solve_time += inc.info.solve_time
-        sm_before, sm = sm, smoothed_mean_stress(disc, inc.sigma,
-                                                 getattr(material, "mean_stress", None))
+        sm_before, sm = sm, smoothed_mean_stress(disc, inc.sigma, material.mean_stress)
         p_now = np.maximum(inc.p, 0.0) if lagged_contact else None
         changes.append(lagged_change(sm_before if material.lagged else None, sm, p_lag,
                                      p_now, stress_scale))
         if rate:
-            gamma_dot = plastic_strain_increment(disc, ops.B, inc.du, hoop) / ops.theta.dt
+            gamma_dot = plastic_strain_increment(disc, ops.B, inc.du,
+                                                 material.hoop) / ops.theta.dt
         if lagged_contact:
             last_contacts = step_contacts
             step_contacts = contact_rule.update(contacts, inc.p)

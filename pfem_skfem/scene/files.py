@@ -56,8 +56,9 @@ import re
 import tomllib
 
 from ..drivers.pfem_loop import PFEMConfig
-from ..materials import CohesiveTresca, DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
-from ..materials_axisymmetric import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
+from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
+                         MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
+                         ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -306,7 +307,12 @@ MATERIAL = OneOf(
     Spec(ZeroDilationDruckerPrager, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
                                      "match": STRING, "elastic": ELASTIC}),
     Spec(ZeroDilationMohrCoulombAxisymmetric, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
-                                               "elastic": ELASTIC}))
+                                               "elastic": ELASTIC}),
+    *(Spec(cls, {"mu_s": NUMBER, "mu_2": NUMBER, "I_0": NUMBER, "d": NUMBER, "rho_s": NUMBER,
+                 "p_min": NUMBER, "k_min": NUMBER, "elastic": ELASTIC, "lag": STRING})
+      for cls in (MuIRheology, MuIRheologyAxisymmetric)),
+    refused={"RegionCones": "RegionCones is the step's combination of the regions' "
+             "materials, made by the engine: give each region its own material"})
 STRESS = OneOf(Spec(Geostatic, {"k0": NUMBER, "top": NUMBER}))
 REGION = Spec(Region, {"name": STRING, "polygon": POINTS, "holes": POLYGONS, "lattice": STRING,
                        "h": NUMBER, "rho": NUMBER, "material": MATERIAL, "stress": STRESS})

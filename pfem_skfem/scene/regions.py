@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from matplotlib.path import Path
 
+from ..materials.pfem import PFEMMaterial
+
 LATTICES = ("square", "triangular", "triangle")
 
 
@@ -235,9 +237,10 @@ class Region:
                 raise ValueError(f"{label}: {key} must be positive, got {value!r}")
         if self.lattice not in LATTICES:
             raise ValueError(f"{label}: lattice must be one of {LATTICES}, got {self.lattice!r}")
-        if isinstance(self.material, type) or not hasattr(self.material, "cone"):
+        if not isinstance(self.material, PFEMMaterial):
             raise ValueError(f"{label}: material must be a PFEM material with a cone() "
-                             f"(e.g. ZeroDilationMohrCoulomb), got {self.material!r}")
+                             f"(a PFEMMaterial, e.g. ZeroDilationMohrCoulomb), got "
+                             f"{self.material!r}")
         if self.stress is not None and not isinstance(self.stress, Geostatic):
             raise ValueError(f"{label}: stress must be None or Geostatic, got {self.stress!r}")
 

@@ -160,7 +160,7 @@ class Scene:
             if lo[0] < 0:
                 raise ValueError(f"geometry 'axisymmetric': x is the radius, every region must "
                                  f"lie in x >= 0 (a region reaches x = {lo[0]:g})")
-        elastic = {repr(getattr(r.material, "elastic", None)) for r in regions}
+        elastic = {repr(r.material.elastic) for r in regions}
         if len(elastic) > 1:
             raise ValueError("every region must have the same elasticity (or none)")
         if not self.stress_scale > 0:
@@ -175,9 +175,9 @@ class Scene:
     def _check_passes(self):
         # the fewest passes (least_passes): with a lagged contact rule and a lagged
         # material three, so that the last cone is built on stresses with friction
-        lagged = [r.name for r in self.regions if getattr(r.material, "lagged", False)]
+        lagged = [r.name for r in self.regions if r.material.lagged]
         rule = self.config.contact
-        rate = [r.name for r in self.regions if getattr(r.material, "rate_dependent", False)]
+        rate = [r.name for r in self.regions if r.material.rate_dependent]
         if rate and self.config.pass_tolerance > 0:     # the passes also move the shear rate
             raise ValueError(f"pass_tolerance must be 0 with the rate-dependent material of "
                              f"region {rate[0]!r} (its passes also update the shear rate, "
@@ -194,12 +194,12 @@ class Scene:
         # never moves), an axisymmetric one in plane strain reads s_z as a hoop stress
         name = "axisymmetric" if geometry.axisymmetric else "plane"
         for r in self.regions:
-            allowed = getattr(r.material, "geometries", None)
-            if allowed is not None and name not in allowed:
+            allowed = r.material.geometries
+            if name not in allowed:
                 raise ValueError(f"region {r.name!r}: its material "
                                  f"{type(r.material).__name__} is for geometry "
                                  f"{allowed[0]!r}, the scene's is {name!r}: use "
-                                 f"{getattr(r.material, 'counterpart', 'another material')}")
+                                 f"{r.material.counterpart}")
 
     def _check_size(self):
         # before any particle is placed: a lattice of spacing h holds about area / h^2
@@ -307,7 +307,7 @@ class Scene:
         s = self.rho * self.g * self.length
         if s > 0:
             return s
-        return max(getattr(r.material, "c", 0.0) for r in self.regions)
+        return max(r.material.c for r in self.regions)
 
     @property
     def mass(self):
@@ -324,7 +324,7 @@ class Scene:
 
     @property
     def elastic(self):
-        return getattr(self.regions[0].material, "elastic", None)
+        return self.regions[0].material.elastic
 
     # -- particles ------------------------------------------------------------------------
     def particles(self):
@@ -352,9 +352,9 @@ class Scene:
         :func:`~pfem_skfem.scene.regions.volume_shares`), the lagged mean stress and
         (elastoplastic) the stresses from each region's initial stress.
 
-        The lagged mean stress is (sx + sy)/2, or what the region's material lags
-        (its ``mean_stress(sigma)``, e.g. I1/3 for the axisymmetric cones); in axisymmetry
-        the geostatic hoop stress equals the radial one, s_tt = s_rr = K0 s_zz.
+        The lagged mean stress is what the region's material lags (its
+        ``mean_stress(sigma)``: (sx + sy)/2, or e.g. I1/3 for the axisymmetric cones); in
+        axisymmetry the geostatic hoop stress equals the radial one, s_tt = s_rr = K0 s_zz.
         """
         x, h, region = self.particles()
         mass = np.zeros(len(x))
@@ -368,19 +368,14 @@ class Scene:
             else:
                 mass[mine] = r.rho * r.area / mine.sum()
             if isinstance(r.stress, Geostatic):
-                phi = getattr(r.material, "phi", 0.0)
+                phi = r.material.phi
                 k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
-                nu = getattr(self.elastic, "nu", 0.0)
+                nu = 0.0 if self.elastic is None else self.elastic.nu
                 sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
                 if axisymmetric:
                     sigma[mine, 2] = sigma[mine, 0]
-            mean = getattr(r.material, "mean_stress", None)
-            if mean is not None:
-                sigma_m[mine] = mean(sigma[mine])
-        plane = np.array([getattr(r.material, "mean_stress", None) is None
-                          for r in self.regions])[region]
-        sigma_m[plane] = (0.5 * (sigma[:, 0] + sigma[:, 1]))[plane]
+            sigma_m[mine] = r.material.mean_stress(sigma[mine])
         stress = sigma if self.elastic is not None else None
         h_arg = h[0] if np.all(h == h[0]) else h
         return initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)

@@ -1,4 +1,4 @@
-"""Materials: isotropic elasticity (3.9)-(3.10) and yield criteria as second-order cones (App A).
+"""Yield criteria as second-order cones (App A).
 
 Stresses are tension positive and ordered (sx, sy, sz, sxy) as in (3.23). On the
 numpy side a stress field is an array of shape (n_points, 4); on the cvxpy side an
@@ -12,58 +12,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-
-def _is_real(value):
-    """A real scalar (a 0-d array too), not a bool, text or None (a TypeError in isfinite)."""
-    kind = np.asarray(value).dtype if np.ndim(value) == 0 else None
-    return kind is not None and (np.issubdtype(kind, np.floating)
-                                 or np.issubdtype(kind, np.integer))
-
-
-def _check_positive(name, value):
-    if not _is_real(value) or not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be positive and finite, got {value!r}")
-
-
-def check_cohesion(c):
-    """c (cohesion) must be finite and >= 0: checked before any stand-in value is put in
-    its place (a zero-c material validates phi on a MohrCoulomb of c = 1)."""
-    if not (_is_real(c) and np.isfinite(c) and c >= 0):
-        raise ValueError(f"c (cohesion) must be finite and >= 0, got {c!r}")
-
-
-def _check_angle(name, degrees, upper=90.0):
-    if not _is_real(degrees) or not np.isfinite(degrees) or not 0.0 <= degrees < upper:
-        raise ValueError(f"{name} must lie in [0, {upper:g}) degrees, got {degrees!r}")
-
-
-@dataclass(frozen=True)
-class Elastic:
-    """Isotropic linear elasticity with Young's modulus E and Poisson's ratio nu."""
-
-    E: float
-    nu: float
-
-    def __post_init__(self):
-        _check_positive("E (Young's modulus)", self.E)
-        if not np.isfinite(self.nu) or not -1.0 < self.nu < 0.5:
-            raise ValueError(f"nu (Poisson's ratio) must lie in (-1, 0.5), got {self.nu!r}")
-
-    @property
-    def shear_modulus(self):
-        return self.E / (2 * (1 + self.nu))
-
-    @property
-    def lame_lambda(self):
-        return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
-
-    def compliance(self):
-        """4x4 compliance of (3.10) for (sx, sy, sz, sxy): strains (ex, ey, ez, 2exy) = C sigma."""
-        E, nu = self.E, self.nu
-        return np.array([[1, -nu, -nu, 0],
-                         [-nu, 1, -nu, 0],
-                         [-nu, -nu, 1, 0],
-                         [0, 0, 0, 2 * (1 + nu)]]) / E
+from .checks import _check_angle, check_cohesion
 
 
 class YieldCriterion:
@@ -274,101 +223,3 @@ def davis(c, phi, psi):
     beta = np.cos(ps) * np.cos(ph) / (1 - np.sin(ps) * np.sin(ph))
     return beta * c, float(np.degrees(np.arctan(beta * np.tan(ph))))
 
-
-# -- materials of the PFEM runs: the cone of each step ------------------------------------
-@dataclass(frozen=True)
-class ZeroDilationMohrCoulomb:
-    """Mohr-Coulomb with zero dilation by the scheme of Krabbenhoft, Karim, Lyamin & Sloan
-    (2012), the thesis' [80]: each step solves an associated problem on the flow surface
-    of psi = 0, a Tresca-type cone whose radius is the Mohr-Coulomb strength at a known
-    (lagged) mean stress sigma_m = (sx + sy)/2, tension positive:
-
-    .. math::
-        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j, \\quad
-        k_j = \\max(2c\\cos\\phi - 2\\sin\\phi\\,\\sigma_{m,j},\\; k_{min})
-
-    Parameters
-    ----------
-    c : cohesion (>= 0);  phi : friction angle in degrees;  k_min : least radius, in units
-        of the problem's stress scale (a PFEM scene's rho g L), so that the model keeps
-        no absolute stress;  elastic : :class:`Elastic` for the elastoplastic variant
-        (None: rigid-plastic, C = 0 in (4.23)).
-    """
-
-    c: float = 0.0
-    phi: float = 30.0
-    k_min: float = 0.005
-    elastic: Elastic = None
-
-    name = "Mohr-Coulomb, zero dilation [80]"
-    lagged = True           # the cone depends on the mean stress: fixed-point passes help
-    geometries = ("plane",)     # a Scene refuses it in another geometry, naming:
-    counterpart = "ZeroDilationMohrCoulombAxisymmetric (or ZeroDilationDruckerPrager)"
-
-    def __post_init__(self):
-        check_cohesion(self.c)
-        MohrCoulomb(self.c if self.c > 0 else 1.0, self.phi)      # validates phi
-        _check_positive("k_min (least cone radius / stress scale)", self.k_min)
-
-    def radius(self, sigma_m, stress_scale=1.0):
-        """k_j at mean stresses ``sigma_m`` (:func:`mohr_coulomb_radius`)."""
-        return mohr_coulomb_radius(self.c, self.phi, sigma_m, self.k_min * stress_scale)
-
-    def cone(self, sigma_m, stress_scale=1.0):
-        """The step's criterion: :class:`TrescaField` of the radii at ``sigma_m``."""
-        return TrescaField(self.radius(sigma_m, stress_scale))
-
-    def strength_scale(self, sigma_m, stress_scale=1.0):
-        """A stress of the step (half the median radius), to scale the conic problem."""
-        return TrescaField(self.radius(sigma_m, stress_scale)).strength_scale()
-
-
-@dataclass(frozen=True)
-class DavisMohrCoulomb(ZeroDilationMohrCoulomb):
-    """Mohr-Coulomb with the Davis reduction for a dilation angle psi (:func:`davis`): an
-    associated cone of c* = beta c, tan(phi*) = beta tan(phi), held at the same least
-    radius 2 c* cos(phi*) >= k_min as :class:`ZeroDilationMohrCoulomb` (so that it keeps an
-    interior for c = 0). Its cone does not depend on the mean stress.
-    """
-
-    psi: float = 0.0
-
-    name = "Mohr-Coulomb, Davis reduction"
-    lagged = False
-
-    def __post_init__(self):
-        super().__post_init__()
-        davis(self.c, self.phi, self.psi)                         # validates psi
-
-    def cone(self, sigma_m=None, stress_scale=1.0):
-        c_star, phi_star = davis(self.c, self.phi, self.psi)
-        c_floor = self.k_min * stress_scale / (2 * np.cos(np.radians(phi_star)))
-        return MohrCoulomb(max(c_star, c_floor), phi_star)
-
-
-@dataclass(frozen=True)
-class CohesiveTresca:
-    """Undrained (Tresca) soil of cohesion c for a PFEM run, sqrt((sx-sy)^2 + 4 sxy^2) <= 2c:
-    no pressure term, so no least radius and no lagged mean stress (thesis 6.4.1).
-
-    Parameters
-    ----------
-    c : undrained shear strength (> 0);  elastic : :class:`Elastic` or None (rigid-plastic).
-    """
-
-    c: float
-    elastic: Elastic = None
-
-    name = "Tresca"
-    lagged = False
-    geometries = ("plane",)     # a Scene refuses it in another geometry, naming:
-    counterpart = "ZeroDilationMohrCoulombAxisymmetric with phi = 0"
-
-    def __post_init__(self):
-        _check_positive("c (undrained shear strength)", self.c)
-
-    def cone(self, sigma_m=None, stress_scale=1.0):
-        return Tresca(self.c)
-
-    def strength_scale(self, sigma_m=None, stress_scale=1.0):
-        return self.c
