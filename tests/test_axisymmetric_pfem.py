@@ -126,7 +126,7 @@ def collapse_steps():
     2 pi (r + u_r) det F), its first-order part, that of the straight-sided mesh through the
     moved vertices, the same with the bulge correction, and the radial displacement's size."""
     from skfem import Basis, Functional
-    from pfem_skfem.fields import vertex_dofs
+    from pfem_skfem.discretisation.fields import vertex_dofs
     from pfem_skfem.pfem.alpha_shape import measure
     from pfem_skfem.pfem.surface import axis_vertices, bulge_correction
 

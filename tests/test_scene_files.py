@@ -15,7 +15,7 @@ from pfem_skfem.pfem.remesh import QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.contact import LaggedFriction, RigidCircle, RigidPolyline, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.scene import (Body, ConstantVelocity, FunctionMotion, Geostatic, HalfPlane,
                               Outlet, Output, Phase, PiecewiseLinear, PolygonZone, Region,
                               Scene)

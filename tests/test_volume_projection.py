@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from pfem_skfem.fields import vertex_dofs
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.fields import vertex_dofs
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.volume_projection import (patch_volume_gradient, patch_volumes,
                                                step_constraint, volume_shift)
 

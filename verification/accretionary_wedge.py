@@ -64,11 +64,11 @@ from scipy.optimize import brentq
 
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
-from pfem_skfem.fields import element_mean
+from pfem_skfem.discretisation.fields import element_mean
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
                                nonnegative_int, positive, positive_int, progress_bar,
                                pyplot, run_cases, save_figure, sweep_options, script_main,

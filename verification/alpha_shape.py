@@ -30,7 +30,7 @@ import sys
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from pfem_skfem.meshes import triangulate_polygon
+from pfem_skfem.discretisation.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.report import (Report, base_parser, figure_dir, positive_float, progress,
                                pyplot, save_figure, script_main)

@@ -72,7 +72,7 @@ from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
                                nonnegative_int, positive, positive_float, progress_bar,
                                pyplot, run_cases, save_figure, sweep_options, theta_weight,

@@ -62,7 +62,7 @@ from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
                                                ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.report import (Report, alpha_advected_option, base_parser,
                                checkpoint_options, checkpoint_path, figure_dir,
                                friction_angle, in_range, load_run, nonnegative_float,

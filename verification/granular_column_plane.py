@@ -47,7 +47,7 @@ from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, load_checkp
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, in_range, nonnegative_float,
                                nonnegative_int, poisson_ratio, positive_float, positive_int,
                                progress, progress_bar, pyplot, run_cases, save_figure,

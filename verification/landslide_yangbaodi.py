@@ -79,7 +79,7 @@ from pfem_skfem.drivers import pfem_loop                                      # 
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary           # noqa: E402
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
-from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
+from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
                                nonnegative_float, nonnegative_int, positive_float, positive_int, progress,
                                progress_bar, pyplot, run_cases, save_figure, theta_weight,

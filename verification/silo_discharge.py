@@ -71,7 +71,7 @@ from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.report import (Report, base_parser, figure_dir, fraction, friction_angle,
                                nonnegative_float, nonnegative_int, positive, positive_float,
                                positive_int, progress, progress_bar, pyplot, run_cases,

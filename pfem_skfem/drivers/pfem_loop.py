@@ -24,10 +24,10 @@ import time as _time
 import numpy as np
 from skfem import MeshTri
 
-from ..fields import plastic_strain_increment
+from ..discretisation.fields import plastic_strain_increment
 from ..io import step_fields
-from ..geometry import as_geometry
-from ..operators import axis_dofs, discretise
+from ..discretisation.geometry import as_geometry
+from ..discretisation.static import axis_dofs, discretise
 from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
 from ..pfem.alpha_shape import measure
 from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
@@ -40,7 +40,8 @@ from ..pfem.transfer import Interpolation, L2Projection, adopt_added_nodes, map_
     old_discretisation
 from ..pfem.volume_projection import step_constraint
 from ..problems.contact import CoulombCones, LaggedFriction, without_nodes
-from ..problems.dynamic import BACKENDS, ThetaMethod
+from ..discretisation.theta import ThetaMethod
+from ..problems.dynamic import BACKENDS
 from ..problems.nonassociated import lagged_step
 
 __all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_to_rest",

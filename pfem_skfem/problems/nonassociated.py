@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
+from ..discretisation.fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
 from .dynamic import dynamic_increment, estimate_scales
 
 

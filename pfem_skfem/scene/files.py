@@ -62,7 +62,7 @@ from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
     RigidSegment
-from ..problems.dynamic import ThetaMethod
+from ..discretisation.theta import ThetaMethod
 from .bodies import Body, ConstantVelocity, Fixed, PiecewiseLinear
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region

@@ -17,7 +17,7 @@ import os
 import numpy as np
 
 from ..drivers.pfem_loop import PFEMConfig
-from ..geometry import as_geometry
+from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
 from ..problems.nonassociated import least_passes
 from .bodies import Body
