@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig
+from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.pfem.alpha_shape import (alpha_shape, circumradius, in_triangles, notches,
                                          triangle_areas)
 

@@ -139,7 +139,7 @@ def closed_box_squeeze(backend):
     """A cohesionless block filling a closed box whose right wall moves in: no
     displacement field keeps the (zero-dilation) block inside, the motion is impossible
     (../shared/RELIABILITY.md, section 4)."""
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     from pfem_skfem.materials import ZeroDilationMohrCoulomb
     from pfem_skfem.problems.contact import RigidSegment
     from pfem_skfem.discretisation import ThetaMethod

@@ -52,7 +52,7 @@ def test_a_wedge_slides_undeformed_only_inside_the_stable_field(taper):
 
 # -- the passes rule: lagged friction with a lagged material -------------------------------
 def lagged_scene(material, contact, passes):
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     from pfem_skfem.problems.contact import RigidSegment
     from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.scene import Body, Region, Scene

@@ -5,8 +5,8 @@ import pytest
 from skfem import Functional, MeshTri
 from skfem.helpers import grad
 
-from pfem_skfem.drivers.pfem_loop import (PFEMConfig, load_checkpoint, pfem_step, run,
-                                          run_to_rest, save_checkpoint)
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import load_checkpoint, pfem_step, run, run_to_rest, save_checkpoint
 from pfem_skfem.discretisation.fields import smoothed_mean_stress, vertex_dofs
 from pfem_skfem.io import TimeSeries
 from pfem_skfem.materials import CohesiveTresca

@@ -7,7 +7,8 @@ import pytest
 
 from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, load_checkpoint
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import load_checkpoint
 from pfem_skfem.materials import CohesiveTresca, DavisMohrCoulomb, Elastic
 from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
                                                ZeroDilationMohrCoulombAxisymmetric)

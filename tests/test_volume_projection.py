@@ -219,5 +219,5 @@ def test_the_engine_option_changes_a_step_at_second_order():
 
 
 def test_the_option_is_off_by_default():
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     assert PFEMConfig().volume_correction is False

@@ -63,7 +63,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.discretisation.fields import element_mean
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape

@@ -57,7 +57,8 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.materials_axisymmetric import (ZeroDilationDruckerPrager,
                                                ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.pfem.remesh import AlphaMesh

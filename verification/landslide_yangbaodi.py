@@ -76,7 +76,8 @@ if __package__ in (None, ""):                     # run as a file: the repositor
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from pfem_skfem.drivers import pfem_loop                                      # noqa: E402
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary           # noqa: E402
+from pfem_skfem.scene.config import PFEMConfig           # noqa: E402
+from pfem_skfem.drivers.pfem_loop import config_summary           # noqa: E402
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402

@@ -55,7 +55,6 @@ import math
 import re
 import tomllib
 
-from ..drivers.pfem_loop import PFEMConfig
 from ..materials import CohesiveTresca, DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from ..materials_axisymmetric import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
 from ..pfem.remesh import AlphaMesh, QualityRemesh
@@ -64,6 +63,7 @@ from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidP
     RigidSegment
 from ..discretisation.theta import ThetaMethod
 from .bodies import Body, ConstantVelocity, Fixed, PiecewiseLinear
+from .config import PFEMConfig
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
