@@ -72,13 +72,11 @@ from pathlib import Path
 
 import numpy as np
 
-if __package__ in (None, ""):                     # run as a file: the repository's root
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
 from pfem_skfem.drivers import pfem_loop                                      # noqa: E402
 from pfem_skfem.scene.config import PFEMConfig           # noqa: E402
 from pfem_skfem.drivers.pfem_loop import config_summary           # noqa: E402
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
+from pfem_skfem.pfem.measure import centre_of_mass, front                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.report import (Report, base_parser, figure_dir, friction_angle,  # noqa: E402
@@ -243,10 +241,6 @@ def material_points(state, profile, fractions=(0.15, 0.5, 0.85)):
     return out
 
 
-def centre_of_mass(state):
-    return state.mass @ state.x / state.mass.sum()
-
-
 def came_to_rest(ke, peak, ke_first, travel, h, rest):
     """Whether a slide is at rest: its kinetic energy ``ke`` below ``rest`` times its
     ``peak`` and below its first value after release, once its centre of mass has travelled
@@ -265,11 +259,6 @@ def energy_ratio(H, L, mu, travel, h):
     if not (travel >= h and L > 0 and mu > 0):
         return np.nan
     return float(H / (mu * L))
-
-
-def front(state):
-    """The front: the largest x of the mesh's vertices (of the mass, not a flying particle)."""
-    return float(np.max(state.mesh_p[:, 0]))
 
 
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
