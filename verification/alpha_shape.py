@@ -133,7 +133,7 @@ def run(args):
 
 def figures(args, points, rows, exact=None, hull=None):
     """Fig 2.4 panels and the sweep of bodies, holes and area against alpha."""
-    from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
+    from pfem_skfem.viz import plot_alpha_shape, plot_points
 
     plt, h = pyplot(), args.h
     out = figure_dir(args, "alpha_shape")
