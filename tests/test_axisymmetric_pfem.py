@@ -242,7 +242,7 @@ def test_mass_moved_is_the_share_of_the_mass_on_the_other_side_of_a_radius():
     the mass two deposits put on opposite sides of one radius: zero for one deposit
     (whatever the order of its particles or the unit of mass), the tail's own share when
     only the tail slides further, however far, and one for deposits apart."""
-    from granular_column_axisymmetric import mass_moved
+    from pfem_skfem.pfem.measure import mass_moved
     rng = np.random.default_rng(3)
     r, m = rng.uniform(0, 2, 50), rng.uniform(0.5, 1.5, 50)
     order = rng.permutation(50)
