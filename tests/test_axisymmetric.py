@@ -439,7 +439,7 @@ def test_elastic_history_tends_to_the_standard_displacement_fe():
     integrated exactly) the mixed element differs by its discretisation of the hoop
     strain: the theta-method histories converge to each other at order ~2 in h."""
     from scipy.sparse.linalg import splu
-    from pfem_skfem.discretisation import block_inverse
+    from pfem_skfem.discretisation.dynamic import block_inverse
     el, rho, th, dt, n_steps = Elastic(3e3, 0.3), 1.0, 0.5, 0.02, 8
     diffs = []
     for n in (1, 2, 4):
