@@ -15,8 +15,9 @@ import numpy as np
 from skfem import MeshTri
 
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.operators import boundary_dofs, boundary_facets, discretise, traction_vector
-from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_increment, dynamic_operators
+from pfem_skfem.discretisation.static import boundary_dofs, boundary_facets, discretise, traction_vector
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import D_FORMS, dynamic_increment
 
 
 def run(nx, ny, criterion, d_form, steps):

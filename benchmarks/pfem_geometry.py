@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from pfem_skfem.meshes import triangulate_polygon
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.meshes import triangulate_polygon
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.pfem.mapping import map_nodal, map_stress
 from pfem_skfem.pfem.remesh import alpha_mesh, mesh_quality, quality_remesh

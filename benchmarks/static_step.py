@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.operators import assemble_B, assemble_C
+from pfem_skfem.discretisation.static import assemble_B, assemble_C
 from pfem_skfem.problems.static import static_increment
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root

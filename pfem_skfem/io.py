@@ -13,7 +13,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from .fields import element_mean, vertex_dofs
+from .discretisation.fields import element_mean, vertex_dofs
 
 _VTK_CELL_TYPE = {3: 5, 6: 22}   # VTK_TRIANGLE, VTK_QUADRATIC_TRIANGLE
 

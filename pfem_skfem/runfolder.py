@@ -295,7 +295,7 @@ def _resume_state(scene, out, digest):
 
 def _run_locked(scene, out, last, resume, progress, overwrite):
     from .drivers.resumable import ResumableRun
-    from .geometry import as_geometry
+    from .discretisation.geometry import as_geometry
     from .io import STEP_UNITS, TimeSeries, initial_fields
     from .pfem.state import save_checkpoint
     from .problems.conic import SolverError

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.spatial import Delaunay
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig
+from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.pfem.alpha_shape import (alpha_shape, circumradius, in_triangles, notches,
                                          triangle_areas)
 
@@ -151,11 +151,8 @@ def test_a_deposit_is_measured_on_the_domain_the_run_detects():
     """A block with a thin tail that has spread (every tail triangle fails alpha): the
     plain alpha-shape cuts the tail off the deposit, the run's detection with the advected
     mesh keeps it, and the deposit measured with it reaches the tail's end."""
-    import sys
-    from pathlib import Path
     from types import SimpleNamespace
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-    from granular_column_plane import deposit_extent
+    from pfem_skfem.pfem.measure import deposit_extent
 
     block = np.array([[i, j] for j in range(4) for i in range(6)], dtype=float)
     before = np.vstack([block, layer(1.0, np.sqrt(0.75)) + [6.0, 0.0]])

@@ -7,14 +7,14 @@ import pytest
 import scipy.sparse as sp
 from skfem import MeshTri
 
-from pfem_skfem.geometry import AXISYMMETRIC, THESIS_ORDER, to_thesis_order
+from pfem_skfem.discretisation.geometry import AXISYMMETRIC, THESIS_ORDER, to_thesis_order
 from pfem_skfem.materials import (drucker_prager_match, drucker_prager_radius, Elastic,
                                   mohr_coulomb_pair_radii, MohrCoulombAxisymmetric,
                                   TrescaAxisymmetric, TrescaField3, VonMisesField)
-from pfem_skfem.operators import (assemble_B, assemble_C, axis_dofs, body_force_vector,
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, axis_dofs, body_force_vector,
                                   boundary_dofs, boundary_facets, consistent_mass, discretise,
                                   stiffness_matrix, stress_mass, traction_vector)
-from pfem_skfem.operators_dynamic import (assemble_A, assemble_D, gravity_vector, mass_matrix,
+from pfem_skfem.discretisation.dynamic import (assemble_A, assemble_D, gravity_vector, mass_matrix,
                                           r_basis)
 from verification import thick_cylinder
 from pfem_skfem.problems.axisymmetric import (limit_analysis_axisymmetric,
@@ -65,7 +65,7 @@ def test_stress_mass_is_diagonal_with_exact_row_sums():
     assert abs(M - sp.diags(M.diagonal())).max() < 1e-14 * M.diagonal().max()
     # int N_p 2 pi r dA by a degree-4 rule
     from skfem import Basis, LinearForm
-    from pfem_skfem.elements import stress_element
+    from pfem_skfem.discretisation.elements import stress_element
     basis = Basis(disc.mesh, stress_element(), intorder=4)
 
     @LinearForm
@@ -329,7 +329,7 @@ def granular_cylinder(nr=4, nz=6, r0=0.5, h0=1.0, wall=False, mu=np.tan(np.radia
 
 def gravity_step(disc, contacts, fixed, criterion, backend, rho=2.0, g=9.8, dt=None):
     from pfem_skfem.problems.axisymmetric import dynamic_step_axisymmetric
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     dt = dt or 0.01 * np.sqrt(1.0 / g)
     ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0))
     f = gravity_vector(disc, rho, g)
@@ -396,7 +396,7 @@ def test_elastic_history_equals_the_theta_method_of_the_same_mesh():
     (7.13) written as one linear solve per step, with K = B^T C^-1 B and scikit-fem's
     r-weighted consistent mass: the same discrete system, so to solver accuracy."""
     from pfem_skfem.problems.axisymmetric import dynamic_step_axisymmetric
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     mesh = MeshTri.init_tensor(np.linspace(0, 0.5, 4), np.linspace(0, 1.0, 7))
     disc = discretise(mesh, AXISYMMETRIC)
     el, rho = Elastic(3e3, 0.3), 1.0
@@ -437,7 +437,7 @@ def test_elastic_history_tends_to_the_standard_displacement_fe():
     integrated exactly) the mixed element differs by its discretisation of the hoop
     strain: the theta-method histories converge to each other at order ~2 in h."""
     from scipy.sparse.linalg import splu
-    from pfem_skfem.problems.dynamic import block_inverse
+    from pfem_skfem.discretisation.dynamic import block_inverse
     el, rho, th, dt, n_steps = Elastic(3e3, 0.3), 1.0, 0.5, 0.02, 8
     diffs = []
     for n in (1, 2, 4):

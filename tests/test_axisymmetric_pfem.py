@@ -126,7 +126,7 @@ def collapse_steps():
     2 pi (r + u_r) det F), its first-order part, that of the straight-sided mesh through the
     moved vertices, the same with the bulge correction, and the radial displacement's size."""
     from skfem import Basis, Functional
-    from pfem_skfem.fields import vertex_dofs
+    from pfem_skfem.discretisation.fields import vertex_dofs
     from pfem_skfem.pfem.alpha_shape import measure
     from pfem_skfem.pfem.surface import axis_vertices, bulge_correction
 
@@ -243,7 +243,7 @@ def test_mass_moved_is_the_share_of_the_mass_on_the_other_side_of_a_radius():
     the mass two deposits put on opposite sides of one radius: zero for one deposit
     (whatever the order of its particles or the unit of mass), the tail's own share when
     only the tail slides further, however far, and one for deposits apart."""
-    from granular_column_axisymmetric import mass_moved
+    from pfem_skfem.pfem.measure import mass_moved
     rng = np.random.default_rng(3)
     r, m = rng.uniform(0, 2, 50), rng.uniform(0.5, 1.5, 50)
     order = rng.permutation(50)

@@ -19,8 +19,8 @@ import pytest
 from skfem import MeshTri2
 
 from pfem_skfem.materials import MohrCoulombAxisymmetric, TrescaAxisymmetric, drucker_prager_match
-from pfem_skfem.meshes import triangulate_polygon
-from pfem_skfem.operators import (assemble_B, boundary_dofs, boundary_facets, discretise,
+from pfem_skfem.discretisation.meshes import triangulate_polygon
+from pfem_skfem.discretisation.static import (assemble_B, boundary_dofs, boundary_facets, discretise,
                                   traction_vector)
 from pfem_skfem.problems.axisymmetric import limit_analysis_axisymmetric
 from pfem_skfem.problems.conic import CERTIFY, AlmostSolvedWarning, SolverError
@@ -138,10 +138,10 @@ def closed_box_squeeze(backend):
     """A cohesionless block filling a closed box whose right wall moves in: no
     displacement field keeps the (zero-dilation) block inside, the motion is impossible
     (../shared/RELIABILITY.md, section 4)."""
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     from pfem_skfem.materials import ZeroDilationMohrCoulomb
     from pfem_skfem.problems.contact import RigidSegment
-    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 
     block = Region([(0, 0), (1, 0), (1, 0.5), (0, 0.5)], ZeroDilationMohrCoulomb(c=0, phi=30),
@@ -181,7 +181,7 @@ def test_load_beyond_collapse_names_the_stress_form_infeasible():
     """The other reading: a pressure 1.01 times the sphere's collapse load has no
     admissible stress field (an elastoplastic increment, (3.45)); the message says so."""
     from pfem_skfem.materials import Elastic
-    from pfem_skfem.operators import assemble_C
+    from pfem_skfem.discretisation.static import assemble_C
     from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric
 
     disc, B, f, fixed = sphere_model(0.2)

@@ -5,11 +5,12 @@ import pytest
 from skfem import MeshTri
 
 from pfem_skfem.materials import Elastic, Tresca, TrescaField
-from pfem_skfem.operators import boundary_dofs, discretise
-from pfem_skfem.operators_dynamic import gravity_vector
+from pfem_skfem.discretisation.static import boundary_dofs, discretise
+from pfem_skfem.discretisation.dynamic import gravity_vector
 from pfem_skfem.problems.contact import (RigidSegment, potential_contacts, resultants,
                                          with_friction_bound)
-from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import dynamic_increment
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_clarabel_direct")

@@ -4,8 +4,8 @@ import pytest
 from skfem import MeshTri
 
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.operators import (assemble_B, assemble_C, body_force_vector, boundary_dofs,
-                                  discretise)
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, body_force_vector, boundary_dofs,
+                                              discretise)
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.contact import (RigidCircle, RigidSegment, potential_contacts,
                                          resultants)
@@ -112,7 +112,7 @@ def test_circle_gap_and_normal():
 def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
     """A horizontal load above mu N has no static equilibrium: the solver says infeasible."""
     disc, contacts, B, C, f = block_on_plane(mu=0.2)
-    from pfem_skfem.operators import boundary_facets, traction_vector
+    from pfem_skfem.discretisation.static import boundary_facets, traction_vector
     f = f + traction_vector(disc, boundary_facets(disc, lambda x: x[0] < 1e-9),
                             (0.3 * RHO_G, 0.0))
     with pytest.raises(SolverError, match="infeasible"):
@@ -133,7 +133,8 @@ def test_buried_pipe_dynamic_step_adds_only_the_inertia_of_the_soil():
 
 # -- contact in the dynamic problem (5.12) -----------------------------------
 def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight():
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.dynamic import dynamic_increment
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
     floor = RigidSegment((-1.0, 0.0), (2.0, 0.0), mu=0.3)
     ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 1.0), elastic=None)

@@ -6,12 +6,13 @@ from skfem import MeshTri
 
 from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.meshes import triangulate_polygon
-from pfem_skfem.operators import (boundary_dofs, consistent_mass, discretise,
-                                  stiffness_matrix)
-from pfem_skfem.operators_dynamic import (assemble_A, assemble_D, block_cholesky,
-                                          gravity_vector, mass_matrix, r_basis)
-from pfem_skfem.problems.dynamic import (ThetaMethod, dynamic_increment, dynamic_operators)
+from pfem_skfem.discretisation.meshes import triangulate_polygon
+from pfem_skfem.discretisation.static import (boundary_dofs, consistent_mass, discretise,
+                                              stiffness_matrix)
+from pfem_skfem.discretisation.dynamic import (assemble_A, assemble_D, block_cholesky,
+                                               gravity_vector, mass_matrix, r_basis)
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import dynamic_increment
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_dynamics")

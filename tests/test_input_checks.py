@@ -6,7 +6,8 @@ import time
 import numpy as np
 import pytest
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, run
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import run
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)

@@ -10,7 +10,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from skfem import Basis, MeshTri  # noqa: E402
 
-from pfem_skfem.elements import displacement_element  # noqa: E402
+from pfem_skfem.discretisation.elements import displacement_element  # noqa: E402
 from pfem_skfem.io import (TimeSeries, mesh_arrays, per_element, write_pvd,  # noqa: E402
                            write_vtu)
 from pfem_skfem.viz import plot_field, plot_mesh, render_png  # noqa: E402

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pfem_skfem.meshes import triangulate_polygon
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.meshes import triangulate_polygon
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.pfem.mapping import SCHEMES, locate, map_stress, recover_nodal
 from pfem_skfem.pfem.remesh import alpha_mesh, quality_remesh

@@ -52,9 +52,9 @@ def test_a_wedge_slides_undeformed_only_inside_the_stable_field(taper):
 
 # -- the passes rule: lagged friction with a lagged material -------------------------------
 def lagged_scene(material, contact, passes):
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     from pfem_skfem.problems.contact import RigidSegment
-    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.scene import Body, Region, Scene
     block = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 0.5), (0.0, 0.5)), material, rho=2.0, h=0.25,
                    name="sand")

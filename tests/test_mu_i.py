@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.materials import MuIRheology, ZeroDilationMohrCoulomb
-from pfem_skfem.periodic import periodic_operators, periodic_tie
+from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
 from verification.inclined_plane_flow import (bagnold_velocity, flow, layer, profile_error,
                                               time_unit)
 
@@ -77,9 +77,10 @@ def test_rate_independent_limit(lag):
 
 def _one_viscous_step(backend, lag="viscosity"):
     """One step of the layer at theta = 25 from a Bagnold-like profile, with its data."""
-    from pfem_skfem.fields import plastic_strain_increment, vertex_to_points
-    from pfem_skfem.operators import body_force_vector
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+    from pfem_skfem.discretisation.fields import plastic_strain_increment, vertex_to_points
+    from pfem_skfem.discretisation.static import body_force_vector
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.dynamic import dynamic_increment
 
     m = MuIRheology(lag=lag)
     ny, rho, th = 4, PHI * RHO_S, np.radians(25.0)
@@ -104,7 +105,7 @@ def _one_viscous_step(backend, lag="viscosity"):
 
 def test_viscous_step_obeys_the_bingham_relation():
     """KKT of the viscous term: at a flowing point R(sigma) = k/2 + eta gamma_dot."""
-    from pfem_skfem.fields import plastic_strain_increment
+    from pfem_skfem.discretisation.fields import plastic_strain_increment
 
     disc, ops, inc, cone, viscous, _, _ = _one_viscous_step("clarabel")
     rate = plastic_strain_increment(disc, ops.B, inc.du) / ops.theta.dt
@@ -119,7 +120,7 @@ def test_viscous_step_obeys_the_bingham_relation():
 def test_implicit_step_has_the_friction_of_its_own_rate():
     """KKT of the exponential-cone term: at a flowing point R(sigma) = mu(I) p with I from
     the step's own shear rate and the frozen pressure (no lag in the rate)."""
-    from pfem_skfem.fields import plastic_strain_increment
+    from pfem_skfem.discretisation.fields import plastic_strain_increment
 
     disc, ops, inc, cone, _, sm, scale = _one_viscous_step("clarabel", "implicit")
     m = MuIRheology(lag="implicit")

@@ -17,11 +17,12 @@ import numpy as np
 import pytest
 import skfem
 
-from pfem_skfem.fields import plastic_strain_increment
+from pfem_skfem.discretisation.fields import plastic_strain_increment
 from pfem_skfem.materials import MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.problems.clarabel_direct import viscous_stress_map
-from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import dynamic_increment
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
 from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402

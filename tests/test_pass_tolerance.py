@@ -6,7 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, pfem_step, run
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import pfem_step, run
 from pfem_skfem.materials import MuIRheology
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.problems.nonassociated import least_passes

@@ -4,8 +4,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 from skfem import Basis, ElementTriP2
 
-from pfem_skfem.meshes import triangulate_polygon
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.meshes import triangulate_polygon
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.alpha_shape import (DEGENERATE, adaptive_alpha, alpha_shape,
                                          triangle_areas)
 from pfem_skfem.pfem.mapping import interpolate, locate, map_nodal, map_stress
@@ -353,7 +353,7 @@ def test_velocity_projection_is_exact_on_p2_fields_and_adds_no_energy():
     and does not raise the kinetic energy of a rough field (up to the quadrature of the
     old, piecewise field on the new elements)."""
     from skfem import MeshTri
-    from pfem_skfem.operators_dynamic import mass_matrix
+    from pfem_skfem.discretisation.dynamic import mass_matrix
     from pfem_skfem.pfem.mapping import project_nodal
     old = discretise(MeshTri.init_tensor(np.linspace(0, 1, 6), np.linspace(0, 1, 5)))
     new = discretise(MeshTri.init_symmetric().refined(2))

@@ -5,18 +5,18 @@ import pytest
 from skfem import Functional, MeshTri
 from skfem.helpers import grad
 
-from pfem_skfem.drivers.pfem_loop import (PFEMConfig, load_checkpoint, pfem_step, run,
-                                          run_to_rest, save_checkpoint)
-from pfem_skfem.fields import smoothed_mean_stress, vertex_dofs
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import load_checkpoint, pfem_step, run, run_to_rest, save_checkpoint
+from pfem_skfem.discretisation.fields import smoothed_mean_stress, vertex_dofs
 from pfem_skfem.io import TimeSeries
 from pfem_skfem.materials import CohesiveTresca
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.alpha_shape import triangle_areas
 from pfem_skfem.pfem.state import PFEMState, initial_state
 from pfem_skfem.pfem.surface import bulge_correction
 from pfem_skfem.pfem.transfer import old_discretisation
 from pfem_skfem.problems.contact import LaggedFriction, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.scene import Body, Region, Scene
 from verification.granular_column_plane import granular_column
 

@@ -7,7 +7,8 @@ import pytest
 
 from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, load_checkpoint
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import load_checkpoint
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulombAxisymmetric)
@@ -15,7 +16,7 @@ from pfem_skfem.pfem.remesh import QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.contact import LaggedFriction, RigidCircle, RigidPolyline, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.scene import (Body, ConstantVelocity, FunctionMotion, Geostatic, HalfPlane,
                               Outlet, Output, Phase, PiecewiseLinear, PolygonZone, Region,
                               Scene)

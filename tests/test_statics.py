@@ -7,9 +7,9 @@ import scipy.sparse.linalg as spl
 from skfem import MeshTri
 
 from pfem_skfem.materials import DruckerPrager, Elastic, MohrCoulomb, Tresca
-from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundary_facets,
-                                  discretise, dof_coordinates, stiffness_matrix,
-                                  stress_mass, traction_vector)
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs, boundary_facets,
+                                              discretise, dof_coordinates, stiffness_matrix,
+                                              stress_mass, traction_vector)
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.static import limit_analysis, static_increment
 from verification import strip_footing

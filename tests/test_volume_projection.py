@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from pfem_skfem.fields import vertex_dofs
-from pfem_skfem.operators import discretise
+from pfem_skfem.discretisation.fields import vertex_dofs
+from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.volume_projection import (patch_volume_gradient, patch_volumes,
                                                step_constraint, volume_shift)
 
@@ -219,5 +219,5 @@ def test_the_engine_option_changes_a_step_at_second_order():
 
 
 def test_the_option_is_off_by_default():
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig
+    from pfem_skfem.scene.config import PFEMConfig
     assert PFEMConfig().volume_correction is False

@@ -30,7 +30,7 @@ import sys
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from pfem_skfem.meshes import triangulate_polygon
+from pfem_skfem.discretisation.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import base_parser, positive_float
@@ -135,7 +135,7 @@ def run(args):
 
 def figures(args, points, rows, exact=None, hull=None):
     """Fig 2.4 panels and the sweep of bodies, holes and area against alpha."""
-    from pfem_skfem.pfem.plot import plot_alpha_shape, plot_points
+    from pfem_skfem.viz import plot_alpha_shape, plot_points
 
     plt, h = pyplot(), args.h
     out = figure_dir(args, "alpha_shape")

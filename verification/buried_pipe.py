@@ -39,8 +39,8 @@ import time
 import numpy as np
 
 from pfem_skfem.materials import Tresca
-from pfem_skfem.meshes import fit_element_count, pipe_half_domain
-from pfem_skfem.operators import assemble_B, body_force_vector, boundary_dofs, discretise
+from pfem_skfem.discretisation.meshes import fit_element_count, pipe_half_domain
+from pfem_skfem.discretisation.static import assemble_B, body_force_vector, boundary_dofs, discretise
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
@@ -87,8 +87,8 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
         res = static_increment(model["B"], None, f, zero_stress, Tresca(su),
                                fixed=model["fixed"], contacts=contacts)
     else:
-        from pfem_skfem.problems.dynamic import (ThetaMethod, dynamic_increment,
-                                                 dynamic_operators)
+        from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+        from pfem_skfem.problems.dynamic import dynamic_increment
         ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0), elastic=None)
         res = dynamic_increment(ops, f, f, zero_stress, np.zeros(disc.n_u), Tresca(su),
                                 fixed=model["fixed"], contacts=contacts)

@@ -37,11 +37,12 @@ from skfem import MeshTri
 
 from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.operators_dynamic import gravity_vector
-from pfem_skfem.operators import (assemble_B, assemble_C, boundary_dofs, boundary_facets,
-                                  consistent_mass, discretise, stiffness_matrix,
-                                  traction_vector)
-from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
+from pfem_skfem.discretisation.dynamic import gravity_vector
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs, boundary_facets,
+                                              consistent_mass, discretise, stiffness_matrix,
+                                              traction_vector)
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import D_FORMS
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,

@@ -41,8 +41,8 @@ import numpy as np
 from pfem_skfem.drivers.incremental import displacement_control
 from pfem_skfem.materials import (drucker_prager_match, Elastic, MohrCoulombAxisymmetric,
                                   TrescaAxisymmetric)
-from pfem_skfem.meshes import graded_rectangle_with_elements
-from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
+from pfem_skfem.discretisation.meshes import graded_rectangle_with_elements
+from pfem_skfem.discretisation.static import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,

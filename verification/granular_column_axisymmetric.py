@@ -56,11 +56,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.materials import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import ResumableRun, sitting
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
@@ -71,9 +72,8 @@ from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
+from pfem_skfem.pfem.measure import deposit_extent, mass_moved, mass_within, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
-from verification.granular_column_plane import deposit_extent, wall_height  # noqa: E402
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
@@ -166,29 +166,6 @@ def measure_deposit(state, alpha, alpha_advected=0.0):
     the body as the run detects it (``alpha_advected``, :func:`deposit_extent`)."""
     _, toe, body = deposit_extent(state, alpha, alpha_advected)
     return wall_height(state, body, 0.0), toe
-
-
-def mass_within(r, m):
-    """(radii in increasing order, share of the mass within each): the radial mass
-    distribution F of particles at radii ``r`` of masses ``m``."""
-    r, m = np.asarray(r, dtype=float), np.asarray(m, dtype=float)
-    order = np.argsort(r, kind="stable")
-    return r[order], np.cumsum(m[order]) / np.sum(m)
-
-
-def mass_moved(r_a, m_a, r_b, m_b):
-    """The largest share of the material that two deposits put on opposite sides of one
-    radius: max over r of |F_a(r) - F_b(r)|, F(r) the share of the mass within radius r
-    (:func:`mass_within`; particles at radii ``r_a`` of masses ``m_a``, and ``r_b``,
-    ``m_b``; the Kolmogorov-Smirnov distance of the radial mass distributions). 0 for the
-    same deposit, 1 for two that do not overlap; a thin tail that slides further moves
-    only its own mass, where the farthest particle moves by the tail's whole reach."""
-    grid = np.union1d(r_a, r_b)
-
-    def share_at_grid(r, m):
-        radii, share = mass_within(r, m)
-        return np.concatenate([[0.0], share])[np.searchsorted(radii, grid, side="right")]
-    return float(np.max(np.abs(share_at_grid(r_a, m_a) - share_at_grid(r_b, m_b))))
 
 
 def particles_across_radius(a, nr):

@@ -43,11 +43,13 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary, load_checkpoint, run_to_rest
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import config_summary, load_checkpoint, run_to_rest
+from pfem_skfem.pfem.measure import deposit_extent, wall_height
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, poisson_ratio, positive_float,
@@ -132,33 +134,6 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
                   t_end=t_end, length=h0, config=numerics)
     return scene.initial_state(), scene
-
-
-def deposit_extent(state, alpha, alpha_advected=0.0):
-    """Height and toe (largest x) of the main body: the detected body of largest area.
-
-    Particles splashed off the body (free, or in a small separate body) are left out,
-    as an experimentalist measures the deposit, not its outliers. The body is detected as
-    the engine detects it: with ``alpha_advected`` > 0 (``PFEMConfig.alpha_advected``) the
-    state's mesh keeps the stretched triangles the run kept, which the plain alpha-shape
-    would cut off the deposit.
-    Returns (height, toe, main-body particle indices).
-    """
-    shape = pfem_loop.detect_domain(state, alpha, alpha_advected)
-    main = int(np.argmax(shape.body_area))
-    idx = np.unique(shape.triangles[shape.body == main])
-    return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
-
-
-def wall_height(state, particles, wall_x=0.0):
-    """Height of the deposit at the wall x = ``wall_x``: the highest of ``particles`` within
-    one spacing h of it (Lube et al. 2005 and Lagree et al. 2011 measure the final height
-    there, where the deposit is thickest)."""
-    idx = np.asarray(particles)
-    near = idx[np.abs(state.x[idx, 0] - wall_x) <= state.h[idx]]
-    if near.size == 0:
-        raise ValueError(f"no particle of the deposit lies within one spacing of x = {wall_x}")
-    return float(state.x[near, 1].max())
 
 
 def lube_thesis(a):

@@ -14,7 +14,7 @@ above atan(mu_2) the friction cannot balance gravity (mu(I) < mu_2) and the laye
 velocity grows at least at g (sin(theta) - mu_2 cos(theta)).
 
 Set-up: a strip one element wide, periodic in x (the two ends' dofs tied,
-:mod:`pfem_skfem.periodic`), no-slip base, free surface, on a fixed mesh (a uniform
+:mod:`pfem_skfem.discretisation.periodic`), no-slip base, free surface, on a fixed mesh (a uniform
 flow needs no remeshing), x along the slope; each step is the dynamic problem (4.23)
 with the rigid-plastic :class:`~pfem_skfem.materials.rate.MuIRheology` in
 :func:`~pfem_skfem.problems.nonassociated.lagged_step`, run from rest to a steady state.
@@ -75,7 +75,7 @@ def layer(h, ny):
     """The strip: width h / ny, ny x 1 squares cut in two; its P2 discretisation."""
     from skfem import MeshTri
 
-    from pfem_skfem.operators import discretise
+    from pfem_skfem.discretisation.static import discretise
     mesh = MeshTri.init_tensor(np.linspace(0.0, h / ny, 2), np.linspace(0.0, h, ny + 1))
     return discretise(mesh)
 
@@ -87,10 +87,10 @@ def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbo
     Returns dict(z, u) of the x-velocity on the end x = 0 (all P2 nodes, sorted by z), the
     time series t, surface and mean velocity, and the steps' solver iterations.
     """
-    from pfem_skfem.operators import body_force_vector
-    from pfem_skfem.periodic import periodic_operators, periodic_tie
+    from pfem_skfem.discretisation.static import body_force_vector
+    from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
     from pfem_skfem.problems.contact import CoulombCones
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_operators
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     from pfem_skfem.problems.nonassociated import lagged_step
 
     disc = layer(h, ny)

@@ -75,10 +75,12 @@ import numpy as np
 if __package__ in (None, ""):                     # run as a file: the repository's root
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary           # noqa: E402
+from pfem_skfem.scene.config import PFEMConfig           # noqa: E402
+from pfem_skfem.drivers.pfem_loop import config_summary           # noqa: E402
 from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # noqa: E402
+from pfem_skfem.pfem.measure import centre_of_mass, front                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
-from pfem_skfem.problems.dynamic import ThetaMethod                           # noqa: E402
+from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.drivers.resumable import ResumableRun  # noqa: E402
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
 from pfem_skfem.harness.options import (base_parser, friction_angle, nonnegative_float,  # noqa: E402
@@ -245,10 +247,6 @@ def material_points(state, profile, fractions=(0.15, 0.5, 0.85)):
     return out
 
 
-def centre_of_mass(state):
-    return state.mass @ state.x / state.mass.sum()
-
-
 def came_to_rest(ke, peak, ke_first, travel, h, rest):
     """Whether a slide is at rest: its kinetic energy ``ke`` below ``rest`` times its
     ``peak`` and below its first value after release, once its centre of mass has travelled
@@ -267,11 +265,6 @@ def energy_ratio(H, L, mu, travel, h):
     if not (travel >= h and L > 0 and mu > 0):
         return np.nan
     return float(H / (mu * L))
-
-
-def front(state):
-    """The front: the largest x of the mesh's vertices (of the mass, not a flying particle)."""
-    return float(np.max(state.mesh_p[:, 0]))
 
 
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,

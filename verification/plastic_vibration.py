@@ -31,8 +31,9 @@ from skfem import MeshTri
 
 from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
-from pfem_skfem.operators import boundary_dofs, discretise
-from pfem_skfem.problems.dynamic import D_FORMS, ThetaMethod, dynamic_operators
+from pfem_skfem.discretisation.static import boundary_dofs, discretise
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.problems.dynamic import D_FORMS
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, poisson_ratio, positive_float,
                                         positive_int, theta_weight)

@@ -67,10 +67,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers.pfem_loop import PFEMConfig, config_summary
+from pfem_skfem.scene.config import PFEMConfig
+from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
-from pfem_skfem.problems.dynamic import ThetaMethod
+from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, fraction, friction_angle,

@@ -68,9 +68,10 @@ def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=
     from skfem import MeshTri
 
     from pfem_skfem.materials import Tresca
-    from pfem_skfem.operators import body_force_vector, discretise
+    from pfem_skfem.discretisation.static import body_force_vector, discretise
     from pfem_skfem.problems.contact import potential_contacts, with_friction_bound
-    from pfem_skfem.problems.dynamic import ThetaMethod, dynamic_increment, dynamic_operators
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.dynamic import dynamic_increment
 
     mesh = MeshTri.init_tensor(np.linspace(-width / 2, width / 2, cells[0] + 1),
                                np.linspace(0.0, height, cells[1] + 1))

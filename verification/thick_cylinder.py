@@ -45,7 +45,7 @@ from skfem import MeshTri
 from pfem_skfem.drivers.incremental import displacement_control
 from pfem_skfem.materials import (drucker_prager_match, Elastic, MohrCoulombAxisymmetric,
                                   TrescaAxisymmetric)
-from pfem_skfem.operators import assemble_B, assemble_C, boundary_dofs, discretise
+from pfem_skfem.discretisation.static import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure

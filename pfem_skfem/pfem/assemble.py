@@ -8,10 +8,11 @@ of each stress point's material, and the scales of the conic problem.
 import numpy as np
 
 from ..materials import RegionCones
-from ..operators import body_force_vector
-from ..operators_dynamic import gravity_vector
+from ..discretisation.static import body_force_vector
+from ..discretisation.dynamic import gravity_vector
 from ..problems.contact import boundary_nodes, potential_contacts
-from ..problems.dynamic import DynamicScales, dynamic_operators
+from ..discretisation.dynamic import dynamic_operators
+from ..problems.dynamic import DynamicScales
 
 
 def element_regions(state, pm):

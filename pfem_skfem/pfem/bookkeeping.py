@@ -11,7 +11,7 @@ import time as _time
 import numpy as np
 from dataclasses import replace
 
-from ..fields import vertex_dofs
+from ..discretisation.fields import vertex_dofs
 from .alpha_shape import measure, triangle_areas
 
 

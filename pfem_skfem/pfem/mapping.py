@@ -1,7 +1,7 @@
 """Mapping the state from the old mesh to the new one (thesis Section 2.5, Fig 2.5-2.6).
 
 Stresses live at the stress points (the Gauss points of the six-node triangle,
-:class:`~pfem_skfem.elements.ElementTriStress`); two schemes move them:
+:class:`~pfem_skfem.discretisation.elements.ElementTriStress`); two schemes move them:
 
 * Unique Element Method (UEM, Fig 2.6), the thesis' choice: find the old element
   that contains the new stress point and evaluate that element's linear stress
@@ -34,7 +34,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from skfem import ElementVector
 
-from ..operators import Discretisation
+from ..discretisation.static import Discretisation
 
 SCHEMES = ("uem", "ida", "uem_bounded", "spr")
 

@@ -1,7 +1,7 @@
 """Meshes of the detected domain (thesis Sections 2.3.1 and 2.4).
 
 Two paths, both giving a straight-sided scikit-fem ``MeshTri`` whose vertices
-include the particles (the P2 basis of :mod:`pfem_skfem.elements` adds the midside
+include the particles (the P2 basis of :mod:`pfem_skfem.discretisation.elements` adds the midside
 nodes, Section 2.3.1: only the vertices are particles):
 
 (a) :func:`alpha_mesh`: the alpha-filtered Delaunay triangulation itself (Fig 2.3 (c)).

@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..fields import vertex_dofs
+from ..discretisation.fields import vertex_dofs
 from ..problems.particle import free_particles_step
 from .volume_projection import volume_shift
 
@@ -37,7 +37,7 @@ def boundary_edges(disc, du):
 
 def axis_vertices(disc):
     """(n_vertices,) bool: vertices on the axis r = 0 of an axisymmetric discretisation
-    (to round-off, as :func:`~pfem_skfem.operators.axis_dofs`); all False in plane strain."""
+    (to round-off, as :func:`~pfem_skfem.discretisation.static.axis_dofs`); all False in plane strain."""
     p = disc.mesh.p
     if not disc.geometry.axisymmetric:
         return np.zeros(p.shape[1], dtype=bool)

@@ -11,9 +11,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 from skfem import Basis, ElementTriP1, MeshTri
 
-from ..fields import collapsed, vertex_dofs, vertex_to_points
-from ..geometry import PLANE_STRAIN
-from ..operators import discretise
+from ..discretisation.fields import collapsed, vertex_dofs, vertex_to_points
+from ..discretisation.geometry import PLANE_STRAIN
+from ..discretisation.static import discretise
 from .mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from .remesh import ParticleMesh
 

@@ -50,7 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from ..fields import vertex_dofs
+from ..discretisation.fields import vertex_dofs
 
 
 @dataclass

@@ -3,16 +3,16 @@
 The thesis states each axisymmetric problem as its plane-strain counterpart with
 the operators of (7.25)-(7.28): B, f, A, D integrated over dOmega = 2 pi r dr dz
 with the hoop strain u_r / r. In this package the operators know their geometry
-(:func:`~pfem_skfem.operators.discretise` with ``geometry="axisymmetric"``), so
+(:func:`~pfem_skfem.discretisation.static.discretise` with ``geometry="axisymmetric"``), so
 each problem here is the plane-strain statement, the same cvxpy (or direct
 Clarabel) code, on axisymmetric operators, plus what the axis demands:
 
-* u_r = 0 on every node of the axis r = 0 (:func:`~pfem_skfem.operators.axis_dofs`),
+* u_r = 0 on every node of the axis r = 0 (:func:`~pfem_skfem.discretisation.static.axis_dofs`),
   added to the fixed dofs unless the caller prescribes them;
 * forces are ring forces: a reaction summed over a boundary is the force on the
   whole body of revolution (no 2 pi to add).
 
-The stress rows are (s_rr, s_zz, s_tt, s_rz) (:mod:`pfem_skfem.geometry`); the
+The stress rows are (s_rr, s_zz, s_tt, s_rz) (:mod:`pfem_skfem.discretisation.geometry`); the
 yield criteria that read the hoop stress are the Drucker-Prager cones of
 :func:`~pfem_skfem.materials.axisymmetric.drucker_prager_match` ((7.10) by default)
 and the exact three-cone Mohr-Coulomb / Tresca
@@ -26,7 +26,7 @@ returned with an :class:`~pfem_skfem.problems.conic.AlmostSolvedWarning`, or rai
 """
 import numpy as np
 
-from ..operators import axis_dofs
+from ..discretisation.static import axis_dofs
 from .dynamic import dynamic_increment
 from .static import limit_analysis, static_increment
 

@@ -39,126 +39,19 @@ Measured: a body in free fall then falls g dt^2 (N(N-1)/2 + N theta2) in N steps
 to round-off with either material model (tests/test_dynamics.py).
 """
 from dataclasses import dataclass
-from functools import cached_property
 
 import cvxpy as cp
 import numpy as np
-import scipy.sparse as sp
 
 from ..materials.rate import RateDissipation, ViscousStress
-from ..operators import assemble_B, assemble_C
-from ..operators_dynamic import (assemble_A, assemble_D, block_cholesky, element_density,
-                                 mass_matrix, r_basis)
+# ThetaMethod, DynamicOperators, dynamic_operators and the block inverses live in
+# discretisation/ since issue 37; re-exported here for their users
+from ..discretisation.dynamic import (DynamicOperators, block_inverse,  # noqa: F401
+                                      block_inverse_elements, dynamic_operators)
+from ..discretisation.theta import ThetaMethod  # noqa: F401
 from .conic import SolveInfo, prescribed_values, solve, split_dofs
 from .contact import contact_matrix, contact_terms
 from .static import point_multipliers
-
-
-@dataclass(frozen=True)
-class ThetaMethod:
-    """The theta-method of (4.4): theta1 weights the stresses (and loads), theta2 the velocities.
-
-    theta1 = theta2 = 1/2 is Newmark's average acceleration scheme (no numerical
-    damping); theta1 = 1 damps. Only the implicit, unconditionally stable range
-    1/2 <= theta <= 1 is accepted.
-    """
-
-    dt: float
-    theta1: float = 1.0
-    theta2: float = 1.0
-
-    def __post_init__(self):
-        if not np.isfinite(self.dt) or self.dt <= 0:
-            raise ValueError(f"dt (time step) must be positive, got {self.dt!r}")
-        for name in ("theta1", "theta2"):
-            value = getattr(self, name)
-            if not np.isfinite(value) or not 0.5 <= value <= 1.0:
-                raise ValueError(f"{name} must lie in [1/2, 1] (implicit, unconditionally "
-                                 f"stable theta-method), got {value!r}")
-
-    def rho_tilde(self, rho):
-        """rho~ = rho / (theta1 theta2) (4.6)."""
-        return np.asarray(rho, dtype=float) / (self.theta1 * self.theta2)
-
-    def load(self, f_n, f_next):
-        """External load of the step, theta1 f_{n+1} + (1 - theta1) f_n.
-
-        The thesis weights the stresses in (4.4) and (4.8) by theta1; the loads are
-        weighted alike (for a load linear in time this is its value at t_n + theta1 dt),
-        which keeps theta1 = theta2 = 1/2 the energy-conserving trapezoidal rule.
-        """
-        return self.theta1 * np.asarray(f_next, dtype=float) + \
-            (1 - self.theta1) * np.asarray(f_n, dtype=float)
-
-    def equilibrium_rhs(self, f_n, f_next, B, sigma_n):
-        """f' = f_theta / theta1 - (1 - theta1)/theta1 B^T sigma_n: the b~, t~ of (4.6), (4.10)
-        in discrete form, without the inertia term rho~ v_n / dt (carried by r = rho~ v_n/dt + r')."""
-        s_n = np.asarray(sigma_n, dtype=float).ravel()
-        return (self.load(f_n, f_next) - (1 - self.theta1) * (B.T @ s_n)) / self.theta1
-
-    def velocity(self, du, v_n):
-        """v_{n+1} = (du/dt - (1 - theta2) v_n) / theta2 (4.7)."""
-        return (np.asarray(du) / self.dt - (1 - self.theta2) * np.asarray(v_n)) / self.theta2
-
-
-@dataclass
-class DynamicOperators:
-    """Matrices of (4.20)-(4.21) for one mesh, density and theta-method.
-
-    B (3.41), C (3.43; None for a rigid-plastic material), A and D (4.21),
-    M the consistent mass int rho N_u^T N_u (for energies and the velocity term),
-    basis_r the basis of r; derived on first use: G with D = G^T G (block
-    upper-triangular, for the cone form of the r^T D r term), K = B^T C^-1 B (the
-    elastic stiffness), C_inverse, D_inverse (for the elastic predictor).
-    """
-
-    B: object
-    C: object
-    A: object
-    D: object
-    M: object
-    theta: ThetaMethod
-    basis_r: object = None
-
-    @cached_property
-    def G(self):
-        return block_cholesky(self.D, self.basis_r)
-
-    @cached_property
-    def D_inverse(self):
-        return block_inverse_elements(self.D)
-
-    @cached_property
-    def C_inverse(self):
-        return None if self.C is None else block_inverse(self.C, 4)
-
-    @cached_property
-    def K(self):
-        return None if self.C is None else (self.B.T @ self.C_inverse @ self.B).tocsr()
-
-    @property
-    def M_tilde(self):
-        """A^T D^-1 A = M / (theta1 theta2) (4.26)-(4.27)."""
-        return self.M / (self.theta.theta1 * self.theta.theta2)
-
-
-def dynamic_operators(disc, rho, theta, elastic=None):
-    """Assemble B, C, A, D and M for (4.23) (G, K and the inverses follow on first use).
-
-    Parameters
-    ----------
-    disc : :class:`~pfem_skfem.operators.Discretisation`.
-    rho : density, a number or one value per element.
-    theta : :class:`ThetaMethod`.
-    elastic : :class:`~pfem_skfem.materials.Elastic`, or None for rigid-plastic.
-    """
-    rho_e = element_density(disc, rho)
-    basis_r = r_basis(disc)
-    D = assemble_D(disc, theta.rho_tilde(rho_e), basis_r)
-    return DynamicOperators(B=assemble_B(disc),
-                            C=None if elastic is None else assemble_C(disc, elastic),
-                            A=assemble_A(disc, basis_r), D=D,
-                            M=mass_matrix(disc, rho_e), theta=theta, basis_r=basis_r)
 
 
 @dataclass
@@ -242,28 +135,6 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
     r_stress = stress * np.median(np.abs(ops.B.data)) / np.median(np.abs(ops.A.data))
     r = max(r, r_stress) if ops.C is None else max(r, 1e-6 * r_stress)
     return DynamicScales(stress=stress, displacement=u, dynamic_force=r)
-
-
-def block_inverse_elements(D):
-    """Inverse of D (4.21), block-diagonal with one 12 x 12 block per element."""
-    return block_inverse(D, 12)
-
-
-def block_inverse(M, size):
-    """Inverse of a block-diagonal sparse matrix with consecutive square blocks of ``size``."""
-    n = M.shape[0] // size
-    coo = M.tocoo()
-    keep = np.abs(coo.data) > 1e-12 * np.abs(coo.data).max()    # quadrature round-off
-    coo = sp.coo_matrix((coo.data[keep], (coo.row[keep], coo.col[keep])), shape=M.shape)
-    if np.any(coo.row // size != coo.col // size):
-        raise ValueError("matrix is not block-diagonal")
-    blocks = np.zeros((n, size, size))
-    np.add.at(blocks, (coo.row // size, coo.row % size, coo.col % size), coo.data)
-    inv = np.linalg.inv(blocks)
-    rows = np.arange(n * size).reshape(n, size)
-    return sp.csr_matrix((inv.ravel(), (np.repeat(rows[:, :, None], size, axis=2).ravel(),
-                                        np.repeat(rows[:, None, :], size, axis=1).ravel())),
-                         shape=M.shape)
 
 
 D_FORMS = ("quad_form", "cone")

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
+from ..discretisation.fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
 from .dynamic import dynamic_increment, estimate_scales
 
 
@@ -54,6 +54,46 @@ def least_passes(material_lagged, contact_rule):
     pass's stresses has too little confinement: a stable wedge yields)."""
     needed = contact_rule.passes_needed
     return needed + 1 if material_lagged and needed > 1 else needed
+
+
+MAX_PASSES = 1000       # more is a typo or a hang (a pass is a conic solve)
+
+
+def check_passes(passes, pass_tolerance, contact_rule=None, *, lagged=None, rate=None):
+    """The rule for the fixed-point passes of a step, written once (issue 37).
+
+    ``passes`` in [1, MAX_PASSES]; ``pass_tolerance`` a number >= 0 (inf: the least passes
+    only); 0 with a rate-dependent material, whose passes also update the shear rate,
+    which the tolerance does not measure; ``passes`` >= :func:`least_passes` of the
+    contact rule (skipped when ``contact_rule`` is None). ``lagged`` and ``rate`` name
+    what is lagged or rate-dependent (a region, for the message), or are None.
+
+    Raises
+    ------
+    ValueError
+        naming ``passes`` or ``pass_tolerance``.
+    """
+    if not 1 <= int(passes) <= MAX_PASSES:
+        raise ValueError(f"passes must be in [1, {MAX_PASSES}] (solves per step), got "
+                         f"{passes!r}")
+    if not (isinstance(pass_tolerance, (int, float, np.number))
+            and not isinstance(pass_tolerance, bool)
+            and pass_tolerance >= 0):               # nan refused; inf: the least passes
+        raise ValueError(f"pass_tolerance must be >= 0 (0: every pass), got "
+                         f"{pass_tolerance!r}")
+    if rate is not None and pass_tolerance > 0:
+        raise ValueError(f"pass_tolerance must be 0 with the rate-dependent material of "
+                         f"{rate} (its passes also update the shear rate, which the "
+                         f"tolerance does not measure); got pass_tolerance={pass_tolerance!r}")
+    if contact_rule is None:
+        return
+    if int(passes) < contact_rule.passes_needed:
+        raise ValueError(f"contact={contact_rule!r} needs passes >= "
+                         f"{contact_rule.passes_needed} (the first pass finds the normal forces)")
+    if lagged is not None and int(passes) < least_passes(True, contact_rule):
+        raise ValueError(f"passes must be >= 3 with contact={contact_rule!r} and the lagged "
+                         f"material of {lagged} (pass 1 is smooth, pass 2 has the friction, "
+                         f"pass 3 the mean stress with it); got passes={passes!r}")
 
 
 def lagged_change(sm_before, sm_after, p_before, p_after, stress_scale):
@@ -107,11 +147,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
     lagged_contact = contacts is not None and contact_rule.passes_needed > 1
     passes = int(passes) if material.lagged or lagged_contact else 1
     rate = material.rate_dependent
-    if not pass_tolerance >= 0:                    # nan refused; inf: least passes
-        raise ValueError(f"pass_tolerance must be >= 0, got {pass_tolerance!r}")
-    if rate and pass_tolerance > 0:
-        raise ValueError(f"pass_tolerance must be 0 with a rate-dependent material (its "
-                         f"passes also update the shear rate), got {pass_tolerance!r}")
+    check_passes(passes, pass_tolerance, rate="the step" if rate else None)
     least = least_passes(material.lagged, contact_rule) if lagged_contact else 1
     free = np.setdiff1d(np.arange(ops.B.shape[1]), fixed)     # ops may tie dofs (periodic)
     if scales is None:           # first step: scales from the strength at the lagged sigma_m

@@ -55,7 +55,6 @@ import math
 import re
 import tomllib
 
-from ..drivers.pfem_loop import PFEMConfig
 from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
@@ -63,8 +62,9 @@ from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
     RigidSegment
-from ..problems.dynamic import ThetaMethod
+from ..discretisation.theta import ThetaMethod
 from .bodies import Body, ConstantVelocity, Fixed, PiecewiseLinear
+from .config import PFEMConfig
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene

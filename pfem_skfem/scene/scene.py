@@ -5,7 +5,7 @@ its material, density and initial stress), the rigid bodies and their motions, t
 outlets, the phases (time intervals with their own boundary conditions), gravity, the
 alpha-shape parameter (adapted to keep the mass, Ch 8, as an option), the end time
 and the numerical configuration of the loop
-(:class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`). Everything is checked when the
+(:class:`~pfem_skfem.scene.config.PFEMConfig`). Everything is checked when the
 scene is made, before any step runs. Its own scales, a characteristic length L and
 the stress rho g L, are the units of every tolerance the engine uses.
 """
@@ -16,11 +16,10 @@ import os
 
 import numpy as np
 
-from ..drivers.pfem_loop import PFEMConfig
-from ..geometry import as_geometry
+from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
-from ..problems.nonassociated import least_passes
 from .bodies import Body
+from .config import PFEMConfig, check_passes
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 
@@ -85,7 +84,7 @@ class Scene:
     length : the characteristic length L (default: the height of the regions'
         bounding box); the stress scale is rho g L (rho the largest density), or the
         largest cohesion without gravity.
-    config : :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig` (time step, passes,
+    config : :class:`~pfem_skfem.scene.config.PFEMConfig` (time step, passes,
         contact rule, remesher, mappings, backend).
     output : :class:`Output`.
     max_particles : the most particles the regions may hold (None: the environment
@@ -173,21 +172,13 @@ class Scene:
 
     # -- checks ---------------------------------------------------------------------------
     def _check_passes(self):
-        # the fewest passes (least_passes): with a lagged contact rule and a lagged
-        # material three, so that the last cone is built on stresses with friction
+        # the regions' part of the rule (check_passes): a lagged material with a lagged
+        # contact rule needs three passes, a rate-dependent one a tolerance of 0
         lagged = [r.name for r in self.regions if r.material.lagged]
-        rule = self.config.contact
         rate = [r.name for r in self.regions if r.material.rate_dependent]
-        if rate and self.config.pass_tolerance > 0:     # the passes also move the shear rate
-            raise ValueError(f"pass_tolerance must be 0 with the rate-dependent material of "
-                             f"region {rate[0]!r} (its passes also update the shear rate, "
-                             f"which the tolerance does not measure); got "
-                             f"pass_tolerance={self.config.pass_tolerance!r}")
-        if int(self.config.passes) < least_passes(bool(lagged), rule):
-            raise ValueError(f"passes must be >= 3 with contact={rule!r} and the lagged "
-                             f"material of region {lagged[0]!r} (pass 1 is smooth, pass 2 "
-                             f"has the friction, pass 3 the mean stress with it); got "
-                             f"passes={self.config.passes!r}")
+        check_passes(self.config.passes, self.config.pass_tolerance, self.config.contact,
+                     lagged=f"region {lagged[0]!r}" if lagged else None,
+                     rate=f"region {rate[0]!r}" if rate else None)
 
     def _check_materials(self, geometry):
         # a plane cone in axisymmetry leaves the hoop stress unbounded (a column that

@@ -1,0 +1,113 @@
+"""The numerical choices of a PFEM run, beside the scene that holds them.
+
+:class:`PFEMConfig` is the ``config`` of a :class:`~pfem_skfem.scene.Scene`: the time
+step, the fixed-point passes, the contact rule, the remesher, the mappings, the solver
+backend. The rule for the passes is written once, :func:`check_passes` (beside
+:func:`~pfem_skfem.problems.nonassociated.least_passes`, where the step that runs the
+passes can use it too): the config checks what it alone knows, the scene what its
+regions add (a lagged or rate-dependent material).
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..discretisation.theta import ThetaMethod
+from ..pfem.remesh import AlphaMesh, QualityRemesh
+from ..pfem.transfer import Interpolation, L2Projection
+from ..problems.contact import CoulombCones, LaggedFriction
+from ..problems.dynamic import BACKENDS
+from ..problems.nonassociated import MAX_PASSES, check_passes, least_passes  # noqa: F401
+
+__all__ = ["PFEMConfig", "STRESS_MAPPINGS", "MAX_PASSES", "check_passes", "least_passes"]
+
+STRESS_MAPPINGS = ("uem_bounded", "uem", "ida", "spr")
+
+
+@dataclass(frozen=True)
+class PFEMConfig:
+    """The numerical choices of a PFEM run (the physics is the scene's).
+
+    Attributes
+    ----------
+    theta : :class:`~pfem_skfem.discretisation.theta.ThetaMethod` (dt, theta1, theta2), held once.
+    passes : solves per step when the material or the contact rule is lagged (1: the
+        lagged values only); with ``pass_tolerance`` the most.
+    pass_tolerance : end a step's passes once a pass changes the smoothed mean stress by
+        less than this many stress scales (rho g L; and a lagged contact rule's normal
+        forces by less than this fraction of the largest), after the least passes the
+        scene needs (:func:`~pfem_skfem.problems.nonassociated.least_passes`); 0: always
+        ``passes``.
+    contact : contact rule, :class:`~pfem_skfem.problems.contact.CoulombCones` (the
+        associated cones of (5.12), the thesis') or
+        :class:`~pfem_skfem.problems.contact.LaggedFriction` (no dilation; passes >= 2, and
+        >= 3 with a lagged material: the scene checks, :func:`check_passes`).
+    remesher : :class:`~pfem_skfem.pfem.remesh.AlphaMesh` (the alpha-shape's triangles)
+        or :class:`~pfem_skfem.pfem.remesh.QualityRemesh` (Triangle; added nodes become
+        particles).
+    remesh_interval : remesh every this many steps (between, the mesh moves with the particles).
+    stress_mapping : 'uem_bounded', 'uem' (Fig 2.6), 'ida' (2.1)-(2.2) or 'spr'.
+    velocity : :class:`~pfem_skfem.pfem.transfer.L2Projection` (no kinetic energy added)
+        or :class:`~pfem_skfem.pfem.transfer.Interpolation`.
+    search : contact search distance in units of h.
+    backend : 'clarabel' (the step assembled directly) or 'cvxpy' (the reference statement).
+    bulge : place the boundary particles so that the straight-sided boundary keeps the
+        area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
+    refine_surface : a boundary edge stretched longer than this many h gets its P2
+        midside node as a new particle (0: never).
+    volume_correction : shift the moved particles so that every vertex patch keeps the
+        volume their linearised motion states (one linear solve a step;
+        :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
+    alpha_advected : keep a Delaunay triangle that fails the alpha test while its centroid
+        lies in the previous step's mesh moved with the particles and its circumradius
+        is at most this many h (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape`): a
+        thinning layer is not cut off the body until stretched that far; and no triangle
+        fills a notch of that mesh's surface. 0 (default): off, the plain alpha-shape of
+        the thesis.
+    """
+
+    theta: ThetaMethod = field(default_factory=lambda: ThetaMethod(0.01, 1.0, 1.0))
+    passes: int = 2
+    pass_tolerance: float = 0.0
+    contact: object = field(default_factory=CoulombCones)
+    remesher: object = field(default_factory=AlphaMesh)
+    remesh_interval: int = 1
+    stress_mapping: str = "uem_bounded"
+    velocity: object = field(default_factory=L2Projection)
+    search: float = 1.0
+    backend: str = "clarabel"
+    bulge: bool = True
+    refine_surface: float = 2.0
+    volume_correction: bool = False
+    alpha_advected: float = 0.0
+
+    def __post_init__(self):
+        if not isinstance(self.theta, ThetaMethod):
+            raise ValueError(f"theta must be a ThetaMethod(dt, theta1, theta2), got {self.theta!r}")
+        if not isinstance(self.contact, (CoulombCones, LaggedFriction)):
+            raise ValueError(f"contact must be CoulombCones() or LaggedFriction(), got "
+                             f"{self.contact!r}")
+        check_passes(self.passes, self.pass_tolerance, self.contact)
+        if not isinstance(self.remesher, (AlphaMesh, QualityRemesh)):
+            raise ValueError(f"remesher must be AlphaMesh() or QualityRemesh(size), got "
+                             f"{self.remesher!r}")
+        if int(self.remesh_interval) < 1:
+            raise ValueError(f"remesh_interval must be >= 1, got {self.remesh_interval!r}")
+        if self.stress_mapping not in STRESS_MAPPINGS:
+            raise ValueError(f"stress_mapping must be one of {STRESS_MAPPINGS}, got "
+                             f"{self.stress_mapping!r}")
+        if not isinstance(self.velocity, (L2Projection, Interpolation)):
+            raise ValueError(f"velocity must be L2Projection() or Interpolation(), got "
+                             f"{self.velocity!r}")
+        if self.backend not in BACKENDS:
+            raise ValueError(f"backend must be one of {BACKENDS}, got {self.backend!r}")
+        if not (np.isfinite(self.search) and self.search > 0):
+            raise ValueError(f"search must be positive, got {self.search!r}")
+        if not (np.isfinite(self.alpha_advected) and self.alpha_advected >= 0):
+            raise ValueError(f"alpha_advected must be >= 0 (0: off), got "
+                             f"{self.alpha_advected!r}")
+        if not (self.refine_surface >= 0):
+            raise ValueError(f"refine_surface must be >= 0, got {self.refine_surface!r}")
+
+    @property
+    def dt(self):
+        return self.theta.dt
