@@ -183,3 +183,23 @@ def _equal(a, b):
         a, b = np.asarray(a), np.asarray(b)
         return a.shape == b.shape and np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
     return a == b
+
+
+def test_a_script_s_vtu_series_starts_at_t_0_and_states_its_units(tmp_path):
+    """Issue 36, item 8: every VTU series a run writes (the scripts' too, through
+    open_series) has the frame at t = 0 and the fields' units in its PVD."""
+    from pfem_skfem.drivers.pfem_loop import run
+    from pfem_skfem.drivers.resumable import open_series
+    from pfem_skfem.scene import scene_from_toml
+    from pfem_skfem.scene.files import example_text
+
+    scene = scene_from_toml(example_text("column"))
+    state = scene.initial_state()
+    series = open_series(tmp_path / "vtu", "column", initial=(state, scene))
+    run(state, scene, 2, series=series, save_every=1)
+    pvd = (tmp_path / "vtu" / "column.pvd").read_text()
+    assert [t for t, _ in series.entries][:1] == [0.0] and len(series.entries) == 3
+    assert "units:" in pvd and "Pa" in pvd
+    resumed = open_series(tmp_path / "vtu", "column", resume_at=series.entries[1][0],
+                          initial=(state, scene))          # a resumed run writes no t = 0 again
+    assert len(resumed.entries) == 2

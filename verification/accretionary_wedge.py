@@ -295,7 +295,8 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, **options):
     state = scene.initial_state()
     snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
     series = open_series(Path(outdir) / f"h{options['h']:g}_n{steps}"
-                         if outdir is not None and save_every else None, "wedge")
+                         if outdir is not None and save_every else None, "wedge",
+                         initial=(state, scene))
     tick = StepBar(0, steps, disable=not verbose, desc=f"wedge ({steps} steps)",
                    postfix=lambda rec: f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
                                        f"dA = {rec['area_change']:+.2%}")

@@ -176,7 +176,8 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", **op
     snap_steps |= {n_v + int(round(u / du)): f"u_H = {u:g} m" for u in SNAP_UH}
     snap_steps = {k: v for k, v in snap_steps.items() if k <= n_v + n_h}
     series = open_series(Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"
-                         if outdir is not None and save_every else None, "cylinder")
+                         if outdir is not None and save_every else None, "cylinder",
+                         initial=(state, scene))
     t0 = time.perf_counter()
 
     def postfix(rec):

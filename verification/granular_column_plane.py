@@ -178,7 +178,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                                     contact=contact, E=E, nu=nu,
                                     refine_surface=refine_surface, bulge=bulge, soil=soil)
     series = open_series(Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
-                         if outdir is not None and save_every else None, "column")
+                         if outdir is not None and save_every else None, "column",
+                         initial=(state, scene))
     snap_steps = {int(round(s * steps / 4)) for s in (1.0, 4.0)}
     x0 = state.x.copy()
     checkpoint = None

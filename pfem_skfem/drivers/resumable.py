@@ -108,19 +108,27 @@ def _wait_for_lock(checkpoint, poll=5.0):
             time.sleep(poll)
 
 
-def open_series(directory, name, resume_at=None):
+def open_series(directory, name, resume_at=None, initial=None):
     """A VTU series ``name`` in ``directory`` (created), or None when ``directory`` is None.
 
+    The PVD states the fields' units (:data:`pfem_skfem.io.STEP_UNITS`).
     ``resume_at``: the time of the checkpoint a run goes on from; the series keeps its
-    frames up to that time (:meth:`pfem_skfem.io.TimeSeries.resume`)."""
+    frames up to that time (:meth:`pfem_skfem.io.TimeSeries.resume`).
+    ``initial``: (state, scene) of a run at its start, whose frame at t = 0 is written
+    (:func:`pfem_skfem.io.initial_fields`); nothing for a resumed run."""
     if directory is None:
         return None
-    from ..io import TimeSeries
+    from ..discretisation.geometry import as_geometry
+    from ..io import STEP_UNITS, TimeSeries, initial_fields
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    series = TimeSeries(directory, name)
+    series = TimeSeries(directory, name, note=STEP_UNITS)
     if resume_at is not None:
         series.resume(resume_at)
+    elif initial is not None and initial[0].step == 0:
+        state, scene = initial
+        series.write(0.0, *initial_fields(state, scene.alpha,
+                                          as_geometry(scene.geometry).axisymmetric))
     return series
 
 
@@ -204,7 +212,8 @@ class ResumableRun:
             except BaseException:
                 lock.release()
                 raise
-        series = (open_series(vtu_dir, vtu_name, state.time if resumed else None)
+        series = (open_series(vtu_dir, vtu_name, state.time if resumed else None,
+                              initial=None if resumed else (state, scene))
                   if vtu_dir is not None and save_every else None)
         bar = None
         if total is not None:

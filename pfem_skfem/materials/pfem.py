@@ -286,7 +286,7 @@ class ZeroDilationMohrCoulombAxisymmetric(PFEMMaterial):
 
     .. math::
         s_i - s_j \\le k_j = \\max(2c\\cos\\phi - 2p_j\\sin\\phi,\\; k_{min})
-        \\quad\\text{for every principal pair } (i, j)
+        \\quad \\\\ \\text{for every principal pair } (i, j)
 
     The particles carry one lagged scalar, so each pair's sum s_i + s_j is taken as 2p:
     the flow is isochoric (Tresca's), the strength Mohr-Coulomb's where the mean of the

@@ -75,8 +75,8 @@ class MuIRheology(PFEMMaterial):
     at the previous pass's shear rate,
 
     .. math::
-        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j, \\quad
-        k_j = \\max\\bigl(2\\,\\mu(I_j)\\, p_j,\\; k_{min}\\bigr), \\quad
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le k_j, \\\\
+        k_j = \\max\\bigl(2\\,\\mu(I_j)\\, p_j,\\; k_{min}\\bigr), \\\\
         I_j = \\frac{\\dot\\gamma_j d}{\\sqrt{\\max(p_j, p_{min}) / \\rho_s}}
 
     (the rate enters explicitly: its fixed point is not stable at practical time steps).
@@ -207,8 +207,9 @@ class MuIRheologyAxisymmetric(MuIRheology):
 
     .. math::
         \\sqrt{J_2} \\le k_j, \\quad k_j = \\max\\bigl(\\mu_s\\, p_j,\\; k_{min}\\bigr), \\quad
-        p_j = -I_1 / 3, \\quad
-        \\dot\\gamma = \\sqrt{2 D':D'} = \\sqrt{\\tfrac23\\bigl((D_{rr}-D_{zz})^2
+        p_j = -I_1 / 3, \\\\
+        \\dot\\gamma = \\sqrt{2 D':D'} \\\\
+        = \\sqrt{\\tfrac23\\bigl((D_{rr}-D_{zz})^2
         + (D_{zz}-D_{\\theta\\theta})^2 + (D_{\\theta\\theta}-D_{rr})^2\\bigr)
         + \\dot\\gamma_{rz}^2}
 
