@@ -20,6 +20,7 @@ from pathlib import Path
 import secrets
 import socket
 import sys
+import threading
 import time
 
 #: A checkpoint every this many steps when the scene asks for none (output.checkpoint_every
@@ -207,8 +208,21 @@ class Terminated(KeyboardInterrupt):
     as Ctrl-C is (a KeyboardInterrupt): checkpoint the last step and stop."""
 
 
+#: set by the SIGTERM handler: a TERM that lands in a finaliser or a callback (where
+#: Python only prints "Exception ignored") is still seen after the step (measured: a run
+#: went on after such a TERM when the machine was loaded)
+_term_received = threading.Event()
+
+
 def _raise_terminated(signum, frame):
+    _term_received.set()
     raise Terminated()
+
+
+def raise_if_terminated():
+    """Raise :class:`Terminated` if a SIGTERM came that was swallowed on its way."""
+    if _term_received.is_set():
+        raise Terminated()
 
 
 def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=None):

@@ -254,11 +254,13 @@ class ResumableRun:
         last completed step is saved (when its measurements are complete) and the error
         raised again. Returns the run.
         """
-        from ..runfolder import _raise_terminated
+        from ..runfolder import _raise_terminated, _term_received, raise_if_terminated
         from ..problems.conic import SolverError
         lock, self._lock = self._lock, None
         in_main = threading.current_thread() is threading.main_thread()   # signal's rule
         guarded = in_main and (self.checkpoint is not None or self._save is not None)
+        if guarded:
+            _term_received.clear()
         old = signal.signal(signal.SIGTERM, _raise_terminated) if guarded else None
         try:
             while not done(self):
@@ -266,6 +268,7 @@ class ResumableRun:
                 if observe is not None:
                     observe(self, more)
                 self._clean = True
+                raise_if_terminated()          # a TERM swallowed inside the step
                 if self.bar is not None:
                     if postfix is not None:
                         self.bar.set_postfix_str(postfix(self), refresh=False)
