@@ -81,8 +81,7 @@ class MohrCoulomb(YieldCriterion):
     name = "Mohr-Coulomb"
 
     def __post_init__(self):
-        if not np.isfinite(self.c) or self.c < 0:
-            raise ValueError(f"c (cohesion) must be >= 0, got {self.c!r}")
+        check_cohesion(self.c)
         _check_angle("phi (friction angle)", self.phi)
         if self.c == 0 and self.phi == 0:
             raise ValueError("c and phi are both zero: the yield set has no interior")
