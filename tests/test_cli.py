@@ -238,8 +238,10 @@ def test_sigterm_checkpoints_as_ctrl_c_does(column, tmp_path):
                              "--checkpoint-every", "1000", "--quiet"],
                             stderr=subprocess.PIPE, text=True, env=env)
     start = time.time()
-    while not (out / "scene_0002.vtu").exists() and time.time() - start < 120:
-        time.sleep(0.05)                              # step 2 done
+    # step 3's VTU is written inside step 3, so step 2 is complete (step 2's own VTU is
+    # written before step 2 ends: a TERM then leaves step 1 checkpointed, rightly)
+    while not (out / "scene_0003.vtu").exists() and time.time() - start < 120:
+        time.sleep(0.05)
     os.kill(proc.pid, signal.SIGTERM)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 143, err
