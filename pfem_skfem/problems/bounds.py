@@ -47,10 +47,11 @@ from typing import Callable, Optional
 import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
+from skfem import MeshTri
 
 from ..discretisation.bounds import LowerBoundOperators, vertex_discretise
 from ..discretisation.static import (assemble_B, body_force_vector, boundary_facets,
-                                     discretise, traction_vector)
+                                     check_mesh, discretise, traction_vector)
 from ..materials.criteria import YieldCriterion
 from .conic import AlmostSolvedWarning, SolveInfo, SolverError, solve
 
@@ -97,6 +98,11 @@ class Traction:
     t: tuple
     live: bool = True
 
+    def __post_init__(self):
+        t = np.asarray(self.t, dtype=float)
+        if t.shape != (2,) or not np.all(np.isfinite(t)):
+            raise ValueError(f"t must be a finite (tx, ty), got {self.t!r}")
+
 
 @dataclass(frozen=True)
 class Punch:
@@ -133,6 +139,13 @@ class LimitProblem:
     punch: Optional[Punch] = None
 
     def __post_init__(self):
+        if type(self.mesh) is not MeshTri:
+            raise TypeError("mesh must be a straight-sided skfem.MeshTri, got "
+                            f"{type(self.mesh).__name__}")
+        check_mesh(self.mesh)
+        for name, kind in (("supports", Support), ("tractions", Traction)):
+            if not all(isinstance(x, kind) for x in getattr(self, name)):
+                raise TypeError(f"{name} must be a tuple of {kind.__name__}")
         if not isinstance(self.criterion, YieldCriterion):
             raise TypeError(f"criterion must be a YieldCriterion, got {self.criterion!r}")
         for name in ("body_live", "body_dead"):
@@ -277,8 +290,8 @@ def kinematic(problem, points="vertices", **solver_settings):
     """The upper bound (``points='vertices'``) or the thesis' mixed element in kinematic
     form (``points='gauss'``, the conic dual of its limit analysis; not a bound).
 
-    Returns a :class:`Bound` with the mechanism ``velocity``, the cone vectors and the
-    dissipation of each element. Raises SolverError (status 'infeasible') when the
+    Returns a :class:`Bound` with the mechanism ``velocity`` and the dissipation of each
+    element. Raises SolverError (status 'infeasible') when the
     supports leave no mechanism, ('unbounded') when the dead loads alone collapse it."""
     if points not in ("vertices", "gauss"):
         raise ValueError(f"points must be 'vertices' or 'gauss', got {points!r}")
@@ -296,7 +309,7 @@ def kinematic(problem, points="vertices", **solver_settings):
 
     # strain rate at each point times its element's size: h_e eps_j(u), of order u
     w = disc.weights
-    h = np.sqrt(2 * _per_element(disc, w) / 3)[disc.point_element]   # A_e / 3 per point
+    h = np.sqrt(2 * _per_element(disc, w) / 3)[disc.point_element]   # sqrt(2 A_e / 3)
     H = sp.diags(np.repeat(h / w, 4)) @ B
 
     u = cp.Variable(n_u)                       # velocities (scaled: f . u = 1, or u = v / |v|)
@@ -329,8 +342,7 @@ def kinematic(problem, points="vertices", **solver_settings):
         value /= float(f_live @ u.value)       # f . u = 1 to round-off: make it exact
     return Bound("upper" if points == "vertices" else "mixed", value * force, info,
                  velocity=u.value * u_scale, extra=info.extra["bound"],
-                 dissipation=per_point.reshape(-1, 3).sum(axis=1)
-                 if points == "vertices" else _per_element(disc, per_point))
+                 dissipation=_per_element(disc, per_point))
 
 
 def _relative_violation(constraint):
