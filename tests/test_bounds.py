@@ -133,9 +133,9 @@ def test_weightless_tresca_multiplier_of_a_flexible_footing_scales_with_c():
     double = replace(flexible, criterion=Tresca(2.0))
     assert lower_bound(double).load == pytest.approx(2 * lo.load, rel=1e-6)
     assert upper_bound(double).load == pytest.approx(2 * up.load, rel=1e-6)
-    # a flexible footing is weaker than a rigid smooth one, never stronger than N_c c:
-    # the pressure q = alpha, q / c <= 2 + pi by the upper bound of Prandtl's mechanism
-    assert lo.load <= up.load
+    # Prandtl's field carries a uniform pressure under a smooth footing and his
+    # mechanism moves it uniformly: q / c = 2 + pi for the flexible footing too (q = alpha)
+    assert lo.load <= 2 + np.pi <= up.load
 
 
 # -- 3. the local gap -----------------------------------------------------------
@@ -188,3 +188,204 @@ def test_mixed_element_lies_between_the_bounds_on_a_finer_footing():
     mixed = kinematic(p, "gauss")
     assert lo.load <= mixed.load <= up.load
     assert 2 * lo.load <= 2 + np.pi <= 2 * up.load
+
+
+# -- 5. the lower bound's field is statically admissible ----------------------
+def stress_gradients(mesh, sigma):
+    """(n_el, 2, 4) d sigma_k / d x_i of the linear field through the vertex stresses
+    (point 3 e + j at vertex mesh.t[j, e]), from the vertex coordinates."""
+    x = mesh.p[:, mesh.t].transpose(2, 1, 0)               # (n_el, 3, 2)
+    s = sigma.reshape(-1, 3, 4)
+    M = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]], axis=1)      # rows: edges
+    ds = np.stack([s[:, 1] - s[:, 0], s[:, 2] - s[:, 0]], axis=1)
+    return np.linalg.solve(M, ds)
+
+
+def vertex_stress(mesh, sigma, elements, vertices):
+    """sigma (m, 4) of each element at one of its vertices."""
+    local = np.argmax(mesh.t[:, elements] == vertices[None, :], axis=0)
+    assert np.all(mesh.t[local, elements] == vertices)
+    return sigma[3 * elements + local]
+
+
+def traction(s, n):
+    return np.stack([s[:, 0] * n[:, 0] + s[:, 3] * n[:, 1],
+                     s[:, 3] * n[:, 0] + s[:, 1] * n[:, 1]], axis=1)
+
+
+def facet_normals(mesh, facets):
+    d = mesh.p[:, mesh.facets[1, facets]] - mesh.p[:, mesh.facets[0, facets]]
+    return np.stack([d[1], -d[0]], axis=1) / np.hypot(*d)[:, None]
+
+
+def footing_free(mid):
+    """Components (x, y) of sigma n given zero on each boundary facet of the footing:
+    smooth walls and the smooth footing carry no shear; the soil surface is free."""
+    free = np.zeros((mid.shape[1], 2), bool)
+    top = np.abs(mid[1]) < EPS
+    free[top & (mid[0] > HALF), :] = True                   # the free soil surface
+    free[top & (mid[0] < HALF), 0] = True                   # under the smooth footing
+    free[(mid[0] < EPS) | (mid[0] > W - EPS), 1] = True     # smooth walls
+    return free
+
+
+def cut_free(mid):
+    free = np.zeros((mid.shape[1], 2), bool)
+    free[(mid[0] < EPS) | (mid[1] > 1 - EPS), :] = True    # face and top
+    free[mid[0] > 2 - EPS, 1] = True                        # smooth back
+    return free
+
+
+@pytest.mark.parametrize("case, free_of", [("footing_tresca", footing_free),
+                                           ("vertical_cut", cut_free)])
+def test_lower_bound_stress_is_statically_admissible(case, free_of, request):
+    p, lo, _ = request.getfixturevalue(case)
+    mesh, sigma, c = p.mesh, lo.sigma, p.criterion.c
+    assert sigma.shape == (3 * mesh.t.shape[1], 4)
+    # equilibrium in every element: div sigma + alpha b = 0 (relative to c / h_e)
+    g = stress_gradients(mesh, sigma)
+    div = np.stack([g[:, 0, 0] + g[:, 1, 3], g[:, 0, 3] + g[:, 1, 1]], axis=1)
+    alpha = lo.load if p.punch is None else 0.0
+    x = mesh.p[:, mesh.t]
+    h = np.sqrt(np.abs((x[0, 1] - x[0, 0]) * (x[1, 2] - x[1, 0])
+                       - (x[0, 2] - x[0, 0]) * (x[1, 1] - x[1, 0])))
+    residual = (div + alpha * np.asarray(p.body_live)) * h[:, None] / c
+    assert np.abs(residual).max() < 1e-9                 # measured 2.4e-12
+    # sigma n continuous at both ends of every interior edge
+    inner = np.flatnonzero(mesh.f2t[1] >= 0)
+    n = facet_normals(mesh, inner)
+    for end in (0, 1):
+        v = mesh.facets[end, inner]
+        jump = (traction(vertex_stress(mesh, sigma, mesh.f2t[0, inner], v), n)
+                - traction(vertex_stress(mesh, sigma, mesh.f2t[1, inner], v), n))
+        assert np.abs(jump).max() < 1e-9 * c             # measured 4.7e-12
+    # sigma n = 0 in the free components of the boundary, at both ends of each edge
+    outer = np.flatnonzero(mesh.f2t[1] < 0)
+    free = free_of(mesh.p[:, mesh.facets[:, outer]].mean(axis=1))
+    assert free.any(axis=0).all()
+    n = facet_normals(mesh, outer)
+    for end in (0, 1):
+        t = traction(vertex_stress(mesh, sigma, mesh.f2t[0, outer], mesh.facets[end, outer]), n)
+        assert np.abs(t[free]).max() < 1e-9 * c          # measured 9e-13
+    # inside the yield set at every vertex, hence everywhere (convexity); an interior
+    # point ends strictly inside (measured max F = -1.1e-8 c)
+    assert p.criterion.F(sigma).max() <= 1e-9 * c
+
+
+def test_lower_bound_is_the_footing_reaction_of_its_stress_field(footing_tresca):
+    # the punch force is int -sigma_yy dx under the footing (sigma linear: the
+    # trapezoidal rule is exact); the same number as the bound, computed from the field
+    p, lo, _ = footing_tresca
+    mesh = p.mesh
+    outer = np.flatnonzero(mesh.f2t[1] < 0)
+    mid = mesh.p[:, mesh.facets[:, outer]].mean(axis=1)
+    under = outer[(np.abs(mid[1]) < EPS) & (mid[0] < HALF)]
+    a, b = mesh.facets[0, under], mesh.facets[1, under]
+    length = np.abs(mesh.p[0, b] - mesh.p[0, a])
+    assert length.sum() == pytest.approx(HALF, rel=1e-12)
+    e = mesh.f2t[0, under]
+    syy = 0.5 * (vertex_stress(mesh, lo.sigma, e, a)[:, 1] + vertex_stress(mesh, lo.sigma, e, b)[:, 1])
+    assert -(syy * length).sum() == pytest.approx(lo.load, rel=1e-7)
+
+
+# -- 6. the upper bound's mechanism is kinematically admissible ----------------
+@pytest.mark.parametrize("case", ["footing_tresca", "vertical_cut"])
+def test_upper_bound_mechanism_is_kinematically_admissible(case, request):
+    p, _, up = request.getfixturevalue(case)
+    disc = discretise(p.mesh)
+    u = up.velocity
+    assert u.shape == (disc.n_u,)
+    scale = np.abs(u).max()
+    # equality constraints met to the solver's tolerance: measured 2.3e-9 of max |u| (cut)
+    assert np.abs(u[fixed_dofs(disc, p.supports)]).max() <= 1e-7 * scale
+    if p.punch is None:
+        # the live load's power is one: alpha_U is the dissipation per unit of it
+        assert body_force_vector(disc, p.body_live) @ u == pytest.approx(1.0, rel=1e-8)
+    else:
+        # the footing moves down at the punch's velocity, v = (0, -1)
+        punched = boundary_dofs(disc, p.punch.where, 1)
+        assert np.allclose(u[punched], -1.0, rtol=0, atol=1e-9)
+    # Tresca's flow rule is isochoric: eps_x + eps_y = 0 at every vertex
+    vd = vertex_discretise(p.mesh)
+    eps = (assemble_B(vd) @ u).reshape(-1, 4) / vd.weights[:, None]
+    size = np.abs(eps).max()
+    assert size > 0
+    assert np.abs(eps[:, 0] + eps[:, 1]).max() < 1e-6 * size     # measured 1.1e-7
+
+
+# -- 7. adaptive refinement -----------------------------------------------------
+@almost
+def test_adaptive_refinement_closes_the_gap(footing_tresca):
+    p = footing_tresca[0]
+    result = adapt(p, rounds=3, target_gap=1e-6)
+    r = result.rounds
+    assert len(r) == 3
+    assert all(b.elements > a.elements for a, b in zip(r, r[1:]))
+    assert all(b.gap < a.gap for a, b in zip(r, r[1:]))
+    # refinement is nested: the coarse mesh's lower-bound field is admissible on the
+    # fine one (linear on each child, tractions continuous inside) and the vertex rule
+    # of a convex dissipation falls as its interpolation is refined, so the lower bound
+    # cannot fall nor the upper rise (to the solver's tolerance)
+    assert all(b.lower >= a.lower * (1 - 1e-7) for a, b in zip(r, r[1:]))
+    assert all(b.upper <= a.upper * (1 + 1e-7) for a, b in zip(r, r[1:]))
+    assert all(2 * a.lower <= 2 + np.pi <= 2 * a.upper for a in r)
+    assert result.problem.mesh.t.shape[1] == r[-1].elements
+
+
+def test_doerfler_marks_the_largest_shares_first():
+    eta = np.array([0.1, 0.4, 0.05, 0.3, 0.15])
+    assert doerfler(eta, 0.5).tolist() == [1, 3]         # 0.4 + 0.3 >= 0.5, 0.4 < 0.5
+    assert doerfler(eta, 0.4).tolist() == [1]            # 0.4 alone is enough
+    assert doerfler(eta, 0.71).tolist() == [1, 3, 4]
+
+
+def test_doerfler_marks_the_fewest_elements_holding_theta():
+    rng = np.random.default_rng(1)
+    eta = rng.exponential(size=500)
+    for theta in (0.1, 0.5, 0.9):
+        marked = doerfler(eta, theta)
+        assert np.unique(marked).size == marked.size
+        assert eta[marked].sum() >= theta * eta.sum()
+        # no smaller set reaches theta: the largest marked.size - 1 shares fall short
+        best = np.sort(eta)[::-1][:marked.size - 1].sum()
+        assert best < theta * eta.sum()
+
+
+# -- 8. the factor of safety ---------------------------------------------------
+@almost
+@pytest.mark.parametrize("kind", ["lower", "upper"])
+def test_factor_of_safety_of_a_tresca_cut_is_alpha_over_one(kind, vertical_cut):
+    # Tresca: strength reduction divides c by F, and the bounds of a cohesive soil are
+    # linear in c: alpha(F) = alpha(1) / F. Gravity gamma = alpha(1) / 2 gives F = 2
+    _, lo, up = vertical_cut
+    alpha1 = lo.load if kind == "lower" else up.load
+    F = factor_of_safety(cut(gamma=alpha1 / 2), kind).F
+    # the search stops at a width tol = 1e-4 in ln F; the solves agree to ~1e-6
+    assert F == pytest.approx(2.0, rel=1e-4 + 2e-6)
+    # each bound's F is on its own side: F_L safe (below), F_U unsafe (above)
+    if kind == "lower":
+        assert F <= 2.0 * (1 + 2e-6)
+    else:
+        assert F >= 2.0 * (1 - 2e-6)
+
+
+@almost
+def test_factor_of_safety_brackets_of_the_griffiths_lane_slope():
+    # Griffiths & Lane (1999) example 1: 2:1 slope on a rough base at the toe's level,
+    # phi = 20, c / (gamma H) = 0.05; their F = 1.4 (Bishop & Morgenstern 1.38)
+    H = 1.0
+    mesh = triangulate_polygon([(0, 0), (5 * H, 0), (5 * H, H), (2 * H, H)], 0.25 * H)
+    slope = LimitProblem(mesh, MohrCoulomb(0.05, 20.0),
+                         supports=(Support(lambda x: x[0] > 5 * H - EPS, "x"),
+                                   Support(lambda x: x[1] < EPS, "xy")),
+                         body_live=(0.0, -1.0))
+    F_lower = factor_of_safety(slope, "lower", tol=1e-3).F
+    F_upper = factor_of_safety(slope, "upper", tol=1e-3).F
+    assert F_lower <= F_upper
+    assert 1.2 <= F_lower and F_upper <= 1.6
+
+
+def test_reduced_divides_c_and_tan_phi():
+    r = reduced(MohrCoulomb(3.0, 30.0), 1.5)
+    assert r.c == pytest.approx(2.0, rel=1e-15)
+    assert np.tan(np.radians(r.phi)) == pytest.approx(np.tan(np.radians(30.0)) / 1.5, rel=1e-14)
