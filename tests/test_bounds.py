@@ -389,3 +389,85 @@ def test_reduced_divides_c_and_tan_phi():
     r = reduced(MohrCoulomb(3.0, 30.0), 1.5)
     assert r.c == pytest.approx(2.0, rel=1e-15)
     assert np.tan(np.radians(r.phi)) == pytest.approx(np.tan(np.radians(30.0)) / 1.5, rel=1e-14)
+
+
+# -- 9. errors -------------------------------------------------------------------
+def test_dead_load_beyond_collapse_that_the_live_load_cannot_relieve():
+    # gamma H / c = 10 dead: Coulomb's 45-degree wedge (gamma H / c = 4 < 10) collapses
+    # within x < 1 and does no work on a live traction at x > 1.7, so no multiplier of
+    # it carries the dead load: the stress form is infeasible and, its dual, the
+    # mechanism's power is unbounded below
+    c = cut(size=0.3)
+    far = Traction(lambda x: (x[1] > 1 - EPS) & (x[0] > 1.7), (0.0, -1.0))
+    p = LimitProblem(c.mesh, Tresca(1.0), supports=c.supports, body_dead=(0.0, -10.0),
+                     tractions=(far,))
+    with pytest.raises(SolverError) as lower:
+        lower_bound(p)
+    assert lower.value.status == "infeasible"
+    with pytest.raises(SolverError) as upper:
+        upper_bound(p)
+    assert upper.value.status == "unbounded"
+
+
+@almost
+def test_a_dead_load_is_a_shifted_multiplier():
+    # dead gravity 10 and live gravity 0.1: alpha carries 10 + 0.1 alpha = the cut's own
+    # gamma H / c, so alpha = (alpha_0 - 10) / 0.1 < 0; a negative multiplier (the live
+    # load reversed), not an infeasible problem, since the live load can relieve the dead
+    c = cut(size=0.3)
+    lo0, up0 = solve_all(c)
+    lo, up = solve_all(replace(c, body_live=(0.0, -0.1), body_dead=(0.0, -10.0)))
+    assert lo.load == pytest.approx((lo0.load - 10) / 0.1, rel=1e-6)   # measured 2e-11
+    assert up.load == pytest.approx((up0.load - 10) / 0.1, rel=1e-6)   # measured 2e-9
+    assert lo.load <= up.load < 0
+
+
+def test_bad_input_is_refused_naming_the_parameter():
+    mesh = triangulate_polygon(CUT, 0.5)
+    base = Support(lambda x: x[1] < EPS, "xy")
+    with pytest.raises(ValueError, match="components"):
+        Support(lambda x: x[1] < EPS, "z")
+    with pytest.raises(ValueError, match="velocity"):
+        Punch(lambda x: x[1] > 1 - EPS, velocity=(0.0, 0.0))
+    with pytest.raises(ValueError, match="not both"):
+        LimitProblem(mesh, Tresca(1.0), supports=(base,), body_live=(0.0, -1.0),
+                     punch=Punch(lambda x: x[1] > 1 - EPS))
+    with pytest.raises(ValueError, match="no reference load"):
+        LimitProblem(mesh, Tresca(1.0), supports=(base,), body_dead=(0.0, -1.0))
+    with pytest.raises(ValueError, match="body_live"):
+        LimitProblem(mesh, Tresca(1.0), supports=(base,), body_live=(0.0, np.nan))
+    with pytest.raises(ValueError, match="F must be positive"):
+        reduced(MohrCoulomb(1.0, 20.0), -1)
+    with pytest.raises(ValueError, match="points"):
+        kinematic(cut(size=0.5), "centroid")
+    with pytest.raises(ValueError, match="kind"):
+        factor_of_safety(cut(size=0.5), "middle")
+    p = cut(size=0.5)
+    for kwargs, name in ((dict(rounds=0), "rounds"), (dict(theta=0.0), "theta"),
+                         (dict(target_gap=0.0), "target_gap")):
+        with pytest.raises(ValueError, match=name):
+            adapt(p, **kwargs)
+
+
+# -- 10. scale invariance --------------------------------------------------------
+@almost
+def test_gravity_and_strength_doubled_give_the_same_cut_bit_for_bit(vertical_cut):
+    # gamma H / c is the one number of the problem; every scaled datum is divided by
+    # the strength c, so gamma x 2 and c x 2 (a power of two: exact in floating point)
+    # give the identical SOCP and the identical bounds (measured bit for bit, mixed too)
+    p, lo, up = vertical_cut
+    double = cut(c=2.0, gamma=2.0)
+    assert np.array_equal(double.mesh.p, p.mesh.p) and np.array_equal(double.mesh.t, p.mesh.t)
+    assert lower_bound(double).load == lo.load
+    assert upper_bound(double).load == up.load
+    assert kinematic(double, "gauss").load == kinematic(p, "gauss").load
+
+
+@almost
+def test_gravity_doubled_halves_the_multiplier(vertical_cut):
+    # alpha gamma is the collapse gravity: gamma x 2 halves alpha; not bit for bit (the
+    # scaled data change), to the solver's tolerance (measured 3e-7 lower, 3e-8 upper)
+    p, lo, up = vertical_cut
+    double = replace(p, body_live=(0.0, -2.0))
+    assert 2 * lower_bound(double).load == pytest.approx(lo.load, rel=1e-6)
+    assert 2 * upper_bound(double).load == pytest.approx(up.load, rel=1e-6)
