@@ -284,7 +284,8 @@ def test_lower_bound_is_the_footing_reaction_of_its_stress_field(footing_tresca)
     length = np.abs(mesh.p[0, b] - mesh.p[0, a])
     assert length.sum() == pytest.approx(HALF, rel=1e-12)
     e = mesh.f2t[0, under]
-    syy = 0.5 * (vertex_stress(mesh, lo.sigma, e, a)[:, 1] + vertex_stress(mesh, lo.sigma, e, b)[:, 1])
+    syy = 0.5 * (vertex_stress(mesh, lo.sigma, e, a)[:, 1]
+                 + vertex_stress(mesh, lo.sigma, e, b)[:, 1])
     assert -(syy * length).sum() == pytest.approx(lo.load, rel=1e-7)
 
 
