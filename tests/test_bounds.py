@@ -405,9 +405,11 @@ def test_dead_load_beyond_collapse_that_the_live_load_cannot_relieve():
     with pytest.raises(SolverError) as lower:
         lower_bound(p)
     assert lower.value.status == "infeasible"
+    assert "carry the dead loads" in str(lower.value)          # the stress form's meaning
     with pytest.raises(SolverError) as upper:
         upper_bound(p)
     assert upper.value.status == "unbounded"
+    assert "dead loads alone collapse" in str(upper.value)     # the mechanism's meaning
 
 
 @almost

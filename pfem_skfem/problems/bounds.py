@@ -235,8 +235,10 @@ def lower_bound(problem, **solver_settings):
     """The strict lower bound: the largest load a statically admissible linear stress
     field carries (module docstring). Returns a :class:`Bound` with ``sigma``.
 
-    Raises SolverError (status 'infeasible') when no admissible field carries the dead
-    loads, (status 'unbounded') when the load is never limited."""
+    Raises SolverError (status 'infeasible') when no multiple of the live load, negative
+    ones included, lets an admissible field carry the dead loads, (status 'unbounded')
+    when the load is never limited. A live load along the dead load gives a negative
+    multiplier (the live load reversed), not an error."""
     mesh, crit = problem.mesh, problem.criterion
     ops = LowerBoundOperators.build(mesh)
     s0 = crit.strength_scale()                 # stresses / s0; rows scaled per element
@@ -281,7 +283,7 @@ def lower_bound(problem, **solver_settings):
         w = 0.5 * (length / width)[:, None] * v[None, :] * (state == "punch")
         objective = w.ravel() @ (ends[0] @ s) + w.ravel() @ (ends[1] @ s)
     prob = cp.Problem(cp.Maximize(objective), constraints)
-    info = _solve_bound(prob, "lower bound", solver_settings)
+    info = _solve_bound(prob, "lower bound", solver_settings, "static")
     load = float(objective.value) * (1.0 if load_control else s0 * width)
     return Bound("lower", load, info, sigma=S.value * s0, extra=info.extra["bound"])
 
@@ -331,7 +333,7 @@ def kinematic(problem, points="vertices", **solver_settings):
     dissipation = cp.multiply(w / (h * L0), Lam @ (d / s0))
     prob = cp.Problem(cp.Minimize(cp.sum(dissipation) - f_dead @ u), constraints)
     info = _solve_bound(prob, "upper bound" if points == "vertices" else "mixed element",
-                        solver_settings)
+                        solver_settings, "kinematic")
     if problem.punch is None:       # u = U u_hat, U = 1 / (s0 L0): loads in alpha
         u_scale, force = 1.0 / (s0 * L0), 1.0
     else:                           # u = |v| u_hat: loads as forces
@@ -352,7 +354,21 @@ def _relative_violation(constraint):
     return float(np.max(constraint.violation(), initial=0.0)) / max(1.0, size)
 
 
-def _solve_bound(prob, what, settings):
+#: what an infeasible or unbounded end means for each form (conic.py's hints are the
+#: stress form's and the displacement form's of the PFEM step)
+BOUND_HINTS = {
+    ("static", "infeasible"): "no multiple of the live load lets a statically admissible "
+                              "stress field carry the dead loads",
+    ("static", "unbounded"): "the load is never limited: the supports carry any multiple "
+                             "of it",
+    ("kinematic", "infeasible"): "no mechanism fits the supports with the reference load "
+                                 "doing work (f . u = 1 or the punch's motion cannot be met)",
+    ("kinematic", "unbounded"): "the dead loads alone collapse a mechanism (the load "
+                                "multiplier is minus infinity)",
+}
+
+
+def _solve_bound(prob, what, settings, form):
     """Solve with the settings of :data:`BOUND_RETRIES` in turn until the field is
     certified (:data:`BOUND_CERTIFY`); an 'AlmostSolved' end kept comes with an
     AlmostSolvedWarning giving its gap; ``info.extra['bound']`` records what was done."""
@@ -364,6 +380,10 @@ def _solve_bound(prob, what, settings):
         try:
             info = solve(prob, what=what, defer_certify=True, **{**extra, **settings})
         except SolverError as err:
+            kind = err.status.replace("_inaccurate", "")
+            if (form, kind) in BOUND_HINTS:
+                raise SolverError(f"{what}: solver status '{err.status}': "
+                                  f"{BOUND_HINTS[form, kind]}", err.status) from None
             if err.status != "solver_error" or last:
                 raise
             continue                           # a NumericalError: the next settings
