@@ -200,6 +200,15 @@ CASES = [
      {"mu14_mass_change_max": Between(0, 0.02), "mu18_mass_change_max": Between(0, 0.02),
       "mu14_energy_ratio": Between(1.0, np.inf), "mu18_energy_ratio": Between(1.0, np.inf),
       "rho2.5_bit_identical": 1, "hold_max_displacement_over_h": Between(0, 1e-9)}, None),
+    # strict bounds (issue 38): each on its side of Prandtl (3.49), of the cut's rigorous
+    # bounds 3.772-3.786 (Pastor et al. 2000) and of F = 1.38 (Bishop-Morgenstern charts)
+    ("limit_bounds", [], {"footing_Nc_lower": Between(4.9, 2 + np.pi),
+                          "footing_Nc_upper": Between(2 + np.pi, 5.4),
+                          "footing_MC_Nc_lower": Between(25.0, prandtl_reissner(30)),
+                          "footing_MC_Nc_upper": Between(prandtl_reissner(30), 33.0),
+                          "cut_N_lower": Between(3.4, 3.786), "cut_N_upper": Between(3.772, 4.2),
+                          "slope_F_lower": Between(1.30, 1.38),
+                          "slope_F_upper": Between(1.38, 1.48)}, None),
     ("strip_footing", ["--phi", "20"], {"Nc": approx(2 + np.pi, rel=0.05),
                                         "Nc_limit_analysis": approx(2 + np.pi, rel=0.05),
                                         "Nc_MC_phi20": approx(prandtl_reissner(20), rel=0.075)},
