@@ -242,7 +242,7 @@ def lower_bound(problem, **solver_settings):
     mesh, crit = problem.mesh, problem.criterion
     ops = LowerBoundOperators.build(mesh)
     s0 = crit.strength_scale()                 # stresses / s0; rows scaled per element
-    D, d = cone_matrices(crit)
+    D, d = cone_matrices(crit.scaled(s0))   # in units of s0: exact under any rescaling
     n_el = mesh.t.shape[1]
     facets, state = problem.boundary_states()
     length, normal = ops.facet_geometry(facets)
@@ -270,7 +270,7 @@ def lower_bound(problem, **solver_settings):
         ends[0][given] @ s == t,
         ends[1][given] @ s == t,
         # rho = D sigma + d in K at every vertex, hence everywhere (convexity)
-        cp.SOC(S @ D[0] + d[0] / s0, S @ D[1:].T + d[1:] / s0, axis=1),
+        cp.SOC(S @ D[0] + d[0], S @ D[1:].T + d[1:], axis=1),
     ]
     if not D[:, 2].any():
         constraints.append(S[:, 2] == 0)       # sz enters no cone (plane strain): unused
@@ -300,7 +300,7 @@ def kinematic(problem, points="vertices", **solver_settings):
     mesh, crit = problem.mesh, problem.criterion
     disc = vertex_discretise(mesh) if points == "vertices" else discretise(mesh)
     s0, L0 = crit.strength_scale(), _length_scale(mesh)
-    D, d = cone_matrices(crit)
+    D, d = cone_matrices(crit.scaled(s0))   # in units of s0: exact under any rescaling
     B = assemble_B(disc)                       # rows w_j eps(u)(x_j), point-major
     n_p, n_u = disc.n_points, disc.n_u
     keep = np.flatnonzero(D.any(axis=0) | np.asarray(abs(B).sum(axis=1)).reshape(n_p, 4)
@@ -330,7 +330,7 @@ def kinematic(problem, points="vertices", **solver_settings):
     else:
         constraints.append(u[punched] == v_hat)   # the punch's velocity, |v| = 1
     # sum_j w_j d . lambda_j: the dissipation of each point (units of s0 L0 U)
-    dissipation = cp.multiply(w / (h * L0), Lam @ (d / s0))
+    dissipation = cp.multiply(w / (h * L0), Lam @ d)
     prob = cp.Problem(cp.Minimize(cp.sum(dissipation) - f_dead @ u), constraints)
     info = _solve_bound(prob, "upper bound" if points == "vertices" else "mixed element",
                         solver_settings, "kinematic")
