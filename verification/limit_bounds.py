@@ -158,6 +158,9 @@ def build_parser():
                    help="depth over the depth of Prandtl's mechanism (Mohr-Coulomb)")
     g.add_argument("--mc-elements", type=element_count, default=600,
                    help="elements of the first Mohr-Coulomb footing mesh")
+    g.add_argument("--mc-ratio", type=positive_float, default=20.0,
+                   help="h_max / h_min of the Mohr-Coulomb footing meshes (measured: 80 "
+                        "leaves 2.7 %% after 5 rounds, 20 leaves 1.6 %%)")
     g.add_argument("--mc-theta", type=fraction_open, default=0.5, help="Doerfler fraction")
     g.add_argument("--mc-rounds", type=positive_int, default=5, help="adaptive rounds")
     g.add_argument("--mc-target-gap", type=positive_float, default=0.02,
@@ -287,7 +290,7 @@ def _run(args):
     reach, depth = prandtl_extent(args.phi, B)
     ref_mc = prandtl_nc(args.phi)
     mc = adapt(footing_problem(MohrCoulomb(c, args.phi), args.mc_width * reach,
-                               args.mc_depth * depth, B, args.mc_elements, args.ratio),
+                               args.mc_depth * depth, B, args.mc_elements, args.mc_ratio),
                rounds=args.mc_rounds, target_gap=args.mc_target_gap,
                max_elements=args.max_elements, theta=args.mc_theta,
                progress=step("Mohr-Coulomb", lambda r: f"Nc in [{r.lower * nc:.3f}, "
