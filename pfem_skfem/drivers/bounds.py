@@ -12,6 +12,7 @@ gravity alpha(F) falls as F grows, and alpha_L(F) <= alpha(F) <= alpha_U(F), so 
 roots F_L of alpha_L = 1 and F_U of alpha_U = 1 bracket the F of alpha = 1:
 F_L <= F <= F_U.
 """
+import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -61,7 +62,6 @@ def adapt(problem, *, rounds=5, target_gap=0.005, max_elements=5000, theta=0.5,
     ``max_elements``. ``progress(round)`` is called after each round.
 
     Returns :class:`Adapted` (the last round's bounds are of its problem's mesh)."""
-    import time
     for name, value in (("rounds", rounds), ("max_elements", max_elements)):
         if int(value) != value or value < 1:
             raise ValueError(f"{name} must be a positive integer, got {value!r}")
@@ -181,7 +181,6 @@ def bracket_safety(problem, *, rounds=4, target_gap=0.03, max_elements=5000, the
     narrower than ``target_gap``, after ``rounds`` rounds or at ``max_elements``.
 
     Returns (rounds: a list of :class:`SafetyRound`, the last mesh's problem)."""
-    import time
     history, start = [], 1.0
     while True:
         t0 = time.perf_counter()

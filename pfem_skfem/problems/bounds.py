@@ -4,7 +4,7 @@ The thesis' mixed element (Ch 3, (3.45) rigid-plastic) brackets nothing: its str
 are admissible only at three interior points and its dissipation is a quadrature.
 These two elements bound the true collapse load alpha* from below and above.
 
-Lower bound (Sloan 1988; Makrodimopoulos & Martin 2006, IJNME 66, their (9)-(14)): a
+Lower bound (Sloan 1988; Makrodimopoulos & Martin 2006, IJNME 66): a
 stress linear in each element, discontinuous across edges:
 
 .. math::
@@ -33,7 +33,7 @@ with B_ej = (A_e / 3) eps(x_j). D is convex and eps linear, so its integral over
 element is at most (A_e / 3) sum_j D(eps_j): the objective is at least the mechanism's
 dissipation, and alpha_U >= alpha*. With the thesis' points (1/6, 4/6, 1/6) in place of
 the vertices the same statement is the conic dual of the thesis' limit analysis
-(:func:`~pfem_skfem.problems.static.limit_analysis`): ``kinematic(..., 'mixed')``.
+(:func:`~pfem_skfem.problems.static.limit_analysis`): ``kinematic(..., 'gauss')``.
 
 Both bounds are exact cones where the criterion is one in (sx, sy, sz, sxy): Tresca,
 Mohr-Coulomb (A.9)-(A.12) and Drucker-Prager (A.17) in plane strain. A rigid punch
@@ -79,8 +79,9 @@ def _check_components(components):
 
 @dataclass(frozen=True)
 class Support:
-    """Velocity components held at zero on the boundary facets whose midpoints x (2, m)
-    satisfy ``where(x)``: 'x' or 'y' a smooth wall, 'xy' a rough one."""
+    """Velocity components (global x, y) held at zero on the boundary facets whose
+    midpoints x (2, m) satisfy ``where(x)``: 'x' or 'y' a smooth wall normal to that
+    axis, 'xy' a rough wall of any direction."""
 
     where: Callable
     components: str = "xy"
