@@ -18,7 +18,7 @@ from pfem_skfem.discretisation.meshes import graded_rectangle_with_elements, tri
 from pfem_skfem.discretisation.static import (assemble_B, body_force_vector, boundary_dofs,
                                               discretise)
 from pfem_skfem.drivers.bounds import adapt, doerfler, factor_of_safety, reduced
-from pfem_skfem.materials import MohrCoulomb, Tresca
+from pfem_skfem.materials import DruckerPrager, MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import (LimitProblem, Punch, Support, Traction, kinematic,
                                         local_gap, lower_bound, upper_bound)
 from pfem_skfem.problems.conic import AlmostSolvedWarning, SolverError
@@ -99,6 +99,17 @@ def test_footing_mohr_coulomb_brackets_prandtl(footing_mc):
     nc = nc_mohr_coulomb(30.0)
     assert nc == pytest.approx(30.1396, abs=1e-4)       # (3.49), the tabulated value
     assert 2 * lo.load <= nc <= 2 * up.load
+
+
+def test_drucker_prager_matched_to_mohr_coulomb_gives_its_bounds(footing_mc):
+    # (A.17) is the plane-strain Drucker-Prager cone whose in-plane section at the best
+    # sz is the Mohr-Coulomb circle: with sz a free variable of the lower bound and
+    # eps_z = 0 in the upper bound, both bounds are Mohr-Coulomb's on the same mesh (a
+    # test of the out-of-plane stress the other criteria leave out)
+    problem, lo, up = footing_mc
+    dp = solve_all(replace(problem, criterion=DruckerPrager.plane_strain(1.0, 30.0)))
+    assert dp[0].load == pytest.approx(lo.load, rel=1e-5)
+    assert dp[1].load == pytest.approx(up.load, rel=1e-5)
 
 
 def test_vertical_cut_brackets_pastor(vertical_cut):

@@ -285,7 +285,7 @@ def lower_bound(problem, **solver_settings):
         objective = w.ravel() @ (ends[0] @ s) + w.ravel() @ (ends[1] @ s)
     prob = cp.Problem(cp.Maximize(objective), constraints)
     info = _solve_bound(prob, "lower bound", solver_settings, "static")
-    load = float(objective.value) * (1.0 if load_control else s0 * width)
+    load = float(objective.value * (1.0 if load_control else s0 * width))
     return Bound("lower", load, info, sigma=S.value * s0, extra=info.extra["bound"])
 
 
