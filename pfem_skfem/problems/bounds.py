@@ -126,8 +126,9 @@ class LimitProblem:
     """A plane-strain limit-analysis problem on a triangle mesh.
 
     The reference load is either live loads (``body_live``, live ``tractions``: the
-    bounds are multipliers alpha of them) or a ``punch`` (the bounds are its force |F . v|
-    / |v| per unit thickness); ``body_dead`` and dead tractions are carried as they are.
+    bounds are multipliers alpha of them) or a ``punch`` (the bounds are the power of its
+    force on its velocity v divided by the speed of v, per unit thickness); ``body_dead``
+    and dead tractions are carried as they are.
     Boundary facets neither supported nor loaded are free surfaces.
     """
 
