@@ -258,3 +258,15 @@ def test_the_solver_option_names_the_registry_and_reaches_the_footing_script():
     assert strip_footing.build_parser().parse_args([]).solver == "clarabel"
     with pytest.raises(SystemExit):
         strip_footing.build_parser().parse_args(["--solver", "gurobi"])
+
+
+def test_a_mu_i_step_refuses_qoco_before_any_work(no_solve):
+    """mu(I)'s rate term needs exponential cones: refused by name, no problem stated."""
+    from pfem_skfem.materials.rate import RateDissipation
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 0.5, 2)))
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 1.0), None)
+    ones, z = np.ones(disc.n_points), np.zeros(disc.n_u)
+    rate = RateDissipation(c=ones, tau_max=ones, weights=ones)
+    with pytest.raises(ValueError, match=r"'qoco'.*exp"):
+        dynamic_increment(ops, z, z, np.zeros((disc.n_points, 4)), z, Tresca(1.0),
+                          viscous=rate, solver="qoco", backend="clarabel")
