@@ -34,7 +34,8 @@ from pfem_skfem.problems.static import limit_analysis, static_increment
 from pfem_skfem.scene.config import PFEMConfig
 from verification import strip_footing
 
-pytest.importorskip("qoco")
+needs_qoco = pytest.mark.skipif(SOLVERS["qoco"].unavailable() is not None,
+                                reason="QOCO is not installed (pip install qoco)")
 quiet = pytest.mark.filterwarnings("ignore::pfem_skfem.problems.conic.AlmostSolvedWarning")
 
 
@@ -58,6 +59,7 @@ def block():
 
 
 # -- agreement with Clarabel ---------------------------------------------------------------
+@needs_qoco
 @quiet
 @pytest.mark.parametrize("solver", ["qoco", "mosek"])
 def test_footing_limit_analysis_agrees_with_clarabel(solver):
@@ -72,6 +74,7 @@ def test_footing_limit_analysis_agrees_with_clarabel(solver):
     assert abs(res.load_factor / ref.load_factor - 1) <= 5e-5
 
 
+@needs_qoco
 @pytest.mark.parametrize("solver", ["qoco", "mosek"])
 def test_elastoplastic_increments_agree_with_clarabel(solver):
     """Displacement control of a Mohr-Coulomb block into collapse: four increments."""
@@ -104,6 +107,7 @@ def cut(size=0.15):
                         body_live=(0.0, -1.0))
 
 
+@needs_qoco
 @quiet
 @pytest.mark.parametrize("bound", [lower_bound, upper_bound])
 def test_bounds_of_the_cut_agree_with_clarabel(bound):
@@ -113,6 +117,7 @@ def test_bounds_of_the_cut_agree_with_clarabel(bound):
     assert abs(res.load / ref.load - 1) <= 1e-5
 
 
+@needs_qoco
 def test_dynamic_step_through_cvxpy_agrees_with_the_direct_clarabel_step():
     """``backend='clarabel'`` with QOCO states the step in cvxpy: the reference statement."""
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
@@ -135,6 +140,7 @@ def test_dynamic_step_through_cvxpy_agrees_with_the_direct_clarabel_step():
         assert rel(getattr(res, name), getattr(ref, name)) <= 1e-6, name
 
 
+@needs_qoco
 @quiet
 @pytest.mark.parametrize("dt, tol", [(None, 1e-6), (1.0, 5e-5)])
 def test_buried_pipe_with_contacts_agrees_with_clarabel(dt, tol):
@@ -147,6 +153,7 @@ def test_buried_pipe_with_contacts_agrees_with_clarabel(dt, tol):
     assert abs(forces[1] / forces[0] - 1) <= tol
 
 
+@needs_qoco
 def test_a_c0_pfem_run_with_qoco_is_density_invariant_bit_for_bit():
     """c = 0: every force scales with rho, and a factor of two scales every number exactly,
     so the scaled problems QOCO is given are identical (tests/test_engine.py's, Clarabel)."""
@@ -217,6 +224,7 @@ def test_clarabel_is_the_default_everywhere():
 
 
 # -- an inaccurate QOCO end: certified or refused -------------------------------------------
+@needs_qoco
 def test_an_inaccurate_qoco_end_is_certified_by_its_measures_or_refused():
     """QOCO stops at its iteration cap 'solved inaccurate' when its reduced tolerances are
     met: near the optimum its measures certify it; far from it they do not."""
@@ -246,6 +254,7 @@ def test_an_inaccurate_qoco_end_is_certified_by_its_measures_or_refused():
     assert loose.info.status == cp.OPTIMAL_INACCURATE
 
 
+@needs_qoco
 def test_a_numerical_error_is_retried_with_qoco_s_retries_and_clarabel_s_raised(monkeypatch):
     real, calls = cp.Problem.solve, []
 
