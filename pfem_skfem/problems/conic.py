@@ -22,6 +22,7 @@ silently, no certified one refused; a Solved solve is untouched. The PFEM loop,
 which accepts and counts such ends itself, passes ``accept_inaccurate=True``.
 """
 from dataclasses import dataclass, field
+import functools
 import time
 import warnings
 
@@ -344,6 +345,12 @@ def cone_kinds(problem):
     return kinds
 
 
+@functools.lru_cache(maxsize=None)
+def _unavailable(name):
+    """:meth:`SolverBackend.unavailable` of a backend, asked once a process (about 1 ms)."""
+    return SOLVERS[name].unavailable()
+
+
 def solver_backend(solver, problem=None, cones=None):
     """The backend named ``solver`` (:data:`SOLVERS`), checked before any work: a
     ValueError for an unknown name, or a problem (a cvxpy one, or the cone ``kinds``
@@ -360,7 +367,7 @@ def solver_backend(solver, problem=None, cones=None):
         raise ValueError(f"solver {backend.name!r} ({backend.label}) does not support the "
                          f"{', '.join(missing)} cone(s) of this problem; it supports "
                          f"{', '.join(sorted(backend.cones))} (use 'clarabel')")
-    why = backend.unavailable()
+    why = _unavailable(backend.name)
     if why is not None:
         raise SolverError(f"solver {backend.name!r} ({backend.label}) is not available: "
                           f"{why}", "unavailable")
