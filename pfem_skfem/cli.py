@@ -22,7 +22,7 @@ import sys
 import time
 
 from . import runfolder
-from .harness.options import nonnegative_int, positive_int, workers
+from .harness.options import SOLVER_NAMES, nonnegative_int, positive_int, workers
 from .harness.progress import StepBar, progress, progress_bar
 
 
@@ -253,6 +253,8 @@ def _run(args):
     if every < 0 or checkpoint_every < 0:
         raise RunError("--every and --checkpoint-every must be >= 0")
     scene = replace(scene, output=Output(str(out), every, checkpoint_every))
+    if args.solver is not None:                     # the scene's config.solver, overridden
+        scene = replace(scene, config=replace(scene.config, solver=args.solver))
     if args.steps is not None:
         if args.steps < 1:
             raise RunError(f"--steps must be >= 1, got {args.steps}")
@@ -364,6 +366,8 @@ def main(argv=None):
                    "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
+    r.add_argument("--solver", choices=SOLVER_NAMES, help="the conic solver of every step "
+                   "(default: the scene's config.solver, clarabel unless it says)")
     r.set_defaults(func=cmd_run)
     args = parser.parse_args(argv)
     return args.func(args)

@@ -377,3 +377,19 @@ def test_an_infinite_t_end_is_a_clear_error(tmp_path, capsys):
 def test_an_example_onto_a_path_that_cannot_be_written_is_a_usage_error(tmp_path, capsys):
     assert cli.main(["run", "--example", "column", str(tmp_path / "no" / "c.toml")]) == 2
     assert "cannot write" in capsys.readouterr().err
+
+
+def test_run_takes_the_solver_of_every_step(column, tmp_path, monkeypatch):
+    """--solver overrides the scene's config.solver (issue 40); the step is given it."""
+    pytest.importorskip("qoco")
+    from pfem_skfem.problems import nonassociated
+    seen, real = [], nonassociated.dynamic_increment
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs["solver"])
+        return real(*args, **kwargs)
+    monkeypatch.setattr(nonassociated, "dynamic_increment", spy)
+    assert _run(column, "--out", tmp_path / "q", "--steps", 1, "--solver", "qoco") == 0
+    assert seen and set(seen) == {"qoco"}
+    with pytest.raises(SystemExit):
+        _run(column, "--steps", 1, "--solver", "gurobi")

@@ -45,7 +45,7 @@ from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resulta
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
-                                        positive_float)
+                                        positive_float, solver_option)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -72,7 +72,7 @@ def pipe_model(n_elements, *, width=10.0, height=15.0, depth=7.5, r=0.5, ratio=3
                 center=(0.0, -depth), r=r)
 
 
-def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
+def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None, solver="clarabel"):
     """Force on the half pipe moved down by ``step``: rigid-plastic, quasi-static, or,
     with a time step ``dt``, one step of the dynamic problem (4.23) + (5.12) with
     theta1 = theta2 = 1 from rest (as in the thesis)."""
@@ -85,13 +85,13 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None):
     zero_stress = np.zeros((disc.n_points, 4))
     if dt is None:
         res = static_increment(model["B"], None, f, zero_stress, Tresca(su),
-                               fixed=model["fixed"], contacts=contacts)
+                               fixed=model["fixed"], contacts=contacts, solver=solver)
     else:
         from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
         from pfem_skfem.problems.dynamic import dynamic_increment
         ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0), elastic=None)
         res = dynamic_increment(ops, f, f, zero_stress, np.zeros(disc.n_u), Tresca(su),
-                                fixed=model["fixed"], contacts=contacts)
+                                fixed=model["fixed"], contacts=contacts, solver=solver)
     force_on_pipe = resultants(contacts, res.p, res.q)[0]
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 
@@ -120,6 +120,7 @@ def build_parser():
                         "= 1, from rest) instead of the quasi-static step")
     p.add_argument("--elements", type=element_count, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
+    solver_option(p)
     return p
 
 
@@ -134,7 +135,7 @@ def run(args):
         t0 = time.perf_counter()
         model = pipe_model(n, width=args.width, height=args.height, depth=args.depth, r=args.r)
         F, res, contacts = pipe_resistance(model, su=args.su, rho=args.rho, g=args.g,
-                                           mu=args.mu, dt=args.dt)
+                                           mu=args.mu, dt=args.dt, solver=args.solver)
         nc_raw = F / (args.r * args.su)
         rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
         bar.set_postfix_str(f"F/(r Su) = {nc_raw:.4f}, net of buoyancy {nc_raw - buoyancy:.4f}")

@@ -41,7 +41,7 @@ from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
                                         poisson_ratio, positive_float, positive_int,
-                                        positive_angle)
+                                        positive_angle, solver_option)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -102,25 +102,25 @@ def footing_force(reactions, footing):
 
 
 def nc_curve(model, elastic, criterion, settlement, n_increments, *, c, B=1.0,
-             progress_label=None):
+             progress_label=None, solver="clarabel"):
     """Nc-settlement curve of the elastoplastic problem (3.45) under displacement control."""
     C = assemble_C(model["disc"], elastic)
     footing = model["footing"]
     hist = displacement_control(
         model["B"], C, criterion, fixed=model["fixed"], prescribed=footing,
         displacement=-settlement * np.ones(footing.size), n_increments=n_increments,
-        progress=progress_label is not None, label=progress_label or "")
+        progress=progress_label is not None, label=progress_label or "", solver=solver)
     nc = footing_force(hist.reactions, footing) / (c * B)
     return hist.factors * settlement, nc, hist
 
 
-def nc_limit(model, criterion, *, c, B=1.0):
+def nc_limit(model, criterion, *, c, B=1.0, solver="clarabel"):
     """Limit-analysis Nc: rigid-plastic (3.45) (C = 0) with a unit footing velocity."""
     footing = model["footing"]
     res = static_increment(model["B"], None, np.zeros(model["disc"].n_u),
                            np.zeros((model["disc"].n_points, 4)), criterion,
                            fixed=model["fixed"], prescribed=footing,
-                           du_prescribed=-np.ones(footing.size))
+                           du_prescribed=-np.ones(footing.size), solver=solver)
     return footing_force(res.reactions, footing) / (c * B), res
 
 
@@ -146,6 +146,7 @@ def build_parser():
                    help="increments of each Mohr-Coulomb curve")
     p.add_argument("--tol-tresca", type=nonnegative_float, default=None,
                    help="tolerance on the Tresca plateau (default 1%%, 5%% with --quick)")
+    solver_option(p)
     return p
 
 
@@ -165,13 +166,13 @@ def run(args):
         model = footing_model(n_el, B=args.B)
         models[n_el] = model
         bar.set_description(f"Tresca, {model['n_elements']} el, limit analysis")
-        limits[n_el] = nc_limit(model, Tresca(su), c=su, B=args.B)[0]
+        limits[n_el] = nc_limit(model, Tresca(su), c=su, B=args.B, solver=args.solver)[0]
         bar.update(1)
         bar.set_postfix_str(f"Nc limit {limits[n_el]:.4f} (Prandtl {nc_ref:.4f})")
         for n_inc in sorted(args.increments):
             bar.set_description(f"Tresca, {model['n_elements']} el, {n_inc} increments")
             s, nc, _ = nc_curve(model, elastic, Tresca(su), args.settlement, n_inc, c=su,
-                                B=args.B)
+                                B=args.B, solver=args.solver)
             bar.update(n_inc)
             bar.set_postfix_str(f"Nc {nc[-1]:.4f} (Prandtl {nc_ref:.4f})")
             curves[n_el, n_inc] = (s, nc)
@@ -195,11 +196,11 @@ def run(args):
             ref = prandtl_nc(phi)
             model = footing_model(n_mc, B=args.B, phi=phi)
             bar.set_description(f"Mohr-Coulomb phi = {phi:g}, {model['n_elements']} el")
-            lim = nc_limit(model, crit, c=su, B=args.B)[0]
+            lim = nc_limit(model, crit, c=su, B=args.B, solver=args.solver)[0]
             # settle far enough to reach the plateau: scale with the collapse load
             settle = args.settlement * ref / nc_ref
             s, nc, _ = nc_curve(model, elastic, crit, settle, args.mc_increments, c=su,
-                                B=args.B)
+                                B=args.B, solver=args.solver)
             mc[phi] = dict(limit=lim, plateau=nc[-1], reference=ref, s=s, nc=nc,
                            elements=model["n_elements"])
             bar.update(1 + args.mc_increments)
@@ -276,7 +277,8 @@ def figures(args, models, curves, limits, mc, su, elastic):
     # plastic zone at collapse on the finest mesh: yield ratio of the last increment
     model = models[fine]
     s, nc, hist = nc_curve(model, elastic, Tresca(su), args.settlement,
-                           min(args.increments), c=su, B=args.B)
+                           min(args.increments), c=su, B=args.B,
+                           solver=getattr(args, "solver", "clarabel"))
     disc = model["disc"]
     ratio = Tresca(su).yield_ratio(hist.sigma)
     per_element = np.zeros(disc.mesh.nelements)

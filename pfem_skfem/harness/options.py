@@ -131,6 +131,20 @@ def base_parser(description, quick=None, check=None):
     return p
 
 
+#: the names of :data:`pfem_skfem.problems.conic.SOLVERS` (the harness imports no science
+#: module; tests/test_solvers.py checks that the two agree)
+SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
+
+
+def solver_option(parser, default="clarabel"):
+    """``--solver``: the conic solver of every problem the script solves
+    (:func:`pfem_skfem.problems.conic.solve`: 'qoco' has no exponential cone, 'mosek'
+    needs a licence; each refused, saying why, before any work)."""
+    parser.add_argument("--solver", choices=SOLVER_NAMES, default=default,
+                        help="the conic solver (clarabel: the library's default)")
+    return parser
+
+
 class OptionError(ValueError):
     """An option found wrong only when used (an unreachable ``--scheduler``): a usage
     error of the script (:func:`script_main`), not a traceback."""

@@ -53,7 +53,7 @@ from ..discretisation.bounds import LowerBoundOperators, vertex_discretise
 from ..discretisation.static import (assemble_B, body_force_vector, boundary_facets,
                                      check_mesh, discretise, traction_vector)
 from ..materials.criteria import YieldCriterion
-from .conic import AlmostSolvedWarning, SolveInfo, SolverError, solve
+from .conic import AlmostSolvedWarning, SolveInfo, SolverError, solve, solver_backend
 
 #: a bound is the objective of its own field, so it holds when that field is feasible:
 #: an 'AlmostSolved' end is accepted when the field's largest constraint violation
@@ -233,14 +233,16 @@ def _length_scale(mesh):
     return float(np.sqrt(np.median(twice) / 2))
 
 
-def lower_bound(problem, **solver_settings):
+def lower_bound(problem, solver="clarabel", **solver_settings):
     """The strict lower bound: the largest load a statically admissible linear stress
     field carries (module docstring). Returns a :class:`Bound` with ``sigma``.
 
     Raises SolverError (status 'infeasible') when no multiple of the live load, negative
     ones included, lets an admissible field carry the dead loads, (status 'unbounded')
     when the load is never limited. A live load along the dead load gives a negative
-    multiplier (the live load reversed), not an error."""
+    multiplier (the live load reversed), not an error. ``solver``: the conic solver
+    (:data:`~pfem_skfem.problems.conic.SOLVERS`), ``solver_settings`` its settings."""
+    solver_backend(solver)                     # an unknown or unavailable solver: refused now
     mesh, crit = problem.mesh, problem.criterion
     ops = LowerBoundOperators.build(mesh)
     s0 = crit.strength_scale()                 # stresses / s0; rows scaled per element
@@ -285,20 +287,22 @@ def lower_bound(problem, **solver_settings):
         w = 0.5 * (length / width)[:, None] * v[None, :] * (state == "punch")
         objective = w.ravel() @ (ends[0] @ s) + w.ravel() @ (ends[1] @ s)
     prob = cp.Problem(cp.Maximize(objective), constraints)
-    info = _solve_bound(prob, "lower bound", solver_settings, "static")
+    info = _solve_bound(prob, "lower bound", solver_settings, "static", solver)
     load = float(objective.value * (1.0 if load_control else s0 * width))
     return Bound("lower", load, info, sigma=S.value * s0, extra=info.extra["bound"])
 
 
-def kinematic(problem, points="vertices", **solver_settings):
+def kinematic(problem, points="vertices", solver="clarabel", **solver_settings):
     """The upper bound (``points='vertices'``) or the thesis' mixed element in kinematic
     form (``points='gauss'``, the conic dual of its limit analysis; not a bound).
 
     Returns a :class:`Bound` with the mechanism ``velocity`` and the dissipation of each
     element. Raises SolverError (status 'infeasible') when the
-    supports leave no mechanism, ('unbounded') when the dead loads alone collapse it."""
+    supports leave no mechanism, ('unbounded') when the dead loads alone collapse it.
+    ``solver``: the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`)."""
     if points not in ("vertices", "gauss"):
         raise ValueError(f"points must be 'vertices' or 'gauss', got {points!r}")
+    solver_backend(solver)                     # an unknown or unavailable solver: refused now
     mesh, crit = problem.mesh, problem.criterion
     disc = vertex_discretise(mesh) if points == "vertices" else discretise(mesh)
     s0, L0 = crit.strength_scale(), _length_scale(mesh)
@@ -335,7 +339,7 @@ def kinematic(problem, points="vertices", **solver_settings):
     dissipation = cp.multiply(w / (h * L0), Lam @ d)
     prob = cp.Problem(cp.Minimize(cp.sum(dissipation) - f_dead @ u), constraints)
     info = _solve_bound(prob, "upper bound" if points == "vertices" else "mixed element",
-                        solver_settings, "kinematic")
+                        solver_settings, "kinematic", solver)
     if problem.punch is None:       # u = U u_hat, U = 1 / (s0 L0): loads in alpha
         u_scale, force = 1.0 / (s0 * L0), 1.0
     else:                           # u = |v| u_hat: loads as forces
@@ -370,17 +374,21 @@ BOUND_HINTS = {
 }
 
 
-def _solve_bound(prob, what, settings, form):
-    """Solve with the settings of :data:`BOUND_RETRIES` in turn until the field is
-    certified (:data:`BOUND_CERTIFY`); an 'AlmostSolved' end kept comes with an
-    AlmostSolvedWarning giving its gap; ``info.extra['bound']`` records what was done."""
+def _solve_bound(prob, what, settings, form, solver="clarabel"):
+    """Solve with the settings of :data:`BOUND_RETRIES` in turn (Clarabel's; another
+    solver: its own settings, once) until the field is certified (:data:`BOUND_CERTIFY`);
+    an 'AlmostSolved' end kept comes with an AlmostSolvedWarning giving its gap;
+    ``info.extra['bound']`` records what was done."""
     accept = settings.pop("accept_inaccurate", False)
-    tries = [BOUND_RETRIES[0]] if any(k in settings for k in BOUND_RETRIES[1]) \
-        else BOUND_RETRIES
+    backend = solver_backend(solver)           # unknown, unavailable: refused here
+    retries = BOUND_RETRIES if backend.name == "clarabel" else (dict(),)
+    tries = [retries[0]] if any(k in settings for k in retries[-1]) else retries
+    label = backend.label
     for attempt, extra in enumerate(tries):
         last = attempt == len(tries) - 1
         try:
-            info = solve(prob, what=what, defer_certify=True, **{**extra, **settings})
+            info = solve(prob, what=what, solver=solver, defer_certify=True,
+                         **{**extra, **settings})
         except SolverError as err:
             kind = err.status.replace("_inaccurate", "")
             if (form, kind) in BOUND_HINTS:
@@ -397,7 +405,7 @@ def _solve_bound(prob, what, settings, form):
         if info.status == cp.OPTIMAL or accept:
             return info
         if violation <= BOUND_CERTIFY["feasibility"] and gap <= BOUND_CERTIFY["gap"]:
-            warnings.warn(f"{what}: Clarabel stopped 'AlmostSolved'; the bound is its "
+            warnings.warn(f"{what}: {label} stopped 'AlmostSolved'; the bound is its "
                           f"field's own value (largest relative violation {violation:.1e} "
                           f"<= {BOUND_CERTIFY['feasibility']:.0e}), within a relative gap "
                           f"of {gap:.1e} of the mesh's best", AlmostSolvedWarning,
@@ -405,15 +413,15 @@ def _solve_bound(prob, what, settings, form):
             return info
         if last:
             raise SolverError(
-                f"{what}: Clarabel stopped 'AlmostSolved' with a field violating its "
+                f"{what}: {label} stopped 'AlmostSolved' with a field violating its "
                 f"constraints by {violation:.1e} (> {BOUND_CERTIFY['feasibility']:.0e}) or "
                 f"a relative gap {gap:.1e} (> {BOUND_CERTIFY['gap']:.0e}): not a certified "
                 "bound", info.status)
 
 
-def upper_bound(problem, **solver_settings):
+def upper_bound(problem, solver="clarabel", **solver_settings):
     """The strict upper bound (module docstring): ``kinematic(problem, 'vertices')``."""
-    return kinematic(problem, "vertices", **solver_settings)
+    return kinematic(problem, "vertices", solver, **solver_settings)
 
 
 def _per_element(disc, values):

@@ -49,7 +49,7 @@ from ..materials.rate import RateDissipation, ViscousStress
 from ..discretisation.dynamic import (DynamicOperators, block_inverse,  # noqa: F401
                                       block_inverse_elements, dynamic_operators)
 from ..discretisation.theta import ThetaMethod  # noqa: F401
-from .conic import SolveInfo, prescribed_values, solve, split_dofs
+from .conic import SolveInfo, prescribed_values, solve, solver_backend, split_dofs
 from .contact import contact_matrix, contact_terms
 from .static import point_multipliers
 
@@ -143,7 +143,8 @@ BACKENDS = ("cvxpy", "clarabel")
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
                       prescribed=(), du_prescribed=(), contacts=None, scaling=None,
-                      d_form="quad_form", backend="cvxpy", viscous=None, **solver_settings):
+                      d_form="quad_form", backend="cvxpy", viscous=None, solver="clarabel",
+                      **solver_settings):
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
@@ -177,6 +178,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         scaled problem assembled in Clarabel's standard form by
         :mod:`~pfem_skfem.problems.clarabel_direct`, without cvxpy's compile step;
         ``d_form="quad_form"`` only).
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
+        The direct assembly is Clarabel's: with another solver, ``backend="clarabel"``
+        states the step in cvxpy (the reference statement, ``backend="cvxpy"``) and
+        solves it there. A solver lacking the exponential cone of a
+        :class:`RateDissipation` is refused before any work.
     viscous : None, :class:`ViscousStress` or :class:`RateDissipation` (rigid-plastic
         only): sigma = sigma_p + sigma_v with sigma_p in the cone and a rate deviator
         sigma_v = (a, -a, 0, b) at each point, with tau_j = ||(a_j, b_j)|| = sqrt(J2)
@@ -200,6 +206,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         raise ValueError("backend='clarabel' supports d_form='quad_form' with a yield criterion")
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
+    # an unknown, unavailable or too weak solver refused now (mu(I): exponential cones)
+    if solver_backend(solver, cones={"exp"} if isinstance(viscous, RateDissipation)
+                      else None).name != "clarabel":
+        backend = "cvxpy"                        # the direct assembly is Clarabel's,
+        solver_settings.pop("form", None)        # and so is its choice of form
     if viscous is not None and not isinstance(viscous, (ViscousStress, RateDissipation)):
         raise ValueError(f"viscous must be a ViscousStress or RateDissipation, got {viscous!r}")
     if viscous is not None and (ops.C is not None or criterion is None):
@@ -249,7 +260,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     else:
         sol = _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, free,
                            P, kappa, kappa_C, d_ref, c_ref, u_ref, force * th.theta1, d_form,
-                           solver_settings, kv, rate_log, hoop)
+                           dict(solver_settings, solver=solver), kv, rate_log, hoop)
 
     sigma = sol["s"].reshape(n, 4) * stress
     r = sol["q"] * r_ref

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import Scaling, SolveInfo, SolverError, certify, prescribed_values, solve, split_dofs
+from .conic import (Scaling, SolveInfo, SolverError, certify, prescribed_values, solve,
+                    solver_backend, split_dofs)
 from .contact import contact_terms
 
 
@@ -43,7 +44,8 @@ class StaticIncrement:
 
 
 def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
-                     du_prescribed=(), contacts=None, scaling=None, **solver_settings):
+                     du_prescribed=(), contacts=None, scaling=None, solver="clarabel",
+                     **solver_settings):
     """Solve the incremental elastoplastic static problem (3.45).
 
     .. math::
@@ -68,7 +70,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
     fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
     scaling : :class:`Scaling`; by default the criterion's strength and medians of B, C.
-    solver_settings : Clarabel settings, and ``accept_inaccurate``
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
+    solver_settings : the solver's settings, and ``accept_inaccurate``
         (:func:`~pfem_skfem.problems.conic.solve`).
 
     Returns
@@ -82,6 +85,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
         and its measures certify the answer (:func:`~pfem_skfem.problems.conic.certify`);
         uncertified, SolverError is raised.
     """
+    solver_backend(solver)                 # an unknown or unavailable solver: refused now
     n_s, n_u = B.shape
     n = n_s // 4
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
@@ -96,6 +100,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     sc = scaling or Scaling.from_operators(
         B, C, max(criterion.strength_scale(), float(np.sqrt(np.mean(sigma_n ** 2)))))
     accept = solver_settings.get("accept_inaccurate", False)
+    solver_settings = dict(solver_settings, solver=solver)
     res = _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing,
                             sc, solver_settings)
     if res.info.status == cp.OPTIMAL_INACCURATE and scaling is None:
@@ -199,7 +204,7 @@ class LimitLoad:
 
 
 def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
-                   **solver_settings):
+                   solver="clarabel", **solver_settings):
     """Rigid-plastic limit analysis: the largest multiplier of the live load.
 
     .. math::
@@ -215,7 +220,8 @@ def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
     criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
     fixed : dofs with zero velocity.  f_dead : (n_u,) a load not multiplied, or None.
     scaling : :class:`Scaling`; by default the criterion's strength and a median of B.
-    solver_settings : Clarabel settings, and ``accept_inaccurate``
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
+    solver_settings : the solver's settings, and ``accept_inaccurate``
         (:func:`~pfem_skfem.problems.conic.solve`).
 
     Returns
@@ -228,6 +234,7 @@ def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
         Clarabel stopped 'AlmostSolved' and its measures certify the answer
         (:func:`~pfem_skfem.problems.conic.certify`); uncertified, SolverError is raised.
     """
+    solver_backend(solver)                 # an unknown or unavailable solver: refused now
     n_s, n_u = B.shape
     n = n_s // 4
     free, _ = split_dofs(n_u, fixed, ())
@@ -245,7 +252,7 @@ def limit_analysis(B, f_live, criterion, *, fixed, f_dead=None, scaling=None,
     equilibrium = Bh.T @ s == alpha * f_live[free] / force + f_dead[free] / force
     yield_cone = criterion.scaled(sc.stress).constraint(S)
     problem = cp.Problem(cp.Maximize(alpha), [equilibrium, yield_cone])
-    info = solve(problem, what="limit analysis", **solver_settings)
+    info = solve(problem, what="limit analysis", solver=solver, **solver_settings)
 
     velocity = np.zeros(n_u)
     velocity[free] = -equilibrium.dual_value / force

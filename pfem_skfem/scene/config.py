@@ -15,6 +15,7 @@ from ..discretisation.theta import ThetaMethod
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction
+from ..problems.conic import SOLVERS
 from ..problems.dynamic import BACKENDS
 from ..problems.nonassociated import MAX_PASSES, check_passes, least_passes  # noqa: F401
 
@@ -50,6 +51,9 @@ class PFEMConfig:
         or :class:`~pfem_skfem.pfem.transfer.Interpolation`.
     search : contact search distance in units of h.
     backend : 'clarabel' (the step assembled directly) or 'cvxpy' (the reference statement).
+    solver : the conic solver of every step (:data:`~pfem_skfem.problems.conic.SOLVERS`:
+        'clarabel', the default, 'qoco', 'mosek', 'scs'); another than Clarabel solves the
+        cvxpy statement whatever ``backend`` says (the direct assembly is Clarabel's).
     bulge : place the boundary particles so that the straight-sided boundary keeps the
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
@@ -75,6 +79,7 @@ class PFEMConfig:
     velocity: object = field(default_factory=L2Projection)
     search: float = 1.0
     backend: str = "clarabel"
+    solver: str = "clarabel"
     bulge: bool = True
     refine_surface: float = 2.0
     volume_correction: bool = False
@@ -100,6 +105,8 @@ class PFEMConfig:
                              f"{self.velocity!r}")
         if self.backend not in BACKENDS:
             raise ValueError(f"backend must be one of {BACKENDS}, got {self.backend!r}")
+        if self.solver not in SOLVERS:
+            raise ValueError(f"solver must be one of {tuple(SOLVERS)}, got {self.solver!r}")
         if not (np.isfinite(self.search) and self.search > 0):
             raise ValueError(f"search must be positive, got {self.search!r}")
         if not (np.isfinite(self.alpha_advected) and self.alpha_advected >= 0):
