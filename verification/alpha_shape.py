@@ -74,7 +74,7 @@ def sweep(points, h, alphas):
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, solver=False)
     p.add_argument("--h", type=positive_float, default=1.0, help="characteristic spacing h")
     p.add_argument("--radius", type=positive_float, default=6.0,
                    help="radius of the disc cluster (units of h)")

@@ -45,7 +45,7 @@ from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resulta
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
-                                        positive_float, solver_option)
+                                        positive_float)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -120,7 +120,6 @@ def build_parser():
                         "= 1, from rest) instead of the quasi-static step")
     p.add_argument("--elements", type=element_count, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
-    solver_option(p)
     return p
 
 

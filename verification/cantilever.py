@@ -175,10 +175,11 @@ def run(args):
     sigma_beam = 6 * args.F * args.length / args.height ** 2     # root bending stress
     zero = np.zeros((disc.n_points, 4))
     stat = static_increment(B, C, args.F * f_unit + weight, zero, Tresca(100 * sigma_beam),
-                            fixed=fixed)
+                            fixed=fixed, solver=args.solver)
     tip_static = stat.du[tip]
     tip_rest = (static_increment(B, C, weight, zero, Tresca(100 * sigma_beam),
-                                 fixed=fixed).du[tip] if args.g > 0 else 0.0)
+                                 fixed=fixed, solver=args.solver).du[tip]
+                 if args.g > 0 else 0.0)
     tip_beam = timoshenko_tip(args.F, args.length, args.height, elastic)
     if args.g == 0:
         report.add("tip_quasi_static", tip_static, tip_beam,
@@ -193,7 +194,7 @@ def run(args):
         wall = time.perf_counter()
         hist = integrate(ops, load, n_steps, fixed=fixed, d_form=args.d_form,
                          monitor=lambda u, v, s: u[tip], progress=args.progress,
-                         label=f"{name} (theta1={t1:g}, theta2={t2:g})")
+                         label=f"{name} (theta1={t1:g}, theta2={t2:g})", solver=args.solver)
         wall = time.perf_counter() - wall
         ref, ref_energy = theta_method_fe(K, M, load, n_steps, theta, free,
                                           monitor=lambda u: u[tip])

@@ -106,22 +106,23 @@ def bearing_factor(model, reactions, c):
     return -np.sum(reactions[..., model["footing"]], axis=-1) / (np.pi * model["R"] ** 2 * c)
 
 
-def nc_limit(model, criterion, c):
+def nc_limit(model, criterion, c, solver="clarabel"):
     """Limit-analysis Nc: rigid-plastic (3.45) with a unit footing velocity."""
     disc = model["disc"]
     res = static_increment_axisymmetric(
         disc, model["B"], None, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
-        fixed=model["fixed"], prescribed=model["prescribed"], du_prescribed=model["motion"])
+        fixed=model["fixed"], prescribed=model["prescribed"], du_prescribed=model["motion"],
+        solver=solver)
     return bearing_factor(model, res.reactions, c), res
 
 
-def nc_curve(model, elastic, criterion, settlement, n_increments, c):
+def nc_curve(model, elastic, criterion, settlement, n_increments, c, solver="clarabel"):
     """Elastoplastic Nc-settlement curve (3.45) under displacement control."""
     C = assemble_C(model["disc"], elastic)
     hist = displacement_control(model["B"], C, criterion, fixed=model["fixed"],
                                 prescribed=model["prescribed"],
                                 displacement=settlement * model["motion"],
-                                n_increments=n_increments)
+                                n_increments=n_increments, solver=solver)
     return hist.factors * settlement, bearing_factor(model, hist.reactions, c), hist
 
 
@@ -169,10 +170,11 @@ def run(args):
         smooth = footing_model(n, R=args.R)
         rough = footing_model(n, R=args.R, rough=True)
         models[n] = rough if args.rough else smooth
-        lim["smooth"].append(nc_limit(smooth, tresca, c)[0])
-        lim["rough"].append(nc_limit(rough, tresca, c)[0])
-        lim["dp_smooth"].append(nc_limit(smooth, dp, c)[0])
-        s, nc, hist = nc_curve(models[n], elastic, tresca, args.settlement, args.increments, c)
+        lim["smooth"].append(nc_limit(smooth, tresca, c, args.solver)[0])
+        lim["rough"].append(nc_limit(rough, tresca, c, args.solver)[0])
+        lim["dp_smooth"].append(nc_limit(smooth, dp, c, args.solver)[0])
+        s, nc, hist = nc_curve(models[n], elastic, tresca, args.settlement, args.increments, c,
+                               args.solver)
         curves[n] = (s, nc, hist)
         bar.update(1)
         bar.set_postfix_str(f"Nc smooth {lim['smooth'][-1]:.4f}, rough {lim['rough'][-1]:.4f}, "
@@ -208,7 +210,7 @@ def run(args):
     for phi in args.phi or []:
         bar.set_description(f"circular footing, Mohr-Coulomb phi = {phi:g}")
         model = footing_model(args.mc_elements, R=args.R, phi=phi, rough=args.rough)
-        value = nc_limit(model, MohrCoulombAxisymmetric(c, phi), c)[0]
+        value = nc_limit(model, MohrCoulombAxisymmetric(c, phi), c, args.solver)[0]
         mc[f"{phi:g}"] = dict(Nc=float(value), strip_3_49=float(strip_nc(phi)),
                               elements=model["n_elements"])
         bar.update(1)

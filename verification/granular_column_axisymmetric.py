@@ -67,8 +67,8 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
                                         checkpoint_options, friction_angle, in_range,
                                         nonnegative_float, nonnegative_int, positive_float,
-                                        positive_int, sweep_options, volume_correction_option,
-                                        positive_angle)
+                                        positive_int, solver_keyword, sweep_options,
+                                        volume_correction_option, positive_angle)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -188,7 +188,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
              passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
              save_every=0, verbose=False, history=False, label="", courant=None, soil=None,
              volume_correction=False, adaptive_alpha=False, alpha_advected=0.0,
-             checkpoint_dir=None, checkpoint_every=20):
+             checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
     """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
     ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`).
@@ -215,7 +215,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                                                 passes=passes, soil=soil,
                                                 adaptive_alpha=adaptive_alpha,
                                                 volume_correction=volume_correction,
-                                                alpha_advected=alpha_advected)
+                                                alpha_advected=alpha_advected, solver=solver)
     volume0 = float(rho * scene.regions[0].volume)
     x0 = state.x.copy()
     axis0 = np.flatnonzero(x0[:, 0] == 0.0)
@@ -390,7 +390,7 @@ def run(args):
                 outdir=out if args.save_every else None, save_every=args.save_every,
                 volume_correction=args.volume_correction == "on",
                 adaptive_alpha=args.adaptive_alpha, alpha_advected=args.alpha_advected,
-                verbose=args.progress)
+                verbose=args.progress) | solver_keyword(args)
     if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
         base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}

@@ -63,8 +63,8 @@ import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
-                                        positive_float, positive_int, sweep_options,
-                                        volume_correction_option, positive_angle)
+                                        positive_float, positive_int, solver_keyword,
+                                        sweep_options, volume_correction_option, positive_angle)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -111,12 +111,13 @@ def axisymmetric_soil(law, *, mu_s, mu_2, I_0, d, rho_s, lag, p_min, k_min, phi_
                                      match="plane-strain-psi0")
 
 
-def plane_case(a, law, *, soil, nx, steps, settle, rho, g, mu_w, passes, alpha, verbose=False):
+def plane_case(a, law, *, soil, nx, steps, settle, rho, g, mu_w, passes, alpha, verbose=False,
+               solver="clarabel"):
     """One plane column (:func:`verification.granular_column_plane.run_case`), summarised."""
     material = plane_soil(law, a, **soil)
     r = plane.run_case(a, nx=nx, steps=steps, phi=material.phi, mu=mu_w, rho=rho, g=g,
                        floor=soil["k_min"], passes=passes, alpha=alpha, settle=settle,
-                       soil=material, verbose=verbose)
+                       soil=material, verbose=verbose, solver=solver)
     return dict(geometry="plane", law=law, a=a, rho=rho, rho_s=soil["rho_s"],
                 d=getattr(material, "d", None), runout=r["runout_over_d0"],
                 height=r["h_inf_over_d0"], spacing_over_h0=r["spacing_over_h0"],
@@ -127,14 +128,15 @@ def plane_case(a, law, *, soil, nx, steps, settle, rho, g, mu_w, passes, alpha, 
 
 
 def axisymmetric_case(a, law, *, soil, nr, steps, settle, rho, g, r0, mu_w, passes, alpha,
-                      volume_correction=False, verbose=False):
+                      volume_correction=False, verbose=False, solver="clarabel"):
     """One column of revolution (:func:`verification.granular_column_axisymmetric.run_case`),
     summarised; ``volume_correction``: the move stage's volume projection."""
     material = axisymmetric_soil(law, **soil)
     r = axi.run_case(a, nr=nr, steps=steps, phi=material.phi,
                      phi_s=float(np.degrees(np.arctan(mu_w))), rho=rho, g=g, r0=r0,
                      passes=passes, alpha=alpha, floor=soil["k_min"], settle=settle,
-                     soil=material, volume_correction=volume_correction, verbose=verbose)
+                     soil=material, volume_correction=volume_correction, verbose=verbose,
+                     solver=solver)
     return dict(geometry="axisymmetric", law=law, a=a, rho=rho, rho_s=soil["rho_s"],
                 d=getattr(material, "d", None), runout=r["runout_over_r0"],
                 height=r["h_inf_over_r0"], spacing_over_h0=r["spacing_over_r0"] / a,
@@ -151,11 +153,18 @@ def check(args):
             return f"--mu_2{suffix} must be >= --mu_s{suffix}"
     if not args.rho_axi < args.rho_s_axi:
         return "--rho_axi (bulk density) must be below --rho_s_axi (grain density)"
+    if args.lag == "implicit" and "mu(I)" in args.laws:     # exponential cones: qoco refused
+        from pfem_skfem.problems.conic import solver_backend
+        try:
+            solver_backend(args.solver, cones={"exp"})
+        except ValueError as error:
+            return f"--solver {args.solver} with --lag implicit (mu(I)): {error}"
     return None
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+                    solver="qoco has no exponential cone: refused with mu(I) and --lag implicit")
     p.add_argument("--a", type=positive_float, nargs="*", default=list(plane.ASPECTS),
                    help="plane aspect ratios h0/d0 (none: no plane sweep)")
     p.add_argument("--a_axi", type=positive_float, nargs="*", default=list(axi.ASPECTS),
@@ -226,7 +235,8 @@ def _cases(args):
     soil = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, h0_over_d=args.h0_over_d,
                 d0_over_d=args.d0_over_d, rho_s=rho_s, lag=args.lag, p_min=args.p_min,
                 k_min=args.k_min, phi_thesis=args.phi)
-    common = dict(settle=args.settle, g=args.g, passes=args.passes, alpha=args.alpha)
+    common = dict(settle=args.settle, g=args.g, passes=args.passes, alpha=args.alpha,
+                  **solver_keyword(args))
     cases = [(plane_case, dict(common, a=a, law=law, soil=soil, nx=args.nx, steps=args.steps,
                                 rho=args.rho, mu_w=args.mu_w))
              for a in sorted(args.a) for law in args.laws]

@@ -53,7 +53,8 @@ from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, poisson_ratio, positive_float,
-                                        positive_int, sweep_options, positive_angle)
+                                        positive_int, solver_keyword, sweep_options,
+                                        positive_angle)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar, progress
 from pfem_skfem.harness.report import Report, thinned, script_main
@@ -161,7 +162,7 @@ def measure_deposit(state, alpha):
 def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
              alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
              d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
-             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None):
+             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None, solver="clarabel"):
     """One column to t = 4 sqrt(h0/g), then on until it is at rest (at most ``settle``
     sqrt(h0/g) more); returns the measured quantities and what the figures need.
 
@@ -176,7 +177,8 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                                     floor_fraction=floor, material=material, remesh=remesh,
                                     passes=passes, alpha=alpha, dt=t_end / steps,
                                     contact=contact, E=E, nu=nu,
-                                    refine_surface=refine_surface, bulge=bulge, soil=soil)
+                                    refine_surface=refine_surface, bulge=bulge, soil=soil,
+                                    solver=solver)
     series = open_series(Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
                          if outdir is not None and save_every else None, "column",
                          initial=(state, scene))
@@ -350,7 +352,7 @@ def run(args):
                   contact=args.contact, E=args.E, nu=args.nu, settle=args.settle,
                   save_every=args.save_every, verbose=args.progress,
                   checkpoint_every=args.checkpoint_every, checkpoint_dir=out / "checkpoints")
-             | _size(args, a) for phi in args.phi for a in sorted(args.a)]
+             | _size(args, a) | solver_keyword(args) for phi in args.phi for a in sorted(args.a)]
     study = [dict(cases[0], a=1.0, phi=args.phi[0], steps=n) | _size(args, 1.0)
              for n in args.time_steps]
     meshes = [dict(cases[0], a=1.0, phi=args.phi[0], nx=n) | _size(args, 1.0)

@@ -79,14 +79,14 @@ def exact_force(u, D, H, E, V):
     return -E * V * (H - u) / l ** 2 * np.log(l / L)
 
 
-def push_rod(n_increments, D, H, E, V, u_total, progress_label=None):
+def push_rod(n_increments, D, H, E, V, u_total, progress_label=None, solver="clarabel"):
     """Incremental SOCP run; returns u, F at the end of each increment, F as solved, history."""
     L = np.hypot(D, H)
     x0 = np.array([[0.0, 0.0], [D, H]])
     hist = truss_displacement_control(x0, [[0, 1]], V / L, E, fixed=[0, 1, 2], prescribed=[3],
                                       n_increments=n_increments, displacement=[-u_total],
                                       incompressible=True, progress=bool(progress_label),
-                                      label=progress_label or "")
+                                      label=progress_label or "", solver=solver)
     u = -hist.u[:, 1, 1]
     return u, -hist.reactions_updated[:, 3], -hist.reactions[:, 3], hist
 
@@ -140,7 +140,7 @@ def run(args):
     print(f"{'N':>6s} {'max|dF|/max|F|':>15s} {'(as solved)':>12s} {'pointwise, |F|>=F_max/2':>24s}")
     for n in steps:
         u, F, F_solved, hist = push_rod(int(n), D, H, E, V, args.u * L,
-                                        f"N = {n}" if args.progress else None)
+                                        f"N = {n}" if args.progress else None, args.solver)
         Fex = exact_force(u, D, H, E, V)
         scale = np.abs(Fex).max()
         far = np.abs(Fex) >= 0.5 * scale           # well away from the sign changes of F

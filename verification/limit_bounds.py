@@ -224,7 +224,7 @@ def _run(args):
     bar.set_description("Tresca footing, adaptive")
     first = footing_problem(Tresca(c), args.W, args.D, B, args.elements, args.ratio)
     tres = adapt(first, rounds=args.rounds, target_gap=args.target_gap,
-                 max_elements=args.max_elements, theta=args.theta,
+                 max_elements=args.max_elements, theta=args.theta, solver=args.solver,
                  progress=step("Tresca", lambda r: f"Nc in [{r.lower * nc:.4f}, "
                                                     f"{r.upper * nc:.4f}]"))
     last = tres.rounds[-1]
@@ -246,7 +246,8 @@ def _run(args):
         if level:
             problem = problem.refined()
         t0 = time.perf_counter()
-        lo, up = lower_bound(problem).load, upper_bound(problem).load
+        lo, up = lower_bound(problem, solver=args.solver).load, upper_bound(
+            problem, solver=args.solver).load
         uniform.append(dict(elements=problem.mesh.t.shape[1], lower=lo * nc, upper=up * nc,
                             gap=2 * (up - lo) / (up + lo), seconds=time.perf_counter() - t0))
         bar.update(1)
@@ -267,7 +268,7 @@ def _run(args):
 
     # -- 6. the mixed element on the first mesh ---------------------------------------
     bar.set_description("mixed element, first mesh")
-    mixed = kinematic(first, "gauss")
+    mixed = kinematic(first, "gauss", solver=args.solver)
     lo0, up0 = tres.rounds[0].lower * nc, tres.rounds[0].upper * nc
     report.add_interval("footing_mixed_Nc", mixed.load * nc, lo0, up0,
                         f"the thesis' mixed element (no bound) between the bounds of its "
@@ -277,7 +278,8 @@ def _run(args):
     # -- 5. scale: c x k on the first footing mesh -------------------------------------
     bar.set_description("scale checks")
     scaled = replace(first, criterion=Tresca(k * c))
-    lo_k, up_k = lower_bound(scaled).load, upper_bound(scaled).load
+    lo_k, up_k = (lower_bound(scaled, solver=args.solver).load,
+                  upper_bound(scaled, solver=args.solver).load)
     bar.update(1)
     for name, a, b in (("lower", lo_k, tres.rounds[0].lower), ("upper", up_k,
                                                                tres.rounds[0].upper)):
@@ -292,7 +294,7 @@ def _run(args):
     mc = adapt(footing_problem(MohrCoulomb(c, args.phi), args.mc_width * reach,
                                args.mc_depth * depth, B, args.mc_elements, args.mc_ratio),
                rounds=args.mc_rounds, target_gap=args.mc_target_gap,
-               max_elements=args.max_elements, theta=args.mc_theta,
+               max_elements=args.max_elements, theta=args.mc_theta, solver=args.solver,
                progress=step("Mohr-Coulomb", lambda r: f"Nc in [{r.lower * nc:.3f}, "
                                                         f"{r.upper * nc:.3f}]"))
     m = mc.rounds[-1]
@@ -312,7 +314,7 @@ def _run(args):
     n_of = lambda alpha, g=gamma, cc=c: alpha * g * H / cc   # noqa: E731
     cut_first = gravity_problem(cut_poly, args.cut_size * H, Tresca(c), gamma, L)
     cut = adapt(cut_first, rounds=args.cut_rounds, target_gap=1e-6,
-                max_elements=args.max_elements, theta=args.cut_theta,
+                max_elements=args.max_elements, theta=args.cut_theta, solver=args.solver,
                 progress=step("cut", lambda r: f"gamma H / c in [{n_of(r.lower):.4f}, "
                                                f"{n_of(r.upper):.4f}]"))
     cl, cu = n_of(cut.rounds[-1].lower), n_of(cut.rounds[-1].upper)
@@ -324,8 +326,8 @@ def _run(args):
     report.add("cut_N_lower_vs_3.78", cl, CUT_CENTRE, f"{src}; --tol-cut", args.tol_cut)
     report.add("cut_N_upper_vs_3.78", cu, CUT_CENTRE, f"{src}; --tol-cut", args.tol_cut)
     cut_k = replace(cut_first, criterion=Tresca(k * c), body_live=(0.0, -k * gamma))
-    cl_k = n_of(lower_bound(cut_k).load, k * gamma, k * c)
-    cu_k = n_of(upper_bound(cut_k).load, k * gamma, k * c)
+    cl_k = n_of(lower_bound(cut_k, solver=args.solver).load, k * gamma, k * c)
+    cu_k = n_of(upper_bound(cut_k, solver=args.solver).load, k * gamma, k * c)
     bar.update(1)
     tol_scale = 0.0 if power_of_two else 1e-9
     how = "bit for bit (k a power of two)" if power_of_two else "to 1e-9"
@@ -342,6 +344,7 @@ def _run(args):
     slope, slope_last = bracket_safety(
         slope_first, rounds=args.slope_rounds, target_gap=args.slope_target_gap,
         max_elements=args.max_elements, theta=args.slope_theta, tol=args.fos_tol,
+        solver=args.solver,
         progress=step("slope", lambda r: f"F in [{r.lower:.4f}, {r.upper:.4f}]"))
     s = slope[-1]
     src = f"Griffiths & Lane 1999 ex. 1 ({s.elements} elements)"
@@ -360,8 +363,9 @@ def _run(args):
                f"{'inside' if s.lower <= SLOPE_FE <= s.upper else 'outside'} [F_L, F_U]", 0.03)
     slope_k = replace(slope_first, criterion=MohrCoulomb(k * slope_crit.c, args.slope_phi),
                       body_live=(0.0, -k * gamma))
-    fl_k = factor_of_safety(slope_k, "lower", tol=args.fos_tol).F
-    fu_k = factor_of_safety(slope_k, "upper", tol=args.fos_tol, start=fl_k).F
+    fl_k = factor_of_safety(slope_k, "lower", tol=args.fos_tol, solver=args.solver).F
+    fu_k = factor_of_safety(slope_k, "upper", tol=args.fos_tol, start=fl_k,
+                            solver=args.solver).F
     bar.update(1)
     # every scaled quantity is divided by the strength, so a power of two leaves the
     # solver's data, and hence each trial F, the same bit for bit
@@ -472,7 +476,8 @@ def figures(args, tres, mc, cut, slope, slope_last, uniform, nc, refs):
     fig, axes = plt.subplots(2, 1, figsize=(9, 6))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AlmostSolvedWarning)   # certified: counted in run
-        fields = lower_bound(at), upper_bound(at)
+        fields = (lower_bound(at, solver=args.solver),
+                  upper_bound(at, solver=args.solver))
     _pair(plt, axes, at, *fields, f"slope at F = {F:.3f}")
     save_figure(fig, out / "slope_fields.png")
 

@@ -81,7 +81,8 @@ def run(args):
     runs = {}
     for name, criterion in (("elastic", None), ("elastoplastic", Tresca(args.su))):
         runs[name] = integrate(ops, no_load, args.steps, criterion=criterion, fixed=fixed,
-                               v0=v0, d_form=args.d_form, progress=args.progress, label=name)
+                               v0=v0, d_form=args.d_form, progress=args.progress, label=name,
+                               solver=args.solver)
     K0 = runs["elastic"].energy[0]
     el, pl = runs["elastic"], runs["elastoplastic"]
     undamped = args.theta1 == 0.5 and args.theta2 == 0.5

@@ -42,7 +42,7 @@ from pfem_skfem.harness.report import Report, script_main
 QUICK = dict(steps=[10, 20, 40])
 
 
-def slide(v0, mu, g, steps, total_time, theta, *, width=0.2, mass=1.0):
+def slide(v0, mu, g, steps, total_time, theta, *, width=0.2, mass=1.0, solver="clarabel"):
     """Trajectory (steps+1, 2) of the box's bottom centre and its velocities."""
     plane = RigidSegment((-1e3, 0.0), (1e3, 0.0), mu=mu)
     x, v = np.zeros(2), np.array([v0, 0.0])
@@ -51,7 +51,8 @@ def slide(v0, mu, g, steps, total_time, theta, *, width=0.2, mass=1.0):
     for _ in range(steps):
         corners = x + np.array([[-width / 2, 0.0], [width / 2, 0.0]])
         g0, n = plane.gap(corners)
-        step = rigid_particle_step(mass, v, (0.0, -mass * g), dt, theta, g0, n, plane.mu)
+        step = rigid_particle_step(mass, v, (0.0, -mass * g), dt, theta, g0, n, plane.mu,
+                                   solver=solver)
         x, v = x + step.du, step.v
         path.append(x.copy())
         vel.append(v.copy())
@@ -59,7 +60,7 @@ def slide(v0, mu, g, steps, total_time, theta, *, width=0.2, mass=1.0):
 
 
 def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=2.0,
-             cells=(4, 2), contact="associated"):
+             cells=(4, 2), contact="associated", solver="clarabel"):
     """The same slide with a finite-element block (5.12); returns the path of its base centre.
 
     ``contact="zero-dilation"`` solves each step twice: first smooth (no friction, no
@@ -91,10 +92,10 @@ def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=
         if contact == "zero-dilation":          # pass 1: smooth, for the normal force
             smooth = with_friction_bound(contacts, np.zeros(contacts.size))
             first = dynamic_increment(ops, f, f, sigma, v, strong, contacts=smooth,
-                                      scaling=scales)
+                                      scaling=scales, solver=solver)
             contacts = with_friction_bound(contacts, first.p)
         step = dynamic_increment(ops, f, f, sigma, v, strong, contacts=contacts,
-                                 scaling=scales)
+                                 scaling=scales, solver=solver)
         u, v, sigma, scales = u + step.du, step.v, step.sigma, step.scales
         base = contacts.dofs
         path.append(np.array([u[base[:, 0]].mean(), u[base[:, 1]].mean()]))
@@ -137,10 +138,11 @@ def run(args):
           f"{'max lift [m]':>13s} {'final lift [m]':>15s}")
     for n in sorted(args.steps):
         if args.body == "particle":
-            path, vel = slide(args.v0, args.mu, args.g, n, total, args.theta)
+            path, vel = slide(args.v0, args.mu, args.g, n, total, args.theta,
+                              solver=args.solver)
         else:
             path, vel = slide_fe(args.v0, args.mu, args.g, n, total, args.theta,
-                                 contact=args.contact)
+                                 contact=args.contact, solver=args.solver)
         runs[n] = (path, vel)
         travel = path[-1, 0]
         print(f"{n:6d} {total / n:8.4f} {travel:11.5f} {travel / travel_ref - 1:+9.2%} "

@@ -41,7 +41,7 @@ from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
                                         poisson_ratio, positive_float, positive_int,
-                                        positive_angle, solver_option)
+                                        positive_angle)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -146,7 +146,6 @@ def build_parser():
                    help="increments of each Mohr-Coulomb curve")
     p.add_argument("--tol-tresca", type=nonnegative_float, default=None,
                    help="tolerance on the Tresca plateau (default 1%%, 5%% with --quick)")
-    solver_option(p)
     return p
 
 

@@ -75,9 +75,9 @@ def dp_zero_dilation_pressure(a, b, dp):
         (b / a) ** (2 * sin_phi / (1 + sin_phi)) - 1)
 
 
-def zero_dilation_pressure(model, criterion, c):
+def zero_dilation_pressure(model, criterion, c, solver="clarabel"):
     """Limit analysis with zero dilation: fixed-point passes of [80]; (p, passes)."""
-    res, changes = zero_dilation(lambda cone: limit_pressure(model, cone)[1], criterion,
+    res, changes = zero_dilation(lambda cone: limit_pressure(model, cone, solver)[1], criterion,
                                  floor=1e-3 * c,
                                  measure=lambda r: bore_pressure(model, r.reactions))
     return bore_pressure(model, res.reactions), len(changes)
@@ -113,26 +113,27 @@ def bore_pressure(model, reactions):
     return np.sum(reactions[..., model["bore"]], axis=-1) / (2 * np.pi * model["a"] * model["h"])
 
 
-def limit_pressure(model, criterion):
+def limit_pressure(model, criterion, solver="clarabel"):
     """Rigid-plastic limit analysis: (3.45) with C = 0 and a unit bore velocity."""
     disc = model["disc"]
     res = static_increment_axisymmetric(
         disc, model["B"], None, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
-        fixed=model["fixed"], prescribed=model["bore"], du_prescribed=np.ones(model["bore"].size))
+        fixed=model["fixed"], prescribed=model["bore"], du_prescribed=np.ones(model["bore"].size),
+        solver=solver)
     return bore_pressure(model, res.reactions), res
 
 
-def pressure_curve(model, elastic, criterion, u_bore, n_increments):
+def pressure_curve(model, elastic, criterion, u_bore, n_increments, solver="clarabel"):
     """Elastoplastic pressure against bore displacement (3.45) under displacement control."""
     C = assemble_C(model["disc"], elastic)
     hist = displacement_control(model["B"], C, criterion, fixed=model["fixed"],
                                 prescribed=model["bore"],
                                 displacement=u_bore * np.ones(model["bore"].size),
-                                n_increments=n_increments)
+                                n_increments=n_increments, solver=solver)
     return hist.factors * u_bore, bore_pressure(model, hist.reactions), hist
 
 
-def elastic_check(model, elastic, criterion, u_bore):
+def elastic_check(model, elastic, criterion, u_bore, solver="clarabel"):
     """One elastic increment (3.45) against Lame: errors of p, u_r (nodes), stresses (points)."""
     disc = model["disc"]
     a, b = model["a"], float(disc.mesh.p[0].max())
@@ -140,7 +141,7 @@ def elastic_check(model, elastic, criterion, u_bore):
     res = static_increment_axisymmetric(
         disc, model["B"], C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
         fixed=model["fixed"], prescribed=model["bore"],
-        du_prescribed=u_bore * np.ones(model["bore"].size))
+        du_prescribed=u_bore * np.ones(model["bore"].size), solver=solver)
     p_ref = u_bore / lame(a, 1.0, a, b, elastic)[0]
     radial = np.concatenate([disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]])
     r_dof = disc.basis_u.doflocs[0, radial]
@@ -224,7 +225,7 @@ def run(args):
     for nr in meshes:
         bar.set_description(f"thick cylinder, limit analyses, {nr} across")
         for key, crit in crits.items():
-            limits[key].append(limit_pressure(models[nr], crit)[0])
+            limits[key].append(limit_pressure(models[nr], crit, args.solver)[0])
             bar.update(1)
         bar.set_postfix_str(", ".join(f"{k} {limits[k][-1] / refs[k] - 1:+.1e}" for k in crits))
     src = {"tresca": "2 c ln(b/a)", "dp_compression_phi0": "(4/sqrt3) c ln(b/a)",
@@ -247,7 +248,8 @@ def run(args):
                                 "error of the next finer mesh / error (< 1: converging)")
             orders[key] = float(-np.polyfit(np.log(meshes), np.log(np.abs(err)), 1)[0])
         bar.set_description(f"thick cylinder, {LABELS[key]} curve, {meshes[-1]} across")
-        s, p, _ = pressure_curve(finest, elastic, crit, args.u_bore, args.increments)
+        s, p, _ = pressure_curve(finest, elastic, crit, args.u_bore, args.increments,
+                                 args.solver)
         curves[key] = (s, p)
         bar.update(1)
         bar.set_postfix_str(f"plateau {p[-1] / ref - 1:+.1e}")
@@ -257,20 +259,20 @@ def run(args):
     bar.close()
     # zero dilation (the scheme of [80]) on the finest mesh
     mc, dp = crits["mohr_coulomb"], drucker_prager_match(args.c, args.phi)
-    p_mc0, passes_mc = zero_dilation_pressure(finest, mc, args.c)
-    p_dp0, passes_dp = zero_dilation_pressure(finest, dp, args.c)
+    p_mc0, passes_mc = zero_dilation_pressure(finest, mc, args.c, args.solver)
+    p_dp0, passes_dp = zero_dilation_pressure(finest, dp, args.c, args.solver)
     report.add("p_limit_mohr_coulomb_psi0", p_mc0, refs["mohr_coulomb"],
                f"{src['mohr_coulomb']} (zero dilation, {passes_mc} passes)", args.tol)
     ref_dp0 = dp_zero_dilation_pressure(args.a, args.b, dp)
     report.add(f"p_limit_dp_7_10_phi{args.phi:g}_psi0", p_dp0, ref_dp0,
                f"(7.10) at phi = {args.phi:g}, zero dilation: Mohr-Coulomb with "
                f"sin(phi') = 3 alpha ({passes_dp} passes)", args.tol)
-    p_dp_assoc = limit_pressure(finest, dp)[0]
+    p_dp_assoc = limit_pressure(finest, dp, args.solver)[0]
 
     el = elastic_check(cylinder_model(args.a, args.b, args.nr_elastic), elastic,
-                       crits["tresca"], 1e-3 * args.u_bore)
+                       crits["tresca"], 1e-3 * args.u_bore, args.solver)
     el_coarse = elastic_check(cylinder_model(args.a, args.b, args.nr_elastic // 2), elastic,
-                              crits["tresca"], 1e-3 * args.u_bore)
+                              crits["tresca"], 1e-3 * args.u_bore, args.solver)
     report.add_interval("elastic_yield_ratio", el["yield_ratio"], 0.0, 1.0,
                         "the elastic check stays inside the yield surface")
     report.add("p_elastic", el["p"], el["p_ref"], "Lame (plane strain) for the bore displacement",

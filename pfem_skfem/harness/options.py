@@ -97,7 +97,7 @@ class ScriptParser(argparse.ArgumentParser):
         return parsed
 
 
-def base_parser(description, quick=None, check=None):
+def base_parser(description, quick=None, check=None, solver=True):
     """An argument parser with the options every verification script shares.
 
     Parameters
@@ -110,6 +110,10 @@ def base_parser(description, quick=None, check=None):
     check : callable, optional
         ``check(args) -> str or None``: a message for options that are
         inconsistent (a usage error), None when they are fine.
+    solver : bool or str
+        Add ``--solver`` (:func:`solver_option`), the conic solver of every problem the
+        script solves; a str is appended to its help. False for a script that solves no
+        conic problem (an option that did nothing would mislead).
 
     Returns
     -------
@@ -128,6 +132,8 @@ def base_parser(description, quick=None, check=None):
                    help="no progress bars on stderr (they are on by default)")
     p.add_argument("--progress", action="store_true",
                    help="progress bars on stderr (the default; kept for older command lines)")
+    if solver:
+        solver_option(p, why=solver if isinstance(solver, str) else "")
     return p
 
 
@@ -136,13 +142,22 @@ def base_parser(description, quick=None, check=None):
 SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
 
 
-def solver_option(parser, default="clarabel"):
+def solver_option(parser, default="clarabel", why=""):
     """``--solver``: the conic solver of every problem the script solves
     (:func:`pfem_skfem.problems.conic.solve`: 'qoco' has no exponential cone, 'mosek'
-    needs a licence; each refused, saying why, before any work)."""
+    needs a licence; each refused, saying why, before any work); ``why`` is appended to
+    the help."""
     parser.add_argument("--solver", choices=SOLVER_NAMES, default=default,
-                        help="the conic solver (clarabel: the library's default)")
+                        help="the conic solver of every problem solved (clarabel: the "
+                             "library's default)" + (f"; {why}" if why else ""))
     return parser
+
+
+def solver_keyword(args):
+    """``--solver`` as a case's keyword: none for clarabel, the default, so that the results
+    kept of earlier runs (``--results-dir``, keyed by the case's keywords) are found."""
+    solver = getattr(args, "solver", "clarabel")
+    return {} if solver == "clarabel" else {"solver": solver}
 
 
 class OptionError(ValueError):

@@ -148,7 +148,7 @@ def _per_bar(name, value, n, allow_none=False):
 
 
 def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_prescribed=(),
-                    f=None, sigma_s=None, **solver_settings):
+                    f=None, sigma_s=None, solver="clarabel", **solver_settings):
     """Solve one increment of the elastoplastic truss problem (B.12).
 
     .. math::
@@ -169,6 +169,7 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
     fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
     f : (n_dof,) external nodal forces at t_{n+1} (default zero).
     sigma_s : yield stress (scalar or per bar), or None for elastic bars.
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
 
     Returns
     -------
@@ -224,7 +225,7 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
         yield_bound = cp.abs(sig) <= sigma_s / s_ref       # F(sigma_e) = |sigma_e| - sigma_s <= 0
         constraints.append(yield_bound)
     problem = cp.Problem(objective, constraints)
-    info = solve(problem, what="truss increment (B.12)", **solver_settings)
+    info = solve(problem, what="truss increment (B.12)", solver=solver, **solver_settings)
 
     sigma = np.asarray(sig.value).ravel() * s_ref
     du = np.zeros(n_dof)
@@ -272,7 +273,8 @@ class TrussHistory:
 def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_increments,
                                displacement=None, path=None, sigma_s=None,
                                incompressible=False, update_geometry=True, f=None,
-                               progress=False, label="", **solver_settings):
+                               progress=False, label="", solver="clarabel",
+                               **solver_settings):
     """Large deformation by a sequence of small-deformation increments (B.12).
 
     Each increment solves :func:`truss_increment` on the current configuration,
@@ -292,6 +294,7 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     sigma_s : yield stress or None (elastic).  incompressible : update A = V / l.
     update_geometry : False keeps the initial configuration (pure small deformation).
     f : constant external nodal forces.  progress : a progress bar (tqdm) on stderr.
+    solver : the conic solver of every increment (:func:`truss_increment`).
 
     Returns
     -------
@@ -323,7 +326,7 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
         target = np.asarray(path(k), dtype=float).ravel()
         res = truss_increment(x, bars, area, E, sigma, fixed=fixed, prescribed=prescribed,
                               du_prescribed=target - previous, f=f, sigma_s=sigma_s,
-                              **solver_settings)
+                              solver=solver, **solver_settings)
         previous, sigma = target, res.sigma
         if update_geometry:
             x = x + res.du.reshape(-1, 2)

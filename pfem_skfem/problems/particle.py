@@ -45,7 +45,8 @@ class ParticleStep:
     info: object
 
 
-def rigid_particle_step(m, v_n, f_ext, dt, theta, gaps, normals, mu, **solver_settings):
+def rigid_particle_step(m, v_n, f_ext, dt, theta, gaps, normals, mu, *, solver="clarabel",
+                        **solver_settings):
     """One step of (5.9) for a rigid particle.
 
     Parameters
@@ -53,6 +54,7 @@ def rigid_particle_step(m, v_n, f_ext, dt, theta, gaps, normals, mu, **solver_se
     m : mass (> 0).  v_n : (2,) velocity at t_n.  f_ext : (2,) external force.
     dt : time step.  theta : theta-method parameter in (0, 1].
     gaps : (nc,) g0_j.  normals : (nc, 2) unit n_j.  mu : (nc,) friction coefficients.
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
     """
     if not np.isfinite(m) or m <= 0:
         raise ValueError(f"m (mass) must be positive, got {m!r}")
@@ -83,7 +85,7 @@ def rigid_particle_step(m, v_n, f_ext, dt, theta, gaps, normals, mu, **solver_se
         p >= 0,
     ]
     info = solve(cp.Problem(objective, constraints), what="rigid particle step (5.9)",
-                 **solver_settings)
+                 solver=solver, **solver_settings)
     du = r.value * f_ref * dt ** 2 / m_bar                    # (5.8)
     v = (du / dt - (1 - theta) * v_n) / theta                 # (5.3)
     return ParticleStep(du, v, p.value * f_ref, q.value * f_ref, info)
