@@ -73,7 +73,7 @@ from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, positive, positive_int,
-                                        sweep_options, positive_angle)
+                                        solver_keyword, sweep_options, positive_angle)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
@@ -152,7 +152,7 @@ def soil(phi, k_min):
 
 def layer_scene(*, h0=0.08, L=1.4, h=0.01, phi=30.0, rho=2.0, g=9.8, mu_wall=None, phi_b=15.0,
                 s=0.16, steps=1000, dt=0.16, alpha=1.4, k_min=0.005, contact="zero-dilation",
-                passes=3, lattice="triangular", theta1=1.0, theta2=1.0):
+                passes=3, lattice="triangular", theta1=1.0, theta2=1.0, solver="clarabel"):
     """The layer of thesis 6.4.2 pushed by its left wall by ``s`` in ``steps`` steps."""
     mu_wall = np.tan(np.radians(phi)) if mu_wall is None else mu_wall
     layer = Region(((0.0, 0.0), (L, 0.0), (L, h0), (0.0, h0)), soil(phi, k_min), rho, h,
@@ -164,14 +164,14 @@ def layer_scene(*, h0=0.08, L=1.4, h=0.01, phi=30.0, rho=2.0, g=9.8, mu_wall=Non
               Body("end", RigidSegment((L, -h), (L, big), 0.0)))     # the far end: smooth
     rule = CONTACTS[contact]()
     numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=rule,
-                          passes=max(passes, rule.passes_needed))
+                          passes=max(passes, rule.passes_needed), solver=solver)
     return Scene(regions=(layer,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=h0,
                  t_end=steps * dt, config=numerics)
 
 
 def taper_scene(*, taper=15.0, H=0.05, layers=8, phi=30.0, phi_b=15.0, rho=2.0, g=9.8,
                 du=1.6e-4, dt=0.16, alpha=1.4, k_min=0.005, contact="zero-dilation", passes=3,
-                lattice="triangular"):
+                lattice="triangular", solver="clarabel"):
     """A pre-built triangular wedge (height H at a smooth wall, surface slope ``taper``) on a
     base of friction tan(phi_b), pushed by the wall by ``du`` a step."""
     length = H / np.tan(np.radians(taper))
@@ -183,7 +183,7 @@ def taper_scene(*, taper=15.0, H=0.05, layers=8, phi=30.0, phi_b=15.0, rho=2.0, 
                    ConstantVelocity((du / dt, 0.0))))
     rule = CONTACTS[contact]()
     numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=rule,
-                          passes=max(passes, rule.passes_needed))
+                          passes=max(passes, rule.passes_needed), solver=solver)
     return Scene(regions=(wedge,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=H,
                  config=numerics)
 
@@ -478,7 +478,7 @@ def run(args):
                         "Dahlen (1984): tan alpha_c = F(psi_0), mu_b = F(psi_b)")
     rows = [stability_test(t, phi_b=args.base_friction, phi=args.phi, steps=args.stability_steps,
                            layers=args.stability_layers, k_min=args.k_min, contact=args.contact,
-                           passes=args.passes, alpha=args.alpha)
+                           passes=args.passes, alpha=args.alpha, solver=args.solver)
             for t in args.taper]
     add_stability(report, args, rows)
     report.extra = {"critical_taper_deg": [low, high],
@@ -490,7 +490,7 @@ def run(args):
     common = dict(h0=args.h0, L=args.L, h=args.h, phi=args.phi, rho=args.rho, g=args.g,
                   mu_wall=args.mu_wall, phi_b=args.base_friction, s=args.s, dt=args.dt,
                   alpha=args.alpha, k_min=args.k_min, contact=args.contact, passes=args.passes,
-                  verbose=args.progress)
+                  verbose=args.progress) | solver_keyword(args)
     cases = [dict(common, steps=args.steps, outdir=Path(args.outdir) / "accretionary_wedge",
                   save_every=args.save_every)]
     cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]

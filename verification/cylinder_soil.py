@@ -77,7 +77,7 @@ from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, positive, positive_float,
-                                        sweep_options, theta_weight)
+                                        solver_keyword, sweep_options, theta_weight)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
@@ -291,7 +291,7 @@ def options_of(args):
     return dict(D=args.D, c=args.c, rho=args.rho, g=args.g, mu=args.mu, uV=args.uV, uH=args.uH,
                 du=args.du, dt=args.dt, W=args.W, H=args.H, h_fine=args.h_fine,
                 h_coarse=args.h_coarse, alpha=args.alpha, contact=args.contact,
-                theta1=args.theta1, theta2=args.theta2)
+                theta1=args.theta1, theta2=args.theta2) | solver_keyword(args)
 
 
 def study_cases(args):

@@ -81,7 +81,7 @@ def layer(h, ny):
 
 
 def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbose=False,
-         backend="clarabel"):
+         backend="clarabel", solver="clarabel"):
     """Run the periodic layer from rest (or from x-velocities ``v0(z)``) for ``steps`` steps.
 
     Returns dict(z, u) of the x-velocity on the end x = 0 (all P2 nodes, sorted by z), the
@@ -121,7 +121,7 @@ def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbo
     for n in bar:
         solved = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
                              scales, passes=passes, stress_scale=stress_scale, fixed=base,
-                             backend=backend)
+                             backend=backend, solver=solver)
         inc = solved.increment
         v, sigma, sigma_m = inc.v, inc.sigma, solved.sigma_m
         # the next step's scales, not below a free-fall step's (as pfem.assemble.step_scales):
@@ -166,11 +166,18 @@ def check(args):
         return "--theta_fast must lie above atan(--mu_2)"
     if not args.rho < args.rho_s:
         return "--rho (bulk density) must be below --rho_s (grain density)"
+    if args.lag == "implicit":                   # exponential cones: qoco refused
+        from pfem_skfem.problems.conic import solver_backend
+        try:
+            solver_backend(args.solver, cones={"exp"})
+        except ValueError as error:
+            return f"--solver {args.solver} with --lag implicit: {error}"
     return None
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+                    solver="qoco has no exponential cone: refused with --lag implicit")
     p.add_argument("--theta", type=slope_angle, default=25.0, help="slope angle [deg]")
     p.add_argument("--theta_2", type=slope_angle, default=28.0,
                    help="second slope angle, for u_surface against theta [deg]")
@@ -215,7 +222,7 @@ def run(args):
     phi = args.rho / args.rho_s
     law = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, d=args.d, phi=phi, g=args.g)
     common = dict(steps=args.steps, phi=phi, g=args.g, passes=args.passes,
-                  verbose=args.progress)
+                  verbose=args.progress, solver=args.solver)
 
     def run_at(theta, h, settle_theta=None, ny=args.ny, **more):
         unit = time_unit(h, settle_theta or theta, args.mu_s, args.mu_2, args.I_0, args.d,

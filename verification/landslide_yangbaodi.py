@@ -87,7 +87,7 @@ from pfem_skfem.harness.options import (base_parser, friction_angle, nonnegative
                                         nonnegative_int, positive_float, positive_int,
                                         theta_weight, volume_correction_option,
                                         alpha_advected_option, checkpoint_options,
-                                        positive_angle)
+                                        positive_angle, solver_keyword)
 from pfem_skfem.harness.progress import progress  # noqa: E402
 from pfem_skfem.harness.report import Report, script_main  # noqa: E402
 from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
@@ -209,7 +209,7 @@ def read_profile(path):
 def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radians(10.0)),
               g=9.8, dt=0.05, theta1=1.0, theta2=1.0, alpha=1.6, adaptive_alpha=True,
               t_hold=10.0, hold="boundary", floor=0.005, passes=2, volume_correction=False,
-              alpha_advected=0.0):
+              alpha_advected=0.0, solver="clarabel"):
     """The slide as a scene, and its initial state.
 
     The mass fills :meth:`Profile.mass_polygon` on a square lattice of spacing ``h``, with
@@ -229,7 +229,7 @@ def landslide(profile, *, h=0.95, rho=1.25, phi=28.0, c=0.0, mu=np.tan(np.radian
                   alpha=alpha, adaptive_alpha=adaptive_alpha, length=profile.thickness,
                   config=PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), passes=passes,
                                     volume_correction=volume_correction,
-                                    alpha_advected=alpha_advected))
+                                    alpha_advected=alpha_advected, solver=solver))
     return scene.initial_state(), scene
 
 
@@ -270,7 +270,7 @@ def energy_ratio(H, L, mu, travel, h):
 def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
              adaptive_alpha, t_hold, hold, floor, passes, t_after, rest, snapshot_every=0.0,
              outdir=None, save_every=0, verbose=False, volume_correction=False,
-             alpha_advected=0.0, checkpoint_dir=None, checkpoint_every=20):
+             alpha_advected=0.0, checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
     """One slide: the held phase, then free motion until the kinetic energy is below
     ``rest`` times its peak (after the peak) or ``t_after`` after release.
 
@@ -286,7 +286,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                              theta1=theta1, theta2=theta2, alpha=alpha,
                              adaptive_alpha=adaptive_alpha, t_hold=t_hold, hold=hold,
                              floor=floor, passes=passes, volume_correction=volume_correction,
-                             alpha_advected=alpha_advected)
+                             alpha_advected=alpha_advected, solver=solver)
     x0, n0 = state.x.copy(), state.n
     points = material_points(state, profile)
     n_hold = int(round(t_hold / dt))
@@ -487,7 +487,8 @@ def _cases(args):
                   alpha_advected=args.alpha_advected, verbose=args.progress,
                   checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every,
                   save_every=args.save_every,
-                  outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
+                  outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None,
+                  **solver_keyword(args))
     main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",
                 snapshot_every=args.snapshot_every)
     sweep = [dict(common, mu_deg=m, label=f"mu{m:g}") for m in args.mu_study

@@ -76,8 +76,8 @@ from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, fraction, friction_angle,
                                         nonnegative_float, nonnegative_int, positive,
-                                        positive_float, positive_int, sweep_options,
-                                        checkpoint_options, in_range)
+                                        positive_float, positive_int, solver_keyword,
+                                        sweep_options, checkpoint_options, in_range)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -111,7 +111,7 @@ def silo_outline(W, H, Hh, B):
 
 
 def silo(*, W=0.5, H=1.0, Hh=0.35, B=0.08, h=0.01, rho=1.5, c=0.0, phi=31.0, mu=0.0, g=9.8,
-         dt=0.01, alpha=1.6, floor=0.005, passes=2, outlet_depth=0.0):
+         dt=0.01, alpha=1.6, floor=0.005, passes=2, outlet_depth=0.0, solver="clarabel"):
     """The silo of thesis Fig 6.16 as a scene, and its initial state.
 
     The material fills the polygon :func:`silo_outline` on a square lattice of spacing
@@ -131,7 +131,8 @@ def silo(*, W=0.5, H=1.0, Hh=0.35, B=0.08, h=0.01, rho=1.5, c=0.0, phi=31.0, mu=
               Body("gate", RigidSegment((-B, 0.0), (B, 0.0), mu), removed_at=0.0))
     orifice = Outlet("orifice", HalfPlane((0.0, -outlet_depth), (0.0, -1.0)))
     scene = Scene(regions=(fill,), bodies=bodies, outlets=(orifice,), gravity=(0.0, -g),
-                  alpha=alpha, config=PFEMConfig(theta=ThetaMethod(dt), passes=passes))
+                  alpha=alpha, config=PFEMConfig(theta=ThetaMethod(dt), passes=passes,
+                                                  solver=solver))
     return scene.initial_state(), scene
 
 
@@ -167,7 +168,7 @@ def beverloo_exponent(B, Q):
 
 def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, floor, passes,
              outlet_depth, t_max, empty, snapshot_times=(), outdir=None, save_every=0,
-             verbose=False, checkpoint_dir=None, checkpoint_every=20):
+             verbose=False, checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
     """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
 
     With ``checkpoint_dir`` the state and the snapshots taken so far are saved there
@@ -179,7 +180,7 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     were kept) is taken too: the snapshots of its earlier steps are then missing."""
     scene_keys = dict(W=W, H=H, Hh=Hh, B=B, h=h, rho=rho, c=c, phi=phi, mu=mu, g=g, dt=dt,
                       alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
-    state, scene = silo(**scene_keys)
+    state, scene = silo(**scene_keys, solver=solver)
     x0, n0, m0 = state.x.copy(), state.n, state.total_mass
     first = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
@@ -327,7 +328,8 @@ def _cases(args):
                   passes=args.passes, outlet_depth=args.outlet_depth, t_max=args.t_max,
                   empty=args.empty, verbose=args.progress, save_every=args.save_every,
                   checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every,
-                  outdir=(Path(args.outdir) / "silo_discharge") if args.save_every else None)
+                  outdir=(Path(args.outdir) / "silo_discharge") if args.save_every else None,
+                  **solver_keyword(args))
     main = [dict(common, walls=w, mu=0.0 if w == "smooth" else tan_phi, label=f"{w}_dt{args.dt:g}",
                  snapshot_times=getattr(args, f"snapshots_{w}")) for w in args.walls]
     smooth = dict(common, walls="smooth", mu=0.0, snapshot_times=())
