@@ -45,7 +45,11 @@ def json_name(case, quick):
     return f"{case}.quick.json" if quick else f"{case}.json"
 
 
-def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False):
+# the scripts that solve no conic problem and so take no --solver
+NO_SOLVER = frozenset({"alpha_shape"})
+
+
+def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False, solver=None):
     """Run one verification script; return (case, exit code, seconds, json path, log).
 
     With ``live`` the script's stderr (its progress bars) goes to the terminal;
@@ -57,6 +61,7 @@ def run_case(case, *, quick, json_dir, outdir, figures, extra, live=False):
     cmd += ["--quick"] if quick else []
     cmd += [] if figures else ["--no-figures"]
     cmd += [] if live else ["--quiet"]
+    cmd += ["--solver", solver] if solver and case not in NO_SOLVER else []
     cmd += list(extra)
     t0 = time.perf_counter()
     env = {**os.environ, "MPLBACKEND": "Agg"}
@@ -116,7 +121,8 @@ def cmd_verify(args):
             print(f"[{i}/{len(cases)}] {case} ...", flush=True)
             _, code, secs, _, log = run_case(case, quick=args.quick, json_dir=args.json_dir,
                                              outdir=args.outdir, figures=not args.no_figures,
-                                             extra=args.extra or [], live=not args.quiet)
+                                             extra=args.extra or [], live=not args.quiet,
+                                             solver=args.solver)
             report(i, case, code, secs, log)
     else:                                    # several at once: one bar over the cases
         running = set()
@@ -127,7 +133,7 @@ def cmd_verify(args):
             try:
                 return run_case(case, quick=args.quick, json_dir=args.json_dir,
                                 outdir=args.outdir, figures=not args.no_figures,
-                                extra=args.extra or [])
+                                extra=args.extra or [], solver=args.solver)
             finally:
                 running.discard(case)
 
@@ -336,6 +342,9 @@ def main(argv=None):
     v.add_argument("--quiet", action="store_true",
                    help="no progress (the cases' own bars with --jobs 1; one bar otherwise)")
     v.add_argument("--verbose", action="store_true", help="show each script's output")
+    v.add_argument("--solver", choices=SOLVER_NAMES, help="the conic solver of every case "
+                   "that solves one (all but " + ", ".join(sorted(NO_SOLVER)) + "; default: "
+                   "each script's, clarabel)")
     v.add_argument("--extra", nargs=argparse.REMAINDER,
                    help="further options passed to every script")
     v.set_defaults(func=cmd_verify)
