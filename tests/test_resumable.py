@@ -146,6 +146,22 @@ def test_one_writer_per_checkpoint(tmp_path):
     again.advance(lambda run: True)
 
 
+def test_another_solver_s_run_has_its_own_checkpoint(tmp_path):
+    # a run with QOCO must not go on from Clarabel's checkpoint (nor the reverse): the
+    # solver joins the name, and Clarabel's names stay those of the runs kept in runs/
+    from dataclasses import replace
+    state, scene = granular_column(KEYS["a"], KEYS["nx"])
+    clarabel = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column",
+                                 keys=KEYS)
+    qoco = replace(scene, config=replace(scene.config, solver="qoco"))
+    other = ResumableRun.open(qoco, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    assert clarabel.checkpoint == checkpoint_path(tmp_path, "column", KEYS)
+    assert other.checkpoint == checkpoint_path(tmp_path, "column", {**KEYS, "solver": "qoco"})
+    assert other.checkpoint != clarabel.checkpoint
+    for run in (clarabel, other):
+        run._lock.release()
+
+
 def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch):
     """granular_column_axisymmetric.run_case on its ResumableRun: Ctrl-C in step 8 keeps
     step 7 (with the deposit history measured so far), and the run started again from it

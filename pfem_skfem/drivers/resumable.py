@@ -185,7 +185,8 @@ class ResumableRun:
         ----------
         directory : path, optional
             Where the checkpoint is kept (``--checkpoint-dir``; None: not kept).
-        label, keys : the checkpoint's name: ``label`` and a digest of ``keys``, the
+        label, keys : the checkpoint's name: ``label`` and a digest of ``keys`` (and of the
+            scene's solver when it is not Clarabel, so no run resumes another solver's), the
             parameters that define the run (a dict of JSON values;
             :func:`~pfem_skfem.harness.store.checkpoint_path`). A checkpoint of another
             scene has another name, so a run never goes on from another run's state.
@@ -198,6 +199,9 @@ class ResumableRun:
             before the measurements were kept, or by a stop between the two files);
             ``kept`` is then the one given.
         """
+        solver = getattr(getattr(scene, "config", None), "solver", "clarabel")
+        if keys is not None and solver != "clarabel":
+            keys = {**keys, "solver": solver}   # another solver's run is another run
         checkpoint = None if directory is None else checkpoint_path(directory, label, keys)
         resumed, lock = False, None
         if checkpoint is not None:
