@@ -32,8 +32,8 @@ quantity is its largest relative change from the rho run, per setting.
 
 Run: python benchmarks/equilibration.py [--cases strip_footing cantilever ...]
      [--repeats 1] [--density granular_column_plane] [--detail]
-(the default cases take about 5 minutes on 2 loaded cores; the density study of the
-column about as long again)
+(the default cases take about 3 minutes on 2 loaded cores; the density study of the
+column, 8 runs, about 3.5 minutes more)
 """
 import argparse
 from contextlib import contextmanager, redirect_stdout
