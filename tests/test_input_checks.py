@@ -100,6 +100,17 @@ def test_scene_digest_is_the_scene_s_identity():
                                                                   "\nt_end = 1.0")))
 
 
+def test_a_field_added_later_leaves_the_digests_of_earlier_runs_unchanged():
+    # a run checkpointed before PFEMConfig had ``solver`` stored the digest below (the
+    # example column's, computed by the code of that time, commit b8a8191): the same
+    # scene must still be recognised, and another solver must make it another scene
+    from dataclasses import replace
+    a = scene_from_toml(example_text("column"))
+    assert scene_digest(a) == "3c3d50396cae7bfc90ac127af3403507c4ccd307708c87cf984fb74dd6a83301"
+    qoco = replace(a, config=replace(a.config, solver="qoco"))
+    assert scene_digest(qoco) != scene_digest(a)
+
+
 # -- materials and geometry ----------------------------------------------------------------
 @pytest.mark.parametrize("material", [ZeroDilationMohrCoulomb(0.0, 31.0),
                                       CohesiveTresca(1.0), MuIRheology()])

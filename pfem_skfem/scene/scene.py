@@ -392,15 +392,23 @@ class Scene:
 
 # -- identity ------------------------------------------------------------------------------
 _NOT_IDENTITY = ("t_end", "output", "max_particles")
+_UNSET = object()
+
+
+#: fields added after digests were first stored, left out at their default value so that
+#: a run checkpointed before a field existed is still known as the same scene
+_LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel"}
 
 
 def _identity(value):
     """Plain JSON values of a scene's parts: dataclasses by type and fields, functions by
     qualified name (a repr would hold a memory address), floats exactly (repr)."""
     if is_dataclass(value) and not isinstance(value, type):
-        return {"type": type(value).__name__,
+        kind = type(value).__name__
+        return {"type": kind,
                 **{f.name: _identity(getattr(value, f.name)) for f in fields(value)
-                   if f.compare}}
+                   if f.compare and _LATER_FIELDS.get((kind, f.name), _UNSET)
+                   != getattr(value, f.name)}}
     if isinstance(value, (list, tuple, np.ndarray)):
         return [_identity(v) for v in value]
     if isinstance(value, np.generic):
