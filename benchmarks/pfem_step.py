@@ -16,9 +16,10 @@ steps; and for each backend, solver and tolerance the growth exponent b of the s
 time (and of the conic solve) with the element count n, t ~ n^b, a least-squares fit
 over the sizes run. 'conic' is the time the solver reports for its solve: QOCO's
 setup (its KKT matrix and ordering) is outside it, in 'other' with the rest of the solve
-stage (so compare solvers by the step, its CPU time and the solve share). Stage times are wall-clock seconds ('cpu': the CPU seconds of the
-whole step, all its threads) of a machine whose load average is printed: other work on
-its cores inflates the wall-clock times (the shares and the CPU times less).
+stage (so compare solvers by the step, its CPU time and the solve share). Stage times
+are wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) of a
+machine whose load average is printed: other work on its cores inflates the wall-clock
+times (the shares and the CPU times less).
 
 ``--solvers clarabel qoco`` runs the same steps with each conic solver
 (``PFEMConfig.solver``, :data:`pfem_skfem.problems.conic.SOLVERS`). Clarabel runs on
