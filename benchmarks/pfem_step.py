@@ -6,29 +6,46 @@ first (which has no old mesh to map from), the mean seconds of each stage of
 :func:`pfem_skfem.drivers.pfem_loop.pfem_step` (detect, remesh, map, assemble, solve,
 move). Within 'solve', 'compile' is building the conic problem (cvxpy's
 canonicalisation, or the direct assembly of pfem_skfem.problems.clarabel_direct) and
-'conic' is Clarabel itself; 'other' is what no stage timer covers (the rest of the
-solve stage and the step record). Each step solves one problem per fixed-point pass on
-the lagged mean stress (``--passes`` at most; with a pass tolerance,
+'conic' is the conic solver itself; 'other' is what no stage timer covers (the rest of
+the solve stage and the step record). Each step solves one problem per fixed-point pass
+on the lagged mean stress (``--passes`` at most; with a pass tolerance,
 ``PFEMConfig.pass_tolerance``, fewer where a pass changed the mean stress by less than
-it): passes and interior-point iterations per step are given, and for each backend and
-tolerance the growth exponent b of the step time (and of the conic solve) with the
-element count n, t ~ n^b, a least-squares fit over the sizes run. Stage times are
-wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) of a
+it): passes and interior-point iterations per step are given, with the passes that
+ended 'inaccurate' (accepted, counted in the step record) and the statuses of the
+steps; and for each backend, solver and tolerance the growth exponent b of the step
+time (and of the conic solve) with the element count n, t ~ n^b, a least-squares fit
+over the sizes run. 'conic' is the time the solver reports for its solve: QOCO's
+setup (its KKT matrix and ordering) is outside it, in 'other' with the rest of the solve
+stage (so compare solvers by the step, its CPU time and the solve share). Stage times
+are wall-clock seconds ('cpu': the CPU seconds of the whole step, all its threads) of a
 machine whose load average is printed: other work on its cores inflates the wall-clock
 times (the shares and the CPU times less).
 
-``--solver before after`` runs the direct backend with the solver configuration of
+``--solvers clarabel qoco`` runs the same steps with each conic solver
+(``PFEMConfig.solver``, :data:`pfem_skfem.problems.conic.SOLVERS`). Clarabel runs on
+each of ``--backends`` (the direct assembly 'clarabel', the cvxpy statement 'cvxpy');
+another solver always solves the cvxpy statement (the direct assembly is Clarabel's),
+so it runs once, as backend 'cvxpy', and is compared with Clarabel on the same
+statement (and with the direct backend): the ratios other / Clarabel of the step's CPU
+time, its wall time, the conic solve and the iterations are printed at each size.
+
+``--settings before after`` runs the direct backend with the Clarabel configuration of
 before issue 19's iteration study (qdldl, Clarabel's other defaults, the data as
-assembled) and with today's (``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``), in
-the same process, alternating ``--repeat`` times (least times kept), and prints the
-ratio after / before of the step's CPU time and of the conic solve; ``--solver after
-dual`` compares today's primal form with the dual form (``clarabel_direct.FORM``).
+assembled) and with today's (``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``), and
+prints the ratio after / before of the step's CPU time and of the conic solve;
+``--settings after dual`` compares today's primal form with the dual form
+(``clarabel_direct.FORM``). Only the direct backend with Clarabel has these variants
+(the others run with 'after', today's).
+
+All the configurations of one size run in the same process, alternating ``--repeat``
+times (least times kept), so that a change of load hits them all.
 
 Run: python benchmarks/pfem_step.py [--steps 6] [--nx 17 33 65] [--passes 2]
-     [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--solver before after]
-     [--repeat 1] [--json PATH]
+     [--pass-tolerances 0 0.05] [--backends clarabel cvxpy] [--solvers clarabel qoco]
+     [--settings before after] [--repeat 1] [--json PATH]
 """
 import argparse
+from collections import Counter
 import json
 import os
 from pathlib import Path
@@ -41,14 +58,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verific
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
 from pfem_skfem.problems import clarabel_direct                     # noqa: E402
+from pfem_skfem.problems.conic import SOLVERS as CONIC_SOLVERS      # noqa: E402
 
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
 
-def time_steps(nx, steps, passes, pass_tolerance, backend):
+def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel"):
     """Mean seconds per stage, the step, passes and iterations over steps 2..steps+1."""
     state, scene = granular_column(1.0, nx, passes=passes, backend=backend,
-                                   pass_tolerance=pass_tolerance,
+                                   pass_tolerance=pass_tolerance, solver=solver,
                                    dt=0.02 * np.sqrt(1.0 / 9.8))
     state, _ = run(state, scene, 1)
     cpu = []
@@ -57,33 +75,51 @@ def time_steps(nx, steps, passes, pass_tolerance, backend):
         state, _ = run(state, scene, 1)
         cpu.append(time.process_time() - t0)
     h = {k: np.asarray(v[1:], dtype=float) for k, v in state.history.items()
-         if k.startswith("t_") or k in ("seconds", "iterations", "elements", "passes")}
+         if k.startswith("t_") or k in ("seconds", "iterations", "elements", "passes",
+                                        "inaccurate")}
     t = {s: float(h[f"t_{s}"].mean()) for s in STAGES[:-1]}
     total = float(h["seconds"].mean())
     t["other"] = total - sum(t.values())     # compile and conic are parts of the solve
-    return dict(nx=nx, backend=backend, pass_tolerance=pass_tolerance,
+    return dict(nx=nx, backend=backend, solver=solver, pass_tolerance=pass_tolerance,
                 elements=int(np.median(h["elements"])), seconds=total,
                 cpu=float(np.mean(cpu)), stages=t,
-                conic_share=t["conic"] / total,
+                solve=float(h["t_solve"].mean()), conic_share=t["conic"] / total,
                 solve_share=float(h["t_solve"].mean()) / total,
-                passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()))
+                passes=float(h["passes"].mean()), iterations=float(h["iterations"].mean()),
+                inaccurate=int(h["inaccurate"].sum()),
+                total_passes=int(h["passes"].sum()),
+                statuses=dict(Counter(str(s) for s in state.history["status"][1:])))
 
 
-# the direct backend's solver configuration: (Clarabel settings, clean the data, form)
-SOLVERS = {"before": (dict(direct_solve_method="qdldl"), False, "primal"),
-           "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "primal"),
-           "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual")}
+# the direct backend's Clarabel configuration: (Clarabel settings, clean the data, form)
+SETTINGS = {"before": (dict(direct_solve_method="qdldl"), False, "primal"),
+            "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "primal"),
+            "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual")}
 
 
-def with_solver(name, *args):
-    """time_steps(*args) with the direct backend configured as SOLVERS[name]."""
+def with_settings(name, *args):
+    """time_steps(*args) with the direct backend configured as SETTINGS[name]."""
     saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM
     (clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA,
-     clarabel_direct.FORM) = SOLVERS[name]
+     clarabel_direct.FORM) = SETTINGS[name]
     try:
-        return dict(time_steps(*args), solver=name)
+        return dict(time_steps(*args), settings=name)
     finally:
         clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM = saved
+
+
+def configurations(backends, solvers, settings):
+    """The (backend, solver, settings) runs of one size and tolerance: Clarabel on each
+    backend (the settings variants on the direct one), another solver once, on cvxpy."""
+    runs = []
+    for solver in solvers:
+        if solver == "clarabel":
+            for backend in backends:
+                for name in (settings if backend == "clarabel" else settings[:1]):
+                    runs.append((backend, solver, name))
+        elif ("cvxpy", solver, settings[0]) not in runs:
+            runs.append(("cvxpy", solver, settings[0]))
+    return runs
 
 
 def least(runs):
@@ -91,6 +127,7 @@ def least(runs):
     best = dict(min(runs, key=lambda r: r["cpu"]))
     best["stages"] = {s: min(r["stages"][s] for r in runs) for s in STAGES}
     best["seconds"] = min(r["seconds"] for r in runs)
+    best["solve"] = min(r["solve"] for r in runs)
     return best
 
 
@@ -103,6 +140,20 @@ def growth(rows, key):
     return float(np.polyfit(np.log(n), np.log(y), 1)[0])
 
 
+def ratio_line(a, b):
+    """a / b of the step CPU, the step wall time, the solve stage, the conic solve and
+    the iterations."""
+    return (f"{label(a)} / {label(b)}: step CPU {a['cpu'] / b['cpu']:.2f}, step wall "
+            f"{a['seconds'] / b['seconds']:.2f}, solve {a['solve'] / b['solve']:.2f}, conic "
+            f"{a['stages']['conic'] / b['stages']['conic']:.2f}, iterations "
+            f"{a['iterations'] / b['iterations']:.2f}")
+
+
+def label(r):
+    return f"{r['solver']}-{r['backend']}" + ("" if r["settings"] == "after"
+                                              else f"-{r['settings']}")
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--steps", type=int, default=6)
@@ -113,9 +164,14 @@ def main(argv=None):
     p.add_argument("--pass-tolerances", type=float, nargs="+", default=[0.0],
                    help="PFEMConfig.pass_tolerance of the runs (0: every pass, today's)")
     p.add_argument("--backends", nargs="+", choices=("cvxpy", "clarabel"),
-                   default=["clarabel"])
-    p.add_argument("--solver", nargs="+", choices=tuple(SOLVERS), default=["after"],
-                   help="the direct backend's solver configuration (before / after the "
+                   default=["clarabel"],
+                   help="Clarabel's backends (another solver always runs on cvxpy)")
+    p.add_argument("--solvers", nargs="+", choices=tuple(CONIC_SOLVERS),
+                   default=["clarabel"],
+                   help="the conic solvers (PFEMConfig.solver); several: alternated in "
+                        "this process, the ratios to Clarabel printed")
+    p.add_argument("--settings", nargs="+", choices=tuple(SETTINGS), default=["after"],
+                   help="the direct backend's Clarabel configuration (before / after the "
                         "iteration study; dual: after, in the dual form); several: "
                         "alternated in this process")
     p.add_argument("--repeat", type=int, default=1,
@@ -126,53 +182,59 @@ def main(argv=None):
         p.error("--steps and --passes must be >= 1 and --nx >= 2")
     if any(not t >= 0 for t in args.pass_tolerances):
         p.error(f"--pass-tolerances must be >= 0, got {args.pass_tolerances}")
+    if "clarabel" not in args.backends and args.settings != ["after"]:
+        p.error("--settings before / dual need the direct backend (--backends clarabel)")
     load = os.getloadavg()
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           f"cores; mean seconds per step over steps 2-{args.steps + 1}, at most "
           f"{args.passes} passes")
-    head = (f"{'backend':>8s} {'solver':>6s} {'tol':>6s} {'elements':>8s} {'s/step':>7s} "
-            f"{'cpu':>7s} "
+    head = (f"{'solver':>8s} {'backend':>8s} {'set':>6s} {'tol':>6s} {'elements':>8s} "
+            f"{'s/step':>7s} {'cpu':>7s} "
             + " ".join(f"{s:>8s}" for s in STAGES)
-            + f" {'solve %':>8s} {'conic %':>8s} {'passes':>6s} {'iters':>6s}")
+            + f" {'solve %':>8s} {'conic %':>8s} {'passes':>6s} {'iters':>6s} "
+              f"{'inacc':>7s}  statuses")
     print(head)
+    configs = configurations(args.backends, args.solvers, args.settings)
     rows = []
     for nx in args.nx:
-        for backend in args.backends:
-            for tol in args.pass_tolerances:
-                solvers = args.solver if backend == "clarabel" else args.solver[:1]
-                runs = {name: [] for name in solvers}
-                for _ in range(args.repeat):            # alternated: a load change hits all
-                    for name in solvers:
-                        runs[name].append(with_solver(name, nx, args.steps, args.passes,
-                                                      tol, backend))
-                for name in solvers:
-                    r = least(runs[name])
-                    rows.append(r)
-                    print(f"{backend:>8s} {name:>6s} {tol:6g} {r['elements']:8d} "
-                          f"{r['seconds']:7.3f} {r['cpu']:7.3f} "
-                          + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
-                          + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
-                          f" {r['passes']:6.2f} {r['iterations']:6.1f}", flush=True)
-                if len(solvers) > 1:
-                    a, b = least(runs[solvers[-1]]), least(runs[solvers[0]])
-                    print(f"{'':8s} {solvers[-1]} / {solvers[0]}: step CPU "
-                          f"{a['cpu'] / b['cpu']:.2f}, step wall "
-                          f"{a['seconds'] / b['seconds']:.2f}, conic "
-                          f"{a['stages']['conic'] / b['stages']['conic']:.2f}, "
-                          f"iterations {a['iterations'] / b['iterations']:.2f}", flush=True)
-                if args.json is not None:
-                    args.json.write_text(json.dumps(rows, indent=1))
+        for tol in args.pass_tolerances:
+            runs = {c: [] for c in configs}
+            for _ in range(args.repeat):                # alternated: a load change hits all
+                for c in configs:
+                    backend, solver, name = c
+                    runs[c].append(with_settings(name, nx, args.steps, args.passes, tol,
+                                                 backend, solver))
+            best = {}
+            for c in configs:
+                r = best[c] = least(runs[c])
+                rows.append(r)
+                print(f"{r['solver']:>8s} {r['backend']:>8s} {r['settings']:>6s} {tol:6g} "
+                      f"{r['elements']:8d} {r['seconds']:7.3f} {r['cpu']:7.3f} "
+                      + " ".join(f"{r['stages'][s]:8.3f}" for s in STAGES)
+                      + f" {r['solve_share']:8.1%} {r['conic_share']:8.1%}"
+                      f" {r['passes']:6.2f} {r['iterations']:6.1f} "
+                      f"{r['inaccurate']:3d}/{r['total_passes']:<3d}  "
+                      + ", ".join(f"{k} {v}" for k, v in r["statuses"].items()),
+                      flush=True)
+            # the settings variants against the first; another solver against Clarabel
+            direct = [c for c in configs if c[:2] == ("clarabel", "clarabel")]
+            for c in direct[1:]:
+                print(f"{'':8s} {ratio_line(best[c], best[direct[0]])}", flush=True)
+            bases = [c for c in configs if c[1] == "clarabel" and c[2] == args.settings[0]]
+            for c in configs:
+                if c[1] != "clarabel":
+                    for base in sorted(bases, key=lambda b: b[0] != "cvxpy"):
+                        print(f"{'':8s} {ratio_line(best[c], best[base])}", flush=True)
+            if args.json is not None:
+                args.json.write_text(json.dumps(rows, indent=1))
     print("\ngrowth with the element count n, t ~ n^b:")
-    for backend in args.backends:
-        for tol, name in ((t, n) for t in args.pass_tolerances for n in args.solver):
-            mine = [r for r in rows if r["backend"] == backend and r["pass_tolerance"] == tol
-                    and r["solver"] == name]
-            if not mine:
-                continue
-            print(f"  {backend}, {name}, tol {tol:g}: step b = {growth(mine, 'seconds'):.2f} "
-                  f"(CPU "
-                  f"{growth(mine, 'cpu'):.2f}), conic b = {growth(mine, 'stage:conic'):.2f}, "
-                  "iterations "
+    for tol in args.pass_tolerances:
+        for backend, solver, name in configs:
+            mine = [r for r in rows if r["backend"] == backend and r["solver"] == solver
+                    and r["pass_tolerance"] == tol and r["settings"] == name]
+            print(f"  {solver}, {backend}, {name}, tol {tol:g}: step b = "
+                  f"{growth(mine, 'seconds'):.2f} (CPU {growth(mine, 'cpu'):.2f}), conic b = "
+                  f"{growth(mine, 'stage:conic'):.2f}, iterations "
                   + " / ".join(f"{r['iterations']:.1f}" for r in mine))
 
 

@@ -1,0 +1,49 @@
+"""benchmarks/pfem_step.py: its options (--solvers, --settings) and one tiny run."""
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "pfem_step.py"
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("pfem_step_bench", PATH)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_configurations(bench):
+    # Clarabel on each backend, its settings variants on the direct one only; another
+    # solver once, on the cvxpy statement
+    assert bench.configurations(["clarabel", "cvxpy"], ["clarabel", "qoco"], ["after"]) == [
+        ("clarabel", "clarabel", "after"), ("cvxpy", "clarabel", "after"),
+        ("cvxpy", "qoco", "after")]
+    assert bench.configurations(["clarabel"], ["clarabel"], ["before", "after"]) == [
+        ("clarabel", "clarabel", "before"), ("clarabel", "clarabel", "after")]
+    assert bench.configurations(["clarabel"], ["qoco"], ["after"]) == [("cvxpy", "qoco", "after")]
+
+
+def test_options_refused(bench):
+    with pytest.raises(SystemExit):
+        bench.main(["--solver", "before"])                  # renamed --settings
+    with pytest.raises(SystemExit):
+        bench.main(["--backends", "cvxpy", "--settings", "dual"])
+
+
+def test_tiny_run_by_solver(bench, tmp_path, capsys):
+    pytest.importorskip("qoco")
+    out = tmp_path / "rows.json"
+    bench.main(["--nx", "5", "--steps", "1", "--solvers", "clarabel", "qoco", "--json",
+                str(out)])
+    text = capsys.readouterr().out
+    assert "qoco-cvxpy / clarabel-clarabel: step CPU" in text
+    import json
+    rows = json.loads(out.read_text())
+    assert [(r["solver"], r["backend"]) for r in rows] == [("clarabel", "clarabel"),
+                                                           ("qoco", "cvxpy")]
+    for r in rows:
+        assert r["iterations"] > 0 and r["total_passes"] >= 1
+        assert sum(r["statuses"].values()) == 1 and 0 <= r["inaccurate"] <= r["total_passes"]
