@@ -171,7 +171,14 @@ def write_pvd(path, entries, note=None):
                       file=Path(rel).as_posix())
     ET.indent(root)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+    # written whole: a temporary file renamed over the old one, so a stop while writing
+    # (a SIGTERM between two steps' frames, measured in CI) leaves the previous collection
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
     return path
 
 

@@ -1,5 +1,6 @@
 """VTU/PVD output and figures: round trips, node order, off-screen rendering."""
 import ctypes.util
+from pathlib import Path
 import sys
 import xml.etree.ElementTree as ET
 
@@ -109,6 +110,23 @@ def test_pvd_stores_paths_relative_to_itself(tmp_path):
     (d,) = ET.parse(path).getroot().iter("DataSet")
     assert d.get("file") == "../steps/a.vtu"
     assert float(d.get("timestep")) == 1.5
+
+
+def test_a_stop_while_the_pvd_is_written_leaves_the_previous_collection(tmp_path,
+                                                                      monkeypatch):
+    # the PVD is rewritten after every frame; a SIGTERM inside that write (met in CI)
+    # left an empty file that no run could resume from
+    path = write_pvd(tmp_path / "c.pvd", [(0.0, tmp_path / "a.vtu")])
+    before = path.read_bytes()
+
+    def cut(self, file, *args, **kwargs):
+        Path(file).write_text("<?xml")                 # half a file, then the stop
+        raise KeyboardInterrupt
+    monkeypatch.setattr(ET.ElementTree, "write", cut)
+    with pytest.raises(KeyboardInterrupt):
+        write_pvd(path, [(0.0, tmp_path / "a.vtu"), (0.1, tmp_path / "b.vtu")])
+    assert path.read_bytes() == before
+    assert [f.name for f in tmp_path.iterdir()] == ["c.pvd"]          # no temporary left
 
 
 @pytest.mark.parametrize("kwargs, word", [
