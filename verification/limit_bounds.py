@@ -45,6 +45,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from pfem_skfem.discretisation.bounds import element_gradients
 from pfem_skfem.discretisation.meshes import (graded_rectangle_with_elements,
                                               triangulate_polygon)
 from pfem_skfem.drivers.bounds import adapt, bracket_safety, factor_of_safety, reduced
@@ -405,9 +406,7 @@ def _pair(plt, axes, problem, lower, upper, what):
     from matplotlib.colors import LogNorm
     mesh = problem.mesh
     x, y = mesh.p
-    p = mesh.p[:, mesh.t]
-    area = 0.5 * np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
-                        - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
+    area = element_gradients(mesh)[1]
     density = np.maximum(upper.dissipation / area, 1e-300)
     top = density.max()
     ratio = problem.criterion.yield_ratio(lower.sigma).reshape(-1, 3).max(axis=1)

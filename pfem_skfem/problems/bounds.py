@@ -49,7 +49,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import MeshTri
 
-from ..discretisation.bounds import LowerBoundOperators, vertex_discretise
+from ..discretisation.bounds import LowerBoundOperators, element_gradients, vertex_discretise
 from ..discretisation.static import (assemble_B, body_force_vector, boundary_facets,
                                      check_mesh, discretise, traction_vector)
 from ..materials.criteria import YieldCriterion
@@ -227,10 +227,8 @@ def cone_matrices(criterion):
 
 
 def _length_scale(mesh):
-    p = mesh.p[:, mesh.t]
-    twice = np.abs((p[0, 1] - p[0, 0]) * (p[1, 2] - p[1, 0])
-                   - (p[0, 2] - p[0, 0]) * (p[1, 1] - p[1, 0]))
-    return float(np.sqrt(np.median(twice) / 2))
+    """The square root of the median element area."""
+    return float(np.sqrt(np.median(element_gradients(mesh)[1])))
 
 
 def lower_bound(problem, solver="clarabel", **solver_settings):
