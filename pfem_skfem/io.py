@@ -9,6 +9,7 @@ order of scikit-fem's P2 dofs, so a P2 displacement vector ``u`` reshaped to
 """
 from pathlib import Path
 import os
+import secrets
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -171,15 +172,25 @@ def write_pvd(path, entries, note=None):
                       file=Path(rel).as_posix())
     ET.indent(root)
     path.parent.mkdir(parents=True, exist_ok=True)
-    # written whole: a temporary file renamed over the old one, so a stop while writing
-    # (a SIGTERM between two steps' frames, measured in CI) leaves the previous collection
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    # written whole: a stop while writing (a SIGTERM between two steps' frames, met in
+    # CI) leaves the previous collection
+    write_text_atomic(path, ET.tostring(root, encoding="unicode", xml_declaration=True))
+    return path
+
+
+def write_text_atomic(path, text):
+    """Write ``text`` to ``path`` whole: a temporary file unique to this writer, synced,
+    then renamed over ``path`` (a stop while writing leaves the old file)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
-        ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
+        with open(tmp, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
-    return path
 
 
 class TimeSeries:

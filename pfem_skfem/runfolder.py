@@ -17,7 +17,6 @@ from dataclasses import replace
 import json
 import os
 from pathlib import Path
-import secrets
 import socket
 import sys
 import threading
@@ -155,21 +154,6 @@ class RunLock:
 
     def __exit__(self, *exc):
         self.release()
-
-
-def write_text_atomic(path, text):
-    """Write ``text`` to ``path`` whole: a temporary file unique to this writer, synced,
-    then renamed over ``path`` (a stop while writing leaves the old file)."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def history_columns(records):
@@ -310,7 +294,7 @@ def _resume_state(scene, out, digest):
 def _run_locked(scene, out, last, resume, progress, overwrite):
     from .drivers.resumable import ResumableRun
     from .discretisation.geometry import as_geometry
-    from .io import STEP_UNITS, TimeSeries, initial_fields
+    from .io import STEP_UNITS, TimeSeries, initial_fields, write_text_atomic
     from .pfem.state import save_checkpoint
     from .problems.conic import SolverError
     from .scene import scene_digest
@@ -318,7 +302,7 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
 
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     digest = scene_digest(scene)
-    for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".history.json.*.tmp")):
+    for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".*.tmp")):
         tmp.unlink(missing_ok=True)                  # left by a killed writer; we hold the lock
     held = run_files(out)
     if held and not resume:

@@ -1,5 +1,6 @@
 """VTU/PVD output and figures: round trips, node order, off-screen rendering."""
 import ctypes.util
+import os
 from pathlib import Path
 import sys
 import xml.etree.ElementTree as ET
@@ -119,10 +120,9 @@ def test_a_stop_while_the_pvd_is_written_leaves_the_previous_collection(tmp_path
     path = write_pvd(tmp_path / "c.pvd", [(0.0, tmp_path / "a.vtu")])
     before = path.read_bytes()
 
-    def cut(self, file, *args, **kwargs):
-        Path(file).write_text("<?xml")                 # half a file, then the stop
-        raise KeyboardInterrupt
-    monkeypatch.setattr(ET.ElementTree, "write", cut)
+    def cut(fd):                                      # the new file written, not yet
+        raise KeyboardInterrupt                       # renamed: the stop
+    monkeypatch.setattr(os, "fsync", cut)
     with pytest.raises(KeyboardInterrupt):
         write_pvd(path, [(0.0, tmp_path / "a.vtu"), (0.1, tmp_path / "b.vtu")])
     assert path.read_bytes() == before
