@@ -30,7 +30,9 @@ def test_the_package_has_the_pfem_materials():
     names = {c.__name__ for c in PFEM_MATERIALS}
     assert names == {"ZeroDilationMohrCoulomb", "DavisMohrCoulomb", "CohesiveTresca",
                      "ZeroDilationDruckerPrager", "ZeroDilationMohrCoulombAxisymmetric",
-                     "MuIRheology", "MuIRheologyAxisymmetric", "RegionCones"}
+                     "MuIRheology", "MuIRheologyAxisymmetric", "RegionCones",
+                     "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
+                     "BinghamFluidAxisymmetric"}
     for c in PFEM_MATERIALS:                     # importable from the package face
         assert getattr(materials, c.__name__) is c
 

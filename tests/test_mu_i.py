@@ -14,12 +14,17 @@ import pytest
 
 from pfem_skfem.materials import MuIRheology, ZeroDilationMohrCoulomb
 from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
-from verification.inclined_plane_flow import (bagnold_velocity, flow, layer, profile_error,
-                                              time_unit)
+from pfem_skfem.drivers.strip import layer, strip_flow
+from verification.inclined_plane_flow import bagnold_velocity, profile_error, time_unit
 
 D, RHO_S, PHI, G = 0.53e-3, 2450.0, 0.6, 9.81
 H = 20 * D
 LAW = dict(mu_s=0.38, mu_2=0.64, I_0=0.279, d=D, phi=PHI, g=G)
+
+
+def flow(theta, h, material, *, phi, **options):
+    """The periodic layer of solid fraction phi (density phi rho_s)."""
+    return strip_flow(theta, h, material, phi * material.rho_s, **options)
 
 
 def test_friction_law_limits():

@@ -11,7 +11,9 @@ from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import load_checkpoint
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
-                                  ZeroDilationMohrCoulombAxisymmetric)
+                                  ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,
+                                  BinghamFluidAxisymmetric, NewtonianFluid,
+                                  NewtonianFluidAxisymmetric)
 from pfem_skfem.pfem.remesh import QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
@@ -97,10 +99,18 @@ def make_scene(name):
         soil = MuIRheologyAxisymmetric(I_0=0.3, p_min=2e-3, lag="implicit")
         return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions),
                        geometry="axisymmetric")
+    if name in ("fluids", "fluids_axisymmetric"):
+        axi = name == "fluids_axisymmetric"
+        water = (NewtonianFluidAxisymmetric if axi else NewtonianFluid)(mu=1e-3)
+        mud = (BinghamFluidAxisymmetric if axi else BinghamFluid)(tau_y=20.0, mu=2.5)
+        return replace(rich, regions=tuple(replace(r, material=m)
+                                           for r, m in zip(rich.regions, (water, mud))),
+                       geometry="axisymmetric" if axi else "plane")
     return scene_from_toml(EXAMPLE)
 
 
-ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "example")
+ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "fluids",
+              "fluids_axisymmetric", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -117,7 +127,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 22
+    assert len(names) == 26
     for name in names:
         assert f'type = "{name}"' in text, name
 

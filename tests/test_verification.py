@@ -171,6 +171,15 @@ CASES = [
                               rel=0.03),
       "stop_speed_ratio": Between(0, 1e-3),                     # below atan(mu_s): stops
       "fast_acceleration_over_bound": Between(0.97, np.inf)}, None),
+    ("fluid_films", [],
+     {"film_surface_velocity_ny4": approx(1000 * G * np.sin(np.radians(10)) * 0.02 ** 2 / 2,
+                                          rel=2e-3),            # Nusselt (g = 9.81 there)
+      "plug_velocity_ny16": approx(1000 * 9.81 * np.sin(np.radians(10))
+                                   * (0.02 - 22.7 / (1000 * 9.81 * np.sin(np.radians(10))))
+                                   ** 2 / 2, rel=1e-3),
+      "bingham_profile_order": Between(1.5, np.inf),
+      "no_flow_speed_ratio": Between(0, 1e-6),
+      "doubled_density_difference": 0.0}, None),
     ("sliding_box", [], {"travel_distance": approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-3),
                          "dilation_order": Between(0.4, np.inf)}, None),
     ("buried_pipe", [], {"Nc": Between(9.14, 9.40), "Nc_vs_thesis": approx(9.29, rel=0.03)},

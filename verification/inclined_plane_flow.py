@@ -13,11 +13,9 @@ phi = rho / rho_s the solid fraction. Below theta_s = atan(mu_s) a moving layer 
 above atan(mu_2) the friction cannot balance gravity (mu(I) < mu_2) and the layer's mean
 velocity grows at least at g (sin(theta) - mu_2 cos(theta)).
 
-Set-up: a strip one element wide, periodic in x (the two ends' dofs tied,
-:mod:`pfem_skfem.discretisation.periodic`), no-slip base, free surface, on a fixed mesh (a uniform
-flow needs no remeshing), x along the slope; each step is the dynamic problem (4.23)
-with the rigid-plastic :class:`~pfem_skfem.materials.rate.MuIRheology` in
-:func:`~pfem_skfem.problems.nonassociated.lagged_step`, run from rest to a steady state.
+Set-up: the periodic strip of :mod:`pfem_skfem.drivers.strip` (one element wide, no-slip
+base, free surface, x along the slope) with the rigid-plastic
+:class:`~pfem_skfem.materials.rate.MuIRheology`, run from rest to a steady state.
 ``--lag`` picks its statement: ``viscosity`` (mu_s in the cone, the rate part a viscous
 stress of lagged viscosity; the default), ``implicit`` (the rate part's dissipation in
 exponential cones at frozen pressure) or ``friction`` (all of mu(I) in the cone, lagged:
@@ -40,9 +38,9 @@ import sys
 
 import numpy as np
 
+from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import base_parser, in_range, positive_float, positive_int
-from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=12, steps=60)
@@ -71,84 +69,10 @@ def time_unit(h, theta, mu_s, mu_2, I_0, d, g):
     return h ** 1.5 / (d * np.sqrt(g)) * (I_0 + I) ** 2 / ((mu_2 - mu_s) * I_0)
 
 
-def layer(h, ny):
-    """The strip: width h / ny, ny x 1 squares cut in two; its P2 discretisation."""
-    from skfem import MeshTri
-
-    from pfem_skfem.discretisation.static import discretise
-    mesh = MeshTri.init_tensor(np.linspace(0.0, h / ny, 2), np.linspace(0.0, h, ny + 1))
-    return discretise(mesh)
-
-
-def flow(theta, h, material, *, ny, steps, t_end, phi, g, passes, v0=None, verbose=False,
-         backend="clarabel", solver="clarabel"):
-    """Run the periodic layer from rest (or from x-velocities ``v0(z)``) for ``steps`` steps.
-
-    Returns dict(z, u) of the x-velocity on the end x = 0 (all P2 nodes, sorted by z), the
-    time series t, surface and mean velocity, and the steps' solver iterations.
-    """
-    from pfem_skfem.discretisation.static import body_force_vector
-    from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
-    from pfem_skfem.problems.contact import CoulombCones
-    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-    from pfem_skfem.problems.nonassociated import lagged_step
-
-    disc = layer(h, ny)
-    rho = phi * material.rho_s
-    th = np.radians(theta)
-    method = ThetaMethod(t_end / steps, 1.0, 1.0)
-    T, kept = periodic_tie(disc, 0.0, h / ny)                 # kept: the dof of each column
-    ops = periodic_operators(dynamic_operators(disc, rho, method), T)
-    f = T.T @ body_force_vector(disc, (rho * g * np.sin(th), -rho * g * np.cos(th)))
-    xy = disc.basis_u.doflocs[:, kept]
-    along = np.zeros(disc.n_u, dtype=bool)
-    along[np.concatenate([disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]])] = True
-    along = along[kept]
-    base = np.flatnonzero(np.abs(xy[1]) <= 1e-9 * h)
-    end = np.flatnonzero(along & (np.abs(xy[0]) <= 1e-9 * h))
-    end = end[np.argsort(xy[1, end])]
-    top = end[-1]
-    stress_scale = rho * g * h
-    sigma_m = -rho * g * np.cos(th) * (h - disc.mesh.p[1])    # lagged: geostatic
-    sigma = np.zeros((disc.n_points, 4))
-    v = np.zeros(T.shape[1])
-    if v0 is not None:
-        v[along] = v0(xy[1, along])
-    scales, t, surface, mean, iterations = None, [0.0], [v[top]], [np.mean(v[end])], []
-    weights = _profile_weights(xy[1, end])
-    bar = progress_bar(range(steps), total=steps, desc=f"theta = {theta:g}, h = {h:.3g}",
-                       unit="step", disable=not verbose)
-    for n in bar:
-        solved = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
-                             scales, passes=passes, stress_scale=stress_scale, fixed=base,
-                             backend=backend, solver=solver)
-        inc = solved.increment
-        v, sigma, sigma_m = inc.v, inc.sigma, solved.sigma_m
-        # the next step's scales, not below a free-fall step's (as pfem.assemble.step_scales):
-        # a layer at rest would otherwise shrink the displacement scale without end
-        scales = replace(inc.scales, displacement=max(inc.scales.displacement, g * method.dt ** 2),
-                         dynamic_force=max(inc.scales.dynamic_force, rho * g))
-        t.append((n + 1) * method.dt)
-        surface.append(v[top])
-        mean.append(weights @ v[end] / h)
-        iterations.append(inc.info.iterations)
-    return dict(z=xy[1, end], u=v[end], t=np.array(t), surface=np.array(surface),
-                mean=np.array(mean), iterations=np.array(iterations), elements=disc.mesh.nelements)
-
-
-def _profile_weights(z):
-    """Trapezoid weights of the sorted heights z (integrals over the depth)."""
-    dz = np.diff(z)
-    w = np.zeros_like(z)
-    w[:-1] += dz / 2
-    w[1:] += dz / 2
-    return w
-
-
 def profile_error(z, u, h):
     """L2 distance of u / u(h) from 1 - (1 - z/h)^(3/2), relative to the latter's L2 norm."""
     shape = 1.0 - (1.0 - z / h) ** 1.5
-    w = _profile_weights(z)
+    w = profile_weights(z)
     return float(np.sqrt(w @ (u / u[-1] - shape) ** 2 / (w @ shape ** 2)))
 
 
@@ -221,13 +145,14 @@ def run(args):
                            rho_s=args.rho_s, p_min=args.p_min, k_min=args.k_min, lag=args.lag)
     phi = args.rho / args.rho_s
     law = dict(mu_s=args.mu_s, mu_2=args.mu_2, I_0=args.I_0, d=args.d, phi=phi, g=args.g)
-    common = dict(steps=args.steps, phi=phi, g=args.g, passes=args.passes,
+    common = dict(steps=args.steps, g=args.g, passes=args.passes,
                   verbose=args.progress, solver=args.solver)
 
     def run_at(theta, h, settle_theta=None, ny=args.ny, **more):
         unit = time_unit(h, settle_theta or theta, args.mu_s, args.mu_2, args.I_0, args.d,
                          args.g)
-        return flow(theta, h, material, ny=ny, t_end=args.T * unit, **common, **more)
+        return strip_flow(theta, h, material, args.rho, ny=ny, t_end=args.T * unit, **common,
+                          **more)
 
     def surface(theta, h):
         return float(bagnold_velocity(h, h, theta, **law))

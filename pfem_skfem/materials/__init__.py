@@ -6,7 +6,8 @@
 * :mod:`~pfem_skfem.materials.pfem`: :class:`PFEMMaterial`, what the PFEM engine asks of
   a material, and the materials of the PFEM runs ([80]; :class:`RegionCones` for regions
   of different materials);
-* :mod:`~pfem_skfem.materials.rate`: mu(I) and the rate terms of the dynamic step.
+* :mod:`~pfem_skfem.materials.rate`: mu(I) and the rate terms of the dynamic step;
+* :mod:`~pfem_skfem.materials.fluids`: water and mud (Newtonian and Bingham fluids).
 
 Stresses are tension positive and ordered (sx, sy, sz, sxy) as in (3.23).
 """
@@ -21,6 +22,8 @@ from .pfem import (CohesiveTresca, DavisMohrCoulomb, PFEMMaterial, RegionCones,
                    ZeroDilationDruckerPrager, ZeroDilationMohrCoulomb,
                    ZeroDilationMohrCoulombAxisymmetric)
 from .rate import MuIRheology, MuIRheologyAxisymmetric, RateDissipation, ViscousStress
+from .fluids import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
+                     NewtonianFluidAxisymmetric)
 
 __all__ = ["Elastic", "check_cohesion",
            "YieldCriterion", "MohrCoulomb", "Tresca", "DruckerPrager", "TrescaField",
@@ -30,4 +33,6 @@ __all__ = ["Elastic", "check_cohesion",
            "mohr_coulomb_pair_radii", "zero_dilation_cone",
            "PFEMMaterial", "ZeroDilationMohrCoulomb", "DavisMohrCoulomb", "CohesiveTresca",
            "ZeroDilationDruckerPrager", "ZeroDilationMohrCoulombAxisymmetric", "RegionCones",
-           "MuIRheology", "MuIRheologyAxisymmetric", "ViscousStress", "RateDissipation"]
+           "MuIRheology", "MuIRheologyAxisymmetric", "ViscousStress", "RateDissipation",
+           "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
+           "BinghamFluidAxisymmetric"]

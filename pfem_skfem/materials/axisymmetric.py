@@ -16,7 +16,7 @@ import cvxpy as cp
 import numpy as np
 
 from .checks import check_cohesion
-from .criteria import DruckerPrager, MohrCoulomb, YieldCriterion
+from .criteria import DruckerPrager, MohrCoulomb, YieldCriterion, _radii
 
 
 #: the Drucker-Prager matches to Mohr-Coulomb of :func:`drucker_prager_match`
@@ -159,15 +159,26 @@ class VonMisesField(YieldCriterion):
     (G = sqrt(J2) of (7.10) with psi = 0): the scheme of [80] (Krabbenhoft, Karim,
     Lyamin & Sloan 2012) with k_j = k - alpha I1 at lagged stresses
     (:func:`drucker_prager_radius`). Read with s_z = s_tt in axisymmetry.
+
+    A radius of zero is a fluid's point (no shear strength): stated as the equalities
+    :data:`PRESSURE_ROWS` sigma_j = 0, an orthonormal basis of the deviator,
+    ((sx - sy)/2, (sx + sy - 2 sz)/(2 sqrt3), sxy), whose norm is sqrt(J2) (the cone's
+    four components are dependent: their sum is zero).
     """
 
     name = "von Mises field"
 
+    #: rows whose norm is sqrt(J2): the deviator vanishes where the radius is zero
+    PRESSURE_ROWS = np.array([[0.5, -0.5, 0.0, 0.0],
+                              [0.5 / np.sqrt(3.0), 0.5 / np.sqrt(3.0), -1.0 / np.sqrt(3.0), 0.0],
+                              [0.0, 0.0, 0.0, 1.0]])
+
     def __init__(self, k):
-        k = np.asarray(k, dtype=float)
-        if k.ndim != 1 or k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
-            raise ValueError("k (cone radii) must be a non-empty array of positive values")
-        self.k = k
+        self.k = _radii(k)
+
+    def at(self, points):
+        """The same cone at a subset of the points (an index or a mask)."""
+        return VonMisesField(self.k[points])
 
     def cone_vector(self, sx, sy, sz, sxy):
         r6 = np.sqrt(6.0)

@@ -174,15 +174,19 @@ class TrescaField(YieldCriterion):
     The flow potential of Mohr-Coulomb with zero dilation: used by the
     non-associated scheme of Krabbenhoft, Karim, Lyamin & Sloan (2012) (the
     thesis' [80]) with ``k_j`` from :func:`mohr_coulomb_radius`.
+
+    A radius of zero is a fluid's point (no shear strength, :mod:`~pfem_skfem.materials.fluids`):
+    its cone has no interior, so the problems state it as the equalities
+    sx - sy = 0, 2 sxy = 0 (:data:`PRESSURE_ROWS`, the cone's own vector), the same set.
     """
 
     name = "Tresca field"
 
+    #: the rows of the cone vector that vanish where the radius is zero: (sx - sy, 2 sxy)
+    PRESSURE_ROWS = np.array([[1.0, -1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 2.0]])
+
     def __init__(self, k):
-        k = np.asarray(k, dtype=float)
-        if k.ndim != 1 or k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
-            raise ValueError("k (cone radii) must be a non-empty array of positive values")
-        self.k = k
+        self.k = _radii(k)
 
     def cone_vector(self, sx, sy, sz, sxy):
         return self.k, [sx - sy, 2 * sxy]
@@ -192,6 +196,60 @@ class TrescaField(YieldCriterion):
 
     def scaled(self, stress):
         return TrescaField(self.k / stress)
+
+    def at(self, points):
+        """The same cone at a subset of the points (an index or a mask)."""
+        return TrescaField(self.k[points])
+
+
+def _radii(k):
+    """Cone radii per point: finite, >= 0 (zero: a point without shear strength)."""
+    k = np.asarray(k, dtype=float)
+    if k.ndim != 1 or k.size == 0 or not np.all(np.isfinite(k)) or np.any(k < 0):
+        raise ValueError("k (cone radii) must be a non-empty array of values >= 0 "
+                         "(0: no shear strength, a fluid)")
+    return k
+
+
+def zero_radius(criterion):
+    """(n,) mask of the points whose cone has radius zero (a fluid's), or None if none."""
+    rows = getattr(criterion, "PRESSURE_ROWS", None)
+    if rows is None or getattr(criterion, "n_cones", 1) != 1:
+        return None
+    zero = np.asarray(criterion.k) == 0
+    return zero if zero.any() else None
+
+
+def yield_constraints(criterion, S):
+    """F(sigma_j) <= 0 on the rows of the cvxpy expression S (n, 4): (constraints,
+    multipliers), multipliers() giving each point's plastic multiplier after the solve.
+
+    One SOC over the points with an interior (the criterion's own, :meth:`constraint`);
+    where a radius is zero (a fluid's point) the cone is the single point rho_2..m = 0,
+    which has no interior for an interior-point solver: it is stated as the equalities
+    PRESSURE_ROWS sigma_j = 0 instead (the same set), and the point's multiplier is the
+    norm of their duals (the cone's first dual component: both rows are the cone's vector).
+    """
+    zero = zero_radius(criterion)
+    if zero is None:
+        cone = criterion.constraint(S)
+        return [cone], lambda: np.asarray(cone.dual_value[0]).ravel()
+    live, dead = np.flatnonzero(~zero), np.flatnonzero(zero)
+    constraints = []
+    if live.size:
+        cone = criterion.at(live).constraint(S[live, :])
+        constraints.append(cone)
+    equal = cp.vec(S[dead, :] @ criterion.PRESSURE_ROWS.T, order="C") == 0
+    constraints.append(equal)
+
+    def multipliers():
+        out = np.zeros(zero.size)
+        if live.size:
+            out[live] = np.asarray(cone.dual_value[0]).ravel()
+        rows = len(criterion.PRESSURE_ROWS)
+        out[dead] = np.linalg.norm(np.reshape(equal.dual_value, (dead.size, rows)), axis=1)
+        return out
+    return constraints, multipliers
 
 
 def mohr_coulomb_radius(c, phi, sigma_m, floor):

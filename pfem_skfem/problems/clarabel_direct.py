@@ -56,6 +56,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from ..materials.criteria import zero_radius
 from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status, clarabel_measures
 
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
@@ -295,10 +296,50 @@ def viscous_stress_map(n, hoop=False):
 
 
 def _yield_block(criterion, n):
-    """Rows of A and b for the yield cones, one SOC(m) per cone (point-major x)."""
-    D, d = cone_matrices(criterion, n)
+    """Rows of A and b for the yield cones, their Clarabel cones and a function reading each
+    point's multiplier off their duals.
+
+    One SOC(m) per cone (point-major x); where a radius is zero (a fluid's point:
+    :func:`~pfem_skfem.materials.criteria.zero_radius`) the cone has no interior and is
+    stated as the zero cone of its rows PRESSURE_ROWS sigma_j = 0 (after the SOCs), the
+    multiplier the norm of their duals (as the cvxpy statement,
+    :func:`~pfem_skfem.materials.criteria.yield_constraints`).
+    """
+    zero = zero_radius(criterion)
+    live = np.arange(n) if zero is None else np.flatnonzero(~zero)
+    if live.size:
+        A, b, m = _cone_rows(criterion if zero is None else criterion.at(live), live, n)
+    else:                                     # water alone: no cone has an interior
+        A, b, m = sp.csr_matrix((0, 4 * n)), np.zeros(0), 1
+    n_cones = A.shape[0] // m
+    cones = [clarabel.SecondOrderConeT(m)] * n_cones
+    if zero is None:
+        return A, b, cones, lambda z: z[:n_cones * m:m]
+    dead = np.flatnonzero(zero)
+    R = criterion.PRESSURE_ROWS
+    k = len(R)
+    rows = (np.arange(dead.size)[:, None, None] * k + np.arange(k)[None, :, None]).repeat(4, 2)
+    cols = (dead[:, None, None] * 4 + np.arange(4)[None, None, :]).repeat(k, axis=1)
+    vals = np.broadcast_to(R, (dead.size, k, 4))
+    A0 = sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(dead.size * k, 4 * n))
+    cones.append(clarabel.ZeroConeT(dead.size * k))
+
+    def multipliers(z):
+        out = np.zeros(n)
+        out[live] = z[:n_cones * m:m]
+        out[dead] = np.linalg.norm(z[n_cones * m:n_cones * m + dead.size * k].reshape(-1, k),
+                                   axis=1)
+        return out
+    return sp.vstack([A, A0], format="csr"), np.concatenate([b, np.zeros(dead.size * k)]), \
+        cones, multipliers
+
+
+def _cone_rows(criterion, points, n):
+    """Rows of A and b of one SOC(m) per cone of ``criterion`` at the stress points
+    ``points`` (of n), and m."""
+    D, d = cone_matrices(criterion, points.size)
     n_cones, m = D.shape[0], D.shape[1]
-    point = np.arange(n_cones) % n
+    point = points[np.arange(n_cones) % points.size]
     rows = (np.arange(n_cones)[:, None, None] * m
             + np.arange(m)[None, :, None]).repeat(4, axis=2)
     cols = (point[:, None, None] * 4 + np.arange(4)[None, None, :]).repeat(m, axis=1)
@@ -399,11 +440,10 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         rows_A.append(-normal)                             # p_j >= 0
         rows_b.append(np.zeros(nc))
         cones.append(clarabel.NonnegativeConeT(nc))
-    A_yield, b_yield, m = _yield_block(criterion, n)
+    A_yield, b_yield, yield_cones, yield_multipliers = _yield_block(criterion, n)
     rows_A.append(sp.hstack([A_yield, sp.csr_matrix((A_yield.shape[0], n_x - 4 * n))]))
     rows_b.append(b_yield)
-    n_cones = A_yield.shape[0] // m
-    cones += [clarabel.SecondOrderConeT(m)] * n_cones
+    cones += yield_cones
     if nc and rough.size:              # mu_j p_j -+ q_j >= 0  (or k_j -+ q_j >= 0)
         i = np.arange(rough.size)
         r = np.concatenate([i, rough.size + i])
@@ -465,5 +505,5 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         info.extra["form"] = "dual"
     s_total = x[sl_s] if not n_v else x[sl_s] + viscous_stress_map(n, hoop) @ x[sl_v]
     return {"s": s_total, "q": x[sl_q], "p": x[sl_p], "qc": x[sl_c],
-            "dual_equilibrium": z[:free.size], "dual_yield": z[start:start + n_cones * m:m],
+            "dual_equilibrium": z[:free.size], "dual_yield": yield_multipliers(z[start:]),
             "info": info}

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
+from ..materials.criteria import yield_constraints
 from ..materials.rate import RateDissipation, ViscousStress
 # ThetaMethod, DynamicOperators, dynamic_operators and the block inverses live in
 # discretisation/ since issue 37; re-exported here for their users
@@ -337,9 +338,9 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
         objective_terms += u_P @ (internal[P] - f_h[P])
     equilibrium = internal[free] == f_h[free]    # B^T sigma + A^T r + E^T rho = f
     constraints.insert(0, equilibrium)
-    if criterion is not None:
-        yield_cone = criterion.scaled(stress).constraint(S)            # F(sigma_j) <= 0
-        constraints.append(yield_cone)
+    if criterion is not None:                    # F(sigma_j) <= 0 (a fluid's point: rho_2..m = 0)
+        yield_cones, yield_multipliers = yield_constraints(criterion.scaled(stress), S)
+        constraints += yield_cones
     problem = cp.Problem(cp.Maximize(objective_terms), constraints)
     info = solve(problem, what="dynamic step (4.23)", **solver_settings)
     # cvxpy's dual of an equality in a maximisation is minus its multiplier
@@ -348,8 +349,7 @@ def _solve_cvxpy(ops, criterion, stress, contacts, Bh, Ah, f_h, s_n, v_h, u_P, f
             "p": None if contacts is None else ct.p.value,
             "qc": None if contacts is None else ct.q.value,
             "dual_equilibrium": equilibrium.dual_value,
-            "dual_yield": (np.asarray(yield_cone.dual_value[0]).ravel()
-                           if criterion is not None else None),
+            "dual_yield": yield_multipliers() if criterion is not None else None,
             "info": info}
 
 

@@ -55,6 +55,8 @@ import math
 import re
 import tomllib
 
+from ..materials import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
+                         NewtonianFluidAxisymmetric)
 from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
@@ -311,6 +313,9 @@ MATERIAL = OneOf(
     *(Spec(cls, {"mu_s": NUMBER, "mu_2": NUMBER, "I_0": NUMBER, "d": NUMBER, "rho_s": NUMBER,
                  "p_min": NUMBER, "k_min": NUMBER, "elastic": ELASTIC, "lag": STRING})
       for cls in (MuIRheology, MuIRheologyAxisymmetric)),
+    *(Spec(cls, {"mu": NUMBER}) for cls in (NewtonianFluid, NewtonianFluidAxisymmetric)),
+    *(Spec(cls, {"tau_y": NUMBER, "mu": NUMBER})
+      for cls in (BinghamFluid, BinghamFluidAxisymmetric)),
     refused={"RegionCones": "RegionCones is the step's combination of the regions' "
              "materials, made by the engine: give each region its own material"})
 STRESS = OneOf(Spec(Geostatic, {"k0": NUMBER, "top": NUMBER}))

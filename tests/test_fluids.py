@@ -1,0 +1,140 @@
+"""Water and mud (pfem_skfem.materials.fluids): the exact films on the periodic strip, the
+direct Clarabel statement against cvxpy's, density invariance and bad input."""
+import numpy as np
+import pytest
+
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.discretisation.static import body_force_vector, discretise
+from pfem_skfem.drivers.strip import strip_flow
+from pfem_skfem.materials import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
+                                  NewtonianFluidAxisymmetric, TrescaField, VonMisesField)
+from pfem_skfem.problems.dynamic import dynamic_increment
+from verification.fluid_films import bingham_velocity, film_velocity, profile_error
+
+RHO, G, H, THETA = 1000.0, 9.81, 0.02, 10.0
+SIN = np.sin(np.radians(THETA))
+
+
+def _strip(material, rho=RHO, ny=4, steps=40, mu=1.0, **options):
+    return strip_flow(THETA, H, material, rho, ny=ny, steps=steps, t_end=10 * H ** 2 * rho / mu,
+                      g=G, passes=1, **options)
+
+
+def test_a_newtonian_film_has_nusselt_s_parabola_to_round_off():
+    """P2 velocities hold the parabola: surface and profile to 1e-7 (the time stepping's
+    decay after 40 implicit steps of h^2 / (4 nu) is 4e-9)."""
+    r = _strip(NewtonianFluid(mu=1.0))
+    u_s = RHO * G * SIN * H ** 2 / 2
+    assert r["u"][-1] == pytest.approx(u_s, rel=1e-7)
+    assert profile_error(r["z"], r["u"], film_velocity(r["z"], H, THETA, RHO, 1.0, G)) < 1e-7
+
+
+def test_a_bingham_layer_has_its_plug_and_converges_to_the_closed_form():
+    """tau_y = (2/3) rho g h sin(theta): the plug's base at h / 3, inside an element on each
+    mesh; the profile's L2 error falls at least as (1/ny)^1.5 from ny = 4 to 16, below 1e-3
+    at 16, the plug rigid to 1e-3 above z_y + one element."""
+    tau_y = 2 / 3 * RHO * G * H * SIN
+    errors = []
+    for ny in (4, 16):
+        r = _strip(BinghamFluid(tau_y=tau_y, mu=1.0), ny=ny)
+        errors.append(profile_error(r["z"], r["u"],
+                                    bingham_velocity(r["z"], H, THETA, RHO, tau_y, 1.0, G)))
+    assert errors[1] < 1e-3
+    assert errors[1] < errors[0] * 4.0 ** -1.5
+    plug = r["z"] >= H / 3 + H / 16
+    assert np.ptp(r["u"][plug]) < 1e-3 * r["u"][-1]
+
+
+def test_no_flow_at_or_below_the_yield_stress():
+    """rho g h sin(theta) < tau_y: the layer stays at rest (1e-6 of the film's speed)."""
+    r = _strip(BinghamFluid(tau_y=1.05 * RHO * G * H * SIN, mu=1.0))
+    assert np.abs(r["u"]).max() < 1e-6 * RHO * G * SIN * H ** 2 / 2
+
+
+@pytest.mark.parametrize("make", [lambda k: NewtonianFluid(mu=k * 1.0),
+                                  lambda k: BinghamFluid(tau_y=k * 20.0, mu=k * 1.0)],
+                         ids=["newtonian", "bingham"])
+def test_density_times_two_with_the_stresses_is_the_same_run_bit_for_bit(make):
+    a = _strip(make(1), steps=8)
+    b = _strip(make(2), rho=2 * RHO, mu=2.0, steps=8)          # the same time, h^2 / nu
+    assert np.array_equal(a["u"], b["u"])
+
+
+def test_the_direct_statement_agrees_with_cvxpy_on_the_strip():
+    for material in (NewtonianFluid(mu=1.0), BinghamFluid(tau_y=15.0, mu=1.0)):
+        a = _strip(material, steps=5, backend="clarabel")
+        b = _strip(material, steps=5, backend="cvxpy")
+        assert np.abs(a["u"] - b["u"]).max() < 1e-6 * np.abs(b["u"]).max()
+
+
+def _column_step(material, axisymmetric, backend):
+    """One step of a column of fluid (0.2 x 0.4) released from rest on a no-slip floor
+    (its free side and top traction-free): velocities, stresses and multipliers."""
+    from skfem import MeshTri
+
+    mesh = MeshTri.init_tensor(np.linspace(0.0, 0.2, 5), np.linspace(0.0, 0.4, 9))
+    disc = discretise(mesh, "axisymmetric" if axisymmetric else "plane")
+    dt = 0.01
+    ops = dynamic_operators(disc, RHO, ThetaMethod(dt, 1.0, 1.0))
+    f = body_force_vector(disc, (0.0, -RHO * G))
+    xy = disc.basis_u.doflocs
+    floor = np.flatnonzero(xy[1] < 1e-12)
+    axis = disc.basis_u.nodal_dofs[0][mesh.p[0] < 1e-12] if axisymmetric else []
+    fixed = np.union1d(floor, axis).astype(int)
+    n = disc.n_points
+    viscous = material.viscous(np.zeros(n), RHO * G * 0.4, None, disc.weights)
+    cone = material.cone(np.zeros(n), RHO * G * 0.4)
+    from pfem_skfem.problems.dynamic import DynamicScales
+    scales = DynamicScales(RHO * G * 0.4, G * dt ** 2, RHO * G)
+    return dynamic_increment(ops, f, f, np.zeros((n, 4)), np.zeros(disc.n_u), cone,
+                             fixed=fixed, scaling=scales, viscous=viscous, backend=backend)
+
+
+@pytest.mark.parametrize("material, axisymmetric", [
+    (NewtonianFluid(mu=0.0), False), (NewtonianFluid(mu=0.5), False),
+    (BinghamFluid(tau_y=200.0, mu=0.5), False), (NewtonianFluidAxisymmetric(mu=0.0), True),
+    (NewtonianFluidAxisymmetric(mu=0.5), True), (BinghamFluidAxisymmetric(tau_y=100.0, mu=0.5),
+                                                 True)],
+    ids=["water", "viscous water", "mud", "water axi", "viscous water axi", "mud axi"])
+def test_a_collapsing_column_step_direct_equals_cvxpy_and_is_isochoric(material, axisymmetric):
+    """The first step of a released column: the direct Clarabel statement and cvxpy's give
+    the same velocities (1e-6) and plastic multipliers; the flow is isochoric (the volume
+    strain of the step at each point, of the P2 velocities, 1e-6 of the shear); water's
+    stress is a pressure (zero deviator to 1e-8 of the pressure)."""
+    a = _column_step(material, axisymmetric, "clarabel")
+    b = _column_step(material, axisymmetric, "cvxpy")
+    scale = np.abs(b.du).max()
+    assert scale > 0
+    assert np.abs(a.du - b.du).max() < 1e-6 * scale
+    assert np.abs(a.plastic_multiplier - b.plastic_multiplier).max() \
+        < 1e-5 * np.abs(b.plastic_multiplier).max()
+    from skfem import MeshTri
+    mesh = MeshTri.init_tensor(np.linspace(0.0, 0.2, 5), np.linspace(0.0, 0.4, 9))
+    disc = discretise(mesh, "axisymmetric" if axisymmetric else "plane")
+    ops = dynamic_operators(disc, RHO, ThetaMethod(0.01, 1.0, 1.0))
+    strain = (ops.B @ a.du).reshape(-1, 4) / disc.weights[:, None]   # (ex, ey, et, gxy)
+    volume = strain[:, 0] + strain[:, 1] + (strain[:, 2] if axisymmetric else 0.0)
+    assert np.abs(volume).max() < 1e-6 * np.abs(strain).max()
+    if material.mu == 0 and material.tau_y == 0:
+        s = a.sigma
+        rows = (VonMisesField if axisymmetric else TrescaField).PRESSURE_ROWS
+        assert np.abs(s @ rows.T).max() < 1e-8 * np.abs(s[:, :2]).max()
+
+
+def test_bad_input_is_refused_naming_the_parameter():
+    for bad in (-1.0, float("nan"), "1", None):
+        with pytest.raises(ValueError, match="mu"):
+            NewtonianFluid(mu=bad)
+        with pytest.raises(ValueError, match="mu"):
+            BinghamFluid(tau_y=10.0, mu=bad)
+    for bad in (0.0, -1.0, float("inf")):
+        with pytest.raises(ValueError, match="tau_y"):
+            BinghamFluid(tau_y=bad, mu=1.0)
+    with pytest.raises(ValueError, match="cone radii"):
+        TrescaField([1.0, -1e-9])
+
+
+def test_a_fluid_has_a_toml_form_whose_bad_values_name_the_field():
+    from pfem_skfem.scene.files import MATERIAL
+    assert {"NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
+            "BinghamFluidAxisymmetric"} <= set(MATERIAL.specs)

@@ -1,0 +1,215 @@
+"""Water and mud films down an incline: the exact profiles of a Newtonian and a Bingham layer.
+
+Beyond the thesis. A layer of depth h on a no-slip plane inclined at theta carries the
+shear stress tau(z) = rho g sin(theta) (h - z) at height z in steady uniform flow.
+
+* Newtonian (:class:`~pfem_skfem.materials.NewtonianFluid`), tau = mu du/dz: the
+  parabola (Nusselt's film)
+
+      u(z) = rho g sin(theta) (h z - z^2 / 2) / mu,   u(h) = rho g sin(theta) h^2 / (2 mu);
+
+  P2 velocities hold it exactly, so the error is the time stepping's and the solver's.
+* Bingham (:class:`~pfem_skfem.materials.BinghamFluid`), tau = tau_y + mu du/dz where it
+  flows: sheared below z_y = h - tau_y / (rho g sin(theta)), a rigid plug above,
+
+      u(z) = rho g sin(theta) (z_y z - z^2 / 2) / mu  (z <= z_y),
+      u = rho g sin(theta) z_y^2 / (2 mu)             (the plug, z >= z_y);
+
+  no flow at all when rho g h sin(theta) <= tau_y. The yield surface z_y is inside an
+  element on every mesh here (z_y / h near 1/3): the profile converges with the mesh, its
+  order measured.
+
+Set-up: the periodic strip of :mod:`pfem_skfem.drivers.strip` (one element wide, no-slip
+base, free surface, x along the slope), from rest to steady state in implicit steps.
+
+Checks: the film's surface velocity and profile to 1e-6 on two meshes; the Bingham plug's
+velocity and the profile on the finest mesh within --tol, the profile's convergence order
+at least 1.5, the plug's thickness to within a node spacing; no flow (|u| <= 1e-6 of the
+film's surface velocity) with tau_y_stop > rho g h sin(theta); rho, tau_y, mu doubled
+give the same velocities bit for bit.
+
+Usage::
+
+    python verification/fluid_films.py --quick --json results/fluid_films.json
+    python verification/fluid_films.py --help                # every option
+"""
+import sys
+
+import numpy as np
+
+from pfem_skfem.drivers.strip import profile_weights, strip_flow
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+                                        positive_float, positive_int)
+from pfem_skfem.harness.report import Report, script_main
+
+QUICK = dict(ny=[4, 8, 16])
+
+slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
+
+
+def film_velocity(z, h, theta, rho, mu, g):
+    """Nusselt's film: u(z) = rho g sin(theta) (h z - z^2/2) / mu."""
+    return rho * g * np.sin(np.radians(theta)) * (h * np.asarray(z) - np.asarray(z) ** 2 / 2) / mu
+
+
+def yield_height(h, theta, rho, tau_y, g):
+    """z_y = h - tau_y / (rho g sin(theta)): the plug's base (<= 0: no flow)."""
+    return h - tau_y / (rho * g * np.sin(np.radians(theta)))
+
+
+def bingham_velocity(z, h, theta, rho, tau_y, mu, g):
+    """u(z) = rho g sin(theta) (z_y z - z^2/2) / mu below z_y, the plug's speed above."""
+    zy = max(yield_height(h, theta, rho, tau_y, g), 0.0)
+    zz = np.minimum(np.asarray(z, dtype=float), zy)
+    return rho * g * np.sin(np.radians(theta)) * (zy * zz - zz ** 2 / 2) / mu
+
+
+def profile_error(z, u, exact):
+    """Discrete L2 distance of u from ``exact`` at the sorted heights z (trapezoid weights),
+    relative to the L2 norm of ``exact``."""
+    w = profile_weights(z)
+    return float(np.sqrt(w @ (u - exact) ** 2 / (w @ exact ** 2)))
+
+
+def observed_order(ny, errors):
+    """The least-squares slope of log(error) against log(ny)."""
+    return float(-np.polyfit(np.log(ny), np.log(errors), 1)[0])
+
+
+def check(args):
+    """Options that cannot go together (a usage error), or None."""
+    load = args.rho * args.g * args.h * np.sin(np.radians(args.theta))
+    if not args.tau_y < load:
+        return (f"--tau_y must be below rho g h sin(theta) = {load:.4g} Pa (a flowing layer); "
+                f"tau_y_stop is the no-flow case")
+    if not args.tau_y_stop > load:
+        return f"--tau_y_stop must exceed rho g h sin(theta) = {load:.4g} Pa (no flow)"
+    if len(args.ny) < 2:
+        return "--ny needs two meshes at least (a convergence order)"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--theta", type=slope_angle, default=10.0, help="slope angle [deg]")
+    p.add_argument("--h", type=positive_float, default=0.02, help="layer depth [m]")
+    p.add_argument("--rho", type=positive_float, default=1000.0, help="density [kg/m3]")
+    p.add_argument("--mu", type=positive_float, default=1.0,
+                   help="viscosity [Pa s] of the film and plastic viscosity of the mud")
+    p.add_argument("--tau_y", type=nonnegative_float, default=22.7,
+                   help="yield stress of the mud [Pa] (default: z_y near h/3)")
+    p.add_argument("--tau_y_stop", type=positive_float, default=42.6,
+                   help="a yield stress above rho g h sin(theta) [Pa]: no flow")
+    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
+    p.add_argument("--ny", type=positive_int, nargs="+", default=[4, 8, 16, 32, 64],
+                   help="elements through the depth, one Bingham run each")
+    p.add_argument("--steps", type=positive_int, default=40, help="steps of each run")
+    p.add_argument("--T", type=positive_float, default=10.0,
+                   help="run time in units of h^2 / nu (nu = mu / rho)")
+    p.add_argument("--tol", type=positive_float, default=1e-3,
+                   help="tolerance of the Bingham profile on the finest mesh")
+    return p
+
+
+def run(args):
+    """The film on the two coarsest meshes, the mud on each, the stop, the doubled run."""
+    from pfem_skfem.materials import BinghamFluid, NewtonianFluid
+
+    h, theta, rho, mu, g = args.h, args.theta, args.rho, args.mu, args.g
+    t_end = args.T * h ** 2 * rho / mu
+    common = dict(steps=args.steps, t_end=t_end, g=g, passes=1, verbose=args.progress,
+                  solver=args.solver)
+    ny = sorted(args.ny)
+    films = {n: strip_flow(theta, h, NewtonianFluid(mu), rho, ny=n, **common) for n in ny[:2]}
+    mud = {n: strip_flow(theta, h, BinghamFluid(args.tau_y, mu), rho, ny=n, **common)
+           for n in ny}
+    stop = strip_flow(theta, h, BinghamFluid(args.tau_y_stop, mu), rho, ny=ny[0], **common)
+    doubled = strip_flow(theta, h, BinghamFluid(2 * args.tau_y, 2 * mu), 2 * rho, ny=ny[0],
+                         **common)
+
+    u_film = float(film_velocity(h, h, theta, rho, mu, g))
+    zy = yield_height(h, theta, rho, args.tau_y, g)
+    u_plug = float(bingham_velocity(h, h, theta, rho, args.tau_y, mu, g))
+    report = Report("fluid_films", args, z_y=zy, u_film=u_film, u_plug=u_plug)
+    for n, r in films.items():
+        report.add(f"film_surface_velocity_ny{n}", r["u"][-1], u_film,
+                   "rho g sin(theta) h^2 / (2 mu) (Nusselt)", 1e-6)
+        report.add_interval(f"film_profile_L2_error_ny{n}",
+                            profile_error(r["z"], r["u"], film_velocity(r["z"], h, theta, rho,
+                                                                        mu, g)),
+                            0.0, 1e-6, "the parabola, held exactly by P2 velocities")
+    errors = []
+    for n, r in mud.items():
+        errors.append(profile_error(r["z"], r["u"], bingham_velocity(r["z"], h, theta, rho,
+                                                                     args.tau_y, mu, g)))
+    fine = mud[ny[-1]]
+    report.add(f"plug_velocity_ny{ny[-1]}", fine["u"][-1], u_plug,
+               "rho g sin(theta) z_y^2 / (2 mu)", args.tol)
+    report.add_interval(f"bingham_profile_L2_error_ny{ny[-1]}", errors[-1], 0.0, args.tol,
+                        "sheared parabola below z_y, rigid plug above")
+    order = observed_order(ny, errors)
+    report.add_interval("bingham_profile_order", order, 1.5, np.inf,
+                        "L2 error ~ (h/ny)^order, the yield surface inside an element")
+    # the plug: the nodes from the surface down whose velocity is the surface's to 1e-3
+    z, u = fine["z"], fine["u"]
+    moving = np.flatnonzero(np.abs(u - u[-1]) > 1e-3 * abs(u[-1]))
+    first = moving[-1] + 1 if moving.size else 0
+    spacing = h / (2 * ny[-1])
+    report.add_interval("plug_base_height_error", abs(z[first] - zy) / spacing, 0.0, 3.0,
+                        "the plug's base z_y, in node spacings (h / 2 ny); the 1e-3 "
+                        "velocity criterion reaches below z_y by O(spacing)")
+    report.add_interval("no_flow_speed_ratio", np.abs(stop["u"]).max() / u_film, 0.0, 1e-6,
+                        "rho g h sin(theta) <= tau_y: no flow")
+    report.add_interval("doubled_density_difference",
+                        float(np.abs(doubled["u"] - mud[ny[0]]["u"]).max()), 0.0, 0.0,
+                        "rho, tau_y, mu x 2: the same velocities bit for bit")
+    report.extra = {"ny": ny, "bingham_L2_errors": errors, "order": order,
+                    "iterations": {f"bingham_ny{n}": float(r["iterations"].mean())
+                                   for n, r in mud.items()},
+                    "profiles": {f"film_ny{ny[0]}": {"z": films[ny[0]]["z"],
+                                                     "u": films[ny[0]]["u"]},
+                                 **{f"bingham_ny{n}": {"z": r["z"], "u": r["u"]}
+                                    for n, r in mud.items()}}}
+    print(f"{'ny':>4s} {'Bingham L2 error':>17s} {'iterations/step':>16s}")
+    for n, e in zip(ny, errors):
+        print(f"{n:4d} {e:17.3e} {mud[n]['iterations'].mean():16.1f}")
+    print(f"observed order {order:.2f}")
+    report.data = dict(films=films, mud=mud, ny=ny, errors=errors, order=order)
+    return report
+
+
+def figures(args, films, mud, ny, errors, order):
+    """The profiles beside the exact ones, and the Bingham error against the mesh."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(11, 4.2))
+    h, theta, rho, mu, g = args.h, args.theta, args.rho, args.mu, args.g
+    zz = np.linspace(0.0, h, 300)
+    ax[0].plot(film_velocity(zz, h, theta, rho, mu, g), zz / h, "-", label="Newtonian, exact")
+    r = films[ny[0]]
+    ax[0].plot(r["u"], r["z"] / h, "o", ms=4, label=f"Newtonian, ny = {ny[0]}")
+    ax[0].plot(bingham_velocity(zz, h, theta, rho, args.tau_y, mu, g), zz / h, "-",
+               label="Bingham, exact")
+    r = mud[ny[1]]
+    ax[0].plot(r["u"], r["z"] / h, "s", ms=4, label=f"Bingham, ny = {ny[1]}")
+    ax[0].axhline(yield_height(h, theta, rho, args.tau_y, g) / h, color="0.6", ls=":",
+                  label="plug base z_y")
+    ax[0].set_xlabel("u [m/s]")
+    ax[0].set_ylabel("z / h")
+    ax[0].set_title("steady profiles")
+    ax[0].legend(fontsize=7)
+    ax[1].loglog(ny, errors, "o-", label=f"Bingham, order {order:.2f}")
+    ref = errors[0] * (np.asarray(ny) / ny[0]) ** -2.0
+    ax[1].loglog(ny, ref, "--", color="0.5", label="slope 2")
+    ax[1].set_xlabel("elements through the depth, ny")
+    ax[1].set_ylabel("relative L2 error of u")
+    ax[1].set_title("Bingham profile against the mesh")
+    ax[1].legend(fontsize=7)
+    save_figure(fig, figure_dir(args, "fluid_films") / "fluid_films.png")
+
+
+def main(argv=None):
+    return script_main(build_parser, run, figures, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
