@@ -171,6 +171,13 @@ CASES = [
                               rel=0.03),
       "stop_speed_ratio": Between(0, 1e-3),                     # below atan(mu_s): stops
       "fast_acceleration_over_bound": Between(0.97, np.inf)}, None),
+    ("dam_break", [],
+     {"gate_force": approx(1.0, rel=1e-6),                  # rho g h0^2 / 2 on the gate
+      "floor_force": approx(1.0, rel=1e-6),                 # the column's weight
+      "front_time_error": Between(0, 0.2),                  # Martin & Moyce, Table 2
+      "front_speed_over_ritter": Between(0, 1),             # dz/dt <= 2 sqrt(g h0)
+      "mass_error": Between(0, 1e-12),
+      "area_change": Between(0, 0.02)}, None),
     ("fluid_films", [],
      {"film_surface_velocity_ny4": approx(1000 * G * np.sin(np.radians(10)) * 0.02 ** 2 / 2,
                                           rel=2e-3),            # Nusselt (g = 9.81 there)

@@ -42,6 +42,7 @@ class _Fluid:
     """What a Bingham and a Newtonian fluid share (tau_y, mu; plane strain)."""
 
     lagged = False              # neither the cone nor the viscosity depends on the stress
+    needs_container = True      # a Scene refuses a fluid region without rigid bodies
 
     @property
     def c(self):

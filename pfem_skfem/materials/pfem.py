@@ -47,6 +47,8 @@ class PFEMMaterial:
         hands it the previous pass's shear rate.
     hoop : bool
         The shear rate counts the hoop strain (axisymmetry).
+    needs_container : bool
+        A fluid: a Scene refuses it without rigid bodies to hold it.
     elastic : Elastic or None
         None for rigid-plastic (C = 0 in (4.23)).
     c, phi : float
@@ -71,6 +73,7 @@ class PFEMMaterial:
     lagged: ClassVar[bool] = False
     rate_dependent: ClassVar[bool] = False
     hoop: ClassVar[bool] = False
+    needs_container: ClassVar[bool] = False
     elastic = None
     c = 0.0
     phi = 0.0

@@ -166,6 +166,11 @@ class Scene:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
         self._check_passes()
         self._check_materials(geometry)
+        for r in regions:        # a fluid flows under any load that is not a pressure
+            if getattr(r.material, "needs_container", False) and not self.bodies:
+                raise ValueError(f"region {r.name!r} is a fluid ({type(r.material).__name__}) "
+                                 f"and the scene has no rigid bodies to hold it: give bodies "
+                                 f"(a floor, walls)")
         self._check_size()
         self._check_overlaps()
         self._check_particles()
