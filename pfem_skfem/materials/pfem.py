@@ -441,7 +441,10 @@ class RegionCones(PFEMMaterial):
         return family(k)
 
     def strength_scale(self, sigma_m, stress_scale=1.0):
-        return self.cone(sigma_m, stress_scale).strength_scale()
+        """Half the median radius; the scene's stress scale where most points are a fluid's
+        (radius zero: water has no strength to scale by)."""
+        scale = self.cone(sigma_m, stress_scale).strength_scale()
+        return scale if scale > 0 else stress_scale
 
     def mean_stress(self, sigma):
         """Each point's material's lagged quantity."""
