@@ -180,3 +180,23 @@ def test_only_ida_keeps_stresses_at_yield_admissible():
     assert np.abs(mc.F(at_yield)).max() < 1e-12                # all on the yield surface
     assert mc.F(map_stress(old, at_yield, new, "ida")).max() < 1e-12
     assert mc.F(map_stress(old, at_yield, new, "uem_bounded")).max() > 1e-3
+
+
+def test_a_vertex_of_a_sliver_only_takes_its_patch_mean():
+    """A vertex whose only element is a sliver (its three stress points nearly on a line)
+    has no plane fit: recover_nodal gives the mean of its points, finite, and leaves the
+    other vertices' fits (exact for a linear field) as they were."""
+    from skfem import MeshTri
+    from pfem_skfem.discretisation.static import discretise
+    from pfem_skfem.pfem.mapping import recover_nodal
+
+    p = np.array([[0.0, 1.0, 0.0, 1.0, 1.0 + 1e-9], [0.0, 0.0, 1.0, 1.0, 0.5]])   # 4: a sliver
+    t = np.array([[0, 1, 2], [1, 3, 2], [1, 4, 3]]).T
+    disc = discretise(MeshTri(p, t))
+    xy = disc.points
+    sigma = 1.0 + 2.0 * xy[:, 0] - 3.0 * xy[:, 1]            # a linear field
+    nodal = recover_nodal(disc, sigma)
+    assert np.all(np.isfinite(nodal))
+    lonely = disc.point_element == 2
+    assert nodal[4] == pytest.approx(sigma[lonely].mean(), rel=1e-12)
+    assert nodal[0] == pytest.approx(1.0, abs=1e-9)           # a vertex with a real patch

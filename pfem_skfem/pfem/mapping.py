@@ -203,13 +203,18 @@ def _vertex_range(mesh, element_points, flat):
     return vmin, vmax
 
 
+#: det(A) of a patch's normal equations below this times (its point count)^3 (the largest
+#: it can be: the basis is scaled to |P| <= 1) is a patch without a plane fit
+FLAT_PATCH = 1e-12
+
+
 def recover_nodal(old, sigma, *, bounded=False):
     """Nodal values from the stress points by superconvergent patch recovery [209].
 
     At each old vertex v a linear polynomial a + b (x - x_v) + c (y - y_v) is fitted by
     least squares to the stress-point values of the elements containing v (at least 3
-    points, never collinear), and its value a at v is the nodal value. Exact for a linear
-    field.
+    points), and its value a at v is the nodal value. Exact for a linear field. A patch
+    whose points are (nearly) collinear (slivers only) takes the mean of its values.
 
     Parameters
     ----------
@@ -243,6 +248,15 @@ def recover_nodal(old, sigma, *, bounded=False):
     unused = np.ones(nv, dtype=bool)
     unused[t.ravel()] = False
     A[unused] = np.eye(3)                                # vertices in no element: value 0
+    # a patch whose stress points are (nearly) collinear or coincide (a vertex of slivers
+    # only, measured once in a clay block entering water) has no plane fit: there the
+    # nodal value is the patch's mean (a constant fit), the others are left as they were
+    count = A[:, 0, 0].copy()                           # the number of points
+    flat_patch = ~unused & (np.abs(np.linalg.det(A)) <= FLAT_PATCH * count ** 3)
+    if flat_patch.any():
+        A[flat_patch] = np.diag([1.0, 1.0, 1.0])
+        b[flat_patch, 0] /= count[flat_patch, None]
+        b[flat_patch, 1:] = 0.0
     nodal = np.linalg.solve(A, b)[:, 0]
     if bounded:
         vmin, vmax = _vertex_range(mesh, element_points, flat)
