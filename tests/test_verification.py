@@ -178,6 +178,11 @@ CASES = [
       "front_speed_over_ritter": Between(0, 1),             # dz/dt <= 2 sqrt(g h0)
       "mass_error": Between(0, 1e-12),
       "area_change": Between(0, 0.02)}, None),
+    ("soil_and_water", [],
+     {"water_mass_change": Between(0, 1e-12),               # particles carry the mass
+      "granular_mass_change": Between(0, 1e-12),
+      "water_area_change": Between(0, 0.02),
+      "water_over_granular_front": Between(1, np.inf)}, None),   # no strength: further
     ("fluid_films", [],
      {"film_surface_velocity_ny4": approx(1000 * G * np.sin(np.radians(10)) * 0.02 ** 2 / 2,
                                           rel=2e-3),            # Nusselt (g = 9.81 there)
