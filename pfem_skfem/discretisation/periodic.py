@@ -11,14 +11,18 @@ import numpy as np
 import scipy.sparse as sp
 
 
-def periodic_tie(disc, x0, x1, *, tol=1e-9):
+def periodic_tie(disc, x0, x1, *, tol=1e-9, axis=0):
     """(T, kept): T (n_u, n_r) tying the dofs on x = x1 to those on x = x0 (same component
-    and y), kept (n_r,) the dof of each column of T (every dof not on x = x1).
+    and y), kept (n_r,) the dof of each column of T (every dof not on x = x1). ``axis=1``
+    ties the ends y = x1 to y = x0 instead (paired by x: a pipe periodic along its axis
+    in axisymmetry).
 
     Raises ValueError if the two ends' dofs do not pair up one to one.
     """
+    if axis not in (0, 1):
+        raise ValueError(f"axis must be 0 (x) or 1 (y), got {axis!r}")
     basis = disc.basis_u
-    xy = basis.doflocs
+    xy = basis.doflocs[[axis, 1 - axis]]          # (along the tie, across it)
     n_u = disc.n_u
     component = np.empty(n_u, dtype=int)
     for k in range(2):
