@@ -32,13 +32,13 @@ table's time origin is not that of Table 2's anchor; reported), within --tol_T /
 same tolerance in T); the front slower than Ritter's shallow-water bound 2 sqrt(g n^2 a)
 (dZ/dT <= 2); the mass of water (particles) to round-off and the water's area (the
 alpha-shape domain, with the move stage's volume correction) within 2 % (measured 1.0 % at
-T = 4 on the base run, 1.4 % with 1.5x the particles: the outline of the thin front). The full run adds the studies: the inviscid
-twin, the front within the discretisation's own spread (time step halved, 1.5x the
-particles across).
+T = 4 on the base run, 1.4 % with 1.5x the particles: the outline of the thin front).
+The full run adds the studies: the inviscid twin, the front within the discretisation's
+own spread (time step halved, 1.5x the particles across).
 
 Usage::
 
-    python verification/dam_break.py --quick --json results/dam_break.json
+    python verification/dam_break.py --quick --json results/dam_break.json   # 6 seconds
     python verification/dam_break.py --save-every 5          # VTU/PVD of the base run
 """
 import sys

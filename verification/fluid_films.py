@@ -30,7 +30,7 @@ give the same velocities bit for bit.
 
 Usage::
 
-    python verification/fluid_films.py --quick --json results/fluid_films.json
+    python verification/fluid_films.py --quick --json results/fluid_films.json   # 3 seconds
     python verification/fluid_films.py --help                # every option
 """
 import sys

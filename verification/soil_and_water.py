@@ -17,7 +17,7 @@ a water tank, two materials in one step, is not here yet: its alpha-shape area g
 
 Usage::
 
-    python verification/soil_and_water.py --quick --json results/soil_and_water.json
+    python verification/soil_and_water.py --quick --json results/soil_and_water.json   # 15 seconds
     python verification/soil_and_water.py --save-every 5        # VTU/PVD of both columns
 """
 import sys

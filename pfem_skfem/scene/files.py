@@ -74,7 +74,7 @@ from .scene import Output, Phase, Scene
 __all__ = ["SceneFileError", "scene_from_toml", "scene_to_toml", "load_scene", "key_lines",
            "example_text", "EXAMPLES", "SCHEMA"]
 
-EXAMPLES = ("column", "silo")
+EXAMPLES = ("column", "silo", "dam_break")
 
 
 class SceneFileError(ValueError):
@@ -227,7 +227,8 @@ class Spec:
                 continue
             if isinstance(kind, (OneOf, Table, Tables)):
                 nested.append((key, kind, value))
-            elif not (value == () and default == ()):
+            elif not (isinstance(value, tuple) and value == () and default == ()):
+                # (a numpy scalar == () is an empty array, not False)
                 body.append(f"{key} = {kind.dump(value)}")
         if header:
             out.append("")
