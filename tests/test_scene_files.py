@@ -373,3 +373,14 @@ def test_run_example_writes_each_example(name, tmp_path):
     path = tmp_path / f"{name}.toml"
     assert cli.main(["run", "--example", name, str(path)]) == 0
     assert scene_from_toml(path.read_text()) == scene_from_toml(example_text(name))
+
+
+def test_a_scene_holding_numpy_scalars_writes_and_reads_back():
+    """np.float64 == () is an empty array, not False: a scene built with numpy numbers (a
+    dt from np.sqrt) once made scene_to_toml raise."""
+    from pfem_skfem.discretisation import ThetaMethod
+    rich = rich_scene()
+    dt = np.float64(0.01) * np.sqrt(2.0)
+    scene = replace(rich, config=replace(rich.config, theta=ThetaMethod(dt)),
+                    alpha=np.float64(1.5))
+    assert scene_from_toml(scene_to_toml(scene)) == scene
