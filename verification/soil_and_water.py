@@ -94,8 +94,14 @@ def region_books(scene, state0, books):
     return out
 
 
+def check(args):
+    if args.nx < 4:
+        return "--nx must be at least 4 (particles across a column)"
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--rho", type=positive_float, default=1000.0,
                    help="density of both columns [kg/m3] (the same: only the strength differs)")
     p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
