@@ -13,7 +13,7 @@ point is sigma = sigma_p + sigma_v, as for the rate terms of mu(I)
   (tau_y = 0) the cone is the single point of zero deviator, which the problems state
   as equalities (its ``PRESSURE_ROWS``): sigma_p is a pressure;
 * sigma_v, a deviator, adds - dt sum_j w_j tau_j^2 / (2 mu) to the objective (the
-  complementary viscous dissipation, a rotated cone in the conic form), so that at a
+  complementary viscous dissipation: a diagonal block of Clarabel's P), so that at a
   flowing point the shear stress is tau_y + mu gamma_dot, gamma_dot the full shear rate
   sqrt(2 D':D'): Bingham's law (tau_y = 0: Newton's, sigma' = 2 mu D'). mu = 0
   (inviscid water) states no sigma_v.

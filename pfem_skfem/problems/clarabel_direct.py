@@ -15,7 +15,9 @@ contacts]) x R+^(contacts) x SOC(m)^(stress points) x R+^(2 x rough contacts):
 * the zero cone is equilibrium B_F^T sigma + A_F^T r' - G_F (p, q) = f'_F;
 * each yield cone rho_j = D_j sigma_j + d_j (the criterion's ``cone_vector``, affine,
   read off numerically) is s = b - A x with A = -D_j, b = d_j; a criterion with
-  ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones;
+  ``n_cones`` cones per point (cone-major) gives n_cones x n_points cones; a point of
+  radius zero (a fluid's: the cone has no interior) is the zero cone of its criterion's
+  ``PRESSURE_ROWS``, after the SOCs;
 * |q_j| <= mu_j p_j is the pair mu_j p_j - q_j >= 0, mu_j p_j + q_j >= 0 (a friction
   bound k_j: k_j -+ q_j >= 0), as cvxpy writes an absolute value.
 * a rate stress (``viscous`` of ``dynamic_increment``) appends (a_j, b_j) per point to x
