@@ -301,3 +301,43 @@ def test_cleaned_data_give_the_same_step(block, monkeypatch):
     for name in ("du", "sigma", "r"):
         assert close(getattr(out[False], name), getattr(out[True], name)), name
     assert out[True].info.objective == pytest.approx(out[False].info.objective, rel=1e-7)
+
+
+def test_a_numerical_error_is_solved_once_more_without_equilibration(monkeypatch):
+    """A 'NumericalError' of the primal form: the step is solved again with RETRY
+    (equilibration off), its iterations counted with the first attempt's and the retry
+    recorded; the answer is the retry's (here the same problem solved well: the du of a
+    step solved without the fault, to 1e-6)."""
+    import clarabel
+    import pfem_skfem.problems.clarabel_direct as direct
+
+    real = clarabel.DefaultSolver
+    calls = []
+
+    class FirstFails:
+        def __init__(self, P, q, A, b, cones, settings):
+            calls.append(settings.equilibrate_enable)
+            self.inner = real(P, q, A, b, cones, settings)
+
+        def solve(self):
+            sol = self.inner.solve()
+            if len(calls) == 1:
+                class Failed:                       # the first attempt's report
+                    status, iterations, x, z, obj_val = ("NumericalError", 7, sol.x, sol.z,
+                                                         sol.obj_val)
+                return Failed()
+            return sol
+
+        def __getattr__(self, name):
+            return getattr(self.inner, name)
+
+    from test_fluids import _column_step
+    from pfem_skfem.materials import BinghamFluid
+    mud = BinghamFluid(tau_y=200.0, mu=0.5)
+    reference = _column_step(mud, False, "clarabel")
+    monkeypatch.setattr(direct.clarabel, "DefaultSolver", FirstFails)
+    retried = _column_step(mud, False, "clarabel")
+    assert calls == [True, False]
+    assert retried.info.extra["retried"] == {"equilibrate_enable": False}
+    assert retried.info.iterations > 7
+    assert np.abs(retried.du - reference.du).max() < 1e-6 * np.abs(reference.du).max()
