@@ -30,6 +30,10 @@ LIMIT = 1.0                                   # seconds a usage error may take
 BAD = {
     "alpha_shape": [(["--h", "0"], "--h"), (["--alpha-step", "-0.1"], "--alpha-step"),
                     (["--radius", "x"], "--radius")],
+    "bingham_slump": [(["--k", "0"], "--k"), (["--k", "1.5"], "--k"), (["--mu", "0"], "--mu"),
+                      (["--n_h", "1"], "--n_h"), (["--cfl", "3"], "--cfl"),
+                      (["--mu_f", "-1"], "--mu_f"), (["--study_k", "0.03"], "--study_k"),
+                      (["--materials", "sand"], "--materials")],
     "buried_pipe": [(["--elements", "0"], "--elements"), (["--mu", "-0.1"], "--mu"),
                     (["--r", "-1"], "--r"), (["--dt", "0"], "--dt"), (["--g", "-9.8"], "--g"),
                     (["--elements", "3"], "--elements"), (["--depth", "20"], "--depth")],

@@ -1,5 +1,5 @@
 """What is measured on a particle cloud: the deposit, its height at a wall, its centre of
-mass, its front, its radial mass distribution.
+mass, its front, its surface's height profile, its radial mass distribution.
 
 The verification scripts measure their runs with these (granular columns, plane and of
 revolution; the landslide); each takes a :class:`~pfem_skfem.pfem.state.PFEMState` or plain
@@ -9,8 +9,8 @@ import numpy as np
 
 from .alpha_shape import alpha_shape
 
-__all__ = ["deposit_extent", "wall_height", "centre_of_mass", "front", "mass_within",
-           "mass_moved"]
+__all__ = ["deposit_extent", "wall_height", "centre_of_mass", "front", "surface_height",
+           "mass_within", "mass_moved"]
 
 
 def deposit_extent(state, alpha, alpha_advected=0.0):
@@ -53,6 +53,21 @@ def centre_of_mass(state):
 def front(state):
     """The front: the largest x of the mesh's vertices (of the mass, not a flying particle)."""
     return float(np.max(state.mesh_p[:, 0]))
+
+
+def surface_height(state, x):
+    """The height of the mesh's top above each abscissa of ``x``: the largest y at which the
+    vertical line through x crosses an edge of the state's mesh (its vertices moved to t_n,
+    straight-sided), so the piecewise-linear free surface of a deposit on a floor. -inf
+    where no element lies above x (a gap in the body, or beyond its ends)."""
+    p, t = np.asarray(state.mesh_p), np.asarray(state.mesh_t)
+    edges = np.vstack([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    (x1, y1), (x2, y2) = p[edges[:, 0]].T, p[edges[:, 1]].T
+    x = np.asarray(x, dtype=float)[:, None]
+    vertical = x2 == x1                      # a vertical edge's top is a vertex of another edge
+    w = (x - x1) / np.where(vertical, 1.0, x2 - x1)
+    crossed = (x >= np.minimum(x1, x2)) & (x <= np.maximum(x1, x2)) & ~vertical
+    return np.where(crossed, y1 + w * (y2 - y1), -np.inf).max(axis=1)
 
 
 def mass_within(r, m):
