@@ -110,10 +110,8 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
     series = open_series(Path(outdir) / label if outdir is not None and save_every else None,
                          "dam_break", initial=(state, scene))
     T, Z, H = [0.0], [1.0], [1.0]
-    mass0 = None
 
     def measure(state, record, result):
-        nonlocal mass0
         T.append(state.time / t_unit)
         Z.append(state.x[:, 0].max() / a)
         near = state.x[:, 0] <= 1.01 * spacing            # the first column of particles
