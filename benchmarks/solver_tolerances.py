@@ -21,6 +21,12 @@ change at the looser tolerances, the solves, iterations per solve, the solves th
 The rule of issue 19: a family's tolerance may be loosened where every quantity stays
 within 0.1 % of its 1e-8 value (PFEM: within the round-off spread).
 
+Issue 40's levers at Clarabel's tolerance (the rule of its item 4), e.g.:
+python benchmarks/solver_tolerances.py --tolerances 1e-8 --extra form=dual
+     --extra iterative_refinement_enable=False --extra solver=qoco
+     --density-factors 3 5 7 9 11 13
+(a column per --extra; the CPU seconds of each run against the reference run's).
+
 Run: python benchmarks/solver_tolerances.py [--families static dynamic pfem]
      [--tolerances 1e-8 1e-7 1e-6 1e-5]
 """
@@ -118,10 +124,14 @@ def run_family(script_name, argv, tol, outdir, extra=None):
     import io
     script = importlib.import_module(f"verification.{script_name}")
     record = []
-    t0 = time.perf_counter()
+    extra = dict(extra or {})
+    if "solver" in extra:                          # another conic solver: the script's option
+        argv = list(argv) + ["--solver", str(extra.pop("solver"))]
+    t0, c0 = time.perf_counter(), time.process_time()
     with clarabel_tolerances(tol, record, extra), contextlib.redirect_stdout(io.StringIO()):
         report = run_script(script, *argv, "--no-figures", "--outdir", str(outdir))
     seconds = time.perf_counter() - t0
+    CPU_SECONDS[id(record)] = time.process_time() - c0
     checks = (sum(q.passed for q in report.quantities), len(report.quantities))
     values = {q.name: q.value for q in report.quantities}
     if script_name in EXTRA:
@@ -129,11 +139,17 @@ def run_family(script_name, argv, tol, outdir, extra=None):
     return values, record, seconds, checks
 
 
+#: CPU seconds of each run, keyed by its record's id (the process's, all threads)
+CPU_SECONDS = {}
+
+
 def summary(record, seconds, checks):
     iters = np.array([r[0] for r in record]) if record else np.zeros(1)
     almost = sum(status == "AlmostSolved" for _, status in record)
-    return (f"{len(record)} solves, {iters.mean():.1f} iterations per solve, "
-            f"{almost} AlmostSolved, {seconds:.1f} s; checks passed {checks[0]}/{checks[1]}")
+    cpu = CPU_SECONDS.get(id(record), np.nan)
+    return (f"{len(record)} Clarabel solves, {iters.mean():.1f} iterations per solve, "
+            f"{almost} AlmostSolved, {seconds:.1f} s wall, {cpu:.1f} s CPU; "
+            f"checks passed {checks[0]}/{checks[1]}")
 
 
 def changes(values, reference):
@@ -167,7 +183,8 @@ def main(argv=None):
                         "(e.g. input_sparse_dropzeros=True; clean=A0+P0 cleans the data as "
                         "benchmarks/iteration_cost.py does; form=dual states the PFEM steps "
                         "in the dual form; direct=True: the settings of the PFEM steps "
-                        "only), compared like a tolerance; repeat --extra for more columns")
+                        "only; solver=qoco: the script's --solver), compared like a "
+                        "tolerance; repeat --extra for more columns")
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")
@@ -203,6 +220,9 @@ def main(argv=None):
             if spread is not None:
                 for f, r in reruns.items():
                     print(f"  tol {tols[0]:.0e}, rho x {f:g}: {summary(*r[1:])}")
+            cpu0 = CPU_SECONDS[id(runs[tols[0]][1])]
+            print("  CPU time x the tightest tolerance's: " + ", ".join(
+                f"{_label(t)}: {CPU_SECONDS[id(runs[t][1])] / cpu0:.2f}" for t in columns))
             head = f"  {'quantity':34s} {'at ' + format(tols[0], '.0e'):>12s} " + \
                 " ".join(f"{_label(t):>9s}" for t in columns) + \
                 (f" {'round-off':>9s}" if spread else "")
