@@ -50,6 +50,12 @@ FAMILIES = {
     "dynamic": ("cantilever", ["--quick"]),
     "plastic": ("plastic_vibration", ["--quick"]),
     "pfem": ("granular_column_plane", ["--quick", "--workers", "1"]),
+    # more of each family (issue 40 item 4: every benchmark's quantities)
+    "cylinder": ("thick_cylinder", ["--quick"]),
+    "circular": ("circular_footing", ["--quick"]),
+    "pipe": ("buried_pipe", ["--quick"]),
+    "bounds": ("limit_bounds", ["--quick"]),
+    "contact": ("sliding_box", ["--quick"]),
 }
 # more quantities of a family than its Report's checks: the column's deposit at t = 4
 # sqrt(h0/g) (where the thesis stops; less chaotic than the deposit at rest)
@@ -128,8 +134,13 @@ def run_family(script_name, argv, tol, outdir, extra=None):
     if "solver" in extra:                          # another conic solver: the script's option
         argv = list(argv) + ["--solver", str(extra.pop("solver"))]
     t0, c0 = time.perf_counter(), time.process_time()
-    with clarabel_tolerances(tol, record, extra), contextlib.redirect_stdout(io.StringIO()):
-        report = run_script(script, *argv, "--no-figures", "--outdir", str(outdir))
+    try:
+        with clarabel_tolerances(tol, record, extra), contextlib.redirect_stdout(io.StringIO()):
+            report = run_script(script, *argv, "--no-figures", "--outdir", str(outdir))
+    except Exception as e:          # a failed solve fails the setting, not the study
+        CPU_SECONDS[id(record)] = time.process_time() - c0
+        FAILURES[id(record)] = f"{type(e).__name__}: {str(e)[:160]}"
+        return {}, record, time.perf_counter() - t0, (-1, -1)
     seconds = time.perf_counter() - t0
     CPU_SECONDS[id(record)] = time.process_time() - c0
     checks = (sum(q.passed for q in report.quantities), len(report.quantities))
@@ -141,20 +152,52 @@ def run_family(script_name, argv, tol, outdir, extra=None):
 
 #: CPU seconds of each run, keyed by its record's id (the process's, all threads)
 CPU_SECONDS = {}
+#: why a run failed (an exception), keyed likewise
+FAILURES = {}
 
 
 def summary(record, seconds, checks):
     iters = np.array([r[0] for r in record]) if record else np.zeros(1)
     almost = sum(status == "AlmostSolved" for _, status in record)
     cpu = CPU_SECONDS.get(id(record), np.nan)
+    if id(record) in FAILURES:
+        return f"FAILED after {seconds:.1f} s wall: {FAILURES[id(record)]}"
     return (f"{len(record)} Clarabel solves, {iters.mean():.1f} iterations per solve, "
             f"{almost} AlmostSolved, {seconds:.1f} s wall, {cpu:.1f} s CPU; "
             f"checks passed {checks[0]}/{checks[1]}")
 
 
 def changes(values, reference):
-    return {k: relative_error(values[k], reference[k]) if np.isfinite(reference[k]) else np.nan
-            for k in reference}
+    return {k: relative_error(values.get(k, np.inf), reference[k])
+            if np.isfinite(reference[k]) else np.nan for k in reference}
+
+
+def lever_sets(sets, reference):
+    """A lever's runs (its run and its density reruns) beside the default's, per quantity:
+    each set's range and mean relative to the reference value, and the shift of the
+    lever's mean from the default's in units of the default's standard deviation (a
+    description of two small samples of a chaotic run, not a test)."""
+    base = sets["default"]
+    print(f"  sets of {len(base)} runs (the run and its density reruns): range of each "
+          "quantity relative to the reference run's value; mean shift / sd of the default's")
+    for name, value in reference.items():
+        if abs(value) < NEAR_ZERO:
+            continue
+        cells = []
+        ref = np.array([r[0].get(name, np.nan) for r in base], dtype=float)
+        sd = ref.std(ddof=1)
+        for label, group in sets.items():
+            vals = np.array([r[0].get(name, np.nan) for r in group], dtype=float)
+            lo, hi = (vals.min() - value) / abs(value), (vals.max() - value) / abs(value)
+            shift = (vals.mean() - ref.mean()) / sd if sd > 0 else np.nan
+            cells.append(f"{label}: [{lo:+.1e}, {hi:+.1e}]"
+                         + ("" if label == "default" else f" {shift:+.1f} sd"))
+        print(f"  {name:34s} " + "; ".join(cells))
+    for label, group in sets.items():
+        if label != "default":
+            print(f"  {label}: " + summary(*group[0][1:]).split(";")[0] + "; CPU of its "
+                  f"{len(group)} runs x the default's: "
+                  f"{sum(CPU_SECONDS[id(r[1])] for r in group) / sum(CPU_SECONDS[id(r[1])] for r in base):.2f}")
 
 
 def _label(column):
@@ -176,7 +219,8 @@ def _setting(text):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--families", nargs="+", choices=tuple(FAMILIES), default=list(FAMILIES))
+    p.add_argument("--families", nargs="+", choices=tuple(FAMILIES),
+                   default=["static", "dynamic", "plastic", "pfem"])
     p.add_argument("--tolerances", type=float, nargs="+", default=[1e-8, 1e-7, 1e-6, 1e-5])
     p.add_argument("--extra", metavar="NAME=VALUE", nargs="*", action="append", default=[],
                    help="one more run at the tightest tolerance with these Clarabel settings "
@@ -188,6 +232,9 @@ def main(argv=None):
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")
+    p.add_argument("--lever-reruns", action="store_true",
+                   help="PFEM: rerun every --extra column at the density factors too and "
+                        "compare the two sets of runs (ranges, means; lever_sets)")
     args = p.parse_args(argv)
     tols = sorted(args.tolerances)
     extras = [{k: _setting(v) for k, v in (item.split("=", 1) for item in group)}
@@ -212,6 +259,13 @@ def main(argv=None):
                           for f in args.density_factors}
                 spread = {k: max(changes(r[0], reference)[k] for r in reruns.values())
                           for k in reference}
+                if args.lever_reruns:
+                    sets = {"default": [runs[tols[0]]] + list(reruns.values())}
+                    for i, extra in enumerate(extras, 1):
+                        sets[f"extra {i}"] = [runs[c] for c in columns if c[0] == i] + [
+                            run_family(script_name, script_argv + ["--rho", f"{2.0 * f:g}"],
+                                       tols[0], outdir, extra)
+                            for f in args.density_factors]
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
             for key in runs:
                 name = (f"tol {key:.0e}" if key in tols
@@ -234,9 +288,10 @@ def main(argv=None):
                 bound = spread[name] if spread else None
                 near_zero = abs(value) < NEAR_ZERO
                 for t in columns:
-                    if np.isfinite(ch[t]) and not near_zero:
-                        worst[t] = max(worst[t], ch[t] if spread is None
-                                       else ch[t] - spread[name])
+                    if not near_zero:        # an undefined change fails (inf)
+                        change = ch[t] if np.isfinite(ch[t]) else np.inf
+                        worst[t] = max(worst[t], change if spread is None
+                                       else change - spread[name])
                 print(f"  {name + (' *' if near_zero else ''):34s} {value:12.6g} "
                       + " ".join(f"{ch[t]:9.1e}" for t in columns)
                       + (f" {bound:9.1e}" if spread else ""))
@@ -250,6 +305,10 @@ def main(argv=None):
                                                          for t in columns)
                       + f"; within 0.1 % with the checks of the tightest passing: "
                       f"{', '.join(_label(t) for t in ok) or 'none'}")
+            if spread is not None and args.lever_reruns:
+                lever_sets(sets, reference)
+            if spread is None:
+                pass
             else:
                 ok = [t for t in columns if worst[t] <= 0.0 and t in passing]
                 print("  largest change beyond the round-off spread: "
