@@ -22,20 +22,20 @@ machine whose load average is printed: other work on its cores inflates the wall
 times (the shares and the CPU times less).
 
 ``--solvers clarabel qoco`` runs the same steps with each conic solver
-(``PFEMConfig.solver``, :data:`pfem_skfem.problems.conic.SOLVERS`). Clarabel runs on
-each of ``--backends`` (the direct assembly 'clarabel', the cvxpy statement 'cvxpy');
-another solver always solves the cvxpy statement (the direct assembly is Clarabel's),
-so it runs once, as backend 'cvxpy', and is compared with Clarabel on the same
-statement (and with the direct backend): the ratios other / Clarabel of the step's CPU
-time, its wall time, the conic solve and the iterations are printed at each size.
+(``PFEMConfig.solver``, :data:`pfem_skfem.problems.conic.SOLVERS`). A solver with an
+engine of the direct assembly (:data:`pfem_skfem.problems.direct_engines.ENGINES`:
+Clarabel, QOCO) runs on each of ``--backends`` (the direct assembly 'clarabel', the
+cvxpy statement 'cvxpy'); another solves the cvxpy statement only. The ratios of every
+run to the first (Clarabel's, direct, the first ``--settings``) of the step's CPU time,
+its wall time, the conic solve and the iterations are printed at each size.
 
-``--settings before after`` runs the direct backend with the Clarabel configuration of
-before issue 19's iteration study (qdldl, Clarabel's other defaults, the data as
-assembled) and with today's (``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``), and
-prints the ratio after / before of the step's CPU time and of the conic solve;
-``--settings after dual`` compares today's primal form with the dual form
-(``clarabel_direct.FORM``). Only the direct backend with Clarabel has these variants
-(the others run with 'after', today's).
+``--settings`` are configurations of the direct backend: 'before' (Clarabel as before
+issue 19's iteration study: qdldl, Clarabel's other defaults, the data as assembled),
+'after' (today's: ``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``, the primal form),
+'dual' (today's in the dual form, ``clarabel_direct.FORM``), 'noref' and 'dual-noref'
+(those with Clarabel's iterative refinement off). QOCO takes the form of each ('before'
+and 'noref' are Clarabel's: QOCO runs 'after' and 'dual' only); the cvxpy backend runs
+the first.
 
 All the configurations of one size run in the same process, alternating ``--repeat``
 times (least times kept), so that a change of load hits them all.
@@ -59,6 +59,7 @@ from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
 from pfem_skfem.problems import clarabel_direct                     # noqa: E402
 from pfem_skfem.problems.conic import SOLVERS as CONIC_SOLVERS      # noqa: E402
+from pfem_skfem.problems.direct_engines import ENGINES              # noqa: E402
 
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
@@ -92,9 +93,14 @@ def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel"):
 
 
 # the direct backend's Clarabel configuration: (Clarabel settings, clean the data, form)
+NO_REFINEMENT = dict(clarabel_direct.SETTINGS, iterative_refinement_enable=False)
 SETTINGS = {"before": (dict(direct_solve_method="qdldl"), False, "primal"),
             "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "primal"),
-            "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual")}
+            "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual"),
+            "noref": (NO_REFINEMENT, clarabel_direct.CLEAN_DATA, "primal"),
+            "dual-noref": (NO_REFINEMENT, clarabel_direct.CLEAN_DATA, "dual")}
+#: the configurations that mean something to another engine than Clarabel (the form)
+FORM_ONLY = ("after", "dual")
 
 
 def with_settings(name, *args):
@@ -109,16 +115,18 @@ def with_settings(name, *args):
 
 
 def configurations(backends, solvers, settings):
-    """The (backend, solver, settings) runs of one size and tolerance: Clarabel on each
-    backend (the settings variants on the direct one), another solver once, on cvxpy."""
+    """The (backend, solver, settings) runs of one size and tolerance: a solver with a
+    direct engine on each backend (the settings variants on the direct one: all for
+    Clarabel, the forms for another), any other once, on cvxpy."""
     runs = []
     for solver in solvers:
-        if solver == "clarabel":
-            for backend in backends:
-                for name in (settings if backend == "clarabel" else settings[:1]):
+        for backend in (backends if solver in ENGINES else ["cvxpy"]):
+            names = settings if backend == "clarabel" else settings[:1]
+            if solver != "clarabel" and backend == "clarabel":
+                names = [name for name in names if name in FORM_ONLY] or ["after"]
+            for name in names:
+                if (backend, solver, name) not in runs:
                     runs.append((backend, solver, name))
-        elif ("cvxpy", solver, settings[0]) not in runs:
-            runs.append(("cvxpy", solver, settings[0]))
     return runs
 
 
@@ -165,15 +173,17 @@ def main(argv=None):
                    help="PFEMConfig.pass_tolerance of the runs (0: every pass, today's)")
     p.add_argument("--backends", nargs="+", choices=("cvxpy", "clarabel"),
                    default=["clarabel"],
-                   help="Clarabel's backends (another solver always runs on cvxpy)")
+                   help="the backends of a solver with a direct engine (another runs on "
+                        "cvxpy)")
     p.add_argument("--solvers", nargs="+", choices=tuple(CONIC_SOLVERS),
                    default=["clarabel"],
                    help="the conic solvers (PFEMConfig.solver); several: alternated in "
                         "this process, the ratios to Clarabel printed")
     p.add_argument("--settings", nargs="+", choices=tuple(SETTINGS), default=["after"],
-                   help="the direct backend's Clarabel configuration (before / after the "
-                        "iteration study; dual: after, in the dual form); several: "
-                        "alternated in this process")
+                   help="the direct backend's configuration (before / after the "
+                        "iteration study; dual: after, in the dual form; noref, dual-noref: "
+                        "Clarabel's iterative refinement off); several: alternated in "
+                        "this process")
     p.add_argument("--repeat", type=int, default=1,
                    help="runs of each configuration (least CPU time kept)")
     p.add_argument("--json", type=Path, default=None, help="write the rows here")
@@ -216,15 +226,8 @@ def main(argv=None):
                       f"{r['inaccurate']:3d}/{r['total_passes']:<3d}  "
                       + ", ".join(f"{k} {v}" for k, v in r["statuses"].items()),
                       flush=True)
-            # the settings variants against the first; another solver against Clarabel
-            direct = [c for c in configs if c[:2] == ("clarabel", "clarabel")]
-            for c in direct[1:]:
-                print(f"{'':8s} {ratio_line(best[c], best[direct[0]])}", flush=True)
-            bases = [c for c in configs if c[1] == "clarabel" and c[2] == args.settings[0]]
-            for c in configs:
-                if c[1] != "clarabel":
-                    for base in sorted(bases, key=lambda b: b[0] != "cvxpy"):
-                        print(f"{'':8s} {ratio_line(best[c], best[base])}", flush=True)
+            for c in configs[1:]:               # every run against the first
+                print(f"{'':8s} {ratio_line(best[c], best[configs[0]])}", flush=True)
             if args.json is not None:
                 args.json.write_text(json.dumps(rows, indent=1))
     print("\ngrowth with the element count n, t ~ n^b:")

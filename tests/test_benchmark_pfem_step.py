@@ -16,14 +16,16 @@ def bench():
 
 
 def test_configurations(bench):
-    # Clarabel on each backend, its settings variants on the direct one only; another
-    # solver once, on the cvxpy statement
+    # a solver with a direct engine (Clarabel, QOCO) on each backend, the settings variants
+    # on the direct one only (QOCO: the forms); another solver once, on the cvxpy statement
     assert bench.configurations(["clarabel", "cvxpy"], ["clarabel", "qoco"], ["after"]) == [
         ("clarabel", "clarabel", "after"), ("cvxpy", "clarabel", "after"),
-        ("cvxpy", "qoco", "after")]
+        ("clarabel", "qoco", "after"), ("cvxpy", "qoco", "after")]
     assert bench.configurations(["clarabel"], ["clarabel"], ["before", "after"]) == [
         ("clarabel", "clarabel", "before"), ("clarabel", "clarabel", "after")]
-    assert bench.configurations(["clarabel"], ["qoco"], ["after"]) == [("cvxpy", "qoco", "after")]
+    assert bench.configurations(["clarabel"], ["qoco"], ["before", "after", "dual", "noref"]) \
+        == [("clarabel", "qoco", "after"), ("clarabel", "qoco", "dual")]
+    assert bench.configurations(["clarabel"], ["scs"], ["after"]) == [("cvxpy", "scs", "after")]
 
 
 def test_options_refused(bench):
@@ -39,11 +41,11 @@ def test_tiny_run_by_solver(bench, tmp_path, capsys):
     bench.main(["--nx", "5", "--steps", "1", "--solvers", "clarabel", "qoco", "--json",
                 str(out)])
     text = capsys.readouterr().out
-    assert "qoco-cvxpy / clarabel-clarabel: step CPU" in text
+    assert "qoco-clarabel / clarabel-clarabel: step CPU" in text
     import json
     rows = json.loads(out.read_text())
     assert [(r["solver"], r["backend"]) for r in rows] == [("clarabel", "clarabel"),
-                                                           ("qoco", "cvxpy")]
+                                                           ("qoco", "clarabel")]
     for r in rows:
         assert r["iterations"] > 0 and r["total_passes"] >= 1
         assert sum(r["statuses"].values()) == 1 and 0 <= r["inaccurate"] <= r["total_passes"]

@@ -323,8 +323,8 @@ def test_a_numerical_error_is_solved_once_more_without_equilibration(monkeypatch
             sol = self.inner.solve()
             if len(calls) == 1:
                 class Failed:                       # the first attempt's report
-                    status, iterations, x, z, obj_val = ("NumericalError", 7, sol.x, sol.z,
-                                                         sol.obj_val)
+                    status, iterations, x, z, s, obj_val = ("NumericalError", 7, sol.x,
+                                                            sol.z, sol.s, sol.obj_val)
                 return Failed()
             return sol
 

@@ -118,8 +118,11 @@ def test_bounds_of_the_cut_agree_with_clarabel(bound):
 
 
 @needs_qoco
-def test_dynamic_step_through_cvxpy_agrees_with_the_direct_clarabel_step():
-    """``backend='clarabel'`` with QOCO states the step in cvxpy: the reference statement."""
+@pytest.mark.parametrize("backend, form", [("clarabel", "primal"), ("clarabel", "dual"),
+                                           ("cvxpy", None)])
+def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(backend, form):
+    """QOCO handed the direct assembly (``backend='clarabel'``, primal or dual form) or the
+    cvxpy statement: the step of Clarabel's direct assembly, to 1e-6."""
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
     theta = ThetaMethod(0.05, 1.0, 0.5)
     ops = dynamic_operators(disc, 2.0, theta, Elastic(1e3, 0.3))
@@ -131,11 +134,15 @@ def test_dynamic_step_through_cvxpy_agrees_with_the_direct_clarabel_step():
     sigma_n = rng.standard_normal((disc.n_points, 4))
     f = gravity_vector(disc, 2.0, 9.8)
     args = (ops, f, f, sigma_n, v_n, Tresca(6.0))
-    kw = dict(fixed=fixed, prescribed=P, du_prescribed=np.full(P.size, 1e-3),
-              backend="clarabel")
-    ref = dynamic_increment(*args, **kw)
-    res = dynamic_increment(*args, solver="qoco", form="dual", **kw)   # form: Clarabel's
-    assert res.info.extra["measures"]["solver"] == "QOCO"
+    kw = dict(fixed=fixed, prescribed=P, du_prescribed=np.full(P.size, 1e-3))
+    ref = dynamic_increment(*args, backend="clarabel", **kw)
+    res = dynamic_increment(*args, solver="qoco", backend=backend,
+                            **(dict(form=form) if form else {}), **kw)
+    if backend == "cvxpy":
+        assert res.info.extra["measures"]["solver"] == "QOCO"
+    else:
+        assert res.info.extra["engine"] == "qoco"
+        assert res.info.extra.get("form", "primal") == form
     for name in ("du", "sigma", "r", "reactions"):
         assert rel(getattr(res, name), getattr(ref, name)) <= 1e-6, name
 
@@ -174,25 +181,39 @@ def test_a_c0_pfem_run_with_qoco_is_density_invariant_bit_for_bit():
 @needs_qoco
 @quiet
 @pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
-def test_pfem_steps_with_qoco_agree_with_clarabel(geometry):
+@pytest.mark.parametrize("statement", ["direct", "direct-dual", "cvxpy"])
+def test_pfem_steps_with_qoco_agree_with_clarabel(geometry, statement, monkeypatch):
     """The first PFEM step of a collapsing column (plane: the thesis' Fig 6.11 column;
     axisymmetric: its 7.4 column, Drucker-Prager), one pass, Clarabel's direct assembly
-    against QOCO's cvxpy statement: the particles' velocities within 1e-4 of their largest
-    (measured 5e-6; QOCO's du is within 3.6e-8 - 1.1e-6 of a tight reference, Clarabel's
-    within 7e-6 - 1.3e-4, benchmarks/gpu_solve.py) and their positions within 1e-6 of the
-    column's height. One step and one pass, so that both solve the same problem: a later
-    pass or step lags the mean stress of rigid zones, which is not unique (measured 3e-4
-    after two steps, tests/test_pfem_loop.py)."""
+    against QOCO handed the same direct assembly (primal, or its dual: the displacement
+    form) or the cvxpy statement: the particles' velocities within 1e-4 of their largest
+    (measured 5e-6 - 1e-5; QOCO's du is within 3.6e-8 - 1.1e-6 of a tight reference,
+    Clarabel's within 7e-6 - 1.3e-4, benchmarks/gpu_solve.py) and their positions within
+    1e-6 of the column's height. One step and one pass, so that both solve the same
+    problem: a later pass or step lags the mean stress of rigid zones, which is not unique
+    (measured 3e-4 after two steps, tests/test_pfem_loop.py)."""
     from pfem_skfem.drivers.pfem_loop import run
+    from pfem_skfem.problems import clarabel_direct
     if geometry == "plane":
         from verification.granular_column_plane import granular_column as column
     else:
         from verification.granular_column_axisymmetric import (
             granular_column_axisymmetric as column)
+    from pfem_skfem.problems.direct_engines import ENGINES
+    direct_solves = []                  # QOCO's solves of the direct assembly
+    engine_solve = ENGINES["qoco"].solve
+    monkeypatch.setattr(ENGINES["qoco"], "solve",
+                        lambda *a, **k: direct_solves.append(1) or engine_solve(*a, **k))
     states = []
     for solver in ("clarabel", "qoco"):
-        state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1)
+        if solver == "qoco":
+            monkeypatch.setattr(clarabel_direct, "FORM",
+                                "dual" if statement == "direct-dual" else "primal")
+        backend = "cvxpy" if solver == "qoco" and statement == "cvxpy" else "clarabel"
+        state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1,
+                              backend=backend)
         states.append(run(state, scene, 1)[0])
+    assert (len(direct_solves) > 0) == statement.startswith("direct")
     a, b = states
     assert np.abs(a.v).max() > 0
     assert rel(b.v, a.v) < 1e-4
@@ -321,3 +342,45 @@ def test_a_mu_i_step_refuses_qoco_before_any_work(no_solve):
     with pytest.raises(ValueError, match=r"'qoco'.*exp"):
         dynamic_increment(ops, z, z, np.zeros((disc.n_points, 4)), z, Tresca(1.0),
                           viscous=rate, solver="qoco", backend="clarabel")
+
+
+def test_qoco_engine_answers_in_clarabels_rows_and_signs():
+    """QOCO handed Clarabel's standard form with its cones interleaved (zero, non-negative,
+    second-order, zero again: a fluid's zero-radius points come after the SOCs) answers
+    with Clarabel's x, z (rows back in Clarabel's order, Clarabel's sign) and s, to solver
+    tolerance; both satisfy the KKT stationarity P x + c + A^T z = 0."""
+    import clarabel
+    import scipy.sparse as sp
+    from pfem_skfem.problems.direct_engines import ENGINES
+    rng = np.random.default_rng(3)
+    n = 6
+    M = rng.normal(size=(n, n))
+    P = sp.csc_matrix(M @ M.T + np.eye(n))
+    c = rng.normal(size=n)
+    cones = [clarabel.ZeroConeT(2), clarabel.NonnegativeConeT(3),
+             clarabel.SecondOrderConeT(3), clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(2)]
+    A = sp.csc_matrix(rng.normal(size=(11, n)))
+    x0 = rng.normal(size=n)                # b chosen so that x0 with a cone-interior s is feasible
+    s0 = np.concatenate([np.zeros(2), np.ones(3), [2.0, 0.5, 0.5], [0.0], np.ones(2)])
+    b = A @ x0 + s0
+    answers = {}
+    for name in ("clarabel", "qoco"):
+        engine = ENGINES[name]
+        changes = dict(tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10) \
+            if name == "clarabel" else dict(abstol=1e-10, reltol=1e-10)
+        sol = engine.solve(sp.triu(P, format="csc"), c, A, b, cones, engine.settings(changes))
+        assert sol.status == "Solved"
+        assert np.abs(P @ sol.x + c + A.T @ sol.z).max() < 1e-7
+        assert np.abs(A @ sol.x + sol.s - b).max() < 1e-7
+        answers[name] = sol
+    ref, q = answers["clarabel"], answers["qoco"]
+    for key in ("x", "z", "s"):
+        assert rel(getattr(q, key), getattr(ref, key)) < 1e-6
+    assert np.all(ref.z[[0, 1, 8]] != 0)   # the equalities carry multipliers: signs checked
+
+
+def test_qoco_engine_refuses_exponential_cones():
+    import clarabel
+    from pfem_skfem.problems.direct_engines import row_order
+    with pytest.raises(ValueError, match="ExponentialConeT"):
+        row_order([clarabel.ZeroConeT(1), clarabel.ExponentialConeT()])

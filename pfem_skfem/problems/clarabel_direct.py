@@ -59,13 +59,15 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ..materials.criteria import zero_radius
-from .conic import CLARABEL_DEFAULTS, SolveInfo, check_status, clarabel_measures
+from .conic import SolveInfo, check_status
+from .direct_engines import ENGINES
 
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
 #: ``settings`` override them): the package's (qdldl). Iterative refinement, the
 #: regularisations and the step fraction stay Clarabel's: none makes the solve faster
 #: without moving the figures (benchmarks/iteration_cost.py, book/performance.md).
-SETTINGS = dict(CLARABEL_DEFAULTS)
+#: Another engine (QOCO) takes its own defaults and the caller's ``settings`` only.
+SETTINGS = dict(ENGINES["clarabel"].defaults)
 
 #: Clean the data before the call: drop A's stored zeros (the yield block's zero entries
 #: of D, ~15 % of A) and P's round-off (:func:`drop_roundoff`); the same problem, a
@@ -184,7 +186,7 @@ def inverse_blocks(P, rcond=BLOCK_RCOND):
     return r, Pr_inv, full
 
 
-def solve_dual(P, c, A, b, cones, settings):
+def solve_dual(P, c, A, b, cones, settings, engine=None):
     """Solve  min 1/2 x^T P x + c^T x  s.t.  A x + s = b, s in K  through its Lagrangian dual.
 
     With x = (x_r, x_0), x_r the columns where P is nonzero (P_r block-diagonal, positive
@@ -208,14 +210,16 @@ def solve_dual(P, c, A, b, cones, settings):
     A : (m, n) sparse. b : (m,). cones : Clarabel cones of the rows of A, zero,
         nonnegative and second-order cones only (self-dual); an exponential or power
         cone raises ValueError, as does a singular block of P.
-    settings : clarabel.DefaultSettings, used for the dual as given.
+    settings : the engine's settings (Clarabel's: clarabel.DefaultSettings), used for the
+        dual as given.
+    engine : the solver (:mod:`~pfem_skfem.problems.direct_engines`; Clarabel by default).
 
     Returns
     -------
     SimpleNamespace with the primal's x, z, s, status (Clarabel's name; the dual's
     PrimalInfeasible is the primal's DualInfeasible and vice versa), iterations, obj_val
     (1/2 x^T P x + c^T x of the recovered x), setup_time (seconds stating the dual) and
-    solver (the dual's clarabel.DefaultSolver).
+    measures (the solver's, of the dual).
     """
     t0 = time.perf_counter()
     kinds = [type(cone).__name__ for cone in cones]
@@ -248,19 +252,17 @@ def solve_dual(P, c, A, b, cones, settings):
     cones_d = ([clarabel.ZeroConeT(n_eq)] if n_eq else []) + \
         [cone for cone, kind in zip(cones, kinds) if kind != "ZeroConeT"]
     setup = time.perf_counter() - t0
-    solver = clarabel.DefaultSolver(P_d, c_d, A_d, b_d, cones_d, settings)
-    sol = solver.solve()
-    y, w = np.asarray(sol.x)[:m], np.asarray(sol.z)
+    sol = (engine or ENGINES["clarabel"]).solve(P_d, c_d, A_d, b_d, cones_d, settings)
+    y, w = sol.x[:m], sol.z
     x = np.empty(n)
     x[x0] = -w[:x0.size]
     x[r] = -(Pr_inv @ (c[r] + Ar.T @ y))
     s = np.zeros(m)
     s[cone_rows] = w[n_eq:]
-    status = str(sol.status)
-    return SimpleNamespace(x=x, z=y, s=s, status=_DUAL_STATUS.get(status, status),
-                           iterations=int(sol.iterations),
+    return SimpleNamespace(x=x, z=y, s=s, status=_DUAL_STATUS.get(sol.status, sol.status),
+                           iterations=sol.iterations,
                            obj_val=float(0.5 * x @ (P_full @ x) + c @ x),
-                           setup_time=setup, solver=solver)
+                           setup_time=setup, measures=sol.measures)
 
 
 def cone_matrices(criterion, n):
@@ -360,7 +362,7 @@ def _cone_rows(criterion, points, n):
 
 def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P, u_P,
                        criterion, contact=None, viscous=None, rate_log=None, hoop=False,
-                       what="dynamic step (4.23)", form=None,
+                       what="dynamic step (4.23)", form=None, engine="clarabel",
                        accept_inaccurate=False, **settings):
     """Solve the scaled step of :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
 
@@ -377,7 +379,9 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     the total stress; ``hoop``: the rate stress has the third (hoop) component c_j of
     axisymmetry, (a_j, b_j) reading (a_j, b_j, c_j) throughout; ``form``: "primal" or
     "dual" (:data:`FORM` by default; with ``rate_log``, whose exponential cones are not
-    self-dual, the primal form is stated either way).
+    self-dual, the primal form is stated either way); ``engine``: the solver handed the
+    data, a name of :data:`~pfem_skfem.problems.direct_engines.ENGINES` ('clarabel',
+    'qoco'); ``settings`` are the engine's (Clarabel's over :data:`SETTINGS`).
 
     Returns dict(s, q, p, qc, dual_equilibrium, dual_yield, info): the scaled solution and
     the duals of equilibrium (on the free dofs; du_F = -dual x displacement scale, the
@@ -387,6 +391,9 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
     form = FORM if form is None else form
     if form not in FORMS:
         raise ValueError(f"form must be one of {FORMS}, got {form!r}")
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {tuple(ENGINES)}, got {engine!r}")
+    solver_engine = ENGINES[engine]
     n = Bh.shape[0] // 4
     n_r = Ah.shape[0]
     nc = 0 if contact is None else contact["G"].shape[1] // 2
@@ -490,35 +497,32 @@ def solve_dynamic_step(*, Bh, Ah, Dh, Ch, kappa, kappa_C, s_n, v_h, f_h, free, P
         Amat.eliminate_zeros()
         Pmat = drop_roundoff(Pmat)
 
-    opts = clarabel.DefaultSettings()
-    opts.verbose = False
-    for key, value in {**SETTINGS, **settings}.items():
-        setattr(opts, key, value)
+    changes = {**SETTINGS, **settings} if engine == "clarabel" else dict(settings)
+    opts = solver_engine.settings(changes)
     t1 = time.perf_counter()
     build = t1 - t0                          # our assembly (cvxpy's 'compile' counterpart)
     retried, first_iterations = False, 0
     if form == "dual" and not n_l:           # the displacement form (exponential cones: primal)
-        sol = solve_dual(Pmat, c, Amat, b, cones, opts)
-        solver = sol.solver                  # the dual's: its measures are the step's
+        sol = solve_dual(Pmat, c, Amat, b, cones, opts, solver_engine)
         build += sol.setup_time              # stating the dual is our assembly
         wall = time.perf_counter() - t1 - sol.setup_time
     else:
-        solver = clarabel.DefaultSolver(Pmat, c, Amat, b, cones, opts)
-        sol = solver.solve()
-        retried = str(sol.status) == "NumericalError" and opts.equilibrate_enable
+        sol = solver_engine.solve(Pmat, c, Amat, b, cones, opts)
+        retried = (engine == "clarabel" and sol.status == "NumericalError"
+                   and opts.equilibrate_enable)
         if retried:                          # once more without equilibration (RETRY),
-            first_iterations = int(sol.iterations)      # the first attempt's counted
-            for key, value in RETRY.items():
-                setattr(opts, key, value)
-            solver = clarabel.DefaultSolver(Pmat, c, Amat, b, cones, opts)
-            sol = solver.solve()
-        wall = time.perf_counter() - t1      # Clarabel's setup and iterations
-    status = _STATUS.get(str(sol.status), str(sol.status))
-    check_status(status, what, accept_inaccurate, clarabel_measures(solver))
-    x, z = np.asarray(sol.x), np.asarray(sol.z)
+            first_iterations = sol.iterations           # the first attempt's counted
+            opts = solver_engine.settings({**changes, **RETRY})
+            sol = solver_engine.solve(Pmat, c, Amat, b, cones, opts)
+        wall = time.perf_counter() - t1      # the solver's setup and iterations
+    status = _STATUS.get(sol.status, sol.status)
+    check_status(status, what, accept_inaccurate, sol.measures)
+    x, z = sol.x, sol.z
     start = free.size + (smooth.size if nc else 0) + nc
     info = SolveInfo(status=status, iterations=int(sol.iterations) + first_iterations,
                      compile_time=build, solve_time=wall, objective=-float(sol.obj_val))
+    if engine != "clarabel":
+        info.extra["engine"] = engine
     if form == "dual" and not n_l:
         info.extra["form"] = "dual"
     elif retried:

@@ -51,6 +51,7 @@ from ..discretisation.dynamic import (DynamicOperators, block_inverse,  # noqa: 
                                       block_inverse_elements, dynamic_operators)
 from ..discretisation.theta import ThetaMethod  # noqa: F401
 from .conic import SolveInfo, prescribed_values, solve, solver_backend, split_dofs
+from .direct_engines import ENGINES
 from .contact import contact_matrix, contact_terms
 from .static import point_multipliers
 
@@ -180,9 +181,9 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
         :mod:`~pfem_skfem.problems.clarabel_direct`, without cvxpy's compile step;
         ``d_form="quad_form"`` only).
     solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
-        The direct assembly is Clarabel's: with another solver, ``backend="clarabel"``
-        states the step in cvxpy (the reference statement, ``backend="cvxpy"``) and
-        solves it there. A solver lacking the exponential cone of a
+        With ``backend="clarabel"`` the direct assembly is handed to it where it has an
+        engine there (:data:`~pfem_skfem.problems.direct_engines.ENGINES`: Clarabel,
+        QOCO); another solver gets the cvxpy statement (``backend="cvxpy"``). A solver lacking the exponential cone of a
         :class:`RateDissipation` is refused before any work.
     viscous : None, :class:`ViscousStress` or :class:`RateDissipation` (rigid-plastic
         only): sigma = sigma_p + sigma_v with sigma_p in the cone and a rate deviator
@@ -208,10 +209,13 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")
     # an unknown, unavailable or too weak solver refused now (mu(I): exponential cones)
-    if solver_backend(solver, cones={"exp"} if isinstance(viscous, RateDissipation)
-                      else None).name != "clarabel":
-        backend = "cvxpy"                        # the direct assembly is Clarabel's,
-        solver_settings.pop("form", None)        # and so is its choice of form
+    name = solver_backend(solver, cones={"exp"} if isinstance(viscous, RateDissipation)
+                          else None).name
+    if name not in ENGINES:                      # no engine of the direct assembly:
+        backend = "cvxpy"                        # the cvxpy statement,
+        solver_settings.pop("form", None)        # which has no choice of form
+    elif backend == "clarabel":
+        solver_settings["engine"] = name
     if viscous is not None and not isinstance(viscous, (ViscousStress, RateDissipation)):
         raise ValueError(f"viscous must be a ViscousStress or RateDissipation, got {viscous!r}")
     if viscous is not None and (ops.C is not None or criterion is None):

@@ -52,8 +52,10 @@ class PFEMConfig:
     search : contact search distance in units of h.
     backend : 'clarabel' (the step assembled directly) or 'cvxpy' (the reference statement).
     solver : the conic solver of every step (:data:`~pfem_skfem.problems.conic.SOLVERS`:
-        'clarabel', the default, 'qoco', 'mosek', 'scs'); another than Clarabel solves the
-        cvxpy statement whatever ``backend`` says (the direct assembly is Clarabel's).
+        'clarabel', the default, 'qoco', 'mosek', 'scs'); Clarabel and QOCO are handed the
+        direct assembly (``backend='clarabel'``,
+        :mod:`~pfem_skfem.problems.direct_engines`), the others the cvxpy statement
+        whatever ``backend`` says.
     bulge : place the boundary particles so that the straight-sided boundary keeps the
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
