@@ -227,3 +227,33 @@ def test_hagen_poiseuille_in_a_vertical_pipe_axisymmetric():
     assert e4 < 3e-4
     assert np.log2(e4 / e8) > 1.8
     assert max(r4, r8) < 1e-9
+
+
+def _tank(rho_s, rho_w=RHO, c=1.0e4):
+    """One step of verification/hydrostatics.py's tank (0.6 wide, water 0.2 deep) with a
+    Tresca block 0.2 x 0.1 on its floor, particles 0.02 apart."""
+    from verification.hydrostatics import buoyancy
+    return buoyancy(0.6, 0.2, 0.2, 0.1, 5, rho_w=rho_w, rho_s=rho_s, c=c, g=G, dt=0.01)
+
+
+@pytest.mark.parametrize("rho_s", [3000.0, 2000.0, RHO], ids=["heavy", "clay", "neutral"])
+def test_a_block_in_a_water_tank_presses_on_the_floor_with_its_buoyant_weight(rho_s):
+    """Archimedes in total stresses: no water gets under the block, so the floor under it
+    carries more than its weight (1.3-1.9 times: the water on it); less the water pressure
+    rho_w g H on the floor's shares there, it carries (rho_s - rho_w) g V (measured 2e-11 to
+    1e-10 of rho_w g V; a neutral block, nothing), and under the water alone nothing beyond
+    rho_w g H (6e-10 of a node's share). V is the block the step sees: b h_b plus the
+    water triangles on its wetted faces, (2 h_b + b) h / 2 (the region declared first keeps
+    the interface's particles)."""
+    r = _tank(rho_s)
+    assert r["V"] == pytest.approx(0.2 * 0.1 + (2 * 0.1 + 0.2) * 0.02 / 2, rel=1e-12)
+    assert abs(r["effective_force"] - (rho_s - RHO) * G * r["V"]) < 1e-8 * RHO * G * r["V"]
+    assert r["water_effective"] < 1e-8
+    assert r["under_over_weight"] > 1.2
+    assert r["walls"] == pytest.approx((1.0, 1.0), rel=1e-6)
+    assert r["still"] < 1e-3
+
+
+def test_the_tank_with_every_density_and_c_doubled_is_the_same_step_bit_for_bit():
+    a, b = _tank(2000.0), _tank(4000.0, rho_w=2 * RHO, c=2.0e4)
+    assert np.array_equal(2 * a["effective_nodes"], b["effective_nodes"])

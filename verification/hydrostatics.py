@@ -1,0 +1,260 @@
+"""Archimedes in the PFEM step: a Tresca block on the floor of a water tank.
+
+Beyond the thesis (issue 39, item 3, its second half; the first, water at rest against a
+gate, is ``verification/dam_break.py``'s held column). A block b wide and h_b high of
+undrained clay (:class:`~pfem_skfem.materials.CohesiveTresca`, density rho_s, strength
+c) stands in the middle of the floor of a tank L wide filled with inviscid water
+(:class:`~pfem_skfem.materials.NewtonianFluid`, mu = 0, density rho_w) to the depth H;
+floor and walls are smooth rigid segments (5.12). One step of (4.23) from rest.
+
+The step is single-phase and in total stresses: no water gets under the block, so the
+floor under it carries the block's weight and the water standing on its top, more than
+its weight. Archimedes' statement is about the *effective* force, the floor's reaction
+less the water pressure p_f = rho_w g H at the floor's depth:
+
+    R_i - p_f t_i = 0                         at a floor node under water only,
+    sum over the nodes under the block = (rho_s - rho_w) g V     (per unit thickness),
+
+t_i the node's share of a unit pressure on the floor (the P2 consistent load: h/6 at a
+vertex per edge, 2h/3 at a midside). The reaction's distribution under a rigid(-plastic)
+block is not unique; its sum is.
+
+V is the block the step sees: the area of the elements that carry its density and cone.
+An element takes the region of most of its vertices
+(:func:`~pfem_skfem.pfem.assemble.element_regions`), and the particles on the interface
+belong to the region declared first (the block), so each water triangle with an edge on
+the block's wetted faces joins the block: V = b h_b + (2 h_b + b) h / 2 on the square
+lattice of spacing h, first order in h (declared after the water, the block loses the
+same). Checked exactly against that V, and measured against the drawn b h_b at several
+spacings (its error falls as h).
+
+Checks: at each spacing, the effective force under the block against (rho_s - rho_w) g V
+(the step's V) to 1e-6; the effective reaction under the water zero to 1e-6 of p_f h; the
+floor under the block carrying more than its weight (total stresses); the walls
+rho_w g H^2 / 2 each to 1e-6; the block and water at rest (largest speed after the step
+1e-3 of g dt); V - b h_b = (2 h_b + b) h / 2 to 1e-9, so that against the drawn block the
+error (2 h_b + b) h / (2 b h_b) is of order 1 in h (fitted, with two spacings or more).
+
+Usage::
+
+    python verification/hydrostatics.py --quick --json results/hydrostatics.json   # 4 seconds
+    python verification/hydrostatics.py --n 5 10 20 40
+"""
+import sys
+
+import numpy as np
+
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import base_parser, positive_float, positive_int
+from pfem_skfem.harness.report import Report, script_main
+
+QUICK = dict(n=[5, 10])
+
+
+def tank_scene(L, H, b, h_b, n, *, rho_w, rho_s, c, g, dt, block_first=True,
+               solver="clarabel"):
+    """The tank (L wide, water to H) with the block (b x h_b, centred on the floor), particles
+    on a square lattice of spacing h_b / n, smooth floor and walls: scene and initial state."""
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import CohesiveTresca, NewtonianFluid
+    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
+    from pfem_skfem.scene import Body, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+
+    h = h_b / n
+    x0, x1 = (L - b) / 2, (L + b) / 2
+    block = Region(((x0, 0.0), (x1, 0.0), (x1, h_b), (x0, h_b)), CohesiveTresca(c), rho_s, h,
+                   name="block")
+    water = Region(((0.0, 0.0), (x0, 0.0), (x0, h_b), (x1, h_b), (x1, 0.0), (L, 0.0), (L, H),
+                    (0.0, H)), NewtonianFluid(0.0), rho_w, h, name="water")
+    far = 50 * L
+    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),       # water above
+              Body("left", RigidSegment((0.0, far), (0.0, -h), 0.0)),          # water right
+              Body("right", RigidSegment((L, -h), (L, far), 0.0)))             # water left
+    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
+                        solver=solver)
+    scene = Scene(regions=(block, water) if block_first else (water, block), bodies=bodies,
+                  gravity=(0.0, -g), alpha=1.6, length=H, config=config)
+    return scene.initial_state(), scene
+
+
+def floor_shares(disc):
+    """t: each dof's share of a unit pressure on the floor y = 0 (P2 consistent load, at the
+    y dofs: h/6 per edge at a vertex, 2h/3 at a midside)."""
+    p = disc.mesh.p
+    facets = disc.mesh.boundary_facets()
+    ends = disc.mesh.facets[:, facets]
+    on = np.all(np.abs(p[1, ends]) <= 1e-12 * np.ptp(p[0]), axis=0)
+    ends, facets = ends[:, on], facets[on]
+    length = np.abs(p[0, ends[1]] - p[0, ends[0]])
+    t = np.zeros(disc.n_u)
+    y = disc.basis_u.nodal_dofs[1]
+    np.add.at(t, y[ends[0]], length / 6)
+    np.add.at(t, y[ends[1]], length / 6)
+    np.add.at(t, disc.basis_u.facet_dofs[1][facets], 2 * length / 3)
+    return t
+
+
+def buoyancy(L, H, b, h_b, n, *, rho_w, rho_s, c, g, dt, block_first=True, solver="clarabel"):
+    """One step of the tank from rest: the floor's reactions and the block the step sees.
+
+    Returns a dict: ``effective`` the floor's effective force under the block (its nodes'
+    reactions less p_f t_i) / ((rho_s - rho_w) g V) - 1 (nan for a neutral block: then
+    ``effective_force`` [N/m], to compare with 0), ``water_effective`` the largest
+    |R_i - p_f t_i| under the water alone / (p_f h), ``under_over_weight`` the floor's
+    total force under the block / rho_s g V, ``V`` the step's block area, ``V_drawn``
+    b h_b, ``walls`` (left, right) / (rho_w g H^2 / 2), ``still`` the largest speed /
+    (g dt), and the floor nodes' x, effective reactions R_i - p_f t_i and whether under the
+    block.
+    """
+    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.pfem.alpha_shape import triangle_areas
+    from pfem_skfem.pfem.assemble import element_regions
+
+    state0, scene = tank_scene(L, H, b, h_b, n, rho_w=rho_w, rho_s=rho_s, c=c, g=g, dt=dt,
+                               block_first=block_first, solver=solver)
+    out = {}
+
+    def keep(state, record, result):
+        out.update(record=record, result=result)
+
+    state, _ = pfem_loop.run(state0, scene, 1, on_step=keep)
+    result, record = out["result"], out["record"]
+    disc, inc, contacts = result.disc, result.increment, result.contacts
+    k = [r.name for r in scene.regions].index("block")
+    in_block = element_regions(state0, result.pm) == k
+    V = float(triangle_areas(disc.mesh.p.T, disc.mesh.t.T)[in_block].sum())
+    on_floor = contacts.normal[:, 1] > 1 - 1e-12     # the floor's (+y; wall nodes near it too)
+    reaction = (contacts.normal * inc.p[:, None]
+                + contacts.tangent * inc.q[:, None])[on_floor, 1]  # on the water and block
+    ydof = contacts.dofs[on_floor, 1]
+    share = floor_shares(disc)[ydof]
+    p_f = rho_w * g * H
+    effective = reaction - p_f * share
+    under = np.isin(ydof, disc.basis_u.element_dofs[:, in_block])
+    buoyant = (rho_s - rho_w) * g * V
+    wall = rho_w * g * H ** 2 / 2
+    line = share > 0                                  # the nodes on the floor (y = 0)
+    order = np.argsort(contacts.x[on_floor, 0][line])
+    return dict(effective=effective[under].sum() / buoyant - 1 if buoyant else np.nan,
+                effective_force=float(effective[under].sum()),
+                water_effective=float(np.abs(effective[~under]).max() / (p_f * h_b / n)),
+                under_over_weight=float(reaction[under].sum() / (rho_s * g * V)),
+                V=V, V_drawn=b * h_b, V_record=record["area_regions"]["block"],
+                walls=(-record["forces"]["left"][0] / wall, record["forces"]["right"][0] / wall),
+                still=float(np.abs(state.v).max() / (g * dt)), n=n, h=h_b / n,
+                x=contacts.x[on_floor, 0][line][order],
+                effective_nodes=effective[line][order], under=under[line][order])
+
+
+def check(args):
+    h = [args.h_b / n for n in args.n]
+    if not (args.b < args.L and args.h_b < args.H):
+        return "--b and --h_b: the block must be narrower than the tank (--L) and below " \
+               "the water (--H)"
+    for length, name in ((args.b, "--b"), ((args.L - args.b) / 2, "(--L - --b) / 2"),
+                         (args.H, "--H")):
+        for hh, n in zip(h, args.n):
+            if abs(length / hh - round(length / hh)) > 1e-9 * length / hh:
+                return (f"--n {n}: {name} = {length:g} is not a whole number of spacings "
+                        f"--h_b / --n = {hh:g} (block and water share one square lattice)")
+    if args.rho_s <= args.rho_w:
+        return "--rho_s must exceed --rho_w (a block lighter than the water floats)"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--L", type=positive_float, default=0.6, help="tank width [m]")
+    p.add_argument("--H", type=positive_float, default=0.2, help="water depth [m]")
+    p.add_argument("--b", type=positive_float, default=0.2, help="block width [m]")
+    p.add_argument("--h_b", type=positive_float, default=0.1, help="block height [m]")
+    p.add_argument("--rho_w", type=positive_float, default=1000.0, help="water density [kg/m3]")
+    p.add_argument("--rho_s", type=positive_float, default=2000.0, help="block density [kg/m3]")
+    p.add_argument("--c", type=positive_float, default=1.0e4,
+                   help="the block's undrained strength [Pa] (Tresca)")
+    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
+    p.add_argument("--dt", type=positive_float, default=0.01, help="the one step [s]")
+    p.add_argument("--n", type=positive_int, nargs="+", default=[5, 10, 20],
+                   help="particle spacings across the block's height (h = h_b / n)")
+    p.add_argument("--block-first", action=__import__("argparse").BooleanOptionalAction,
+                   default=True, help="declare the block before the water (its particles "
+                                      "keep the interface; after: the block shrinks)")
+    return p
+
+
+def run(args):
+    common = dict(rho_w=args.rho_w, rho_s=args.rho_s, c=args.c, g=args.g, dt=args.dt,
+                  block_first=args.block_first, solver=args.solver)
+    runs = [buoyancy(args.L, args.H, args.b, args.h_b, n, **common) for n in args.n]
+    report = Report("hydrostatics", args)
+    sign = 1 if args.block_first else -1
+    for r in runs:
+        n = r["n"]
+        report.add(f"buoyant_weight_n{n}", r["effective"] + 1, 1.0,
+                   "floor under the block less p_f t_i = (rho_s - rho_w) g V, the step's V",
+                   1e-6)
+        report.add_interval(f"water_floor_effective_n{n}", r["water_effective"], 0.0, 1e-6,
+                            "floor under water alone: R_i = rho_w g H t_i (/ p_f h)")
+        report.add(f"block_dilation_n{n}", (r["V"] - r["V_drawn"]) / r["h"], sign * (
+            2 * args.h_b + args.b) / 2, "V - b h_b = +-(2 h_b + b) h / 2: the interface "
+            "triangles join the region declared first", 1e-9)
+        report.add_interval(f"under_block_over_weight_n{n}", r["under_over_weight"], 1.0,
+                            np.inf, "total stresses: the floor under the block carries "
+                            "more than its weight (the water on it)")
+        for side, ratio in zip(("left", "right"), r["walls"]):
+            report.add(f"{side}_wall_force_n{n}", ratio, 1.0, "rho_w g H^2 / 2", 1e-6)
+        report.add_interval(f"at_rest_n{n}", r["still"], 0.0, 1e-3,
+                            "largest speed after the step / (g dt)")
+    nominal = np.array([abs(r["effective_force"] / ((args.rho_s - args.rho_w) * args.g
+                                                    * r["V_drawn"]) - 1) for r in runs])
+    hs = np.array([r["h"] for r in runs])
+    order = np.nan
+    if len(runs) >= 2 and np.all(nominal > 0):
+        order = float(np.polyfit(np.log(hs), np.log(nominal), 1)[0])
+        report.add_interval("drawn_block_error_order", order, 0.9, 1.1,
+                            "against (rho_s - rho_w) g b h_b: order 1 in h (the dilation)")
+    print(f"{'n':>3s} {'h':>8s} {'V / b h_b':>10s} {'effective/(rs-rw)gV - 1':>24s} "
+          f"{'against b h_b':>14s} {'under/weight':>12s}")
+    for r, e in zip(runs, nominal):
+        print(f"{r['n']:3d} {r['h']:8.4f} {r['V'] / r['V_drawn']:10.4f} {r['effective']:24.2e} "
+              f"{e:14.4f} {r['under_over_weight']:12.4f}")
+    keys = ("n", "h", "V", "V_drawn", "V_record", "effective", "effective_force",
+            "water_effective", "under_over_weight", "walls", "still", "x", "effective_nodes")
+    report.extra = {"runs": [{k: r[k] for k in keys} for r in runs],
+                    "drawn_block_error": nominal, "drawn_block_error_order": order}
+    report.data = dict(runs=runs, nominal=nominal, order=order)
+    return report
+
+
+def figures(args, runs, nominal, order):
+    """The floor's effective force summed from the left wall, and the error against the drawn
+    block against the spacing."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(12, 4.2))
+    unit = (args.rho_s - args.rho_w) * args.g * args.b * args.h_b
+    ax[0].axvspan((args.L - args.b) / 2, (args.L + args.b) / 2, color="0.9", label="drawn block")
+    for r in runs:
+        ax[0].step(r["x"], np.cumsum(r["effective_nodes"]) / unit, where="post",
+                   label=f"h = h_b / {r['n']}: V = {r['V'] / r['V_drawn']:.2f} b h_b")
+    ax[0].axhline(1.0, color="0.3", ls="--", label="(rho_s - rho_w) g b h_b")
+    ax[0].set_xlabel("x [m]")
+    ax[0].set_ylabel("sum of R_i - p_f t_i to x / (rho_s - rho_w) g b h_b")
+    ax[0].set_title("floor's effective force, from the left wall")
+    ax[0].legend(fontsize=7)
+    hs = np.array([q["h"] for q in runs])
+    ax[1].loglog(hs, nominal, "o-", label=f"ours, order {order:.2f}")
+    ax[1].loglog(hs, (2 * args.h_b + args.b) * hs / (2 * args.b * args.h_b), "--", color="0.5",
+                 label="(2 h_b + b) h / (2 b h_b)")
+    ax[1].set_xlabel("particle spacing h [m]")
+    ax[1].set_ylabel("|effective / ((rho_s - rho_w) g b h_b) - 1|")
+    ax[1].set_title("against the drawn block")
+    ax[1].legend(fontsize=7)
+    save_figure(fig, figure_dir(args, "hydrostatics") / "hydrostatics.png")
+
+
+def main(argv=None):
+    return script_main(build_parser, run, figures, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
