@@ -19,7 +19,11 @@ iteration in bare factorisations. One solve and one factorisation use one core. 
 machine's load average is printed in the header: the timings are noisy when other work
 shares the cores, the ratios less so.
 
-Run: python benchmarks/solve_floor.py [--nx 17 33 65] [--steps 2] [--repeat 3]
+With ``--qoco`` the same captured problem is also solved by QOCO (handed Clarabel's data
+as the direct assembly hands it, :mod:`pfem_skfem.problems.direct_engines`): its KKT matrix
+has Clarabel's pattern, so its ratio is to the same refactorisation.
+
+Run: python benchmarks/solve_floor.py [--nx 17 33 65] [--steps 2] [--repeat 3] [--qoco]
      (17: ~500 elements, 33: ~2,000, 65: ~8,000)
 """
 import argparse
@@ -128,6 +132,19 @@ def time_solve(problem, repeat):
     return best(clocks), int(sol.iterations), str(sol.status), int(info.nnzA), int(info.nnzL)
 
 
+def time_qoco(problem, repeat):
+    """((wall, CPU) seconds of the best fresh QOCO solve (setup and iterations), iterations,
+    status) of the captured problem (pfem_skfem.problems.direct_engines.QOCOEngine)."""
+    from pfem_skfem.problems.direct_engines import ENGINES
+    engine, clocks = ENGINES["qoco"], []
+    for _ in range(repeat):
+        with Clock() as clock:
+            sol = engine.solve(problem["P"], problem["c"], problem["A"], problem["b"],
+                               problem["cones"], engine.settings({}))
+        clocks.append(clock)
+    return best(clocks), sol.iterations, sol.status
+
+
 VARIANTS = {                      # Clarabel settings changed from the step's own
     "no iterative refinement": dict(iterative_refinement_enable=False),
     "explicit zeros dropped": dict(input_sparse_dropzeros=True),
@@ -188,6 +205,10 @@ def main(argv=None):
     p.add_argument("--repeat", type=int, default=3,
                    help="best of this many timings (solves above 2,000 elements: once)")
     p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
+    p.add_argument("--qoco", action="store_true",
+                   help="also solve the captured problem with QOCO (direct_engines, its own "
+                        "defaults) and give its ratio to the same LDL refactorisation (QOCO's "
+                        "KKT matrix has Clarabel's pattern)")
     p.add_argument("--variants", nargs="*", choices=tuple(VARIANTS), default=None,
                    help="also solve every captured problem with these settings of VARIANTS "
                         "(all when none is named): where the time of an iteration goes")
@@ -216,6 +237,12 @@ def main(argv=None):
               f"{iters:5d} {status:>12s} {solve[0]:7.3f} {solve[1]:7.3f} {first[1]:6.3f} "
               f"{refactor[1]:6.3f} {lu[1]:6.3f} {solve[1] / (iters * refactor[1]):6.2f} "
               f"{solve[0] / (iters * refactor[0]):6.2f}", flush=True)
+        if args.qoco:
+            (wall, cpu), q_iters, q_status = time_qoco(problem, repeat)
+            print(f"{'':8s} {'QOCO':>6s} {'':6s} {'':8s} {'':8s} {'':8s} {q_iters:5d} "
+                  f"{q_status:>12s} {wall:7.3f} {cpu:7.3f} {'':6s} {'':6s} {'':6s} "
+                  f"{cpu / (q_iters * refactor[1]):6.2f} {wall / (q_iters * refactor[0]):6.2f}",
+                  flush=True)
         if args.variants is not None:
             variants.append((elements, refactor[1], problems))
     print("seconds: solve = Clarabel's setup and iterations (wall, then CPU); LDL1 = qdldl "
