@@ -97,24 +97,14 @@ def slump_scene(k, material, *, L0, H0, rho, g, mu, mu_f, spacing, dt, alpha_adv
     """The column (L0 x H0, particles ``spacing`` apart) of mud ('bingham': tau_y, mu) or
     of rigid-plastic Tresca ('tresca': c = tau_y), tau_y = k rho g H0, against the smooth
     wall x = 0 on the floor y = 0 of friction coefficient mu_f; (state, scene)."""
-    from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.materials import BinghamFluid, CohesiveTresca
-    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
-    from pfem_skfem.scene import Body, Region, Scene
-    from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene import column_scene
 
     tau_y = k * rho * g * H0
     mud = BinghamFluid(tau_y, mu) if material == "bingham" else CohesiveTresca(tau_y)
-    column = Region(((0.0, 0.0), (L0, 0.0), (L0, H0), (0.0, H0)), mud, rho, spacing,
-                    name="mud")
-    far = 50 * max(L0, H0)
-    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), mu_f)),      # mud above
-              Body("wall", RigidSegment((0.0, far), (0.0, -spacing), 0.0)))     # mud right
-    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
-                        solver=solver, volume_correction=True, alpha_advected=alpha_advected)
-    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=1.6, length=H0,
-                  config=config)
-    return scene.initial_state(), scene
+    return column_scene(mud, L0, H0, spacing, rho=rho, g=g, dt=dt, name="mud",
+                        floor_friction=mu_f, passes=1, solver=solver, volume_correction=True,
+                        alpha_advected=alpha_advected)
 
 
 def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0):

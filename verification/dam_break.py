@@ -49,7 +49,6 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, nonnegative_float, nonnegative_int,
                                         positive_float, positive_int, in_range)
-from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, steps=40, T_end=3.0, studies=False)
@@ -75,40 +74,24 @@ def dam_break_scene(a, n2, nx, *, rho, mu, g, dt, alpha=1.6, solver="clarabel", 
     """The column (a wide, n2 a high, nx particles across) of water of viscosity mu against
     the wall x = 0 on the floor y = 0 (both smooth), as a scene and its initial state; with
     ``gate`` a smooth wall x = a holds it (the tank before the release)."""
-    from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.materials import NewtonianFluid
-    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
-    from pfem_skfem.scene import Body, Region, Scene
-    from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene import column_scene
 
-    h0 = n2 * a
-    spacing = a / (nx - 1)
-    far = 50 * a
-    water = Region(((0.0, 0.0), (a, 0.0), (a, h0), (0.0, h0)), NewtonianFluid(mu), rho,
-                   spacing, name="water")
-    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),        # water above
-              Body("wall", RigidSegment((0.0, far), (0.0, -spacing), 0.0)))     # water right
-    if gate:
-        bodies += (Body("gate", RigidSegment((a, -spacing), (a, far), 0.0)),)    # water left
-    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
-                        solver=solver, volume_correction=volume_correction)
-    scene = Scene(regions=(water,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=h0,
-                  config=config)
-    return scene.initial_state(), scene
+    return column_scene(NewtonianFluid(mu), a, n2 * a, a / (nx - 1), rho=rho, g=g, dt=dt,
+                        name="water", gate_removed_at=np.inf if gate else None, far=50 * a,
+                        alpha=alpha, passes=1, solver=solver,
+                        volume_correction=volume_correction)
 
 
 def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outdir=None,
              save_every=0, solver="clarabel"):
     """One dam break to T = T_end: the front Z and the wall height H at every step."""
-    from pfem_skfem.drivers import pfem_loop
-    from pfem_skfem.drivers.resumable import open_series
+    from pfem_skfem.drivers.pfem_loop import run_measured
 
     t_unit = np.sqrt(a / (2 * g))                       # T = t / t_unit
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
                                    solver=solver)
     spacing = a / (nx - 1)
-    series = open_series(Path(outdir) / label if outdir is not None and save_every else None,
-                         "dam_break", initial=(state, scene))
     T, Z, H = [0.0], [1.0], [1.0]
 
     def measure(state, record, result):
@@ -117,10 +100,9 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
         near = state.x[:, 0] <= 1.01 * spacing            # the first column of particles
         H.append(state.x[near, 1].max() / (n2 * a) if near.any() else 0.0)
 
-    bar = StepBar(0, steps, disable=not progress, desc=f"dam break {label}")
-    state, _ = pfem_loop.run(state, scene, steps, on_step=measure, progress=bar,
-                             series=series, save_every=save_every)
-    bar.close()
+    state, series = run_measured(state, scene, steps, measure, desc=f"dam break {label}",
+                                 verbose=progress, save_every=save_every, vtu_name="dam_break",
+                                 vtu_dir=None if outdir is None else Path(outdir) / label)
     hist = state.history
     return dict(T=np.array(T), Z=np.array(Z), H=np.array(H), label=label, nx=nx, steps=steps,
                 mu=mu, mass_error=float(np.max(np.abs(np.asarray(hist["mass"]) / hist["mass"][0]

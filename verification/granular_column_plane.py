@@ -43,13 +43,11 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import config_summary, load_checkpoint, run_to_rest
 from pfem_skfem.pfem.measure import deposit_extent, wall_height
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
-from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
-from pfem_skfem.discretisation import ThetaMethod
+from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, poisson_ratio, positive_float,
@@ -59,7 +57,7 @@ from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar, progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
-from pfem_skfem.scene import Body, Geostatic, Region, Scene
+from pfem_skfem.scene import Geostatic, column_scene
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
 QUICK = dict(a=[1.0], nx=10, steps=100)
@@ -107,7 +105,7 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     'zero-dilation'; ``soil`` a material object in place of ``material`` (e.g.
     :class:`~pfem_skfem.materials.rate.MuIRheology`); dt defaults to 0.01 sqrt(h0/g).
     Other keywords go to
-    :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
+    :class:`~pfem_skfem.scene.config.PFEMConfig` (:func:`~pfem_skfem.scene.column_scene`).
 
     Returns (state, scene).
     """
@@ -118,23 +116,17 @@ def granular_column(a, nx, *, d0=1.0, rho=2.0, g=9.8, phi=31.0, c=0.0, mu=None,
     h = d0 / (nx - 1) if nx >= 2 else np.nan
     if not nx >= 2:
         raise ValueError(f"nx must be >= 2, got {nx!r}")
-    top = 20 * h0 + 10 * d0
     elastic = None if E is None else Elastic(E, nu)
     if soil is None:
         soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction, elastic=elastic)
-    column = Region(((0.0, 0.0), (d0, 0.0), (d0, h0), (0.0, h0)), soil, rho, h,
-                    stress=Geostatic(k0=k0), name="column")
-    bodies = (Body("base", RigidSegment((-top, 0.0), (top, 0.0), mu)),        # solid above
-              Body("left_wall", RigidSegment((0.0, top), (0.0, -h), mu)),     # solid right
-              Body("right_wall", RigidSegment((d0, -h), (d0, top), mu),       # solid left
-                   removed_at=np.inf if right_wall else 0.0))
     dt = 0.01 * np.sqrt(h0 / g) if dt is None else dt
     remesher = AlphaMesh() if remesh == "alpha" else QualityRemesh(quality_size)
-    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=CONTACTS[contact](),
-                          remesher=remesher, **config)
-    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
-                  t_end=t_end, length=h0, config=numerics)
-    return scene.initial_state(), scene
+    return column_scene(soil, d0, h0, h, rho=rho, g=g, dt=dt, stress=Geostatic(k0=k0),
+                        floor_friction=mu, wall_friction=mu,
+                        gate_removed_at=np.inf if right_wall else 0.0, far=20 * h0 + 10 * d0,
+                        body_names=("base", "left_wall", "right_wall"), alpha=alpha,
+                        t_end=t_end, theta1=theta1, theta2=theta2,
+                        contact=CONTACTS[contact](), remesher=remesher, **config)
 
 
 def lube_thesis(a):

@@ -28,66 +28,33 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, friction_angle,
                                         nonnegative_int, positive_float, positive_int)
-from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, twin_steps=40)
 
+
 def twin_scene(material, rho, a, nx, *, mu_floor, g, dt, solver="clarabel"):
     """The dam-break column (a wide, 2a high, nx particles across) of ``material`` against a
     smooth wall on a floor of friction mu_floor."""
-    from pfem_skfem.discretisation import ThetaMethod
-    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
-    from pfem_skfem.scene import Body, Geostatic, Region, Scene
-    from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene import Geostatic, column_scene
 
-    spacing = a / (nx - 1)
-    column = Region(((0.0, 0.0), (a, 0.0), (a, 2 * a), (0.0, 2 * a)), material, rho, spacing,
-                    stress=Geostatic(), name="column")
-    far = 50 * a
-    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), mu_floor)),
-              Body("wall", RigidSegment((0.0, far), (0.0, -spacing), 0.0)))
-    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=2,
+    return column_scene(material, a, 2 * a, a / (nx - 1), rho=rho, g=g, dt=dt,
+                        stress=Geostatic(), floor_friction=mu_floor, far=50 * a, passes=2,
                         solver=solver, volume_correction=True)
-    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=1.6,
-                  length=2 * a, config=config)
-    return scene.initial_state(), scene
 
 
-def run_scene(state, scene, steps, measure, *, label, progress, outdir, save_every):
-    """``steps`` steps with ``measure(state, record)`` after each; the final state and the
-    records' books (mass and area of each region, at every step)."""
-    from pfem_skfem.drivers import pfem_loop
-    from pfem_skfem.drivers.resumable import open_series
-
-    series = open_series(Path(outdir) / label if outdir is not None and save_every else None,
-                         label, initial=(state, scene))
-    books = {"mass": [], "area": [], "total": []}
-
-    def on_step(state, record, result):
-        books["mass"].append(record["mass_regions"])
-        books["area"].append(record["area_regions"])
-        books["total"].append(record["area_change"])
-        measure(state, record)
-
-    bar = StepBar(0, steps, disable=not progress, desc=label)
-    state, _ = pfem_loop.run(state, scene, steps, on_step=on_step, progress=bar, series=series,
-                             save_every=save_every)
-    bar.close()
-    return state, books, series
-
-
-def region_books(scene, state0, books):
-    """Per region: largest relative change of its mass over the run, and of its area (the
-    elements of its majority, against the first step's: the lattice does not fill a slanted
-    polygon's edges); 'all': the largest change of the whole domain's area."""
+def region_books(scene, state0, history):
+    """Per region: largest relative change of its mass over the run (the step records'
+    ``history``), and of its area (the elements of its majority, against the first step's:
+    the lattice does not fill a slanted polygon's edges); 'all': the largest change of the
+    whole domain's area."""
     from pfem_skfem.pfem.bookkeeping import region_masses
 
     mass0 = region_masses(scene, state0)
-    out = {"all": dict(area=float(np.max(np.abs(books["total"]))))}
+    out = {"all": dict(area=float(np.max(np.abs(history["area_change"]))))}
     for r in scene.regions:
-        m = np.array([b[r.name] for b in books["mass"]])
-        area = np.array([b[r.name] for b in books["area"]])
+        m = np.array([b[r.name] for b in history["mass_regions"]])
+        area = np.array([b[r.name] for b in history["area_regions"]])
         out[r.name] = dict(mass=float(np.max(np.abs(m / mass0[r.name] - 1))),
                            area=float(np.max(np.abs(area / area[0] - 1))),
                            area_final=float(area[-1] / area[0] - 1))
@@ -120,6 +87,7 @@ def build_parser():
 
 
 def run(args):
+    from pfem_skfem.drivers.pfem_loop import run_measured
     from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
     out = Path(args.outdir) / "soil_and_water"
@@ -133,15 +101,16 @@ def run(args):
                             dt=dt, solver=args.solver)
         fronts = {"T": [0.0], "Z": [1.0], "speed": [0.0]}
 
-        def measure_twin(state, record, fronts=fronts):
+        def measure_twin(state, record, result, fronts=fronts):
             fronts["T"].append(state.time / t_unit)
             fronts["Z"].append(float(state.x[:, 0].max() / args.a))
             fronts["speed"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
-        s1, books, _ = run_scene(s0, sc, args.twin_steps, measure_twin, label=f"twin_{name}",
-                                 progress=args.progress, outdir=out,
-                                 save_every=args.save_every)
-        twins[name] = dict(fronts, books=region_books(sc, s0, books), points=s1.x.copy())
+        label = f"twin_{name}"
+        s1, _ = run_measured(s0, sc, args.twin_steps, measure_twin, desc=label,
+                             verbose=args.progress, vtu_dir=out / label, vtu_name=label,
+                             save_every=args.save_every)
+        twins[name] = dict(fronts, books=region_books(sc, s0, s1.history), points=s1.x.copy())
 
     report = Report("soil_and_water", args)
     for name, tw in twins.items():

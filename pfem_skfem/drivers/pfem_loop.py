@@ -25,6 +25,7 @@ import numpy as np
 from skfem import MeshTri
 
 from ..discretisation.fields import plastic_strain_increment
+from ..harness.progress import StepBar
 from ..io import step_fields
 from ..discretisation.geometry import as_geometry
 from ..discretisation.static import axis_dofs, discretise
@@ -42,10 +43,11 @@ from ..problems.contact import without_nodes
 from ..problems.nonassociated import lagged_step
 # PFEMConfig lives beside the scene since issue 37; re-exported for its users
 from ..scene.config import MAX_PASSES, STRESS_MAPPINGS, PFEMConfig  # noqa: F401
+from .resumable import open_series
 
-__all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_to_rest",
-           "check_run", "initial_state", "load_checkpoint", "save_checkpoint", "config_summary",
-           "step_fields"]
+__all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_measured",
+           "run_to_rest", "check_run", "initial_state", "load_checkpoint", "save_checkpoint",
+           "config_summary", "step_fields"]
 
 @dataclass
 class StepResult:
@@ -313,6 +315,23 @@ def check_run(state, scene, steps):
         raise ValueError(f"the state does not belong to the scene: it holds mass {held:.6g} "
                          f"(with the discharged), the scene's regions {expected:.6g}")
     return int(steps)
+
+
+def run_measured(state, scene, steps, on_step, *, desc=None, verbose=False, vtu_dir=None,
+                 vtu_name="scene", save_every=0):
+    """:func:`run` for ``steps`` steps with ``on_step(state, record, result)`` after each (the
+    caller's measurements) and a progress bar titled ``desc`` (drawn when ``verbose``); with
+    ``vtu_dir`` and ``save_every``, a VTU series ``vtu_name`` in ``vtu_dir`` from t = 0 on
+    (:func:`~pfem_skfem.drivers.resumable.open_series`).
+
+    Returns (state, series), series None without VTU.
+    """
+    series = open_series(vtu_dir if save_every else None, vtu_name, initial=(state, scene))
+    bar = StepBar(0, steps, disable=not verbose, desc=desc)
+    state, _ = run(state, scene, steps, on_step=on_step, progress=bar, series=series,
+                   save_every=save_every)
+    bar.close()
+    return state, series
 
 
 def run_to_rest(state, scene, speed, max_steps, **options):
