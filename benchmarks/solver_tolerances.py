@@ -56,7 +56,13 @@ FAMILIES = {
     "pipe": ("buried_pipe", ["--quick"]),
     "bounds": ("limit_bounds", ["--quick"]),
     "contact": ("sliding_box", ["--quick"]),
+    "pfem_axi": ("granular_column_axisymmetric", ["--quick", "--workers", "1"]),
+    "dam": ("dam_break", ["--quick"]),
 }
+#: the PFEM scripts' default density: their round-off reruns scale it (c = 0 or water: only
+#: round-off depends on it)
+DENSITY = {"granular_column_plane": 2.0, "granular_column_axisymmetric": 2.0,
+           "dam_break": 1000.0}
 # more quantities of a family than its Report's checks: the column's deposit at t = 4
 # sqrt(h0/g) (where the thesis stops; less chaotic than the deposit at rest)
 EXTRA = {"granular_column_plane": lambda data: {
@@ -253,9 +259,10 @@ def main(argv=None):
                 columns = columns + [label]
             reference = runs[tols[0]][0]
             spread = None
-            if family == "pfem":
-                reruns = {f: run_family(script_name, script_argv + ["--rho", f"{2.0 * f:g}"],
-                                        tols[0], outdir)      # the script's default rho is 2
+            if script_name in DENSITY:
+                rho = DENSITY[script_name]
+                reruns = {f: run_family(script_name, script_argv + ["--rho", f"{rho * f:g}"],
+                                        tols[0], outdir)
                           for f in args.density_factors}
                 spread = {k: max(changes(r[0], reference)[k] for r in reruns.values())
                           for k in reference}
@@ -263,7 +270,7 @@ def main(argv=None):
                     sets = {"default": [runs[tols[0]]] + list(reruns.values())}
                     for i, extra in enumerate(extras, 1):
                         sets[f"extra {i}"] = [runs[c] for c in columns if c[0] == i] + [
-                            run_family(script_name, script_argv + ["--rho", f"{2.0 * f:g}"],
+                            run_family(script_name, script_argv + ["--rho", f"{rho * f:g}"],
                                        tols[0], outdir, extra)
                             for f in args.density_factors]
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
