@@ -261,6 +261,8 @@ def _run(args):
     scene = replace(scene, output=Output(str(out), every, checkpoint_every))
     if args.solver is not None:                     # the scene's config.solver, overridden
         scene = replace(scene, config=replace(scene.config, solver=args.solver))
+    if args.form is not None:                       # and its config.form
+        scene = replace(scene, config=replace(scene.config, form=args.form))
     if args.steps is not None:
         if args.steps < 1:
             raise RunError(f"--steps must be >= 1, got {args.steps}")
@@ -377,6 +379,8 @@ def main(argv=None):
                    help="no progress bar")
     r.add_argument("--solver", choices=SOLVER_NAMES, help="the conic solver of every step "
                    "(default: the scene's config.solver, clarabel unless it says)")
+    r.add_argument("--form", choices=("primal", "dual"), help="the form the direct assembly "
+                   "hands the solver (default: the scene's config.form, primal unless it says)")
     r.set_defaults(func=cmd_run)
     args = parser.parse_args(argv)
     return args.func(args)

@@ -55,7 +55,7 @@ def rich_scene():
     config = PFEMConfig(theta=ThetaMethod(0.01, 0.5, 0.75), passes=3, contact=LaggedFriction(),
                         remesher=QualityRemesh(1.25), remesh_interval=2, stress_mapping="ida",
                         velocity=Interpolation(), search=1.5, backend="cvxpy", solver="qoco",
-                        bulge=False,
+                        form="dual", bulge=False,
                         refine_surface=0.0, volume_correction=True)
     return Scene((block, cap), bodies, outlets, phases, gravity=(0.1, -9.81), alpha=1.4,
                  adaptive_alpha=True, t_end=3.0, length=1.5, config=config,

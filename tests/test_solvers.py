@@ -384,3 +384,26 @@ def test_qoco_engine_refuses_exponential_cones():
     from pfem_skfem.problems.direct_engines import row_order
     with pytest.raises(ValueError, match="ExponentialConeT"):
         row_order([clarabel.ZeroConeT(1), clarabel.ExponentialConeT()])
+
+
+def test_the_form_of_a_pfem_run_is_an_option_of_its_config(monkeypatch):
+    """``PFEMConfig.form='dual'`` states every step in the dual form: the same run, bit for
+    bit, as the library's ``clarabel_direct.FORM = 'dual'``; the primal form's run differs
+    (a different solve) within solver tolerance; an unknown form is refused by name."""
+    from pfem_skfem.drivers.pfem_loop import run
+    from pfem_skfem.problems import clarabel_direct
+    from pfem_skfem.scene.config import PFEMConfig
+    from verification.granular_column_plane import granular_column as column
+    dt = 0.05 * np.sqrt(1.0 / 9.8)
+    by_config = run(*column(1.0, 6, dt=dt, form="dual"), 2)[0]
+    dual_step = run(*column(1.0, 6, dt=dt, form="dual", passes=1), 1)[0]
+    primal_step = run(*column(1.0, 6, dt=dt, passes=1), 1)[0]
+    monkeypatch.setattr(clarabel_direct, "FORM", "dual")
+    by_library = run(*column(1.0, 6, dt=dt), 2)[0]
+    assert np.array_equal(by_config.x, by_library.x) and np.array_equal(by_config.v,
+                                                                        by_library.v)
+    # one step, one pass: the same problem (later passes lag a non-unique mean stress)
+    assert not np.array_equal(dual_step.v, primal_step.v)
+    assert rel(dual_step.v, primal_step.v) < 1e-4
+    with pytest.raises(ValueError, match="form must be one of"):
+        PFEMConfig(form="displacement")

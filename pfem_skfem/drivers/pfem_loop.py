@@ -170,7 +170,8 @@ def pfem_step(state, scene):
         solved = lagged_step(ops, f, contacts, disc, material, config.contact, v_dofs,
                              sigma_n, state.sigma_m[pm.particle], scales, passes=config.passes,
                              stress_scale=stress_scale, fixed=fixed, backend=config.backend,
-                             pass_tolerance=config.pass_tolerance, solver=config.solver)
+                             pass_tolerance=config.pass_tolerance, solver=config.solver,
+                             form=config.form)
     inc = solved.increment
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies

@@ -212,10 +212,11 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     name = solver_backend(solver, cones={"exp"} if isinstance(viscous, RateDissipation)
                           else None).name
     if name not in ENGINES:                      # no engine of the direct assembly:
-        backend = "cvxpy"                        # the cvxpy statement,
-        solver_settings.pop("form", None)        # which has no choice of form
+        backend = "cvxpy"                        # the cvxpy statement
     elif backend == "clarabel":
         solver_settings["engine"] = name
+    if backend == "cvxpy":                       # which has no choice of form
+        solver_settings.pop("form", None)
     if viscous is not None and not isinstance(viscous, (ViscousStress, RateDissipation)):
         raise ValueError(f"viscous must be a ViscousStress or RateDissipation, got {viscous!r}")
     if viscous is not None and (ops.C is not None or criterion is None):

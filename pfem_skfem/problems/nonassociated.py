@@ -114,7 +114,7 @@ def lagged_change(sm_before, sm_after, p_before, p_after, stress_scale):
 
 def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, sigma_m,
                 scales, *, passes, stress_scale, fixed=(), backend="clarabel",
-                pass_tolerance=0.0, solver="clarabel"):
+                pass_tolerance=0.0, solver="clarabel", form=None):
     """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
 
     Parameters
@@ -139,8 +139,10 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         passes also update the shear rate, which this does not measure: 0 only).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
     backend : 'clarabel' or 'cvxpy' (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
-    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; another than
-        Clarabel solves the cvxpy statement).
+    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; one without an
+        engine of the direct assembly, :mod:`~pfem_skfem.problems.direct_engines`, solves
+        the cvxpy statement).
+    form : the direct assembly's form ('primal', 'dual'; None: ``clarabel_direct.FORM``).
 
     Returns
     -------
@@ -169,7 +171,8 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
         inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, contacts=step_contacts,
                                 fixed=fixed, scaling=scales, accept_inaccurate=True,
-                                backend=backend, viscous=viscous, solver=solver)
+                                backend=backend, viscous=viscous, solver=solver,
+                                **({} if form is None else {"form": form}))
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time

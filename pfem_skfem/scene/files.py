@@ -350,7 +350,8 @@ CONFIG = Spec(PFEMConfig, {
     "remesher": OneOf(Spec(AlphaMesh, {}), Spec(QualityRemesh, {"size": NUMBER})),
     "remesh_interval": INTEGER, "stress_mapping": STRING,
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
-    "search": NUMBER, "backend": STRING, "solver": STRING, "bulge": BOOLEAN,
+    "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,
+    "bulge": BOOLEAN,
     "refine_surface": NUMBER, "volume_correction": BOOLEAN, "alpha_advected": NUMBER})
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {

@@ -402,7 +402,7 @@ _UNSET = object()
 
 #: fields added after digests were first stored, left out at their default value so that
 #: a run checkpointed before a field existed is still known as the same scene
-_LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel"}
+_LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None}
 
 
 def _identity(value):
