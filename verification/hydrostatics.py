@@ -247,11 +247,12 @@ def figures(args, runs, nominal, order):
     ax[0].set_title("floor's effective force, from the left wall")
     ax[0].legend(fontsize=7)
     hs = np.array([q["h"] for q in runs])
-    ax[1].loglog(hs, np.maximum(nominal, 1e-16), "o-", label=f"ours, order {order:.2f}")
+    ax[1].loglog(hs, np.maximum(nominal, 1e-16), "o-",       # round-off: no order
+                 label=f"ours, order {order:.2f}" if np.isfinite(order) else "ours")
     ax[1].loglog(hs, 2 * hs ** 2 / (args.b * args.h_b), ":", color="0.3",
                  label="2 h^2 / (b h_b): the corner triangles")
     ax[1].loglog(hs, (2 * args.h_b + args.b) * hs / (2 * args.b * args.h_b), "--", color="0.5",
-                 label="majority density (before): (2 h_b + b) h / (2 b h_b)")
+                 label="majority of the vertices (before): (2 h_b + b) h / (2 b h_b)")
     ax[1].set_xlabel("particle spacing h [m]")
     ax[1].set_ylabel("|effective / ((rho_s - rho_w) g b h_b) - 1|")
     ax[1].set_title("against the drawn block")
