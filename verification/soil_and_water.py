@@ -157,7 +157,7 @@ def twin_scene(material, rho, a, nx, *, mu_floor, g, dt, solver="clarabel"):
 
 def region_books(scene, state0, history):
     """Per region: largest relative change of its mass over the run (the step records'
-    ``history``), and of its area (the elements of its majority, against the first step's:
+    ``history``), and of its area (the elements of its region, against the first step's:
     the lattice does not fill a slanted polygon's edges); 'all': the largest change of the
     whole domain's area."""
     from pfem_skfem.pfem.bookkeeping import region_masses

@@ -70,7 +70,10 @@ def region_masses(scene, state):
 
 
 def region_areas(scene, disc, regions):
-    """Area of the elements of each region (in axisymmetry their volume of revolution)."""
+    """Area of the elements of each region (:func:`~pfem_skfem.pfem.assemble.element_regions`;
+    in axisymmetry their volume of revolution): the area the step weighs with the region's
+    density, so a region's mass over its area is its density while its elements hold its
+    drawn polygon."""
     if disc.geometry.axisymmetric:
         area_e = measure(disc.mesh.p.T, disc.mesh.t.T, True)
     else:
