@@ -105,7 +105,8 @@ def make_scene(name):
         mud = (BinghamFluidAxisymmetric if axi else BinghamFluid)(tau_y=20.0, mu=2.5)
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, (water, mud))),
-                       geometry="axisymmetric" if axi else "plane")
+                       geometry="axisymmetric" if axi else "plane",
+                       config=replace(rich.config, keep_area=True))
     return scene_from_toml(EXAMPLE)
 
 

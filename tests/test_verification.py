@@ -197,6 +197,10 @@ CASES = [
     ("soil_and_water", [],
      {"water_mass_change": Between(0, 1e-12),               # particles carry the mass
       "granular_mass_change": Between(0, 1e-12),
+      "tank_water_mass_change": Between(0, 1e-12), "tank_clay_mass_change": Between(0, 1e-12),
+      "tank_area_change": Between(0, 0.05),                 # keep_area gives the gain back
+      "block_in_water": Between(0, np.inf),
+      "block_stopped": Between(0, 0.02),                    # friction holds it (rigid-plastic)
       "water_area_change": Between(0, 0.02),
       "water_over_granular_front": Between(1, np.inf)}, None),   # no strength: further
     ("fluid_films", [],

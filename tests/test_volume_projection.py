@@ -221,3 +221,65 @@ def test_the_engine_option_changes_a_step_at_second_order():
 def test_the_option_is_off_by_default():
     from pfem_skfem.scene.config import PFEMConfig
     assert PFEMConfig().volume_correction is False
+
+
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+def test_a_growth_target_scales_the_domain_to_it_at_second_order(geometry):
+    """keep_area's target: no motion and a domain to shrink by g: the shifted domain has
+    (1 + g) times the volume, the residual of second order in g; held and axis vertices
+    stay; the growth is the one that reaches the volume asked for."""
+    from pfem_skfem.pfem.volume_projection import area_growth
+    disc = square(geometry)
+    fixed = axis_radial_dofs(disc) if geometry == "axisymmetric" else ()
+    before = step_constraint(disc, fixed=fixed).volumes(disc.mesh.p.T).sum()
+    residuals = []
+    for g in (-0.04, -0.02, -0.01):
+        c = step_constraint(disc, fixed=fixed, volume=(1 + g) * before)
+        assert c.growth == pytest.approx(g, rel=1e-12)
+        x = disc.mesh.p.T
+        w = volume_shift(c, x)
+        residuals.append(abs(c.volumes(x + w).sum() / ((1 + g) * before) - 1))
+        if geometry == "axisymmetric":
+            assert np.all(w[np.abs(x[:, 0]) < 1e-12, 0] == 0.0)
+    assert residuals[-1] < 1e-4
+    slope = np.polyfit(np.log([0.04, 0.02, 0.01]), np.log(residuals), 1)[0]
+    assert slope > 1.8, f"observed order {slope:.2f}, expected 2"
+    with pytest.raises(ValueError, match="target volume"):
+        area_growth(step_constraint(disc), -1.0)
+
+
+def test_keep_area_gives_back_what_the_remeshing_adds():
+    """A block of water sliding into a tank breaks its surface, and each remeshing's alpha
+    shape closes gaps: without keep_area the detected area grows step after step; with
+    it, the domain each step leaves (the moved mesh) has its first area to the second
+    order of a step's gain (the flow is isochoric), and the detected area stays near it."""
+    from verification.soil_and_water import tank_scene
+    areas = {}
+    for keep in (False, True):
+        state, scene, _ = tank_scene(beta=30.0, mu_slope=0.2, mu_floor=0.0, d=0.4, L=2.0,
+                                     block=(0.4, 0.2), c=2000.0, rho_w=1000.0, rho_c=1800.0,
+                                     g=9.81, h=0.1, dt=0.03, keep_area=keep)
+        from pfem_skfem.drivers.pfem_loop import run
+        state, _ = run(state, scene, 40)
+        areas[keep] = (np.array(state.history["area_change"]),
+                       np.array(state.history["moved_area"]) / state.history["area"][0] - 1)
+    grown, _ = areas[False]
+    detected, moved = areas[True]
+    assert grown[-1] > 0.03                       # the gain is there to give back
+    assert np.abs(moved).max() < 0.1 * grown[-1]
+    assert np.abs(detected).max() < 0.5 * grown[-1]
+
+
+def test_keep_area_needs_the_volume_projection_and_refuses_elastic_regions():
+    from pfem_skfem.materials import Elastic, NewtonianFluid
+    from pfem_skfem.scene.config import PFEMConfig
+    assert PFEMConfig().keep_area is False
+    with pytest.raises(ValueError, match="keep_area=True needs volume_correction=True"):
+        PFEMConfig(keep_area=True)
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.scene import column_scene
+    with pytest.raises(ValueError, match="keep_area"):
+        column_scene(ZeroDilationMohrCoulomb(phi=30, elastic=Elastic(1e6, 0.3)), 1.0, 1.0, 0.25,
+                     rho=1.0, g=9.8, dt=0.01, volume_correction=True, keep_area=True)
+    column_scene(NewtonianFluid(0.0), 1.0, 1.0, 0.25, rho=1.0, g=9.8, dt=0.01,
+                 volume_correction=True, keep_area=True)

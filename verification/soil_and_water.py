@@ -1,24 +1,44 @@
-"""Soil beside water: the dam break's granular twin, one column of water and one of sand.
+"""Soil beside water: a clay block sliding into a tank, and the dam break's granular twin.
 
-Beyond the thesis (issue 39, item 6, its first part). The dam-break column of Martin &
-Moyce (a wide, 2a high, against a smooth wall) released twice, alike: once of water
-(:class:`~pfem_skfem.materials.NewtonianFluid`, the viscosity of water, a smooth floor),
-once of a dry granular material (:class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb`,
-phi = 30, on a floor of friction tan phi), to T = t sqrt(2g/a) = 4: the difference a
-strength makes, side by side.
+Beyond the thesis (issue 39, item 6). Two scenes of the PFEM engine:
+
+* **Block into a tank** (two materials in one step, :class:`~pfem_skfem.materials.RegionCones`,
+  as Zhang et al. (2019, CMAME) put soil and water in one Lagrangian conic formulation): a
+  block of undrained clay (:class:`~pfem_skfem.materials.CohesiveTresca`, a total-stress
+  material, rigid-plastic, density rho_c) slides down a slope of angle beta (friction
+  mu_slope) into a tank of inviscid water (:class:`~pfem_skfem.materials.NewtonianFluid`,
+  mu = 0, density rho_w), depth d, length L, closed by a wall; the water's surface is
+  recorded at two gauges. The alpha shape closes the gaps of the broken surface at every
+  remeshing (air a splash and the breaking wave trap) and the domain gains area no particle
+  carries: 13 % by t = 1.8 s at the quick size, 21 % for a block of water.
+  ``--keep_area on`` (the default, ``PFEMConfig.keep_area``) gives each step's gain back
+  at the next (:func:`~pfem_skfem.pfem.volume_projection.area_growth`).
+* **Granular twin**: the dam-break column of Martin & Moyce (a wide, 2a high, against a
+  smooth wall) released twice, alike: once of water (the viscosity of water, a smooth
+  floor), once of a dry granular material (:class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb`,
+  phi = 30, on a floor of friction tan phi), to T = t sqrt(2g/a) = 4: the difference a
+  strength makes, side by side.
 
 No experiment is asserted here beyond conservation (for the water against Martin & Moyce,
 ``verification/dam_break.py``; for granular columns against Lube et al.,
-``verification/granular_column_plane.py``). Checks: each column's mass to round-off (the
-particles carry it) and its area (its alpha-shape domain) within --tol_area, and the
-water's front ahead of the granular one at T = 4. (The scene of a clay block sliding into
-a water tank, two materials in one step, is not here yet: its alpha-shape area grew by
-28 % in 2 s, which has to be understood first.)
+``verification/granular_column_plane.py``). Checks: each region's mass to round-off (the
+particles carry it); the tank's area (its alpha-shape domain) within --tol_area_tank of
+its first; the block in the water and at rest there (its centre of mass slower than
+--rest_speed sqrt(g d) at some step after it entered); the block's wave at both gauges
+(the surface raised by at least h/2); each twin's area within --tol_area, and the
+water's front ahead of the granular one at T = 4. Recorded, not checked: the mean level
+of the flat tank over the second half of the run beside the still level with the block
+in (l with L l + l^2 / (2 tan beta) = the first area; the water still sloshes at
+--t_end: inviscid, it comes to rest only by the time stepping's damping), the block's
+speed at the end (the reflected wave moves it again), and the clay's own area (an element takes the last
+declared region among its vertices: particles the flow strips off the block make clay of
+the water around them, +70 % by the end at the quick size). The full size (h = 0.04)
+blows up near t = 2.7 s: not yet a result.
 
 Usage::
 
-    python verification/soil_and_water.py --quick --json results/soil_and_water.json   # 15 seconds
-    python verification/soil_and_water.py --save-every 5        # VTU/PVD of both columns
+    python verification/soil_and_water.py --quick --json results/soil_and_water.json   # 1 minute
+    python verification/soil_and_water.py --save-every 5        # VTU/PVD of the three scenes
 """
 import sys
 from pathlib import Path
@@ -26,11 +46,104 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, friction_angle,
-                                        nonnegative_int, positive_float, positive_int)
+from pfem_skfem.harness.options import (base_parser, friction_angle, in_range,
+                                        nonnegative_float, nonnegative_int, positive_float,
+                                        positive_int)
 from pfem_skfem.harness.report import Report, script_main
 
-QUICK = dict(nx=8, twin_steps=40)
+QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
+
+slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
+
+
+def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
+               keep_area=True, solver="clarabel"):
+    """The slope of height 1 (angle beta, friction mu_slope) into a tank of water d deep
+    and L long (its floor of friction mu_floor, a smooth wall), a clay block ``block`` = (length, thickness) of
+    cohesion c resting on the slope with its lower end 0.1 above the water's edge; particles
+    h apart. Returns (state, scene, geometry: the slope's foot and the water's edge)."""
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import CohesiveTresca, NewtonianFluid
+    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
+    from pfem_skfem.scene import Body, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+
+    tb = np.radians(beta)
+    top, foot = 1.0, 1.0 / np.tan(tb)                       # the slope from (0, 1) to (foot, 0)
+    down = np.array([np.cos(tb), -np.sin(tb)])              # down the slope
+    out = np.array([np.sin(tb), np.cos(tb)])                # out of it
+    edge = foot * (1 - d / top)                             # the water's edge on the slope
+    x0 = np.array([0.0, top]) + (edge / np.cos(tb) - 0.1 - block[0]) * down
+    corners = (x0, x0 + block[0] * down, x0 + block[0] * down + block[1] * out,
+               x0 + block[1] * out)
+    water = Region(((edge, d), (foot, 0.0), (foot + L, 0.0), (foot + L, d)),
+                   NewtonianFluid(0.0), rho_w, h, name="water")
+    clay = Region(tuple(map(tuple, corners)), CohesiveTresca(c), rho_c, h, name="clay")
+    far = 10.0
+    bodies = (Body("slope", RigidSegment((-far * np.cos(tb), top + far * np.sin(tb)),
+                                         (foot, 0.0), mu_slope)),     # solid below
+              Body("floor", RigidSegment((foot, 0.0), (foot + L + h, 0.0), mu_floor)),
+              Body("wall", RigidSegment((foot + L, -h), (foot + L, far), 0.0)))
+    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
+                        solver=solver, volume_correction=True, keep_area=keep_area)
+    scene = Scene(regions=(water, clay), bodies=bodies, gravity=(0.0, -g), alpha=1.6,
+                  length=top, config=config)
+    return scene.initial_state(), scene, dict(foot=foot, edge=edge)
+
+
+def tank_level(area, L, beta):
+    """The level l of a still surface over the tank holding ``area``: the area below l
+    between the slope (angle beta, its foot at y = 0) and the wall L beyond the foot is
+    L l + l^2 / (2 tan beta)."""
+    k = 1.0 / (2.0 * np.tan(np.radians(beta)))
+    return (-L + np.sqrt(L * L + 4 * k * area)) / (2 * k)
+
+
+def surface_level(x, water, h, x_from, x_to):
+    """The mean over columns h wide between x_from and x_to of the highest water particle."""
+    edges = np.arange(x_from, x_to + 1e-12, h)
+    tops = [x[water & (x[:, 0] >= a) & (x[:, 0] < b), 1] for a, b in zip(edges, edges[1:])]
+    return float(np.mean([t.max() for t in tops if t.size])) if any(t.size for t in tops) \
+        else np.nan
+
+
+def run_tank(args, out):
+    """The block into the tank to --t_end: the series at each step and the books."""
+    from pfem_skfem.drivers.pfem_loop import run_measured
+
+    state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
+                                    mu_floor=args.mu_floor, d=args.d, L=args.L,
+                                    block=tuple(args.block), c=args.c, rho_w=args.rho_w,
+                                    rho_c=args.rho_c, g=args.g, h=args.h,
+                                    dt=args.t_end / args.steps,
+                                    keep_area=args.keep_area == "on", solver=args.solver)
+    gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
+    span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
+    series = {"t": [0.0], "block_x": [float(state0.x[state0.region == 1, 0].mean())],
+              "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d]}
+
+    def measure(state, record, result):
+        clay = state.region == 1
+        meshed = np.zeros(state.n, dtype=bool)         # not the drops flying free of the mesh
+        meshed[state.mesh_particle[state.mesh_particle >= 0]] = True
+        water = ~clay & meshed
+        series["t"].append(state.time)
+        series["block_x"].append(float(state.x[clay, 0].mean()))
+        series["block_speed"].append(float(np.linalg.norm(
+            state.mass[clay] @ state.v[clay] / state.mass[clay].sum())))
+        heights = []
+        for xg in gauges:
+            near = water & (np.abs(state.x[:, 0] - xg) <= state.h)
+            heights.append(float(state.x[near, 1].max()) if near.any() else np.nan)
+        series["gauges"].append(heights)
+        series["level"].append(surface_level(state.x, water, args.h, *span))
+
+    state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
+                            verbose=args.progress, vtu_dir=out / "block_into_tank",
+                            vtu_name="block_into_tank", save_every=args.save_every)
+    books = region_books(scene, state0, state.history)
+    first_area = float(state.history["area"][0])
+    return state, {k: np.asarray(v) for k, v in series.items()}, books, gauges, geo, first_area
 
 
 def twin_scene(material, rho, a, nx, *, mu_floor, g, dt, solver="clarabel"):
@@ -57,40 +170,71 @@ def region_books(scene, state0, history):
         area = np.array([b[r.name] for b in history["area_regions"]])
         out[r.name] = dict(mass=float(np.max(np.abs(m / mass0[r.name] - 1))),
                            area=float(np.max(np.abs(area / area[0] - 1))),
-                           area_final=float(area[-1] / area[0] - 1))
+                           area_first=float(area[0]), area_final=float(area[-1] / area[0] - 1))
     return out
 
 
 def check(args):
     if args.nx < 4:
         return "--nx must be at least 4 (particles across a column)"
+    if args.mu_slope >= np.tan(np.radians(args.beta)):
+        return "--mu_slope must be below tan(--beta): the block must slide"
+    if args.d >= 1.0:
+        return "--d must be below the slope's height 1"
     return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--rho", type=positive_float, default=1000.0,
+    t = p.add_argument_group("the block into the tank")
+    t.add_argument("--beta", type=slope_angle, default=30.0, help="slope angle [deg]")
+    t.add_argument("--mu_slope", type=nonnegative_float, default=0.2,
+                   help="friction coefficient of the slope")
+    t.add_argument("--mu_floor", type=nonnegative_float, default=0.0,
+                   help="friction coefficient of the tank's floor")
+    t.add_argument("--d", type=positive_float, default=0.4,
+                   help="water depth [m] (the slope is 1 m high)")
+    t.add_argument("--L", type=positive_float, default=2.0,
+                   help="tank length beyond the slope's foot [m]")
+    t.add_argument("--block", type=positive_float, nargs=2, default=[0.4, 0.2],
+                   metavar=("LENGTH", "THICKNESS"), help="clay block [m]")
+    t.add_argument("--c", type=positive_float, default=2000.0,
+                   help="undrained shear strength of the clay [Pa]")
+    t.add_argument("--rho_w", type=positive_float, default=1000.0, help="water [kg/m3]")
+    t.add_argument("--rho_c", type=positive_float, default=1800.0, help="clay [kg/m3]")
+    t.add_argument("--h", type=positive_float, default=0.04, help="particle spacing [m]")
+    t.add_argument("--steps", type=positive_int, default=300, help="steps to --t_end")
+    t.add_argument("--t_end", type=positive_float, default=3.0, help="end [s]")
+    t.add_argument("--keep_area", choices=("on", "off"), default="on",
+                   help="give back the area each remeshing adds (PFEMConfig.keep_area)")
+    t.add_argument("--rest_speed", type=positive_float, default=0.02,
+                   help="the block at rest: its centre of mass slower than this x sqrt(g d)")
+    t.add_argument("--tol_area_tank", type=positive_float, default=0.05,
+                   help="tolerance of the tank's area change (each remeshing adds some, "
+                        "--keep_area gives it back at the next step)")
+    w = p.add_argument_group("the granular twin")
+    w.add_argument("--rho", type=positive_float, default=1000.0,
                    help="density of both columns [kg/m3] (the same: only the strength differs)")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
-    p.add_argument("--a", type=positive_float, default=0.05715,
+    w.add_argument("--a", type=positive_float, default=0.05715,
                    help="the twin columns' width [m] (Martin & Moyce's)")
-    p.add_argument("--phi", type=friction_angle, default=30.0,
+    w.add_argument("--phi", type=friction_angle, default=30.0,
                    help="the granular twin's friction angle [deg]")
-    p.add_argument("--nx", type=positive_int, default=16, help="particles across a twin")
-    p.add_argument("--twin_steps", type=positive_int, default=80,
+    w.add_argument("--nx", type=positive_int, default=16, help="particles across a twin")
+    w.add_argument("--twin_steps", type=positive_int, default=80,
                    help="steps of each twin to T = t sqrt(2g/a) = 4 (the dam break's)")
+    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
     p.add_argument("--tol_area", type=positive_float, default=0.02,
-                   help="tolerance of each column's area change")
+                   help="tolerance of each twin's area change")
     p.add_argument("--save-every", type=nonnegative_int, default=0,
                    help="write a VTU every this many steps (0: none), a PVD per scene")
     return p
 
 
-def run(args):
+def run_twins(args, out):
+    """The water column and its granular twin to T = 4: fronts, books, final particles."""
     from pfem_skfem.drivers.pfem_loop import run_measured
     from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
-    out = Path(args.outdir) / "soil_and_water"
     t_unit = np.sqrt(args.a / (2 * args.g))
     dt = 4.0 * t_unit / args.twin_steps
     twins = {}
@@ -111,8 +255,37 @@ def run(args):
                              verbose=args.progress, vtu_dir=out / label, vtu_name=label,
                              save_every=args.save_every)
         twins[name] = dict(fronts, books=region_books(sc, s0, s1.history), points=s1.x.copy())
+    return twins
 
-    report = Report("soil_and_water", args)
+
+def run(args):
+    out = Path(args.outdir) / "soil_and_water"
+    state, series, books, gauges, geo, first_area = run_tank(args, out)
+    twins = run_twins(args, out)
+
+    report = Report("soil_and_water", args, particles=int(state.n),
+                    clay_particles=int(np.sum(state.region == 1)))
+    for region in ("water", "clay"):
+        report.add_interval(f"tank_{region}_mass_change", books[region]["mass"], 0.0, 1e-12,
+                            "the particles carry each region's mass")
+    report.add_interval("tank_area_change", books["all"]["area"], 0.0, args.tol_area_tank,
+                        "the tank's area (its alpha-shape domain) kept")
+    report.add_interval("block_in_water", series["block_x"][-1] - geo["edge"], 0.0, np.inf,
+                        "the block's centre beyond the water's edge [m]")
+    u = np.sqrt(args.g * args.d)
+    inside = series["block_x"] > geo["edge"]
+    stop = np.flatnonzero(inside & (series["block_speed"] < args.rest_speed * u))
+    t_stop = float(series["t"][stop[0]]) if stop.size else np.nan
+    report.add_interval("block_stopped", float(series["block_speed"][inside].min() / u)
+                        if inside.any() else np.inf, 0.0, args.rest_speed,
+                        "the block came to rest in the water: its least speed (of its centre "
+                        "of mass) / sqrt(g d)")
+    rise = np.nanmax(series["gauges"], axis=0) - args.d
+    report.add_interval("wave_at_gauges", float(rise.min() / args.h), 0.5, np.inf,
+                        "the block's wave raised the surface at both gauges, in h")
+    late = series["t"] >= 0.5 * args.t_end
+    level = float(np.nanmean(series["level"][late]))
+    expected = tank_level(first_area, args.L, args.beta)
     for name, tw in twins.items():
         report.add_interval(f"{name}_mass_change", tw["books"]["column"]["mass"], 0.0, 1e-12,
                             "the particles carry the column's mass")
@@ -121,29 +294,62 @@ def run(args):
     granular, water = twins["granular"], twins["water"]
     report.add_interval("water_over_granular_front", water["Z"][-1] / granular["Z"][-1], 1.0,
                         np.inf, "water (no strength) runs further than phi = 30")
-    report.extra = {"twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
+    report.extra = {"tank": {**series, "gauges_x": gauges, "edge": geo["edge"],
+                             "foot": geo["foot"], "books": books, "first_area": first_area,
+                             "level_expected": expected, "level_mean": level,
+                             "level_without_block": tank_level(first_area - books[
+                                 "clay"]["area_first"], args.L, args.beta),
+                             "largest_rise": rise, "t_stop": t_stop,
+                             "block_speed_at_end": float(series["block_speed"][-1])},
+                    "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
                               for k, v in twins.items()}}
-    print(f"at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
-    report.data = dict(twins=twins)
+    print(f"block: centre x {series['block_x'][0]:.3f} -> {series['block_x'][-1]:.3f} m "
+          f"(the water's edge {geo['edge']:.3f}), at rest at t = {t_stop:.2f} s, its speed at "
+          f"the end {series['block_speed'][-1]:.3f} m/s; the surface at the gauges rose at most "
+          f"{rise[0]:.3f}, {rise[1]:.3f} m; mean level over the second half {level:.4f} m "
+          f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
+          f"area {books['clay']['area_final']:+.1%} at the end")
+    print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
+    report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
+                       expected=expected)
     return report
 
 
-def figures(args, twins):
-    """The twins' fronts against time, and their particles at T = 4."""
-    fig, ax = pyplot().subplots(1, 2, figsize=(11, 4.2))
-    for name, tw in twins.items():
-        ax[0].plot(tw["T"], tw["Z"], label=name)
-        x = tw["points"] / args.a
-        ax[1].plot(x[:, 0], x[:, 1], ".", ms=2, label=name)
-    ax[0].set_xlabel("T = t sqrt(2g/a)")
-    ax[0].set_ylabel("front Z = z/a")
-    ax[0].set_title("dam break: water and its granular twin")
+def figures(args, state, series, gauges, twins, expected):
+    """The tank at the end, its surface against time, the twins' fronts and particles."""
+    fig, ax = pyplot().subplots(2, 2, figsize=(12, 8))
+    ax = ax.ravel()
+    clay = state.region == 1
+    ax[0].plot(state.x[~clay, 0], state.x[~clay, 1], ".", ms=2, label="water")
+    ax[0].plot(state.x[clay, 0], state.x[clay, 1], ".", ms=3, color="saddlebrown", label="clay")
+    ax[0].set_aspect("equal")
+    ax[0].set_xlabel("x [m]")
+    ax[0].set_ylabel("y [m]")
+    ax[0].set_title(f"block into the tank, t = {args.t_end:g} s")
     ax[0].legend(fontsize=7)
-    ax[1].set_aspect("equal")
-    ax[1].set_xlabel("x / a")
-    ax[1].set_ylabel("y / a")
-    ax[1].set_title("the columns at T = 4")
+    for k, xg in enumerate(gauges):
+        ax[1].plot(series["t"], series["gauges"][:, k], lw=0.8, label=f"gauge x = {xg:.2f} m")
+    ax[1].plot(series["t"], series["level"], "k", label="mean level")
+    ax[1].axhline(expected, color="r", ls="--", label="level with the block in (area)")
+    ax[1].axhline(args.d, color="grey", ls=":", label="still water before")
+    ax[1].set_xlabel("t [s]")
+    ax[1].set_ylabel("surface [m]")
+    ax[1].set_title("the water's surface")
     ax[1].legend(fontsize=7)
+    for name, tw in twins.items():
+        ax[2].plot(tw["T"], tw["Z"], label=name)
+        x = tw["points"] / args.a
+        ax[3].plot(x[:, 0], x[:, 1], ".", ms=2, label=name)
+    ax[2].set_xlabel("T = t sqrt(2g/a)")
+    ax[2].set_ylabel("front Z = z/a")
+    ax[2].set_title("dam break: water and its granular twin")
+    ax[2].legend(fontsize=7)
+    ax[3].set_aspect("equal")
+    ax[3].set_xlabel("x / a")
+    ax[3].set_ylabel("y / a")
+    ax[3].set_title("the columns at T = 4")
+    ax[3].legend(fontsize=7)
+    fig.tight_layout()
     save_figure(fig, figure_dir(args, "soil_and_water") / "soil_and_water.png")
 
 

@@ -94,6 +94,16 @@ def detect_domain(state, alpha, alpha_advected=0.0):
                        alpha_advected=alpha_advected)
 
 
+def kept_area(state, scene, area0):
+    """The area (volume in axisymmetry) the moved domain is to have with
+    ``config.keep_area``: the first detected one times the fraction of the scene's mass
+    still inside; None without it."""
+    if not scene.config.keep_area:
+        return None
+    gone = sum(float(m) for m, _ in state.discharged.values())
+    return area0 * (1.0 - gone / (state.total_mass + gone)) if gone else area0
+
+
 def pfem_step(state, scene):
     """One PFEM step C^n -> C^{n+1} (Section 2.2) of ``scene``.
 
@@ -181,7 +191,8 @@ def pfem_step(state, scene):
         if config.volume_correction:        # held and axis dofs stay, pressed nodes slide
             volume = step_constraint(disc, fixed=fixed, contacts=contacts,
                                      pressed=None if contacts is None else
-                                     inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2)
+                                     inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2,
+                                     volume=kept_area(state, scene, area0))
         moved, projected = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
             bodies=bodies_next, refine_surface=config.refine_surface,

@@ -70,6 +70,14 @@ class PFEMConfig:
     volume_correction : shift the moved particles so that every vertex patch keeps the
         volume their linearised motion states (one linear solve a step;
         :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
+    keep_area : with ``volume_correction``, every patch's target volume also grows by the
+        one factor that takes the step's domain back to its first detected area (times the
+        fraction of the mass still in the scene): the area the alpha shape adds at each
+        remeshing, where it closes the gaps of a broken free surface, is given back at
+        the next step (:func:`~pfem_skfem.pfem.volume_projection.area_growth`). For rigid-
+        plastic and fluid scenes (the engine's materials flow at zero dilation); an
+        elastic material's volume change is not a gain, and the scene refuses it. Off by
+        default.
     alpha_advected : keep a Delaunay triangle that fails the alpha test while its centroid
         lies in the previous step's mesh moved with the particles and its circumradius
         is at most this many h (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape`): a
@@ -93,6 +101,7 @@ class PFEMConfig:
     bulge: bool = True
     refine_surface: float = 2.0
     volume_correction: bool = False
+    keep_area: bool = False
     alpha_advected: float = 0.0
 
     def __post_init__(self):
@@ -125,6 +134,9 @@ class PFEMConfig:
         if not (np.isfinite(self.alpha_advected) and self.alpha_advected >= 0):
             raise ValueError(f"alpha_advected must be >= 0 (0: off), got "
                              f"{self.alpha_advected!r}")
+        if self.keep_area and not self.volume_correction:
+            raise ValueError("keep_area=True needs volume_correction=True (the area is given "
+                             "back through the volume projection's targets)")
         if not (self.refine_surface >= 0):
             raise ValueError(f"refine_surface must be >= 0, got {self.refine_surface!r}")
 

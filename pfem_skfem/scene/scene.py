@@ -162,6 +162,10 @@ class Scene:
         elastic = {repr(r.material.elastic) for r in regions}
         if len(elastic) > 1:
             raise ValueError("every region must have the same elasticity (or none)")
+        if self.config.keep_area and self.elastic is not None:
+            raise ValueError("config.keep_area=True keeps the domain's area, which an elastic "
+                             "material changes with its stresses: use it with rigid-plastic "
+                             "and fluid regions only")
         if not self.stress_scale > 0:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
         self._check_passes()
@@ -402,7 +406,8 @@ _UNSET = object()
 
 #: fields added after digests were first stored, left out at their default value so that
 #: a run checkpointed before a field existed is still known as the same scene
-_LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None}
+_LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None,
+                 ("PFEMConfig", "keep_area"): False}
 
 
 def _identity(value):
