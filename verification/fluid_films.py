@@ -39,14 +39,11 @@ import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+from pfem_skfem.harness.options import (base_parser, nonnegative_float, slope_angle,
                                         positive_float, positive_int)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=[4, 8, 16])
-
-slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
-
 
 def film_velocity(z, h, theta, rho, mu, g):
     """Nusselt's film: u(z) = rho g sin(theta) (h z - z^2/2) / mu."""

@@ -40,13 +40,10 @@ import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, in_range, positive_float, positive_int
+from pfem_skfem.harness.options import base_parser, positive_float, positive_int, slope_angle
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=12, steps=60)
-
-slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
-
 
 def bagnold_inertial_number(theta, mu_s, mu_2, I_0):
     """I of the steady flow: mu(I) = tan(theta)."""

@@ -46,15 +46,12 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, friction_angle, in_range,
+from pfem_skfem.harness.options import (base_parser, friction_angle, slope_angle,
                                         nonnegative_float, nonnegative_int, positive_float,
                                         positive_int)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
-
-slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
-
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
                keep_area=True, solver="clarabel"):

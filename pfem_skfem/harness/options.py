@@ -224,6 +224,7 @@ positive_int = in_range(1, integer=True, what="a positive integer")
 nonnegative_int = in_range(0, integer=True, what="an integer >= 0")
 workers = in_range(1, integer=True, what="a number of workers >= 1")
 friction_angle = in_range(0, 90, high_open=True, what="an angle in [0, 90) degrees")
+slope_angle = in_range(0, 90, low_open=True, high_open=True, what="an angle in (0, 90) degrees")
 
 
 def positive_angle(why):
