@@ -9,8 +9,8 @@ from skfem import MeshTri
 
 from pfem_skfem.discretisation.fields import vertex_dofs
 from pfem_skfem.discretisation.static import discretise
-from pfem_skfem.pfem.volume_projection import (patch_volume_gradient, patch_volumes,
-                                               step_constraint, volume_shift)
+from pfem_skfem.pfem.volume_projection import (_signed_areas, patch_volume_gradient,
+                                               patch_volumes, step_constraint, volume_shift)
 
 STRAINS = (0.1, 0.05, 0.025)
 
@@ -283,3 +283,31 @@ def test_keep_area_needs_the_volume_projection_and_refuses_elastic_regions():
                      rho=1.0, g=9.8, dt=0.01, volume_correction=True, keep_area=True)
     column_scene(NewtonianFluid(0.0), 1.0, 1.0, 0.25, rho=1.0, g=9.8, dt=0.01,
                  volume_correction=True, keep_area=True)
+
+
+def test_a_shift_larger_than_the_motion_is_refused():
+    """The vertices of the clay block sliding into the tank (soil_and_water.py at spacing
+    0.04), step 214, when the shift was still applied: a pile of particles crowded into the
+    floor's corner, two triangles inverted by the step, and the linearised projection asks
+    a vertex to move 18.6 m up the wall for a motion of 0.05 m. The shift is refused (the
+    positions stay) and said so; a healthy step's shift, far below its motion, is kept."""
+    from pathlib import Path
+    from pfem_skfem.pfem.volume_projection import VolumeConstraint, bounded_shift
+    data = np.load(Path(__file__).parent / "data" / "tank_step_214_volume.npz")
+    c = VolumeConstraint(data["triangles"], data["orientation"].astype(float), data["start"],
+                         data["allowed"], False, float(data["growth"]))
+    x, motion = data["x"], float(data["motion"])
+    inverted = np.sign(_signed_areas(c.start, c.triangles)) != np.sign(_signed_areas(x, c.triangles))
+    assert inverted.sum() == 2                   # the failed linearisation's cause
+    w = volume_shift(c, x)
+    assert np.linalg.norm(w, axis=1).max() > 100 * motion
+    w, size, refused = bounded_shift(c, x, motion)
+    assert refused and size > 100 * motion and not w.any()
+    # a healthy step (an isochoric extension by 5 %): its shift, far below its motion, kept
+    disc = square()
+    e = 0.05
+    du = linear_field(disc, np.diag([e, -e]))
+    healthy = step_constraint(disc)
+    moved = disc.mesh.p.T + du[vertex_dofs(disc)]
+    w, size, refused = bounded_shift(healthy, moved, e)
+    assert not refused and 0 < size < e and np.array_equal(w, volume_shift(healthy, moved))

@@ -30,10 +30,11 @@ water's front ahead of the granular one at T = 4. Recorded, not checked: the mea
 of the flat tank over the second half of the run beside the still level with the block
 in (l with L l + l^2 / (2 tan beta) = the first area; the water still sloshes at
 --t_end: inviscid, it comes to rest only by the time stepping's damping), the block's
-speed at the end (the reflected wave moves it again), and the clay's own area (an element takes the last
-declared region among its vertices: particles the flow strips off the block make clay of
-the water around them, +70 % by the end at the quick size). The full size (h = 0.04)
-blows up near t = 2.7 s: not yet a result.
+speed at the end (the reflected wave moves it again), the clay's own area (the elements
+all of whose vertices are clay: the clay is declared first, so an element with vertices
+of both is water, and the block's area shrinks as the flow strips particles off it), and
+the steps whose volume projection was refused (a shift larger than the step's motion:
+:func:`~pfem_skfem.pfem.volume_projection.bounded_shift`).
 
 Usage::
 
@@ -52,6 +53,7 @@ from pfem_skfem.harness.options import (base_parser, friction_angle, slope_angle
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
+CLAY = 0                # the tank scene's regions: (clay, water)
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
                keep_area=True, solver="clarabel"):
@@ -83,7 +85,10 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
               Body("wall", RigidSegment((foot + L, -h), (foot + L, far), 0.0)))
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         solver=solver, volume_correction=True, keep_area=keep_area)
-    scene = Scene(regions=(water, clay), bodies=bodies, gravity=(0.0, -g), alpha=1.6,
+    # clay first: an element with vertices of both takes the last declared region, water, so
+    # the block is its own particles' elements (buoyancy exact, hydrostatics.py) and clay
+    # particles the flow strips off do not make clay of the water around them
+    scene = Scene(regions=(clay, water), bodies=bodies, gravity=(0.0, -g), alpha=1.6,
                   length=top, config=config)
     return scene.initial_state(), scene, dict(foot=foot, edge=edge)
 
@@ -116,11 +121,11 @@ def run_tank(args, out):
                                     keep_area=args.keep_area == "on", solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
-    series = {"t": [0.0], "block_x": [float(state0.x[state0.region == 1, 0].mean())],
+    series = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
               "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d]}
 
     def measure(state, record, result):
-        clay = state.region == 1
+        clay = state.region == CLAY
         meshed = np.zeros(state.n, dtype=bool)         # not the drops flying free of the mesh
         meshed[state.mesh_particle[state.mesh_particle >= 0]] = True
         water = ~clay & meshed
@@ -261,7 +266,7 @@ def run(args):
     twins = run_twins(args, out)
 
     report = Report("soil_and_water", args, particles=int(state.n),
-                    clay_particles=int(np.sum(state.region == 1)))
+                    clay_particles=int(np.sum(state.region == CLAY)))
     for region in ("water", "clay"):
         report.add_interval(f"tank_{region}_mass_change", books[region]["mass"], 0.0, 1e-12,
                             "the particles carry each region's mass")
@@ -280,6 +285,8 @@ def run(args):
     rise = np.nanmax(series["gauges"], axis=0) - args.d
     report.add_interval("wave_at_gauges", float(rise.min() / args.h), 0.5, np.inf,
                         "the block's wave raised the surface at both gauges, in h")
+    # steps whose volume projection failed (bounded_shift): kept unshifted, counted
+    refused = int(np.sum(state.history["volume_shift_refused"]))
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -297,7 +304,10 @@ def run(args):
                              "level_without_block": tank_level(first_area - books[
                                  "clay"]["area_first"], args.L, args.beta),
                              "largest_rise": rise, "t_stop": t_stop,
-                             "block_speed_at_end": float(series["block_speed"][-1])},
+                             "block_speed_at_end": float(series["block_speed"][-1]),
+                             "shift_refused": refused,
+                             # the particles at the end, for a picture (mm)
+                             "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
                               for k, v in twins.items()}}
     print(f"block: centre x {series['block_x'][0]:.3f} -> {series['block_x'][-1]:.3f} m "
@@ -305,7 +315,8 @@ def run(args):
           f"the end {series['block_speed'][-1]:.3f} m/s; the surface at the gauges rose at most "
           f"{rise[0]:.3f}, {rise[1]:.3f} m; mean level over the second half {level:.4f} m "
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
-          f"area {books['clay']['area_final']:+.1%} at the end")
+          f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
+          f"refused")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)
@@ -316,7 +327,7 @@ def figures(args, state, series, gauges, twins, expected):
     """The tank at the end, its surface against time, the twins' fronts and particles."""
     fig, ax = pyplot().subplots(2, 2, figsize=(12, 8))
     ax = ax.ravel()
-    clay = state.region == 1
+    clay = state.region == CLAY
     ax[0].plot(state.x[~clay, 0], state.x[~clay, 1], ".", ms=2, label="water")
     ax[0].plot(state.x[clay, 0], state.x[clay, 1], ".", ms=3, color="saddlebrown", label="clay")
     ax[0].set_aspect("equal")

@@ -193,7 +193,7 @@ def pfem_step(state, scene):
                                      pressed=None if contacts is None else
                                      inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2,
                                      volume=kept_area(state, scene, area0))
-        moved, projected = move_particles(
+        moved, projected, shift = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
             bodies=bodies_next, refine_surface=config.refine_surface,
             bulge=config.bulge and not holding,     # a held boundary keeps its place exactly
@@ -213,7 +213,7 @@ def pfem_step(state, scene):
     record = step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
                          t_start, area=area, area0=area0, alpha=alpha, projected=projected,
                          added=added, surface=surface, thinned=thinned, phase=phase,
-                         held=len(fixed),
+                         held=len(fixed), shift=shift,
                          discharged_now=out_now)
     return new, record, result
 

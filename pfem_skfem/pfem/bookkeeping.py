@@ -96,7 +96,7 @@ def books(scene, new, timer, t_start, *, phase, alpha, discharged_now):
 
 def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
                 area, area0, alpha, projected, added, surface, thinned, phase, held,
-                discharged_now):
+                discharged_now, shift):
     """The step's record for the history: geometry, mass bookkeeping, forces on the
     bodies, energy, solver iterations and status, stage times.
 
@@ -126,6 +126,9 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
             "added": added, "surface_particles": surface, "thinned": thinned,
             "held_dofs": held, "projected": projected,
+            # the volume projection's largest vertex shift / h, and whether it was refused
+            "volume_shift_over_h": float(shift["volume_shift"] / h_median),
+            "volume_shift_refused": bool(shift["volume_shift_refused"]),
             "max_speed": float(speed.max()),
             # a step that moves material by many spacings is a collapse within one step
             # (dt too long for the mechanism), however 'optimal' its solve
@@ -152,7 +155,8 @@ def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_ov
             "status": "no element: every particle free",
             "elements": 0, "free_particles": int(new.n),
             "added": 0, "surface_particles": 0, "thinned": thinned, "held_dofs": 0,
-            "projected": projected, "max_speed": float(speed.max()),
+            "projected": projected, "volume_shift_over_h": 0.0,
+            "volume_shift_refused": False, "max_speed": float(speed.max()),
             "max_displacement_over_h": float(moved_over_h),
             "kinetic_energy": float(0.5 * np.sum(new.mass * np.sum(new.v ** 2, axis=1))),
             "max_plastic_strain_increment": 0.0,

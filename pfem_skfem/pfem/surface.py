@@ -15,7 +15,7 @@ import numpy as np
 
 from ..discretisation.fields import vertex_dofs
 from ..problems.particle import free_particles_step
-from .volume_projection import volume_shift
+from .volume_projection import bounded_shift
 
 
 def boundary_edges(disc, du):
@@ -182,15 +182,18 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
         None: after the bulge correction the vertices are shifted so that every vertex
         patch keeps the volume their linearised motion states
-        (:func:`~pfem_skfem.pfem.volume_projection.volume_shift`).
+        (:func:`~pfem_skfem.pfem.volume_projection.bounded_shift`).
 
     In axisymmetry (``disc.geometry``) the particles on the axis stay on it exactly (u_r = 0
     there, no radial bulge shift), and a particle that would cross the axis (a free one, or
     a vertex by round-off) is put on it with its radial velocity removed.
 
     Returns the moved state (new particles appended: midside nodes of stretched boundary
-    edges, with no mass) and the number of particles found inside a rigid body by more
-    than 1e-3 h (put back on its surface).
+    edges, with no mass), the number of particles found inside a rigid body by more
+    than 1e-3 h (put back on its surface), and the volume shift's record: its largest
+    vertex shift (0 without ``volume``) and whether it was refused (larger than the
+    step's largest vertex motion: the linearisation failed, the positions are left
+    unshifted).
     """
     vd = vertex_dofs(disc)
     x, v = state.x.copy(), state.v.copy()
@@ -211,8 +214,12 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     if bulge:
         x[pm.particle] += bulge_correction(disc, inc.du, skip=split, edges=edges,
                                            axis=axis if axis.any() else None)
+    shift = {"volume_shift": 0.0, "volume_shift_refused": False}
     if volume is not None:
-        x[pm.particle] += volume_shift(volume, x[pm.particle])
+        motion = np.linalg.norm(x[pm.particle] - state.x[pm.particle], axis=1).max(initial=0.0)
+        w, size, refused = bounded_shift(volume, x[pm.particle], motion)
+        x[pm.particle] += w
+        shift = {"volume_shift": size, "volume_shift_refused": refused}
     new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
     new_v = inc.v[fd[:, split]].T
     v[pm.particle] = inc.v[vd]
@@ -232,7 +239,7 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     if disc.geometry.axisymmetric:
         x[pm.particle[axis], 0] = 0.0              # on the axis, exactly
         keep_off_axis(x, v)
-    return replace(moved, x=x, v=v), projected
+    return replace(moved, x=x, v=v), projected, shift
 
 
 def keep_off_axis(x, v):
