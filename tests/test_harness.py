@@ -55,3 +55,21 @@ def test_the_old_report_module_offers_what_it_offered():
         save_run load_run sitting SweepError run_cases result_path pyplot figure_dir
         save_figure figure_problems inspect_figures FIGURE_PIXELS SMALLEST_FONT""".split()
     assert [n for n in old if not hasattr(report, n)] == []
+
+
+def test_quick_sizes_leave_every_option_the_user_gave():
+    """--quick sets the options the user did not give, and none that were given, even at
+    their default value (a --steps 300 at the default 300 once became the quick 100 and
+    silently tripled the time step of a run asked for by hand)."""
+    from pfem_skfem.harness.options import base_parser, positive_int
+    parser = base_parser("x", quick=dict(steps=100, n=4))
+    parser.add_argument("--steps", type=positive_int, default=300)
+    parser.add_argument("--n", type=positive_int, default=16)
+    args = parser.parse_args(["--quick"])
+    assert (args.steps, args.n) == (100, 4)
+    args = parser.parse_args(["--quick", "--steps", "300"])
+    assert (args.steps, args.n) == (300, 4)
+    args = parser.parse_args(["--quick", "--n=16", "--steps", "7"])
+    assert (args.steps, args.n) == (7, 16)
+    args = parser.parse_args(["--steps", "300"])
+    assert (args.steps, args.n) == (300, 16)

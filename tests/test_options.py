@@ -104,7 +104,7 @@ BAD = {
                        (["--beta", "90"], "--beta"), (["--mu_slope", "0.6"], "--mu_slope"),
                        (["--d", "1.2"], "--d"), (["--h", "0"], "--h"), (["--c", "-1"], "--c"),
                        (["--keep_area", "maybe"], "--keep_area"),
-                       (["--mu_floor", "-0.1"], "--mu_floor")],
+                       (["--mu_floor", "-0.1"], "--mu_floor"), (["--thin", "1"], "--thin")],
     "inclined_plane_flow": [(["--theta", "95"], "--theta"), (["--ny", "0"], "--ny"),
                             (["--steps", "0"], "--steps"), (["--d", "0"], "--d"),
                             (["--mu_2", "0.3"], "--mu_2"), (["--theta_stop", "25"], "--theta_stop"),

@@ -335,6 +335,45 @@ def test_thin_cloud_removes_crowding_particles_only():
     assert keep[-5:].all() and not keep[:5].any()
 
 
+def test_thinning_hands_each_particle_s_mass_to_its_own_region():
+    """Two regions side by side, each with particles crowding the other's at the interface:
+    thinned, every region keeps its mass exactly (a removed particle hands its mass to
+    the nearest kept particle of its own region, not to the nearer one across)."""
+    from dataclasses import dataclass
+    from pfem_skfem.pfem.bookkeeping import hand_on_mass
+    from pfem_skfem.pfem.particles import thin_cloud
+    x, _ = hex_lattice(3, 0.1)
+    left = x[:, 0] < np.median(x[:, 0])
+    crowd = np.vstack([x, x[left][:4] + [0.003, 0.0], x[~left][:4] - [0.003, 0.0]])
+    region = np.r_[np.where(left, 0, 1), np.ones(4, int), np.zeros(4, int)]   # intruders
+    mass = np.random.default_rng(1).uniform(0.5, 1.5, len(crowd))
+
+    @dataclass
+    class Cloud:                        # the fields of a PFEMState that thinning uses
+        x: np.ndarray
+        mass: np.ndarray
+        region: np.ndarray
+
+        def subset(self, keep):
+            return Cloud(self.x[keep], self.mass[keep], self.region[keep])
+
+    keep = thin_cloud(crowd, 0.1, fraction=0.4)
+    assert not keep.all()
+    state = hand_on_mass(Cloud(x=crowd, mass=mass, region=region), keep)
+    for r in (0, 1):
+        assert state.mass[state.region == r].sum() == pytest.approx(mass[region == r].sum(),
+                                                                    rel=1e-14)
+
+
+def test_alpha_mesh_thinning_is_checked():
+    from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
+    assert AlphaMesh().thin_fraction == 0 and AlphaMesh(0.4).thin_fraction == 0.4
+    assert QualityRemesh().thin_fraction == 0.4
+    for bad in (-0.1, 1.0, np.nan):
+        with pytest.raises(ValueError, match="thin"):
+            AlphaMesh(thin=bad)
+
+
 @settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(10, 120), st.floats(1.0, 3.0))
 def test_uem_exact_for_linear_fields_between_random_remeshes(seed, n, alpha):

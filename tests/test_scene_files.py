@@ -14,7 +14,7 @@ from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuI
                                   ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,
                                   BinghamFluidAxisymmetric, NewtonianFluid,
                                   NewtonianFluidAxisymmetric)
-from pfem_skfem.pfem.remesh import QualityRemesh
+from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.pfem.transfer import Interpolation
 from pfem_skfem.problems.conic import SolverError
 from pfem_skfem.problems.contact import LaggedFriction, RigidCircle, RigidPolyline, RigidSegment
@@ -106,7 +106,8 @@ def make_scene(name):
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, (water, mud))),
                        geometry="axisymmetric" if axi else "plane",
-                       config=replace(rich.config, keep_area=True))
+                       config=replace(rich.config, keep_area=True,
+                                      remesher=AlphaMesh(thin=0.4)))
     return scene_from_toml(EXAMPLE)
 
 

@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, friction_angle, slope_angle,
+from pfem_skfem.harness.options import (base_parser, friction_angle, in_range, slope_angle,
                                         nonnegative_float, nonnegative_int, positive_float,
                                         positive_int)
 from pfem_skfem.harness.report import Report, script_main
@@ -56,13 +56,16 @@ QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
 CLAY = 0                # the tank scene's regions: (clay, water)
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
-               keep_area=True, solver="clarabel"):
+               keep_area=True, thin=0.4, solver="clarabel"):
     """The slope of height 1 (angle beta, friction mu_slope) into a tank of water d deep
     and L long (its floor of friction mu_floor, a smooth wall), a clay block ``block`` = (length, thickness) of
     cohesion c resting on the slope with its lower end 0.1 above the water's edge; particles
-    h apart. Returns (state, scene, geometry: the slope's foot and the water's edge)."""
+    h apart; particles crowded closer than ``thin`` h are thinned at each remeshing
+    (``AlphaMesh(thin)``). Returns (state, scene, geometry: the slope's foot and the
+    water's edge)."""
     from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.materials import CohesiveTresca, NewtonianFluid
+    from pfem_skfem.pfem.remesh import AlphaMesh
     from pfem_skfem.problems.contact import CoulombCones, RigidSegment
     from pfem_skfem.scene import Body, Region, Scene
     from pfem_skfem.scene.config import PFEMConfig
@@ -84,7 +87,8 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
               Body("floor", RigidSegment((foot, 0.0), (foot + L + h, 0.0), mu_floor)),
               Body("wall", RigidSegment((foot + L, -h), (foot + L, far), 0.0)))
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
-                        solver=solver, volume_correction=True, keep_area=keep_area)
+                        solver=solver, volume_correction=True, keep_area=keep_area,
+                        remesher=AlphaMesh(thin=thin))
     # clay first: an element with vertices of both takes the last declared region, water, so
     # the block is its own particles' elements (buoyancy exact, hydrostatics.py) and clay
     # particles the flow strips off do not make clay of the water around them
@@ -109,6 +113,13 @@ def surface_level(x, water, h, x_from, x_to):
         else np.nan
 
 
+def particle_energy(state, gravity):
+    """(kinetic, potential) energy the particles carry [J/m]: sum m |v|^2 / 2 and
+    -sum m g . x (the added midside particles carry no mass)."""
+    kinetic = 0.5 * float(state.mass @ np.sum(state.v ** 2, axis=1))
+    return [kinetic, -float(state.mass @ (state.x @ np.asarray(gravity, dtype=float)))]
+
+
 def run_tank(args, out):
     """The block into the tank to --t_end: the series at each step and the books."""
     from pfem_skfem.drivers.pfem_loop import run_measured
@@ -118,11 +129,13 @@ def run_tank(args, out):
                                     block=tuple(args.block), c=args.c, rho_w=args.rho_w,
                                     rho_c=args.rho_c, g=args.g, h=args.h,
                                     dt=args.t_end / args.steps,
-                                    keep_area=args.keep_area == "on", solver=args.solver)
+                                    keep_area=args.keep_area == "on", thin=args.thin,
+                                    solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
     series = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
-              "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d]}
+              "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d],
+              "energy": [particle_energy(state0, scene.gravity)]}
 
     def measure(state, record, result):
         clay = state.region == CLAY
@@ -139,6 +152,7 @@ def run_tank(args, out):
             heights.append(float(state.x[near, 1].max()) if near.any() else np.nan)
         series["gauges"].append(heights)
         series["level"].append(surface_level(state.x, water, args.h, *span))
+        series["energy"].append(particle_energy(state, scene.gravity))
 
     state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
                             verbose=args.progress, vtu_dir=out / "block_into_tank",
@@ -209,6 +223,9 @@ def build_parser():
     t.add_argument("--t_end", type=positive_float, default=3.0, help="end [s]")
     t.add_argument("--keep_area", choices=("on", "off"), default="on",
                    help="give back the area each remeshing adds (PFEMConfig.keep_area)")
+    t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
+                   help="thin particles crowded closer than this x h at each remeshing "
+                        "(AlphaMesh(thin); 0: none)")
     t.add_argument("--rest_speed", type=positive_float, default=0.02,
                    help="the block at rest: its centre of mass slower than this x sqrt(g d)")
     t.add_argument("--tol_area_tank", type=positive_float, default=0.05,
@@ -287,6 +304,7 @@ def run(args):
                         "the block's wave raised the surface at both gauges, in h")
     # steps whose volume projection failed (bounded_shift): kept unshifted, counted
     refused = int(np.sum(state.history["volume_shift_refused"]))
+    energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -306,6 +324,8 @@ def run(args):
                              "largest_rise": rise, "t_stop": t_stop,
                              "block_speed_at_end": float(series["block_speed"][-1]),
                              "shift_refused": refused,
+                             "energy_change_end": float(energy[-1]),
+                             "energy_largest_rise": float(np.max(np.diff(energy))),
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
@@ -316,7 +336,8 @@ def run(args):
           f"{rise[0]:.3f}, {rise[1]:.3f} m; mean level over the second half {level:.4f} m "
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
-          f"refused")
+          f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
+          f"step {np.max(np.diff(energy)):+.1f})")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)

@@ -129,8 +129,8 @@ def pfem_step(state, scene):
     thinned = 0
     if remesh_now:
         with timer("detect"):
-            if config.remesher.thins_cloud:              # keep the spacing near h
-                keep = thin_cloud(state.x, state.h, fraction=0.4)
+            if config.remesher.thin_fraction > 0:        # keep the spacing near h
+                keep = thin_cloud(state.x, state.h, fraction=config.remesher.thin_fraction)
                 if not keep.all():
                     state = hand_on_mass(state, keep)
                     thinned = int((~keep).sum())

@@ -64,7 +64,7 @@ class ScriptParser(argparse.ArgumentParser):
     """An argument parser whose ``parse_args`` applies ``--quick`` and the script's checks.
 
     With ``--quick``, each option named in ``quick`` takes its quick value unless
-    the user gave it a value other than its default; then ``check(args)`` may
+    the user gave it (even at its default value); then ``check(args)`` may
     return a message, reported as a usage error (exit code 2).
     """
 
@@ -78,9 +78,14 @@ class ScriptParser(argparse.ArgumentParser):
         parsed = super().parse_args(args, namespace)
         if hasattr(parsed, "quiet"):             # progress is the default; --quiet turns it off
             parsed.progress = not parsed.quiet
-        if parsed.quick:
+        if parsed.quick and self.quick:
+            # given on the command line, even at its default value, an option keeps it:
+            # argparse leaves a name the namespace already holds (here unset) unless given
+            unset = object()
+            probe = super().parse_args(args, argparse.Namespace(**dict.fromkeys(self.quick,
+                                                                                unset)))
             for key, value in self.quick.items():
-                if getattr(parsed, key) == self.get_default(key):
+                if getattr(probe, key) is unset:
                     setattr(parsed, key, value)
         message = self.check(parsed) if self.check else None
         if message:
@@ -105,8 +110,8 @@ def base_parser(description, quick=None, check=None, solver=True):
     description : str
         First line of ``--help``.
     quick : dict, optional
-        Option (dest) name -> value for ``--quick``; applied only where the user
-        kept the default.
+        Option (dest) name -> value for ``--quick``; applied only to the options the
+        user did not give.
     check : callable, optional
         ``check(args) -> str or None``: a message for options that are
         inconsistent (a usage error), None when they are fine.

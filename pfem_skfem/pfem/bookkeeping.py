@@ -17,13 +17,17 @@ from .alpha_shape import measure, triangle_areas
 
 def hand_on_mass(state, keep):
     """The state without the particles not kept, each of which hands its mass to the
-    nearest kept particle (the material's mass is only ever passed on)."""
+    nearest kept particle of its own region (of any region if none of its own is kept):
+    the material's mass is only ever passed on, and each region keeps its own."""
     from scipy.spatial import cKDTree
     mass = state.mass.copy()
-    gone = np.flatnonzero(~keep)
-    kept = np.flatnonzero(keep)
-    nearest = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
-    np.add.at(mass, nearest, mass[gone])
+    for region in np.unique(state.region[~keep]):
+        gone = np.flatnonzero(~keep & (state.region == region))
+        kept = np.flatnonzero(keep & (state.region == region))
+        if kept.size == 0:
+            kept = np.flatnonzero(keep)
+        nearest = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
+        np.add.at(mass, nearest, mass[gone])
     return replace(state, mass=mass).subset(keep)
 
 

@@ -43,9 +43,10 @@ class PFEMConfig:
         associated cones of (5.12), the thesis') or
         :class:`~pfem_skfem.problems.contact.LaggedFriction` (no dilation; passes >= 2, and
         >= 3 with a lagged material: the scene checks, :func:`check_passes`).
-    remesher : :class:`~pfem_skfem.pfem.remesh.AlphaMesh` (the alpha-shape's triangles)
-        or :class:`~pfem_skfem.pfem.remesh.QualityRemesh` (Triangle; added nodes become
-        particles).
+    remesher : :class:`~pfem_skfem.pfem.remesh.AlphaMesh` (the alpha-shape's triangles;
+        ``AlphaMesh(thin=0.4)`` first thins particles crowded closer than 0.4 h) or
+        :class:`~pfem_skfem.pfem.remesh.QualityRemesh` (Triangle; added nodes become
+        particles, the cloud thinned first).
     remesh_interval : remesh every this many steps (between, the mesh moves with the particles).
     stress_mapping : 'uem_bounded', 'uem' (Fig 2.6), 'ida' (2.1)-(2.2) or 'spr'.
     velocity : :class:`~pfem_skfem.pfem.transfer.L2Projection` (no kinetic energy added)

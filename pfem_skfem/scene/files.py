@@ -347,7 +347,7 @@ CONFIG = Spec(PFEMConfig, {
     "theta": Table(Spec(ThetaMethod, {"dt": NUMBER, "theta1": NUMBER, "theta2": NUMBER})),
     "passes": INTEGER, "pass_tolerance": NUMBER,
     "contact": OneOf(Spec(CoulombCones, {}), Spec(LaggedFriction, {})),
-    "remesher": OneOf(Spec(AlphaMesh, {}), Spec(QualityRemesh, {"size": NUMBER})),
+    "remesher": OneOf(Spec(AlphaMesh, {"thin": NUMBER}), Spec(QualityRemesh, {"size": NUMBER})),
     "remesh_interval": INTEGER, "stress_mapping": STRING,
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
     "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,

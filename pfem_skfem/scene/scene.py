@@ -407,7 +407,7 @@ _UNSET = object()
 #: fields added after digests were first stored, left out at their default value so that
 #: a run checkpointed before a field existed is still known as the same scene
 _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None,
-                 ("PFEMConfig", "keep_area"): False}
+                 ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0}
 
 
 def _identity(value):
