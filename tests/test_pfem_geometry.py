@@ -335,10 +335,11 @@ def test_thin_cloud_removes_crowding_particles_only():
     assert keep[-5:].all() and not keep[:5].any()
 
 
-def test_thinning_hands_each_particle_s_mass_to_its_own_region():
+def test_thinning_merges_each_particle_into_its_own_region():
     """Two regions side by side, each with particles crowding the other's at the interface:
-    thinned, every region keeps its mass exactly (a removed particle hands its mass to
-    the nearest kept particle of its own region, not to the nearer one across)."""
+    thinned, every region keeps its mass, and the cloud its momentum and centre of mass
+    (so its potential energy), to round-off: a removed particle merges into the nearest
+    kept particle of its own region, not into the nearer one across."""
     from dataclasses import dataclass
     from pfem_skfem.pfem.bookkeeping import hand_on_mass
     from pfem_skfem.pfem.particles import thin_cloud
@@ -346,23 +347,36 @@ def test_thinning_hands_each_particle_s_mass_to_its_own_region():
     left = x[:, 0] < np.median(x[:, 0])
     crowd = np.vstack([x, x[left][:4] + [0.003, 0.0], x[~left][:4] - [0.003, 0.0]])
     region = np.r_[np.where(left, 0, 1), np.ones(4, int), np.zeros(4, int)]   # intruders
-    mass = np.random.default_rng(1).uniform(0.5, 1.5, len(crowd))
+    rng = np.random.default_rng(1)
+    mass = rng.uniform(0.5, 1.5, len(crowd))
+    mass[-1] = 0.0                                     # a massless surface particle
+    v = rng.normal(size=(len(crowd), 2))
 
     @dataclass
     class Cloud:                        # the fields of a PFEMState that thinning uses
         x: np.ndarray
+        v: np.ndarray
         mass: np.ndarray
         region: np.ndarray
 
+        @property
+        def n(self):
+            return len(self.x)
+
         def subset(self, keep):
-            return Cloud(self.x[keep], self.mass[keep], self.region[keep])
+            return Cloud(self.x[keep], self.v[keep], self.mass[keep], self.region[keep])
 
     keep = thin_cloud(crowd, 0.1, fraction=0.4)
     assert not keep.all()
-    state = hand_on_mass(Cloud(x=crowd, mass=mass, region=region), keep)
+    after = hand_on_mass(Cloud(crowd, v, mass, region), keep)
     for r in (0, 1):
-        assert state.mass[state.region == r].sum() == pytest.approx(mass[region == r].sum(),
+        assert after.mass[after.region == r].sum() == pytest.approx(mass[region == r].sum(),
                                                                     rel=1e-14)
+    np.testing.assert_allclose(after.mass @ after.x, mass @ crowd, rtol=1e-14)
+    np.testing.assert_allclose(after.mass @ after.v, mass @ v, rtol=1e-13, atol=1e-13)
+    untouched = keep.copy()
+    untouched[keep] = np.all(after.x == crowd[keep], axis=1)
+    assert untouched.sum() >= keep.sum() - 8           # only the partners of the merged moved
 
 
 def test_alpha_mesh_thinning_is_checked():

@@ -258,7 +258,7 @@ def test_keep_area_gives_back_what_the_remeshing_adds():
     for keep in (False, True):
         state, scene, _ = tank_scene(beta=30.0, mu_slope=0.2, mu_floor=0.0, d=0.4, L=2.0,
                                      block=(0.4, 0.2), c=2000.0, rho_w=1000.0, rho_c=1800.0,
-                                     g=9.81, h=0.1, dt=0.03, keep_area=keep)
+                                     g=9.81, h=0.1, dt=0.03, keep_area=keep, thin=0.0)
         from pfem_skfem.drivers.pfem_loop import run
         state, _ = run(state, scene, 40)
         areas[keep] = (np.array(state.history["area_change"]),
@@ -311,3 +311,22 @@ def test_a_shift_larger_than_the_motion_is_refused():
     moved = disc.mesh.p.T + du[vertex_dofs(disc)]
     w, size, refused = bounded_shift(healthy, moved, e)
     assert not refused and 0 < size < e and np.array_equal(w, volume_shift(healthy, moved))
+
+
+def test_keep_area_leaves_out_the_volume_of_drops_flying_free():
+    """The domain is asked for its first area less the volume m / rho of the particles
+    outside the step's mesh (a splash's drops, each of its own region's density), times
+    the fraction of the mass not discharged; without keep_area, nothing is asked."""
+    from pfem_skfem.drivers.pfem_loop import kept_area
+    scene = SimpleNamespace(config=SimpleNamespace(keep_area=True),
+                            regions=(SimpleNamespace(rho=1800.0), SimpleNamespace(rho=1000.0)))
+    state = SimpleNamespace(region=np.array([0, 0, 1, 1, 1]),
+                            mass=np.array([18.0, 36.0, 10.0, 20.0, 0.0]),
+                            discharged={}, total_mass=84.0)
+    meshed = np.array([True, False, True, False, False])
+    assert kept_area(state, scene, 2.0, meshed) == pytest.approx(2.0 - 36 / 1800 - 20 / 1000)
+    assert kept_area(state, scene, 2.0, np.ones(5, bool)) == 2.0
+    state.discharged = {"out": [84.0 / 3, 3]}           # a quarter of the first mass gone
+    assert kept_area(state, scene, 2.0, np.ones(5, bool)) == pytest.approx(1.5)
+    scene.config.keep_area = False
+    assert kept_area(state, scene, 2.0, meshed) is None

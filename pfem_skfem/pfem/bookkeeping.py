@@ -16,19 +16,36 @@ from .alpha_shape import measure, triangle_areas
 
 
 def hand_on_mass(state, keep):
-    """The state without the particles not kept, each of which hands its mass to the
-    nearest kept particle of its own region (of any region if none of its own is kept):
-    the material's mass is only ever passed on, and each region keeps its own."""
+    """The state without the particles not kept, each merged into the nearest kept
+    particle of its own region (of any region if none of its own is kept): the kept one
+    takes the sum of their masses, at their centre of mass, with their momentum. Each
+    region's mass, the momentum and the centre of mass (so the potential energy) are
+    kept; a merge loses only the kinetic energy of the pair's relative motion.
+
+    Why the centre of mass: handing a removed particle's mass to its neighbour where the
+    neighbour stands moves that mass; where particles crowd against a floor the kept
+    neighbour stands above, and the mass climbs (measured on the clay block into the
+    tank at the quick size: the particles' energy rose by 370 J/m over 5 s)."""
     from scipy.spatial import cKDTree
-    mass = state.mass.copy()
+    into = np.arange(state.n)
     for region in np.unique(state.region[~keep]):
         gone = np.flatnonzero(~keep & (state.region == region))
         kept = np.flatnonzero(keep & (state.region == region))
         if kept.size == 0:
             kept = np.flatnonzero(keep)
-        nearest = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
-        np.add.at(mass, nearest, mass[gone])
-    return replace(state, mass=mass).subset(keep)
+        into[gone] = kept[cKDTree(state.x[kept]).query(state.x[gone])[1]]
+    mass = np.zeros(state.n)
+    np.add.at(mass, into, state.mass)
+    moment = np.zeros((state.n, 2))
+    np.add.at(moment, into, state.mass[:, None] * state.x)
+    momentum = np.zeros((state.n, 2))
+    np.add.at(momentum, into, state.mass[:, None] * state.v)
+    merged = np.flatnonzero(np.bincount(into, minlength=state.n) > 1)
+    merged = merged[mass[merged] > 0]              # massless pairs: the kept one stays
+    x, v = state.x.copy(), state.v.copy()
+    x[merged] = moment[merged] / mass[merged, None]
+    v[merged] = momentum[merged] / mass[merged, None]
+    return replace(state, mass=mass, x=x, v=v).subset(keep)
 
 
 def discharge(state, outlets):
