@@ -37,7 +37,9 @@ speed at the end (the reflected wave moves it again), the clay's own area (the e
 all of whose vertices are clay: the clay is declared first, so an element with vertices
 of both is water, and the block's area shrinks as the flow strips particles off it), and
 the steps whose volume projection was refused (a shift larger than the step's motion:
-:func:`~pfem_skfem.pfem.volume_projection.bounded_shift`).
+:func:`~pfem_skfem.pfem.volume_projection.bounded_shift`), and two energies, the
+particles' and the step's own (its element masses): an inviscid implicit step should
+only lose energy, and at the full size both rise through the splash (not yet a result).
 
 Usage::
 
@@ -124,6 +126,21 @@ def particle_energy(state, gravity):
     return [kinetic, -float(state.mass @ (state.x @ np.asarray(gravity, dtype=float)))]
 
 
+def mesh_energy(state, scene, record, result):
+    """(kinetic, potential) energy of the step's own masses [J/m]: the record's kinetic
+    energy (its mass matrix: element densities x areas) and -sum rho_e A_e g . centroid_e
+    over the moved mesh, each element of the region the step gave it."""
+    from pfem_skfem.pfem.assemble import element_regions
+
+    rho = np.array([r.rho for r in scene.regions], dtype=float)[element_regions(state,
+                                                                                result.pm)]
+    corners = state.mesh_p[state.mesh_t]                       # (elements, 3, 2), moved
+    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    potential = -float(np.sum(rho * area * (corners.mean(axis=1) @ np.asarray(scene.gravity))))
+    return [float(record["kinetic_energy"]), potential]
+
+
 def run_tank(args, out):
     """The block into the tank to --t_end: the series at each step and the books."""
     from pfem_skfem.drivers.pfem_loop import run_measured
@@ -139,7 +156,7 @@ def run_tank(args, out):
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
     series = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
               "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d],
-              "energy": [particle_energy(state0, scene.gravity)]}
+              "energy": [particle_energy(state0, scene.gravity)], "mesh_energy": []}
 
     def measure(state, record, result):
         clay = state.region == CLAY
@@ -157,6 +174,7 @@ def run_tank(args, out):
         series["gauges"].append(heights)
         series["level"].append(surface_level(state.x, water, args.h, *span))
         series["energy"].append(particle_energy(state, scene.gravity))
+        series["mesh_energy"].append(mesh_energy(state, scene, record, result))
 
     state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
                             verbose=args.progress, vtu_dir=out / "block_into_tank",
@@ -309,6 +327,7 @@ def run(args):
     # steps whose volume projection failed (bounded_shift): kept unshifted, counted
     refused = int(np.sum(state.history["volume_shift_refused"]))
     energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
+    own = series["mesh_energy"].sum(axis=1) - series["mesh_energy"][0].sum()
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -330,6 +349,8 @@ def run(args):
                              "shift_refused": refused,
                              "energy_change_end": float(energy[-1]),
                              "energy_largest_rise": float(np.max(np.diff(energy))),
+                             "mesh_energy_change_end": float(own[-1]),
+                             "mesh_energy_largest_rise": float(np.max(np.diff(own))),
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
@@ -341,7 +362,8 @@ def run(args):
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
           f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
-          f"step {np.max(np.diff(energy)):+.1f})")
+          f"step {np.max(np.diff(energy)):+.1f}); the step's own (element masses) "
+          f"{own[-1]:+.0f} J/m from step 1 (largest rise {np.max(np.diff(own)):+.1f})")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)
