@@ -130,14 +130,14 @@ def mesh_energy(state, scene, record, result):
     """(kinetic, potential) energy of the step's own masses [J/m]: the record's kinetic
     energy (its mass matrix: element densities x areas) and -sum rho_e A_e g . centroid_e
     over the moved mesh, each element of the region the step gave it."""
+    from pfem_skfem.pfem.alpha_shape import triangle_areas
     from pfem_skfem.pfem.assemble import element_regions
 
     rho = np.array([r.rho for r in scene.regions], dtype=float)[element_regions(state,
                                                                                 result.pm)]
-    corners = state.mesh_p[state.mesh_t]                       # (elements, 3, 2), moved
-    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-    potential = -float(np.sum(rho * area * (corners.mean(axis=1) @ np.asarray(scene.gravity))))
+    mass = rho * np.abs(triangle_areas(state.mesh_p, state.mesh_t))       # the moved mesh
+    centroid = state.mesh_p[state.mesh_t].mean(axis=1)
+    potential = -float(mass @ (centroid @ np.asarray(scene.gravity, dtype=float)))
     return [float(record["kinetic_energy"]), potential]
 
 
