@@ -38,8 +38,10 @@ all of whose vertices are clay: the clay is declared first, so an element with v
 of both is water, and the block's area shrinks as the flow strips particles off it), and
 the steps whose volume projection was refused (a shift larger than the step's motion:
 :func:`~pfem_skfem.pfem.volume_projection.bounded_shift`), and two energies, the
-particles' and the step's own (its element masses): an inviscid implicit step should
-only lose energy, and at the full size both rise through the splash (not yet a result).
+particles' and the step's own (its element masses), with the potential energy the
+remeshings add to the latter (the alpha shape fills gaps above the water): an inviscid
+implicit step should only lose energy, and at the full size both rise through the
+splash (not yet a result).
 
 Usage::
 
@@ -127,18 +129,25 @@ def particle_energy(state, gravity):
 
 
 def mesh_energy(state, scene, record, result):
-    """(kinetic, potential) energy of the step's own masses [J/m]: the record's kinetic
-    energy (its mass matrix: element densities x areas) and -sum rho_e A_e g . centroid_e
-    over the moved mesh, each element of the region the step gave it."""
+    """(kinetic, potential at t_n, potential at t_n+1) energy of the step's own masses
+    [J/m]: the record's kinetic energy (its mass matrix: element densities x areas) and
+    -sum rho_e A_e g . centroid_e over the step's mesh as remeshed at t_n and as moved,
+    each element of the region the step gave it. The potential at t_n less the previous
+    step's at t_n+1 is what the remeshing added."""
     from pfem_skfem.pfem.alpha_shape import triangle_areas
     from pfem_skfem.pfem.assemble import element_regions
 
     rho = np.array([r.rho for r in scene.regions], dtype=float)[element_regions(state,
                                                                                 result.pm)]
-    mass = rho * np.abs(triangle_areas(state.mesh_p, state.mesh_t))       # the moved mesh
-    centroid = state.mesh_p[state.mesh_t].mean(axis=1)
-    potential = -float(mass @ (centroid @ np.asarray(scene.gravity, dtype=float)))
-    return [float(record["kinetic_energy"]), potential]
+    gravity = np.asarray(scene.gravity, dtype=float)
+
+    def potential(points, triangles):
+        mass = rho * np.abs(triangle_areas(points, triangles))
+        return -float(mass @ (points[triangles].mean(axis=1) @ gravity))
+
+    return [float(record["kinetic_energy"]),
+            potential(result.disc.mesh.p.T, result.disc.mesh.t[:3].T),
+            potential(state.mesh_p, state.mesh_t)]
 
 
 def run_tank(args, out):
@@ -327,7 +336,9 @@ def run(args):
     # steps whose volume projection failed (bounded_shift): kept unshifted, counted
     refused = int(np.sum(state.history["volume_shift_refused"]))
     energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
-    own = series["mesh_energy"].sum(axis=1) - series["mesh_energy"][0].sum()
+    mesh = series["mesh_energy"]                         # kinetic, potential at t_n, t_n+1
+    own = mesh[:, 0] + mesh[:, 2] - mesh[0, 0] - mesh[0, 2]
+    remeshed = float(np.sum(mesh[1:, 1] - mesh[:-1, 2]))      # the remeshings' potential
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -351,6 +362,7 @@ def run(args):
                              "energy_largest_rise": float(np.max(np.diff(energy))),
                              "mesh_energy_change_end": float(own[-1]),
                              "mesh_energy_largest_rise": float(np.max(np.diff(own))),
+                             "remeshing_potential": remeshed,
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
@@ -363,7 +375,8 @@ def run(args):
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
           f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
           f"step {np.max(np.diff(energy)):+.1f}); the step's own (element masses) "
-          f"{own[-1]:+.0f} J/m from step 1 (largest rise {np.max(np.diff(own)):+.1f})")
+          f"{own[-1]:+.0f} J/m from step 1 (largest rise {np.max(np.diff(own)):+.1f}), the "
+          f"remeshings adding {remeshed:+.0f} J/m of potential energy")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)
