@@ -100,9 +100,9 @@ def kept_area(state, scene, area0, meshed):
     particles outside the step's mesh (``meshed``: (n,) bool; a splash's drops fly free)
     and times the fraction of the scene's mass still inside; None without it.
 
-    Why the drops: asking the domain for its first area while some of its water flies
-    free inflates the rest by their volume, and lifts the surface (measured on the tank
-    at the quick size: the particles' energy rose by 380 J/m over 2 s)."""
+    Why the drops: the domain holds the particles of the mesh only; asking it for its
+    first area while some of its water flies free would inflate the rest by the drops'
+    volume and lift its surface."""
     if not scene.config.keep_area:
         return None
     rho = np.array([r.rho for r in scene.regions], dtype=float)[state.region]

@@ -25,7 +25,8 @@ def hand_on_mass(state, keep):
     Why the centre of mass: handing a removed particle's mass to its neighbour where the
     neighbour stands moves that mass; where particles crowd against a floor the kept
     neighbour stands above, and the mass climbs (measured on the clay block into the
-    tank at the quick size: the particles' energy rose by 370 J/m over 5 s)."""
+    tank at the quick size, from t = 3 to 9 s: the particles' energy climbed 350 J/m
+    with that hand-off, 110 J/m with the merge)."""
     from scipy.spatial import cKDTree
     into = np.arange(state.n)
     for region in np.unique(state.region[~keep]):

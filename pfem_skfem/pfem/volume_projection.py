@@ -225,7 +225,6 @@ def volume_shift(constraint, x, regularisation=1e-10):
     return (DGt @ lam).reshape(n, 2)
 
 
-
 def bounded_shift(constraint, x, motion):
     """:func:`volume_shift` of the moved vertices x, refused when larger than ``motion`` (the
     step's largest vertex displacement).
