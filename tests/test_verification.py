@@ -201,6 +201,8 @@ CASES = [
       "tank_area_change": Between(0, 0.05),                 # keep_area gives the gain back
       "block_in_water": Between(0, np.inf),
       "block_stopped": Between(0, 0.02),                    # friction holds it (rigid-plastic)
+      "fastest_over_free_fall": Between(0, 2),              # no vertex outruns the fall
+      "projections_refused": Between(0, 0.05),              # thinning: no crowded slivers
       "water_area_change": Between(0, 0.02),
       "water_over_granular_front": Between(1, np.inf)}, None),   # no strength: further
     ("fluid_films", [],

@@ -28,7 +28,9 @@ No experiment is asserted here beyond conservation (for the water against Martin
 particles carry it); the tank's area (its alpha-shape domain) within --tol_area_tank of
 its first; the block in the water and at rest there (its centre of mass slower than
 --rest_speed sqrt(g d) at some step after it entered); the block's wave at both gauges
-(the surface raised by at least h/2); each twin's area within --tol_area, and the
+(the surface raised by at least h/2); no vertex faster than --tol_speed sqrt(2 g) (a
+fall from the slope's top: a faster one is a blow-up) and at most --tol_refused of the
+steps' volume projections refused; each twin's area within --tol_area, and the
 water's front ahead of the granular one at T = 4. Recorded, not checked: the mean level
 of the flat tank over the second half of the run beside the still level with the block
 in (l with L l + l^2 / (2 tan beta) = the first area; the water still sloshes at
@@ -257,6 +259,11 @@ def build_parser():
     t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
                    help="thin particles crowded closer than this x h at each remeshing "
                         "(AlphaMesh(thin); 0: none)")
+    t.add_argument("--tol_speed", type=positive_float, default=2.0,
+                   help="the fastest vertex of the run at most this x sqrt(2 g) (a fall "
+                        "from the slope's top; a splash may focus some energy)")
+    t.add_argument("--tol_refused", type=in_range(0, 1), default=0.05,
+                   help="at most this fraction of the steps' volume projections refused")
     t.add_argument("--rest_speed", type=positive_float, default=0.02,
                    help="the block at rest: its centre of mass slower than this x sqrt(g d)")
     t.add_argument("--tol_area_tank", type=positive_float, default=0.05,
@@ -330,11 +337,18 @@ def run(args):
                         if inside.any() else np.inf, 0.0, args.rest_speed,
                         "the block came to rest in the water: its least speed (of its centre "
                         "of mass) / sqrt(g d)")
+    # steps whose volume projection failed (bounded_shift): kept unshifted, counted
+    refused = int(np.sum(state.history["volume_shift_refused"]))
+    # no particle can outrun a fall from the slope's top (1 m): a faster one is a blow-up
+    fastest = float(np.max(state.history["max_speed"]))
+    report.add_interval("fastest_over_free_fall", fastest / np.sqrt(2 * args.g * 1.0), 0.0,
+                        args.tol_speed, "the fastest vertex of any step against sqrt(2 g) "
+                        "(a fall from the slope's top)")
+    report.add_interval("projections_refused", refused / args.steps, 0.0, args.tol_refused,
+                        "the fraction of steps whose volume projection failed (bounded_shift)")
     rise = np.nanmax(series["gauges"], axis=0) - args.d
     report.add_interval("wave_at_gauges", float(rise.min() / args.h), 0.5, np.inf,
                         "the block's wave raised the surface at both gauges, in h")
-    # steps whose volume projection failed (bounded_shift): kept unshifted, counted
-    refused = int(np.sum(state.history["volume_shift_refused"]))
     energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
     mesh = series["mesh_energy"]                         # kinetic, potential at t_n, t_n+1
     own = mesh[:, 0] + mesh[:, 2] - mesh[0, 0] - mesh[0, 2]
