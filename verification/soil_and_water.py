@@ -352,6 +352,7 @@ def run(args):
     energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
     mesh = series["mesh_energy"]                         # kinetic, potential at t_n, t_n+1
     own = mesh[:, 0] + mesh[:, 2] - mesh[0, 0] - mesh[0, 2]
+    energy_rise, own_rise = float(np.max(np.diff(energy))), float(np.max(np.diff(own)))
     remeshed = float(np.sum(mesh[1:, 1] - mesh[:-1, 2]))      # the remeshings' potential
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
@@ -373,9 +374,9 @@ def run(args):
                              "block_speed_at_end": float(series["block_speed"][-1]),
                              "shift_refused": refused,
                              "energy_change_end": float(energy[-1]),
-                             "energy_largest_rise": float(np.max(np.diff(energy))),
+                             "energy_largest_rise": energy_rise,
                              "mesh_energy_change_end": float(own[-1]),
-                             "mesh_energy_largest_rise": float(np.max(np.diff(own))),
+                             "mesh_energy_largest_rise": own_rise,
                              "remeshing_potential": remeshed,
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
@@ -388,8 +389,8 @@ def run(args):
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
           f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
-          f"step {np.max(np.diff(energy)):+.1f}); the step's own (element masses) "
-          f"{own[-1]:+.0f} J/m from step 1 (largest rise {np.max(np.diff(own)):+.1f}), the "
+          f"step {energy_rise:+.1f}); the step's own (element masses) "
+          f"{own[-1]:+.0f} J/m from step 1 (largest rise {own_rise:+.1f}), the "
           f"remeshings adding {remeshed:+.0f} J/m of potential energy")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,

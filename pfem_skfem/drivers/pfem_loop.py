@@ -105,8 +105,8 @@ def kept_area(state, scene, area0, meshed):
     volume and lift its surface."""
     if not scene.config.keep_area:
         return None
-    rho = np.array([r.rho for r in scene.regions], dtype=float)[state.region]
-    flying = float(np.sum(state.mass[~meshed] / rho[~meshed]))
+    rho = np.array([r.rho for r in scene.regions], dtype=float)
+    flying = float(np.sum(state.mass[~meshed] / rho[state.region[~meshed]]))
     gone = sum(float(m) for m, _ in state.discharged.values())
     inside = 1.0 - gone / (state.total_mass + gone) if gone else 1.0
     return area0 * inside - flying
