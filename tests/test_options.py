@@ -308,6 +308,19 @@ def test_help_says_each_default_once(name):
     assert "(default: False)" not in text and "(default: None)" not in text
 
 
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_each_option_takes_its_default_given_back(name):
+    """A default written out on the command line parses to itself: a validator that
+    refuses its own default would refuse every value a user gives (--n_h 5 did)."""
+    parser = importlib.import_module(f"verification.{name}").build_parser()
+    for action in parser._actions:
+        if action.type is None or action.default is None or isinstance(action.default, str):
+            continue
+        for value in (action.default if isinstance(action.default, (list, tuple))
+                      else [action.default]):
+            assert action.type(str(value)) == value, (action.dest, value)
+
+
 def test_help_keeps_the_stated_defaults():
     text = " ".join(importlib.import_module("verification.strip_footing").build_parser()
                     .format_help().split())

@@ -177,8 +177,8 @@ def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
 
     Parameters
     ----------
-    low, high : float
-        The ends of the interval (infinite: unbounded).
+    low, high : float or None
+        The ends of the interval (infinite or None: unbounded).
     low_open, high_open : bool
         Whether the ends are excluded.
     integer : bool
@@ -194,6 +194,8 @@ def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
         ``parse(text) -> float or int``, raising ``argparse.ArgumentTypeError``; argparse
         prefixes its message with the option (``argument --phi: ...``).
     """
+    low = -math.inf if low is None else low
+    high = math.inf if high is None else high
     if what is None:
         kind = "an integer" if integer else "a number"
         if math.isinf(low) and math.isinf(high):
