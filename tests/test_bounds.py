@@ -485,3 +485,19 @@ def test_gravity_doubled_halves_the_multiplier(vertical_cut):
     double = replace(p, body_live=(0.0, -2.0))
     assert 2 * lower_bound(double).load == pytest.approx(lo.load, rel=1e-6)
     assert 2 * upper_bound(double).load == pytest.approx(up.load, rel=1e-6)
+
+
+def test_nye_heap_stands_in_two_dimensions_with_a_first_order_excess():
+    """Nye's shallow yield-stress heap h = sqrt(1 - eps x) (tau_y = rho g eps / 2) as a
+    2D rigid-plastic Tresca body on a rough floor: the longitudinal stresses the shallow
+    theory neglects make it stronger (Dubash et al. 2009), alpha_L >= 1, by an amount of
+    first order in eps (alpha_U <= 1 + 3 eps)."""
+    from types import SimpleNamespace
+
+    from verification.bingham_slump import limit_bracket, nye_heap_mesh
+
+    eps = 0.16
+    args = SimpleNamespace(bound_rounds=4, bound_elements=1500, bound_gap=0.01)
+    b = limit_bracket(nye_heap_mesh(eps, 0.3), eps / 2, args)
+    assert b["status"] == ""
+    assert 1.0 <= b["lower"] <= b["upper"] <= 1 + 3 * eps, b

@@ -222,6 +222,14 @@ CASES = [
          for m in ("bingham", "tresca") for k in (0.04, 0.02)},
       **{f"{m}_k{k:g}_front_over_nye": Between(1 - np.sqrt(nye_aspect_ratio(k)), 1)
          for m in ("bingham", "tresca") for k in (0.04, 0.02)},
+      # Nye's heap stands in 2D (alpha >= 1), its excess strength shrinking with eps; each
+      # deposit stopped near its limit: certified bounds of the gravity it carries
+      **{f"nye_k{k:g}_alpha_lower": Between(1, 1 + 3 * nye_aspect_ratio(k)) for k in (0.04, 0.02)},
+      "nye_strength_excess_ratio": Between(0, 1),
+      **{f"{m}_k{k:g}_alpha_upper": Between(0.8, np.inf)
+         for m in ("bingham", "tresca") for k in (0.04, 0.02)},
+      **{f"{m}_k{k:g}_alpha_lower": Between(0, 1.2)
+         for m in ("bingham", "tresca") for k in (0.04, 0.02)},
       "bingham_k0.02_at_rest": Between(0, 1e-6),              # every speed < 1e-6 sqrt(g H0)
       "tresca_k0.02_at_rest": Between(0, 1e-4),               # a step from rest: a < 1e-4 g
       "tresca_k0.02_mass_error": Between(0, 1e-12)}, None),

@@ -45,6 +45,18 @@ The full run adds the studies at --study_k (Tresca): the mesh (n_h x 1.4) and th
 (cfl / 2) change the excess by less than half of it (a deviation from Nye, not from the
 discretisation); the fast mud and the dynamic Tresca slump run farther than the slow ones.
 
+How much gravity a heap can carry, as a rigid-plastic Tresca body (c = tau_y) on a floor
+without slip against the smooth wall: certified limit bounds alpha_L <= alpha <= alpha_U
+(:func:`pfem_skfem.drivers.bounds.adapt`, refined until they are --bound_gap apart or
+--bound_elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha = 1 + 1.6-1.7
+eps: the longitudinal stresses its shallow theory neglects), and its excess strength
+alpha - 1 shrinks with eps (the upper bound at the smaller eps below the lower bound at the
+larger). Each deposit, the heap under its measured surface, stopped at its limit within
+--alpha_tol: alpha_U >= 1 - alpha_tol (not steeper than the continuum can hold; measured
+alpha 0.84-0.95 at n_h = 3.5-5: the PFEM's step, a few elements across the deposit, is a
+little stronger than the continuum, as displacement elements' collapse loads are) and
+alpha_L <= 1 + alpha_tol (not flatter than it had to be).
+
 Usage::
 
     python verification/bingham_slump.py --quick --json results/bingham_slump.json
@@ -63,7 +75,8 @@ from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float
                                         nonnegative_int, positive_float, positive_int)
 from pfem_skfem.harness.report import Report, script_main
 
-QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False)
+QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
+             bound_elements=3000)
 
 #: the middle of the deposit, in units of its front x_f, where the profile is compared
 MIDDLE = (0.2, 0.8)
@@ -90,6 +103,72 @@ def nye_height(x, x_f, k, H0):
 def aspect_ratio(k, H0, area):
     """eps = h(0) / x_f of Nye's profile = sqrt(2 k H0 / x_f)."""
     return float(np.sqrt(2 * k * H0 / nye_front(k, H0, area)))
+
+
+def heap_mesh(x, h, size):
+    """A heap on the floor y = 0 against the wall x = 0, its surface the polyline (x, h)
+    from the wall (x[0] = 0) to the front (h[-1] = 0), triangulated with elements of about
+    ``size``: the surface resampled every size / 2 of its length (a vertical front too)."""
+    from pfem_skfem.discretisation.meshes import triangulate_polygon
+
+    length = np.r_[0.0, np.cumsum(np.hypot(np.diff(x), np.diff(h)))]
+    s = np.linspace(0.0, length[-1], int(np.ceil(2 * length[-1] / size)) + 1)
+    surface = np.c_[np.interp(s, length, x), np.interp(s, length, h)]
+    return triangulate_polygon(np.vstack([surface, [[0.0, 0.0]]]), size)
+
+
+def nye_heap_mesh(eps, size):
+    """Nye's heap in units of its height at the wall, h(x) = sqrt(1 - eps x) on
+    0 <= x <= 1 / eps (tau_y / (rho g) = eps / 2 there): :func:`heap_mesh`."""
+    x = (1 - np.linspace(1, 0, 2001) ** 2) / eps         # dense where the front is steep
+    return heap_mesh(x, np.sqrt(np.clip(1 - eps * x, 0.0, None)), size)
+
+
+def limit_bracket(mesh, c, args):
+    """alpha_L <= alpha <= alpha_U: the multiplier of gravity that a rigid-plastic body on
+    ``mesh`` (unit weight, Tresca c: lengths in a height, order-one data) can carry on a
+    floor y = 0 without slip against the smooth wall x = 0, both bounds strict
+    (:func:`pfem_skfem.drivers.bounds.adapt`: refined where they differ). Without slip is
+    the strongest floor: alpha_U bounds the body on any floor, alpha_L the rough one.
+
+    A dict: lower, upper, elements, rounds, seconds and status (the solver's error, or
+    ''; the bounds are NaN then: a failed check, not a number)."""
+    import warnings
+
+    from pfem_skfem.drivers.bounds import adapt
+    from pfem_skfem.materials.criteria import Tresca
+    from pfem_skfem.problems.bounds import LimitProblem, Support
+    from pfem_skfem.problems.conic import AlmostSolvedWarning, SolverError
+
+    floor, wall = 1e-9 * np.ptp(mesh.p, axis=1)[::-1]     # vertices on y = 0 and x = 0
+    problem = LimitProblem(mesh, Tresca(c), supports=(Support(lambda x: x[1] < floor, "xy"),
+                                                      Support(lambda x: x[0] < wall, "x")),
+                           body_live=(0.0, -1.0))
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():     # AlmostSolved: still a strict bound (checked)
+            warnings.simplefilter("ignore", AlmostSolvedWarning)
+            result = adapt(problem, rounds=args.bound_rounds, max_elements=args.bound_elements,
+                           target_gap=args.bound_gap)
+    except SolverError as error:
+        return dict(lower=np.nan, upper=np.nan, elements=mesh.t.shape[1], rounds=0,
+                    seconds=time.perf_counter() - t0, status=str(error))
+    last = result.rounds[-1]
+    return dict(lower=last.lower, upper=last.upper, elements=last.elements,
+                rounds=len(result.rounds), seconds=time.perf_counter() - t0, status="")
+
+
+def deposit_bracket(r, args):
+    """:func:`limit_bracket` of a slump's deposit, the heap under its measured surface h(x)
+    (continued flat to the wall, down to the floor at its front x_f) in units of its
+    height at the wall, c = k H0 / h(0); elements of --bound_size h(0)."""
+    h0 = r["h"][0]
+    x = np.r_[0.0, r["xs"], r["x_f"]] / h0
+    h = np.r_[r["h"][0], r["h"], 0.0] / h0
+    if not np.all(np.isfinite(h)):              # a gap in the deposit: no heap to bound
+        return dict(lower=np.nan, upper=np.nan, elements=0, rounds=0, seconds=0.0,
+                    status="a gap in the deposit's surface")
+    return limit_bracket(heap_mesh(x, h, args.bound_size), r["k"] * args.H0 / h0, args)
 
 
 def slump_scene(k, material, *, L0, H0, rho, g, mu, mu_f, spacing, dt, alpha_advected,
@@ -236,6 +315,17 @@ def build_parser():
                         "(PFEMConfig.alpha_advected)")
     p.add_argument("--tol", type=positive_float, default=1.0,
                    help="the height excess in the middle may reach tol sqrt(eps)")
+    p.add_argument("--alpha_tol", type=in_range(0, 1, low_open=True, what="a fraction in "
+                                                "(0, 1)"), default=0.2,
+                   help="a deposit's certified gravity multiplier may miss 1 by this much")
+    p.add_argument("--bound_rounds", type=positive_int, default=6,
+                   help="rounds of refinement of the limit bounds (drivers.bounds.adapt)")
+    p.add_argument("--bound_elements", type=positive_int, default=8000,
+                   help="elements at most of a limit-bound mesh")
+    p.add_argument("--bound_gap", type=positive_float, default=0.01,
+                   help="stop refining the limit bounds below this relative gap")
+    p.add_argument("--bound_size", type=positive_float, default=0.25,
+                   help="first element size of Nye's heap for its limit bounds, in h(0)")
     p.add_argument("--studies", action=argparse.BooleanOptionalAction, default=True,
                    help="at --study_k: the mesh and step twins, the fast and dynamic slumps")
     p.add_argument("--study_k", type=yield_number, default=0.02, help="k of the studies")
@@ -265,9 +355,28 @@ def run(args):
                                     label="bingham_fast", **slow)
         studies["dynamic tresca"] = slump(k, "tresca", args, mu=0.0, quasi_static=False,
                                           label="tresca_dynamic", **slow)
+    # the deposits and Nye's heaps, how much gravity each can carry (certified bounds)
+    for r in [*runs.values(), *studies.values()]:
+        r["alpha"] = deposit_bracket(r, args)
+    nye = {}
+    for k in args.k:
+        eps = aspect_ratio(k, args.H0, args.L0 * args.H0)
+        nye[k] = dict(eps=eps, **limit_bracket(nye_heap_mesh(eps, args.bound_size), eps / 2,
+                                               args))
     report = Report("bingham_slump", args,
                     Reynolds=args.rho * np.sqrt(args.g * args.H0) * args.H0 / args.mu)
     tol = args.tol
+    for k, b in nye.items():
+        report.add_interval(f"nye_k{k:g}_alpha_lower", b["lower"], 1.0, np.inf,
+                            f"Nye's heap (eps = {b['eps']:.3f}) stands in 2D: the lower bound "
+                            f"of the gravity it carries >= 1 ({b['elements']} elements"
+                            + (f"; {b['status']}" if b["status"] else "") + ")")
+    wide, thin = nye[max(nye, key=lambda k: nye[k]["eps"])], nye[min(nye, key=lambda k: nye[k]["eps"])]
+    if thin is not wide:
+        report.add_interval("nye_strength_excess_ratio", (thin["upper"] - 1) / (wide["lower"] - 1),
+                            0.0, 1.0, f"the 2D excess strength alpha - 1 of Nye's heap shrinks "
+                            f"with h/L: upper bound at eps {thin['eps']:.3f} over the lower "
+                            f"bound at {wide['eps']:.3f}")
     for label, r in runs.items():
         rest = args.rest_a if r["quasi_static"] else args.rest
         what = ("acceleration of a step from rest / g" if r["quasi_static"]
@@ -282,6 +391,15 @@ def run(args):
         report.add_interval(f"{label}_front_over_nye", r["x_f"] / r["x_nye"],
                             1 - np.sqrt(eps), 1.0, "x_f / Nye's x_f of the same area: "
                             "not longer (a 2D deposit is stronger), within sqrt(eps)")
+        a = r["alpha"]
+        report.add_interval(f"{label}_alpha_upper", a["upper"], 1 - args.alpha_tol, np.inf,
+                            "the deposit not steeper than it can stand: the upper bound of "
+                            f"the gravity it carries >= 1 - {args.alpha_tol:g}"
+                            + (f" ({a['status']})" if a["status"] else ""))
+        report.add_interval(f"{label}_alpha_lower", a["lower"], 0.0, 1 + args.alpha_tol,
+                            "the deposit not flatter than it had to be: the lower bound of "
+                            f"the gravity it carries <= 1 + {args.alpha_tol:g}"
+                            + (f" ({a['status']})" if a["status"] else ""))
         report.add_interval(f"{label}_mass_error", r["mass_error"], 0.0, 1e-12,
                             "particles carry the mass")
         report.add_interval(f"{label}_area_change", r["area_change"], 0.0, 0.02,
@@ -318,8 +436,11 @@ def run(args):
             "at_rest", "rest_measure", "steps", "T_rest", "seconds", "x_f", "x_nye", "eps",
             "h_over_L", "excess", "rms", "largest", "basal_stress_ratio", "mass_error",
             "area_change", "iterations", "xs", "h", "T", "x_front", "pvd")
-    report.extra = {"runs": {k: {kk: r[kk] for kk in keys} for k, r in runs.items()},
-                    "studies": {k: {kk: r[kk] for kk in keys} for k, r in studies.items()}}
+    report.extra = {"runs": {k: {**{kk: r[kk] for kk in keys}, "alpha": r["alpha"]}
+                             for k, r in runs.items()},
+                    "studies": {k: {**{kk: r[kk] for kk in keys}, "alpha": r["alpha"]}
+                                for k, r in studies.items()},
+                    "nye": {f"{k:g}": b for k, b in nye.items()}}
     print(f"{'run':16s} {'k':>5s} {'n_h':>4s} {'mu':>5s} {'eps':>6s} {'h/L':>6s} "
           f"{'excess':>7s} {'rms':>6s} {'x_f/Nye':>7s} {'hh`/kH0':>7s} {'rest':>5s} "
           f"{'T_rest':>8s} {'steps':>5s} {'s':>5s}")
@@ -329,7 +450,14 @@ def run(args):
               f"{r['x_f'] / r['x_nye']:7.3f} {r['basal_stress_ratio']:7.3f} "
               f"{'yes' if r['at_rest'] else 'no':>5s} {r['T_rest']:8.1f} {r['steps']:5d} "
               f"{r['seconds']:5.0f}")
-    report.data = dict(runs=runs, studies=studies)
+    print(f"{'gravity carried':16s} {'eps':>6s} {'alpha_L':>8s} {'alpha_U':>8s} "
+          f"{'elements':>8s} {'s':>5s}")
+    for label, b in [*((f"Nye k{k:g}", b) for k, b in nye.items()),
+                     *((label, {**r["alpha"], "eps": r["eps"]})
+                       for label, r in {**runs, **studies}.items())]:
+        print(f"{label:16s} {b['eps']:6.3f} {b['lower']:8.4f} {b['upper']:8.4f} "
+              f"{b['elements']:8d} {b['seconds']:5.0f} {b['status']}")
+    report.data = dict(runs=runs, studies=studies, nye=nye)
     return report
 
 
