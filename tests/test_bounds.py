@@ -497,7 +497,21 @@ def test_nye_heap_stands_in_two_dimensions_with_a_first_order_excess():
     from verification.bingham_slump import limit_bracket, nye_heap_mesh
 
     eps = 0.16
-    args = SimpleNamespace(bound_rounds=4, bound_elements=1500, bound_gap=0.01)
+    args = SimpleNamespace(bound_rounds=4, bound_elements=1500, bound_gap=0.01,
+                           solver="clarabel")
     b = limit_bracket(nye_heap_mesh(eps, 0.3), eps / 2, args)
     assert b["status"] == ""
     assert 1.0 <= b["lower"] <= b["upper"] <= 1 + 3 * eps, b
+
+
+@almost
+def test_a_bound_the_chosen_solver_cannot_certify_is_given_by_the_fallback(vertical_cut):
+    p, lo, up = vertical_cut
+    with pytest.raises(SolverError):                      # two iterations certify nothing
+        adapt(p, rounds=1, max_iter=2)
+    r = adapt(p, rounds=1, max_iter=2, fallback=("qoco", "clarabel")).rounds[0]
+    assert r.solvers == ("qoco", "qoco")
+    # each bound strict whichever solver certified it: the same bracket, to tolerance
+    assert r.lower == pytest.approx(lo.load, rel=1e-5)
+    assert r.upper == pytest.approx(up.load, rel=1e-5)
+    assert adapt(p, rounds=1).rounds[0].solvers == ("clarabel", "clarabel")

@@ -48,14 +48,15 @@ discretisation); the fast mud and the dynamic Tresca slump run farther than the 
 How much gravity a heap can carry, as a rigid-plastic Tresca body (c = tau_y) on a floor
 without slip against the smooth wall: certified limit bounds alpha_L <= alpha <= alpha_U
 (:func:`pfem_skfem.drivers.bounds.adapt`, refined until they are --bound_gap apart or
---bound_elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha = 1 + 1.6-1.7
-eps: the longitudinal stresses its shallow theory neglects), and its excess strength
-alpha - 1 shrinks with eps (the upper bound at the smaller eps below the lower bound at the
-larger). Each deposit, the heap under its measured surface, stopped at its limit within
---alpha_tol: alpha_U >= 1 - alpha_tol (not steeper than the continuum can hold; measured
-alpha 0.84-0.95 at n_h = 3.5-5: the PFEM's step, a few elements across the deposit, is a
-little stronger than the continuum, as displacement elements' collapse loads are) and
-alpha_L <= 1 + alpha_tol (not flatter than it had to be).
+--bound_elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha_L = 1 + 1.6-1.7
+eps, alpha_U = 1 + 1.9-2.1 eps: the longitudinal stresses its shallow theory neglects),
+and its excess strength alpha - 1 shrinks with eps (the upper bound at the smaller eps
+below the lower bound at the larger). Each deposit, the heap under its measured surface,
+stopped at its limit within --alpha_tol: alpha_U >= 1 - alpha_tol (not steeper than the
+continuum can hold; measured alpha 0.80-0.95 at n_h = 3.5-5: the PFEM's step, a few
+elements across the deposit, is a little stronger than the continuum, as displacement
+elements' collapse loads are) and alpha_L <= 1 + alpha_tol (not flatter than it had to
+be).
 
 Usage::
 
@@ -77,6 +78,9 @@ from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
              bound_elements=3000)
+
+#: the solvers a limit bound is asked of in turn (limit_bracket)
+FALLBACK = {"clarabel", "qoco"}
 
 #: the middle of the deposit, in units of its front x_f, where the profile is compared
 MIDDLE = (0.2, 0.8)
@@ -131,8 +135,13 @@ def limit_bracket(mesh, c, args):
     (:func:`pfem_skfem.drivers.bounds.adapt`: refined where they differ). Without slip is
     the strongest floor: alpha_U bounds the body on any floor, alpha_L the rough one.
 
-    A dict: lower, upper, elements, rounds, seconds and status (the solver's error, or
-    ''; the bounds are NaN then: a failed check, not a number)."""
+    A bound that --solver cannot certify is asked of the other of :data:`FALLBACK`
+    (measured: Clarabel stalls 'AlmostSolved' on some lower bounds of Nye's long heaps at
+    2-5 thousand elements, QOCO on some deposits'). Every round's bounds are strict, so a
+    solve that fails in a later round leaves the best of the rounds before it, and its
+    error as the status. A dict: lower, upper, elements (of the round that gave the lower
+    bound), rounds, seconds, status (the error, or '') and solvers (those that certified
+    the bounds); NaN bounds where the first round failed: a failed check, not a number."""
     import warnings
 
     from pfem_skfem.drivers.bounds import adapt
@@ -144,18 +153,21 @@ def limit_bracket(mesh, c, args):
     problem = LimitProblem(mesh, Tresca(c), supports=(Support(lambda x: x[1] < floor, "xy"),
                                                       Support(lambda x: x[0] < wall, "x")),
                            body_live=(0.0, -1.0))
-    t0 = time.perf_counter()
+    done, status, t0 = [], "", time.perf_counter()
     try:
         with warnings.catch_warnings():     # AlmostSolved: still a strict bound (checked)
             warnings.simplefilter("ignore", AlmostSolvedWarning)
-            result = adapt(problem, rounds=args.bound_rounds, max_elements=args.bound_elements,
-                           target_gap=args.bound_gap)
+            adapt(problem, rounds=args.bound_rounds, max_elements=args.bound_elements,
+                  target_gap=args.bound_gap, progress=done.append, solver=args.solver,
+                  fallback=tuple(FALLBACK - {args.solver}))
     except SolverError as error:
-        return dict(lower=np.nan, upper=np.nan, elements=mesh.t.shape[1], rounds=0,
-                    seconds=time.perf_counter() - t0, status=str(error))
-    last = result.rounds[-1]
-    return dict(lower=last.lower, upper=last.upper, elements=last.elements,
-                rounds=len(result.rounds), seconds=time.perf_counter() - t0, status="")
+        status = f"round {len(done) + 1}: {error}"
+    best = max(done, key=lambda r: r.lower, default=None)
+    return dict(lower=best.lower if done else np.nan,
+                upper=min(r.upper for r in done) if done else np.nan,
+                elements=best.elements if done else mesh.t.shape[1], rounds=len(done),
+                seconds=time.perf_counter() - t0, status=status,
+                solvers=sorted({name for r in done for name in r.solvers}))
 
 
 def deposit_bracket(r, args):
@@ -451,19 +463,20 @@ def run(args):
               f"{'yes' if r['at_rest'] else 'no':>5s} {r['T_rest']:8.1f} {r['steps']:5d} "
               f"{r['seconds']:5.0f}")
     print(f"{'gravity carried':16s} {'eps':>6s} {'alpha_L':>8s} {'alpha_U':>8s} "
-          f"{'elements':>8s} {'s':>5s}")
+          f"{'elements':>8s} {'s':>5s} solvers")
     for label, b in [*((f"Nye k{k:g}", b) for k, b in nye.items()),
                      *((label, {**r["alpha"], "eps": r["eps"]})
                        for label, r in {**runs, **studies}.items())]:
         print(f"{label:16s} {b['eps']:6.3f} {b['lower']:8.4f} {b['upper']:8.4f} "
-              f"{b['elements']:8d} {b['seconds']:5.0f} {b['status']}")
+              f"{b['elements']:8d} {b['seconds']:5.0f} {'+'.join(b['solvers'])} {b['status']}")
     report.data = dict(runs=runs, studies=studies, nye=nye)
     return report
 
 
-def figures(args, runs, studies):
-    """The deposits beside Nye's profiles, and the height excess against eps."""
-    fig, ax = pyplot().subplots(1, 2, figsize=(13, 4.4))
+def figures(args, runs, studies, nye):
+    """The deposits beside Nye's profiles, the height excess against eps, and the gravity
+    each heap carries (its certified bounds)."""
+    fig, ax = pyplot().subplots(1, 3, figsize=(17, 4.4))
     styles = {"bingham": "-", "tresca": "--"}
     for label, r in runs.items():
         scale = float(nye_height(0.0, r["x_nye"], r["k"], args.H0))
@@ -492,6 +505,18 @@ def figures(args, runs, studies):
     ax[1].set_ylabel("excess of h over Nye, 0.2-0.8 x_f")
     ax[1].set_title("the profile against h/L")
     ax[1].legend(fontsize=7)
+    heaps = {"Nye's heap": list(nye.values()),
+             **{f"{m} deposits": [{**r["alpha"], "eps": r["eps"]} for r in runs.values()
+                                  if r["material"] == m] for m in args.materials}}
+    for shift, (name, bs) in zip((1.0, 0.97, 1.03), heaps.items()):
+        e = np.array([b["eps"] for b in bs]) * shift           # side by side at one eps
+        lo, hi = np.array([b["lower"] for b in bs]), np.array([b["upper"] for b in bs])
+        ax[2].errorbar(e, (lo + hi) / 2, yerr=(hi - lo) / 2, fmt="o", capsize=3, label=name)
+    ax[2].axhline(1.0, color="k", ls=":", label="at its limit")
+    ax[2].set_xlabel("aspect ratio eps = h(0) / x_f (Nye)")
+    ax[2].set_ylabel("gravity carried, alpha_L to alpha_U")
+    ax[2].set_title("rigid-plastic heaps: certified limit bounds")
+    ax[2].legend(fontsize=7)
     save_figure(fig, figure_dir(args, "bingham_slump") / "bingham_slump.png")
 
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..materials.criteria import MohrCoulomb
 from ..problems.bounds import local_gap, lower_bound, upper_bound
+from ..problems.conic import SolverError
 
 
 @dataclass
@@ -29,6 +30,7 @@ class Round:
     lower: float
     upper: float
     seconds: float
+    solvers: tuple = ()             # the solvers that gave (lower, upper)
 
     @property
     def gap(self):
@@ -56,10 +58,14 @@ def doerfler(eta, theta):
 
 
 def adapt(problem, *, rounds=5, target_gap=0.005, max_elements=5000, theta=0.5,
-          progress=None, **solver_settings):
+          progress=None, fallback=(), **solver_settings):
     """Refine ``problem`` where the bound gap lies until the relative gap is below
     ``target_gap``, ``rounds`` rounds were made, or the next mesh would pass
-    ``max_elements``. ``progress(round)`` is called after each round.
+    ``max_elements``. ``progress(round)`` is called after each round. ``fallback``: solver
+    names tried in turn, each with its own settings, for a bound the chosen solver
+    (``solver_settings``) cannot certify; a bound is strict whichever solver certified it
+    (each round records which, :attr:`Round.solvers`), and the chosen solver's error is
+    raised when every one fails.
 
     Returns :class:`Adapted` (the last round's bounds are of its problem's mesh)."""
     for name, value in (("rounds", rounds), ("max_elements", max_elements)):
@@ -72,10 +78,10 @@ def adapt(problem, *, rounds=5, target_gap=0.005, max_elements=5000, theta=0.5,
     history = []
     while True:
         t0 = time.perf_counter()
-        lo = lower_bound(problem, **solver_settings)
-        up = upper_bound(problem, **solver_settings)
+        lo, lo_by = _certified(lower_bound, problem, fallback, solver_settings)
+        up, up_by = _certified(upper_bound, problem, fallback, solver_settings)
         history.append(Round(problem.mesh.t.shape[1], lo.load, up.load,
-                             time.perf_counter() - t0))
+                             time.perf_counter() - t0, (lo_by, up_by)))
         if progress is not None:
             progress(history[-1])
         eta = np.maximum(local_gap(problem, lo, up), 0.0)
@@ -87,6 +93,20 @@ def adapt(problem, *, rounds=5, target_gap=0.005, max_elements=5000, theta=0.5,
         if done:
             return Adapted(history, problem, lo, up, eta)
         problem = problem.refined(marked)
+
+
+def _certified(bound, problem, fallback, solver_settings):
+    """(``bound(problem)``, the name of the solver that certified it): the chosen solver's
+    answer, else the first of ``fallback`` to give one; the chosen solver's error if none."""
+    try:
+        return bound(problem, **solver_settings), solver_settings.get("solver", "clarabel")
+    except SolverError as error:
+        for name in fallback:
+            try:
+                return bound(problem, solver=name), name
+            except SolverError:
+                continue
+        raise error
 
 
 def reduced(criterion, F):
