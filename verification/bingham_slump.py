@@ -383,7 +383,8 @@ def run(args):
                             f"Nye's heap (eps = {b['eps']:.3f}) stands in 2D: the lower bound "
                             f"of the gravity it carries >= 1 ({b['elements']} elements"
                             + (f"; {b['status']}" if b["status"] else "") + ")")
-    wide, thin = nye[max(nye, key=lambda k: nye[k]["eps"])], nye[min(nye, key=lambda k: nye[k]["eps"])]
+    by_eps = sorted(nye.values(), key=lambda b: b["eps"])
+    thin, wide = by_eps[0], by_eps[-1]
     if thin is not wide:
         report.add_interval("nye_strength_excess_ratio", (thin["upper"] - 1) / (wide["lower"] - 1),
                             0.0, 1.0, f"the 2D excess strength alpha - 1 of Nye's heap shrinks "
