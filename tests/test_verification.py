@@ -226,6 +226,9 @@ CASES = [
       # deposit stopped near its limit: certified bounds of the gravity it carries
       **{f"nye_k{k:g}_alpha_lower": Between(1, 1 + 3 * nye_aspect_ratio(k)) for k in (0.04, 0.02)},
       "nye_strength_excess_ratio": Between(0, 1),
+      # Nye's heap stretched upright by sqrt(alpha) is at its limit (alpha ~ s^-2, shallow)
+      **{f"nye_k{k:g}_stretched_alpha_lower": Between(0, 1.05) for k in (0.04, 0.02)},
+      **{f"nye_k{k:g}_stretched_alpha_upper": Between(0.95, np.inf) for k in (0.04, 0.02)},
       **{f"{m}_k{k:g}_alpha_upper": Between(0.8, np.inf)
          for m in ("bingham", "tresca") for k in (0.04, 0.02)},
       **{f"{m}_k{k:g}_alpha_lower": Between(0, 1.2)

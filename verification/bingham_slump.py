@@ -51,7 +51,10 @@ without slip against the smooth wall: certified limit bounds alpha_L <= alpha <=
 --bound_elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha_L = 1 + 1.6-1.7
 eps, alpha_U = 1 + 1.9-2.1 eps: the longitudinal stresses its shallow theory neglects),
 and its excess strength alpha - 1 shrinks with eps (the upper bound at the smaller eps
-below the lower bound at the larger). Each deposit, the heap under its measured surface,
+below the lower bound at the larger). Stretched upright by s = sqrt(alpha) (a shallow
+heap's basal shear grows as s^2) it is at its limit: its bounds within --stretch_tol of 1
+(measured 0.99-1.07), so a 2D heap at its limit is about s - 1 = 0.9 eps taller than
+Nye's. Each deposit, the heap under its measured surface,
 stopped at its limit within --alpha_tol: alpha_U >= 1 - alpha_tol (not steeper than the
 continuum can hold; measured alpha 0.80-0.95 at n_h = 3.5-5: the PFEM's step, a few
 elements across the deposit, is a little stronger than the continuum, as displacement
@@ -121,11 +124,12 @@ def heap_mesh(x, h, size):
     return triangulate_polygon(np.vstack([surface, [[0.0, 0.0]]]), size)
 
 
-def nye_heap_mesh(eps, size):
+def nye_heap_mesh(eps, size, stretch=1.0):
     """Nye's heap in units of its height at the wall, h(x) = sqrt(1 - eps x) on
-    0 <= x <= 1 / eps (tau_y / (rho g) = eps / 2 there): :func:`heap_mesh`."""
+    0 <= x <= 1 / eps (tau_y / (rho g) = eps / 2 there), its heights times ``stretch``:
+    :func:`heap_mesh`."""
     x = (1 - np.linspace(1, 0, 2001) ** 2) / eps         # dense where the front is steep
-    return heap_mesh(x, np.sqrt(np.clip(1 - eps * x, 0.0, None)), size)
+    return heap_mesh(x, stretch * np.sqrt(np.clip(1 - eps * x, 0.0, None)), size)
 
 
 def limit_bracket(mesh, c, args):
@@ -330,6 +334,9 @@ def build_parser():
     p.add_argument("--alpha_tol", type=in_range(0, 1, low_open=True, what="a fraction in "
                                                 "(0, 1)"), default=0.2,
                    help="a deposit's certified gravity multiplier may miss 1 by this much")
+    p.add_argument("--stretch_tol", type=in_range(0, 1, low_open=True, what="a fraction in "
+                                                  "(0, 1)"), default=0.05,
+                   help="Nye's heap stretched upright by sqrt(alpha) carries 1 within this")
     p.add_argument("--bound_rounds", type=positive_int, default=6,
                    help="rounds of refinement of the limit bounds (drivers.bounds.adapt)")
     p.add_argument("--bound_elements", type=positive_int, default=8000,
@@ -375,6 +382,14 @@ def run(args):
         eps = aspect_ratio(k, args.H0, args.L0 * args.H0)
         nye[k] = dict(eps=eps, **limit_bracket(nye_heap_mesh(eps, args.bound_size), eps / 2,
                                                args))
+        # the heap at its limit: Nye's stretched upright by s = sqrt(alpha), since a
+        # shallow heap's basal shear rho g h h' grows as s^2 (alpha as s^-2)
+        s = float(np.sqrt((nye[k]["lower"] + nye[k]["upper"]) / 2))
+        nye[k]["stretch"] = s
+        nye[k]["stretched"] = (limit_bracket(nye_heap_mesh(eps, args.bound_size, s), eps / 2,
+                                             args) if np.isfinite(s)
+                               else dict(lower=np.nan, upper=np.nan, elements=0, rounds=0,
+                                         seconds=0.0, status="no bracket", solvers=[]))
     report = Report("bingham_slump", args,
                     Reynolds=args.rho * np.sqrt(args.g * args.H0) * args.H0 / args.mu)
     tol = args.tol
@@ -383,6 +398,14 @@ def run(args):
                             f"Nye's heap (eps = {b['eps']:.3f}) stands in 2D: the lower bound "
                             f"of the gravity it carries >= 1 ({b['elements']} elements"
                             + (f"; {b['status']}" if b["status"] else "") + ")")
+        st = b["stretched"]
+        report.add_interval(f"nye_k{k:g}_stretched_alpha_lower", st["lower"], 0.0,
+                            1 + args.stretch_tol, f"Nye's heap x {b['stretch']:.4f} upright "
+                            "is at its limit (alpha ~ s^-2 of a shallow heap): lower bound <= "
+                            f"1 + {args.stretch_tol:g}")
+        report.add_interval(f"nye_k{k:g}_stretched_alpha_upper", st["upper"],
+                            1 - args.stretch_tol, np.inf, f"Nye's heap x {b['stretch']:.4f} "
+                            f"upright: upper bound >= 1 - {args.stretch_tol:g}")
     by_eps = sorted(nye.values(), key=lambda b: b["eps"])
     thin, wide = by_eps[0], by_eps[-1]
     if thin is not wide:
@@ -466,6 +489,8 @@ def run(args):
     print(f"{'gravity carried':16s} {'eps':>6s} {'alpha_L':>8s} {'alpha_U':>8s} "
           f"{'elements':>8s} {'s':>5s} solvers")
     for label, b in [*((f"Nye k{k:g}", b) for k, b in nye.items()),
+                     *((f"Nye k{k:g} x {b['stretch']:.3f}", {**b["stretched"], "eps": b["eps"]})
+                       for k, b in nye.items()),
                      *((label, {**r["alpha"], "eps": r["eps"]})
                        for label, r in {**runs, **studies}.items())]:
         print(f"{label:16s} {b['eps']:6.3f} {b['lower']:8.4f} {b['upper']:8.4f} "
