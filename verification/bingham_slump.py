@@ -183,7 +183,7 @@ def deposit_bracket(r, args):
     h = np.r_[r["h"][0], r["h"], 0.0] / h0
     if not np.all(np.isfinite(h)):              # a gap in the deposit: no heap to bound
         return dict(lower=np.nan, upper=np.nan, elements=0, rounds=0, seconds=0.0,
-                    status="a gap in the deposit's surface")
+                    status="a gap in the deposit's surface", solvers=[])
     return limit_bracket(heap_mesh(x, h, args.bound_size), r["k"] * args.H0 / h0, args)
 
 
@@ -344,7 +344,8 @@ def build_parser():
     p.add_argument("--bound_gap", type=positive_float, default=0.01,
                    help="stop refining the limit bounds below this relative gap")
     p.add_argument("--bound_size", type=positive_float, default=0.25,
-                   help="first element size of Nye's heap for its limit bounds, in h(0)")
+                   help="first element size of a heap's limit-bound mesh, in its height at "
+                        "the wall")
     p.add_argument("--studies", action=argparse.BooleanOptionalAction, default=True,
                    help="at --study_k: the mesh and step twins, the fast and dynamic slumps")
     p.add_argument("--study_k", type=yield_number, default=0.02, help="k of the studies")
@@ -409,9 +410,10 @@ def run(args):
     by_eps = sorted(nye.values(), key=lambda b: b["eps"])
     thin, wide = by_eps[0], by_eps[-1]
     if thin is not wide:
-        report.add_interval("nye_strength_excess_ratio", (thin["upper"] - 1) / (wide["lower"] - 1),
-                            0.0, 1.0, f"the 2D excess strength alpha - 1 of Nye's heap shrinks "
-                            f"with h/L: upper bound at eps {thin['eps']:.3f} over the lower "
+        report.add_interval("nye_strength_excess_ratio",
+                            (thin["upper"] - 1) / (wide["lower"] - 1), 0.0, 1.0,
+                            "the 2D excess strength alpha - 1 of Nye's heap shrinks with h/L:"
+                            f" upper bound at eps {thin['eps']:.3f} over the lower "
                             f"bound at {wide['eps']:.3f}")
     for label, r in runs.items():
         rest = args.rest_a if r["quasi_static"] else args.rest
