@@ -82,6 +82,9 @@ from pfem_skfem.harness.report import Report, script_main
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
              bound_elements=3000)
 
+#: argparse type of a relative tolerance of a gravity multiplier
+TOLERANCE = in_range(0, 1, low_open=True, high_open=True, what="a fraction in (0, 1)")
+
 #: the solvers a limit bound is asked of in turn (limit_bracket)
 FALLBACK = {"clarabel", "qoco"}
 
@@ -174,6 +177,13 @@ def limit_bracket(mesh, c, args):
                 solvers=sorted({name for r in done for name in r.solvers}))
 
 
+def no_bracket(status):
+    """:func:`limit_bracket`'s answer where there is no heap to bound: NaN bounds (a failed
+    check, not a number) and why."""
+    return dict(lower=np.nan, upper=np.nan, elements=0, rounds=0, seconds=0.0,
+                status=status, solvers=[])
+
+
 def deposit_bracket(r, args):
     """:func:`limit_bracket` of a slump's deposit, the heap under its measured surface h(x)
     (continued flat to the wall, down to the floor at its front x_f) in units of its
@@ -182,8 +192,7 @@ def deposit_bracket(r, args):
     x = np.r_[0.0, r["xs"], r["x_f"]] / h0
     h = np.r_[r["h"][0], r["h"], 0.0] / h0
     if not np.all(np.isfinite(h)):              # a gap in the deposit: no heap to bound
-        return dict(lower=np.nan, upper=np.nan, elements=0, rounds=0, seconds=0.0,
-                    status="a gap in the deposit's surface", solvers=[])
+        return no_bracket("a gap in the deposit's surface")
     return limit_bracket(heap_mesh(x, h, args.bound_size), r["k"] * args.H0 / h0, args)
 
 
@@ -331,11 +340,9 @@ def build_parser():
                         "(PFEMConfig.alpha_advected)")
     p.add_argument("--tol", type=positive_float, default=1.0,
                    help="the height excess in the middle may reach tol sqrt(eps)")
-    p.add_argument("--alpha_tol", type=in_range(0, 1, low_open=True, what="a fraction in "
-                                                "(0, 1)"), default=0.2,
+    p.add_argument("--alpha_tol", type=TOLERANCE, default=0.2,
                    help="a deposit's certified gravity multiplier may miss 1 by this much")
-    p.add_argument("--stretch_tol", type=in_range(0, 1, low_open=True, what="a fraction in "
-                                                  "(0, 1)"), default=0.05,
+    p.add_argument("--stretch_tol", type=TOLERANCE, default=0.05,
                    help="Nye's heap stretched upright by sqrt(alpha) carries 1 within this")
     p.add_argument("--bound_rounds", type=positive_int, default=6,
                    help="rounds of refinement of the limit bounds (drivers.bounds.adapt)")
@@ -389,8 +396,7 @@ def run(args):
         nye[k]["stretch"] = s
         nye[k]["stretched"] = (limit_bracket(nye_heap_mesh(eps, args.bound_size, s), eps / 2,
                                              args) if np.isfinite(s)
-                               else dict(lower=np.nan, upper=np.nan, elements=0, rounds=0,
-                                         seconds=0.0, status="no bracket", solvers=[]))
+                               else no_bracket("no bracket of Nye's heap to stretch"))
     report = Report("bingham_slump", args,
                     Reynolds=args.rho * np.sqrt(args.g * args.H0) * args.H0 / args.mu)
     tol = args.tol
