@@ -379,6 +379,44 @@ def test_thinning_merges_each_particle_into_its_own_region():
     assert untouched.sum() >= keep.sum() - 8           # only the partners of the merged moved
 
 
+@pytest.mark.parametrize("axisymmetric", [False, True])
+def test_spread_mass_keeps_each_regions_mass_and_follows_the_lumped_areas(axisymmetric):
+    """Spread over a hexagonal lattice of two regions (masses piled at random, some
+    particles massless, one drop flying free): each region keeps its mass to round-off,
+    the drop keeps its own, every particle of the mesh carries mass, and an interior
+    particle's lumped area is its hexagon's, sqrt(3)/2 h^2 (in axisymmetry times 2 pi r:
+    the six centroids around it average to its own r), so interior masses of a region
+    are equal (proportional to r)."""
+    from pfem_skfem.pfem.bookkeeping import spread_mass
+    from pfem_skfem.pfem.state import PFEMState
+    h = 0.1
+    lattice, _ = hex_lattice(6, h)
+    lattice = lattice - lattice.min(axis=0) + [h, 0.0]         # r >= h in axisymmetry
+    x = np.vstack([lattice, [[5.0, 5.0]]])                      # the last: a drop
+    region = np.r_[(lattice[:, 0] > np.median(lattice[:, 0])).astype(int), 0]
+    rng = np.random.default_rng(3)
+    mass = rng.uniform(0.0, 2.0, len(x)) * (rng.uniform(size=len(x)) < 0.3)
+    state = PFEMState(x=x, h=np.full(len(x), h), step=0, time=0.0, sigma_m=np.zeros(len(x)),
+                      region=region, mass=mass)
+    pm = alpha_mesh(alpha_shape(x, h, 1.2))
+    assert len(pm.particle) == len(lattice)                     # the drop is in no triangle
+    spread = spread_mass(state, pm, axisymmetric)
+    for r in (0, 1):
+        assert spread.mass[region == r].sum() == pytest.approx(mass[region == r].sum(),
+                                                               rel=1e-14)
+    assert spread.mass[-1] == mass[-1]
+    assert np.all(spread.mass[:-1] > 0)
+    p, t = pm.mesh.p.T, pm.mesh.t.T
+    valence = np.bincount(pm.particle[t].ravel(), minlength=len(x))
+    inner = np.flatnonzero(valence == 6)                       # the lattice's interior
+    for r in (0, 1):
+        mine = inner[region[inner] == r]
+        assert len(mine) > 5
+        per_area = spread.mass[mine] / (x[mine, 0] if axisymmetric else 1.0)
+        np.testing.assert_allclose(per_area, per_area[0], rtol=1e-12)
+    assert np.array_equal(spread.x, state.x) and np.array_equal(spread.v, state.v)
+
+
 def test_alpha_mesh_thinning_is_checked():
     from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
     assert AlphaMesh().thin_fraction == 0 and AlphaMesh(0.4).thin_fraction == 0.4

@@ -307,3 +307,32 @@ def test_run_to_rest_stops_at_rest_or_after_max_steps():
     moving, rest, taken = run_to_rest(state, scene, 1e-3, 2)
     assert not rest and taken == 2 and moving.step == 3
     assert np.abs(moving.v).max() >= 1e-3
+
+
+def test_spread_mass_leaves_no_particle_of_the_mesh_massless_and_keeps_each_mass():
+    """The clay block into the tank (soil_and_water.py, spacing 0.1): the midside nodes of
+    stretched surface edges become massless particles and thinning piles masses onto
+    others, so without spread_mass water particles on the mesh carry no mass by t = 1.2 s;
+    with it none does, and each region keeps its mass to round-off at every step."""
+    from verification.soil_and_water import CLAY, tank_scene
+    massless = {}
+    for spread in (False, True):
+        state, scene, _ = tank_scene(beta=30.0, mu_slope=0.2, mu_floor=0.0, d=0.4, L=2.0,
+                                     block=(0.4, 0.2), c=2000.0, rho_w=1000.0, rho_c=1800.0,
+                                     g=9.81, h=0.1, dt=0.03, spread_mass=spread)
+        first = [state.mass[state.region == r].sum() for r in (0, 1)]
+        found = []
+
+        def count(state, record, result):
+            meshed = np.zeros(state.n, dtype=bool)
+            meshed[state.mesh_particle] = True
+            found.append(int(np.sum(meshed & (state.mass == 0))))
+            for r in (0, 1):
+                assert state.mass[state.region == r].sum() == pytest.approx(first[r],
+                                                                            rel=1e-12)
+
+        state, _ = run(state, scene, 40, on_step=count)
+        massless[spread] = found
+        assert np.any(state.region == CLAY)
+    assert max(massless[False]) > 0
+    assert max(massless[True]) == 0

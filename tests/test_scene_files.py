@@ -106,7 +106,7 @@ def make_scene(name):
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, (water, mud))),
                        geometry="axisymmetric" if axi else "plane",
-                       config=replace(rich.config, keep_area=True,
+                       config=replace(rich.config, keep_area=True, spread_mass=True,
                                       remesher=AlphaMesh(thin=0.4)))
     return scene_from_toml(EXAMPLE)
 

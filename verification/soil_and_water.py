@@ -66,13 +66,14 @@ QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
 CLAY = 0                # the tank scene's regions: (clay, water)
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
-               keep_area=True, thin=0.4, solver="clarabel"):
+               keep_area=True, thin=0.4, spread_mass=False, solver="clarabel"):
     """The slope of height 1 (angle beta, friction mu_slope) into a tank of water d deep
     and L long (its floor of friction mu_floor, a smooth wall), a clay block ``block`` = (length, thickness) of
     cohesion c resting on the slope with its lower end 0.1 above the water's edge; particles
     h apart; particles crowded closer than ``thin`` h are thinned at each remeshing
-    (``AlphaMesh(thin)``). Returns (state, scene, geometry: the slope's foot and the
-    water's edge)."""
+    (``AlphaMesh(thin)``) and, with ``spread_mass``, each region's mass is spread over its
+    particles by their lumped areas (``PFEMConfig.spread_mass``). Returns (state, scene,
+    geometry: the slope's foot and the water's edge)."""
     from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.materials import CohesiveTresca, NewtonianFluid
     from pfem_skfem.pfem.remesh import AlphaMesh
@@ -98,7 +99,7 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
               Body("wall", RigidSegment((foot + L, -h), (foot + L, far), 0.0)))
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         solver=solver, volume_correction=True, keep_area=keep_area,
-                        remesher=AlphaMesh(thin=thin))
+                        spread_mass=spread_mass, remesher=AlphaMesh(thin=thin))
     # clay first: an element with vertices of both takes the last declared region, water, so
     # the block is its own particles' elements (buoyancy exact, hydrostatics.py) and clay
     # particles the flow strips off do not make clay of the water around them
@@ -162,12 +163,14 @@ def run_tank(args, out):
                                     rho_c=args.rho_c, g=args.g, h=args.h,
                                     dt=args.t_end / args.steps,
                                     keep_area=args.keep_area == "on", thin=args.thin,
+                                    spread_mass=args.spread_mass == "on",
                                     solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
     series = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
               "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d],
-              "energy": [particle_energy(state0, scene.gravity)], "mesh_energy": []}
+              "energy": [particle_energy(state0, scene.gravity)], "mesh_energy": [],
+              "water_massless": [0]}
 
     def measure(state, record, result):
         clay = state.region == CLAY
@@ -186,6 +189,8 @@ def run_tank(args, out):
         series["level"].append(surface_level(state.x, water, args.h, *span))
         series["energy"].append(particle_energy(state, scene.gravity))
         series["mesh_energy"].append(mesh_energy(state, scene, record, result))
+        # the water's particles on the mesh without mass (piled onto others: spread_mass)
+        series["water_massless"].append(int(np.sum(water & (state.mass == 0))))
 
     state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
                             verbose=args.progress, vtu_dir=out / "block_into_tank",
@@ -259,6 +264,9 @@ def build_parser():
     t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
                    help="thin particles crowded closer than this x h at each remeshing "
                         "(AlphaMesh(thin); 0: none)")
+    t.add_argument("--spread_mass", choices=("on", "off"), default="off",
+                   help="spread each region's mass over its particles by their lumped areas "
+                        "at each remeshing (PFEMConfig.spread_mass)")
     t.add_argument("--tol_speed", type=positive_float, default=2.0,
                    help="the fastest vertex of the run at most this x sqrt(2 g) (a fall "
                         "from the slope's top; a splash may focus some energy)")

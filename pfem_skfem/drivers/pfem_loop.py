@@ -33,7 +33,8 @@ from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
 from ..pfem.alpha_shape import measure
 from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
                              step_material, step_scales)
-from ..pfem.bookkeeping import discharge, free_flight_record, hand_on_mass, step_record
+from ..pfem.bookkeeping import (discharge, free_flight_record, hand_on_mass, spread_mass,
+                               step_record)
 from ..pfem.remesh import ParticleMesh
 from ..pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
@@ -158,6 +159,8 @@ def pfem_step(state, scene):
             n_before = state.n
             state, pm = adopt_added_nodes(state, pm, source)
             added = state.n - n_before
+            if config.spread_mass:               # the masses follow the mesh's areas
+                state = spread_mass(state, pm, geometry.axisymmetric)
             disc = discretise(pm.mesh, geometry)
         with timer("map"):
             v_dofs, sigma_n = map_state(state, pm, disc, source, config.stress_mapping,

@@ -34,8 +34,10 @@ class PFEMState(Particles):
     region : (n,) index of the material region of each particle (0 by default).
     mass : (n,) mass of each particle (per unit length in plane strain); it is only
         passed on, never created: particles added at the surface carry none, a thinned
-        particle hands its mass to its nearest neighbour, so the material inside plus
-        the material discharged is the initial mass at every step.
+        particle hands its mass to its nearest neighbour, and with
+        ``PFEMConfig.spread_mass`` each region's mass is spread over its particles by
+        their lumped areas at each remeshing, so the material inside plus the material
+        discharged is the initial mass at every step.
     mesh_p, mesh_t : the current mesh (vertices moved to t_n); mesh_particle : particle
         of each vertex (-1: a particle dropped since).
     v_dofs : (n_u,) P2 velocities on it.  sigma : (n_points, 4) stresses at its stress points.

@@ -79,6 +79,13 @@ class PFEMConfig:
         plastic and fluid scenes (the engine's materials flow at zero dilation); an
         elastic material's volume change is not a gain, and the scene refuses it. Off by
         default.
+    spread_mass : at each remeshing, spread each region's mass over its particles on the mesh
+        in proportion to their lumped areas
+        (:func:`~pfem_skfem.pfem.bookkeeping.spread_mass`): the particles' masses then
+        follow the material the step weighs, where thinning and the particles added at
+        the surface would otherwise pile them on a few. The step does not read the
+        particles' masses; what does: their energy and centre of mass, the mass an outlet
+        discharges, ``keep_area``'s drops. Off by default.
     alpha_advected : keep a Delaunay triangle that fails the alpha test while its centroid
         lies in the previous step's mesh moved with the particles and its circumradius
         is at most this many h (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape`): a
@@ -103,6 +110,7 @@ class PFEMConfig:
     refine_surface: float = 2.0
     volume_correction: bool = False
     keep_area: bool = False
+    spread_mass: bool = False
     alpha_advected: float = 0.0
 
     def __post_init__(self):

@@ -407,7 +407,8 @@ _UNSET = object()
 #: fields added after digests were first stored, left out at their default value so that
 #: a run checkpointed before a field existed is still known as the same scene
 _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None,
-                 ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0}
+                 ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0,
+                 ("PFEMConfig", "spread_mass"): False}
 
 
 def _identity(value):
