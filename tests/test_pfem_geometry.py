@@ -406,7 +406,7 @@ def test_spread_mass_keeps_each_regions_mass_and_follows_the_lumped_areas(axisym
                                                                rel=1e-14)
     assert spread.mass[-1] == mass[-1]
     assert np.all(spread.mass[:-1] > 0)
-    p, t = pm.mesh.p.T, pm.mesh.t.T
+    t = pm.mesh.t.T
     valence = np.bincount(pm.particle[t].ravel(), minlength=len(x))
     inner = np.flatnonzero(valence == 6)                       # the lattice's interior
     for r in (0, 1):
