@@ -227,6 +227,37 @@ def test_old_discretisation_leaves_out_collapsed_triangles_and_keeps_the_field()
     assert np.allclose(v_old, expected)
 
 
+def test_added_nodes_take_the_mean_stress_of_a_map_source_without_its_collapsed_triangle():
+    """A remesher's added node over a moved mesh whose last vertex only a collapsed
+    triangle used (the map source drops both): the node takes the linear mean stress
+    exactly (P1 interpolation), the velocity of the P2 field. Before, the source's
+    vertex count and the particles' differed and the map raised."""
+    from pfem_skfem.pfem.remesh import ParticleMesh
+    from pfem_skfem.pfem.transfer import adopt_added_nodes
+    mesh = MeshTri.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 4))
+    p, t = mesh.p.T, mesh.t.T
+    a, b = [f for f in mesh.facets.T if np.allclose(p[f, 1], 0.0)][0]
+    p = np.vstack([p, 0.5 * (p[a] + p[b])])
+    t = np.vstack([t, [a, b, len(p) - 1]])                  # collapsed, on the bottom edge
+    full = MeshTri(p.T, t.T, sort_t=False)
+    nv, nf = full.nvertices, full.facets.shape[1]
+    linear = lambda x: 2.0 * x[:, 0] - 3.0 * x[:, 1] + 0.5     # noqa: E731
+    v = np.zeros(2 * nv + 2 * nf)
+    v[:2 * nv] = np.stack([linear(p), -linear(p)], axis=1).ravel()
+    v[2 * nv:] = np.stack([linear(p[full.facets].mean(axis=0)),
+                           -linear(p[full.facets].mean(axis=0))], axis=1).ravel()
+    state = PFEMState(step=1, time=0.0, x=p, v=np.zeros_like(p), h=np.ones(nv),
+                      sigma_m=linear(p), mesh_p=p, mesh_t=t, mesh_particle=np.arange(nv),
+                      v_dofs=v, sigma=np.zeros((3 * len(t), 4)))
+    added = np.array([[0.4, 0.55]])
+    pm = ParticleMesh(MeshTri(np.vstack([p, added]).T, t[:-1].T, sort_t=False),
+                      np.r_[np.arange(nv), -1])
+    new, pm = adopt_added_nodes(state, pm, old_discretisation(state))
+    assert new.n == nv + 1 and pm.particle[-1] == nv
+    assert new.sigma_m[-1] == pytest.approx(linear(added)[0], abs=1e-12)
+    np.testing.assert_allclose(new.v[-1], [linear(added)[0], -linear(added)[0]], atol=1e-12)
+
+
 def test_a_deposit_coming_to_rest_keeps_solving():
     """The step's scales stay at least those of a free-fall step: without that floor the
     displacement scale of this run shrank as the deposit came to rest, the scaled gaps

@@ -81,7 +81,9 @@ def adopt_added_nodes(state, pm, source):
         vals = state.sigma_m[np.maximum(mp, 0)]
         if (mp < 0).any():
             vals[mp < 0] = vals[mp >= 0].mean()
-        sa = interpolate(p1, vals, xa)
+        # a vertex only a collapsed triangle used is not in the map source's mesh (the
+        # last ones: its vertices keep their numbers)
+        sa = interpolate(p1, vals[:old_disc.mesh.nvertices], xa)
     nearest = cKDTree(state.x).query(xa)[1]
     particle = pm.particle.copy()
     particle[added] = state.n + np.arange(len(xa))
