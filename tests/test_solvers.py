@@ -407,3 +407,25 @@ def test_the_form_of_a_pfem_run_is_an_option_of_its_config(monkeypatch):
     assert rel(dual_step.v, primal_step.v) < 1e-4
     with pytest.raises(ValueError, match="form must be one of"):
         PFEMConfig(form="displacement")
+
+
+@pytest.mark.parametrize("engine", ["clarabel", "qoco"])
+def test_non_finite_conic_data_is_refused_before_the_solve(engine):
+    """NaN or infinity in the data (a step whose positions went non-finite) is refused,
+    naming the block, before the solver is asked (Clarabel may iterate without end)."""
+    import scipy.sparse as sp
+    import clarabel
+    from pfem_skfem.problems.direct_engines import ENGINES
+    P = sp.csc_matrix((2, 2))
+    A = sp.csc_matrix(np.eye(2))
+    cones = [clarabel.NonnegativeConeT(2)]
+    solver = ENGINES[engine]
+    solved = solver.solve(P, -np.ones(2), A, np.ones(2), cones, solver.settings({}))
+    assert solved.status == "Solved"                     # max x1 + x2 with x <= 1: x = 1
+    np.testing.assert_allclose(solved.x, 1.0, atol=1e-6)
+    for name, data in (("c", (P, np.array([-1.0, np.nan]), A, np.ones(2))),
+                       ("b", (P, -np.ones(2), A, np.array([np.inf, 1.0]))),
+                       ("A", (P, -np.ones(2), sp.csc_matrix(np.diag([1.0, np.nan])),
+                              np.ones(2)))):
+        with pytest.raises(ValueError, match=f"conic problem's {name} holds 1 non-finite"):
+            solver.solve(*data, cones, solver.settings({}))

@@ -33,6 +33,17 @@ from .conic import CLARABEL_DEFAULTS, QOCO_RETRIES, _absolute_measures, clarabel
 SELF_DUAL = ("ZeroConeT", "NonnegativeConeT", "SecondOrderConeT")
 
 
+def check_finite(P, c, A, b):
+    """Refuse conic data holding NaN or infinity (ValueError naming the block) before any
+    solve: given such data Clarabel may iterate without end."""
+    for name, values in (("P", P.data), ("c", c), ("A", A.data), ("b", b)):
+        bad = ~np.isfinite(np.asarray(values, dtype=float))
+        if bad.any():
+            raise ValueError(f"the conic problem's {name} holds {int(bad.sum())} non-finite "
+                             f"value(s): the step's data (positions, velocities, stresses) "
+                             f"went non-finite before the solve")
+
+
 class ClarabelEngine:
     """Clarabel on the data as given (its settings: ``clarabel.DefaultSettings`` made from
     :data:`~pfem_skfem.problems.conic.CLARABEL_DEFAULTS` and the caller's changes)."""
@@ -51,6 +62,7 @@ class ClarabelEngine:
 
     def solve(self, P, c, A, b, cones, settings):
         """SimpleNamespace(x, z, s, status, iterations, obj_val, measures) of one solve."""
+        check_finite(P, c, A, b)
         solver = clarabel.DefaultSolver(P, c, A, b, cones, settings)
         sol = solver.solve()
         return SimpleNamespace(x=np.asarray(sol.x), z=np.asarray(sol.z), s=np.asarray(sol.s),
@@ -96,6 +108,7 @@ class QOCOEngine:
 
     def solve(self, P, c, A, b, cones, settings):
         import qoco
+        check_finite(P, c, A, b)
         perm, n_zero, n_nonneg, soc = row_order(cones)
         A = sp.csr_matrix(A)[perm]
         b = np.asarray(b, dtype=float)[perm]
