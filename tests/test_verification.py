@@ -204,7 +204,8 @@ CASES = [
       "fastest_over_free_fall": Between(0, 2),              # no vertex outruns the fall
       "projections_refused": Between(0, 0.05),              # thinning: no crowded slivers
       "water_area_change": Between(0, 0.02),
-      "water_over_granular_front": Between(1, np.inf)}, None),   # no strength: further
+      "water_over_granular_front": Between(1, np.inf),      # no strength: further
+      "energy_gain_over_peak_kinetic": Between(0, 0.5)}, None),  # inviscid: only loses
     ("fluid_films", [],
      {"film_surface_velocity_ny4": approx(1000 * G * np.sin(np.radians(10)) * 0.02 ** 2 / 2,
                                           rel=2e-3),            # Nusselt (g = 9.81 there)
