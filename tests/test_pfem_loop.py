@@ -367,3 +367,35 @@ def test_spread_mass_leaves_no_particle_of_the_mesh_massless_and_keeps_each_mass
         assert np.any(state.region == CLAY)
     assert max(massless[False]) > 0
     assert max(massless[True]) == 0
+
+
+def test_refine_interior_adds_the_p2_midside_nodes_of_stretched_interior_edges():
+    """With refine_interior = 1.05, every interior edge of the step's mesh longer than 1.05 h
+    at the moved positions hands its P2 midside node to the cloud: a new particle there
+    (the midside dof moved by its P2 displacement) with the P2 velocity of that node, and
+    none elsewhere (the column's square lattice: each square's diagonal, sqrt(2) h); with
+    the default 0 none is added inside."""
+    from dataclasses import replace
+    state, scene = granular_column(1.0, 8, dt=0.05 * np.sqrt(1.0 / G), refine_interior=1.05,
+                                   refine_surface=0.0)
+    new, record, result = pfem_step(state, scene)
+    disc, pm, inc = result.disc, result.pm, result.increment
+    inner = np.flatnonzero(disc.mesh.f2t[1] >= 0)
+    a, b = pm.particle[disc.mesh.facets[:, inner]]
+    moved = new.x[:state.n]
+    long = inner[np.linalg.norm(moved[a] - moved[b], axis=1)
+                 > 1.05 * 0.5 * (state.h[a] + state.h[b])]
+    assert long.size == 7 * 7 and new.n - state.n == long.size == record["surface_particles"]
+    mid = disc.basis_u.facet_dofs[:, long]
+    np.testing.assert_allclose(new.x[state.n:], disc.basis_u.doflocs[:, mid[0]].T
+                               + inc.du[mid].T, atol=1e-12)
+    np.testing.assert_array_equal(new.v[state.n:], inc.v[mid].T)
+    assert np.all(new.mass[state.n:] == 0)                 # mass is only handed on
+    plain, _ = run(state, replace(scene, config=replace(scene.config, refine_interior=0.0)), 1)
+    assert plain.n == state.n
+
+
+@pytest.mark.parametrize("value", [-1.0, np.nan, np.inf])
+def test_config_refuses_a_bad_refine_interior(value):
+    with pytest.raises(ValueError, match="refine_interior"):
+        PFEMConfig(refine_interior=value)

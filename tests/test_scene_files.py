@@ -107,6 +107,7 @@ def make_scene(name):
                                            for r, m in zip(rich.regions, (water, mud))),
                        geometry="axisymmetric" if axi else "plane",
                        config=replace(rich.config, keep_area=True, spread_mass=True,
+                                      refine_interior=1.5,
                                       remesher=AlphaMesh(thin=0.4)))
     return scene_from_toml(EXAMPLE)
 

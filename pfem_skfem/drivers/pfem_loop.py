@@ -209,6 +209,7 @@ def pfem_step(state, scene):
         moved, projected, shift = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
             bodies=bodies_next, refine_surface=config.refine_surface,
+            refine_interior=config.refine_interior,
             bulge=config.bulge and not holding,     # a held boundary keeps its place exactly
             volume=volume)
         deps = plastic_strain_increment(disc, ops.B, inc.du)

@@ -167,7 +167,7 @@ def project_out_of_bodies(x, v, bodies, h):
 
 
 def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bodies,
-                   refine_surface=2.0, bulge=True, volume=None):
+                   refine_surface=2.0, bulge=True, volume=None, refine_interior=0.0):
     """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
     in no element fly ballistically (theta-method free fall) and slide with friction on the
     rigid bodies (:func:`~pfem_skfem.problems.particle.free_particles_step`).
@@ -179,6 +179,8 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     theta : ThetaMethod;  gravity : (2,) acceleration;  bodies : rigid bodies at t_{n+1}.
     refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
         new particle (0: never);  bulge : apply :func:`bulge_correction`.
+    refine_interior : the same for an interior edge (0, the default: never), so that a
+        cloud that thinning merges keeps its spacing where the flow stretches it.
     volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
         None: after the bulge correction the vertices are shifted so that every vertex
         patch keeps the volume their linearised motion states
@@ -189,11 +191,11 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     a vertex by round-off) is put on it with its radial velocity removed.
 
     Returns the moved state (new particles appended: midside nodes of stretched boundary
-    edges, with no mass), the number of particles found inside a rigid body by more
-    than 1e-3 h (put back on its surface), and the volume shift's record: its largest
-    vertex shift (0 without ``volume``) and whether it was refused (larger than the
-    step's largest vertex motion: the linearisation failed, the positions are left
-    unshifted).
+    edges, then of stretched interior edges, with no mass), the number of particles found
+    inside a rigid body by more than 1e-3 h (put back on its surface), and the volume
+    shift's record: its largest vertex shift (0 without ``volume``) and whether it was
+    refused (larger than the step's largest vertex motion: the linearisation failed, the
+    positions are left unshifted).
     """
     vd = vertex_dofs(disc)
     x, v = state.x.copy(), state.v.copy()
@@ -222,6 +224,13 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
         shift = {"volume_shift": size, "volume_shift_refused": refused}
     new_x = disc.basis_u.doflocs[:, fd[0, split]].T + inc.du[fd[:, split]].T
     new_v = inc.v[fd[:, split]].T
+    inner = np.empty(0, dtype=int)
+    if refine_interior > 0:         # stretched interior edges at the moved positions
+        inner = np.flatnonzero(disc.mesh.f2t[1] >= 0)      # facets of two triangles
+        ia, ib = pm.particle[disc.mesh.facets[:, inner]]
+        stretched = (np.linalg.norm(x[ia] - x[ib], axis=1)
+                     > refine_interior * 0.5 * (state.h[ia] + state.h[ib]))
+        inner = inner[stretched]
     v[pm.particle] = inc.v[vd]
     sm[pm.particle] = sigma_m_vertices
     free = ~on_mesh
@@ -233,6 +242,12 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     if split.any():
         new_sm = 0.5 * (sm[pa[split]] + sm[pb[split]])
         moved = moved.appended(new_x, new_v, h_edge[split], new_sm, state.region[pa[split]])
+    if inner.size:
+        ia, ib = pm.particle[disc.mesh.facets[:, inner]]
+        fi = disc.basis_u.facet_dofs[:, inner]
+        moved = moved.appended(disc.basis_u.doflocs[:, fi[0]].T + inc.du[fi].T, inc.v[fi].T,
+                               0.5 * (state.h[ia] + state.h[ib]), 0.5 * (sm[ia] + sm[ib]),
+                               state.region[ia])
     # no particle inside a rigid body: a node that was outside the contact search (or a
     # free particle) and crossed a wall is put back on it with its normal velocity removed
     x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))

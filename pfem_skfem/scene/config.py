@@ -68,6 +68,11 @@ class PFEMConfig:
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
         midside node as a new particle (0: never).
+    refine_interior : the same for an interior edge (0, the default: never): thinning
+        merges particles that come closer than its fraction of h and nothing else adds
+        any inside, so over a long run the cloud thins out (the clay block into the tank
+        at the quick size: the water's particles fall from 188 to 76 in 30 s; 131 with
+        ``refine_interior=2``).
     volume_correction : shift the moved particles so that every vertex patch keeps the
         volume their linearised motion states (one linear solve a step;
         :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
@@ -108,6 +113,7 @@ class PFEMConfig:
     form: object = None
     bulge: bool = True
     refine_surface: float = 2.0
+    refine_interior: float = 0.0
     volume_correction: bool = False
     keep_area: bool = False
     spread_mass: bool = False
@@ -148,6 +154,9 @@ class PFEMConfig:
                              "back through the volume projection's targets)")
         if not (self.refine_surface >= 0):
             raise ValueError(f"refine_surface must be >= 0, got {self.refine_surface!r}")
+        if not (np.isfinite(self.refine_interior) and self.refine_interior >= 0):
+            raise ValueError(f"refine_interior must be >= 0 (0: never), got "
+                             f"{self.refine_interior!r}")
 
     @property
     def dt(self):

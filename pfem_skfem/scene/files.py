@@ -352,7 +352,7 @@ CONFIG = Spec(PFEMConfig, {
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
     "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,
     "bulge": BOOLEAN,
-    "refine_surface": NUMBER, "volume_correction": BOOLEAN, "keep_area": BOOLEAN,
+    "refine_surface": NUMBER, "refine_interior": NUMBER, "volume_correction": BOOLEAN, "keep_area": BOOLEAN,
     "spread_mass": BOOLEAN, "alpha_advected": NUMBER})
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {

@@ -408,7 +408,8 @@ _UNSET = object()
 #: a run checkpointed before a field existed is still known as the same scene
 _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None,
                  ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0,
-                 ("PFEMConfig", "spread_mass"): False}
+                 ("PFEMConfig", "spread_mass"): False,
+                 ("PFEMConfig", "refine_interior"): 0.0}
 
 
 def _identity(value):
