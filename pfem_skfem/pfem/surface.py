@@ -179,8 +179,9 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     theta : ThetaMethod;  gravity : (2,) acceleration;  bodies : rigid bodies at t_{n+1}.
     refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
         new particle (0: never);  bulge : apply :func:`bulge_correction`.
-    refine_interior : the same for an interior edge (0, the default: never), so that a
-        cloud that thinning merges keeps its spacing where the flow stretches it.
+    refine_interior : the same for an interior edge (0, the default: never; the new
+        particle takes the region of the edge's first vertex), so that a cloud that
+        thinning merges keeps its spacing where the flow stretches it.
     volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
         None: after the bulge correction the vertices are shifted so that every vertex
         patch keeps the volume their linearised motion states

@@ -68,9 +68,9 @@ class PFEMConfig:
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
         midside node as a new particle (0: never).
-    refine_interior : the same for an interior edge (0, the default: never): thinning
-        merges particles that come closer than its fraction of h and nothing else adds
-        any inside, so over a long run the cloud thins out (the clay block into the tank
+    refine_interior : the same for an interior edge (0, the default: never): the
+        remesher's thinning merges particles that come closer than a fraction of h and
+        nothing else adds any inside, so over a long run the cloud thins out (the clay block into the tank
         at the quick size: the water's particles fall from 188 to 76 in 30 s; 131 with
         ``refine_interior=2``).
     volume_correction : shift the moved particles so that every vertex patch keeps the

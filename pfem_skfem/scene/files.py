@@ -352,8 +352,8 @@ CONFIG = Spec(PFEMConfig, {
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
     "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,
     "bulge": BOOLEAN,
-    "refine_surface": NUMBER, "refine_interior": NUMBER, "volume_correction": BOOLEAN, "keep_area": BOOLEAN,
-    "spread_mass": BOOLEAN, "alpha_advected": NUMBER})
+    "refine_surface": NUMBER, "refine_interior": NUMBER, "volume_correction": BOOLEAN,
+    "keep_area": BOOLEAN, "spread_mass": BOOLEAN, "alpha_advected": NUMBER})
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
