@@ -399,3 +399,24 @@ def test_refine_interior_adds_the_p2_midside_nodes_of_stretched_interior_edges()
 def test_config_refuses_a_bad_refine_interior(value):
     with pytest.raises(ValueError, match="refine_interior"):
         PFEMConfig(refine_interior=value)
+
+
+def test_a_remeshing_hands_a_rigid_slide_its_kinetic_energy_unchanged():
+    """The strong slab sliding on a rough base is a rigid box: each step starts from
+    the kinetic energy (start_kinetic_energy, of the velocities mapped onto the new mesh)
+    that the previous one ended with (a uniform field maps exactly), the first from
+    rho A v0^2 / 2 of the particles' velocity."""
+    mu, v0, dt, rho = 0.3, 3.0, 0.02, 2.0
+    slab = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 0.2), (0.0, 0.2)), CohesiveTresca(1e3),
+                  rho=rho, h=0.2)
+    scene = Scene(regions=(slab,), bodies=(Body("base", RigidSegment((-10.0, 0.0),
+                                                                     (30.0, 0.0), mu)),),
+                  config=PFEMConfig(theta=ThetaMethod(dt), contact=LaggedFriction()))
+    state = scene.initial_state()
+    state.v[:, 0] = v0
+    state, _ = run(state, scene, 5)
+    start = np.array(state.history["start_kinetic_energy"])
+    end = np.array(state.history["kinetic_energy"])
+    assert start[0] == pytest.approx(0.5 * rho * 0.2 * v0 ** 2, rel=1e-12)
+    np.testing.assert_allclose(start[1:], end[:-1], rtol=1e-9)
+    assert np.all(np.diff(end) < 0)                        # friction takes it away

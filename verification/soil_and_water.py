@@ -59,8 +59,9 @@ elements all of whose vertices are clay: the clay is declared first, so an eleme
 vertices of both is water, and the block's area shrinks as the flow strips particles off
 it), and the steps whose volume projection was refused (a shift larger than the step's motion:
 :func:`~pfem_skfem.pfem.volume_projection.bounded_shift`), and two energies, the
-particles' and the step's own (its element masses), with the potential energy the
-remeshings add to the latter (the alpha shape fills gaps above the water), the water's
+particles' and the step's own (its element masses), with what the remeshings change of
+the latter (potential: the alpha shape fills gaps or drops triangles; kinetic: the map
+onto the new mesh) and what the steps change (``keep_area``'s growth lifts water), the water's
 massless particles on the mesh, the kinetic energy of the particles flying free and the
 fastest particle at each step.
 
@@ -163,11 +164,12 @@ def largest_gain(energy):
 
 
 def mesh_energy(state, scene, record, result):
-    """(kinetic, potential at t_n, potential at t_n+1) energy of the step's own masses
-    [J/m]: the record's kinetic energy (its mass matrix: element densities x areas) and
+    """(kinetic at t_n+1, potential at t_n, potential at t_n+1, kinetic at t_n) energy of
+    the step's own masses [J/m]: the record's kinetic energies (its mass matrix: element
+    densities x areas; at t_n of the velocities mapped onto its mesh) and
     -sum rho_e A_e g . centroid_e over the step's mesh as remeshed at t_n and as moved,
-    each element of the region the step gave it. The potential at t_n less the previous
-    step's at t_n+1 is what the remeshing added."""
+    each element of the region the step gave it. The energies at t_n less the previous
+    step's at t_n+1 are what the remeshing added."""
     from pfem_skfem.pfem.alpha_shape import triangle_areas
     from pfem_skfem.pfem.assemble import element_regions
 
@@ -181,7 +183,7 @@ def mesh_energy(state, scene, record, result):
 
     return [float(record["kinetic_energy"]),
             potential(result.disc.mesh.p.T, result.disc.mesh.t[:3].T),
-            potential(state.mesh_p, state.mesh_t)]
+            potential(state.mesh_p, state.mesh_t), float(record["start_kinetic_energy"])]
 
 
 def run_tank(args, out):
@@ -415,6 +417,8 @@ def run(args):
                         0.0, args.tol_energy, "the particles' largest energy gain between two "
                         "instants / their peak kinetic energy")
     remeshed = float(np.sum(mesh[1:, 1] - mesh[:-1, 2]))      # the remeshings' potential
+    mapped = float(np.sum(mesh[1:, 3] - mesh[:-1, 0]))        # and kinetic energy
+    stepped = float(np.sum(mesh[:, 0] + mesh[:, 2] - mesh[:, 3] - mesh[:, 1]))  # the steps
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -441,6 +445,7 @@ def run(args):
                              "energy_largest_gain": gain, "mesh_energy_largest_gain": own_gain,
                              "kinetic_peak": peak,
                              "remeshing_potential": remeshed,
+                             "remeshing_kinetic": mapped, "steps_energy": stepped,
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
@@ -454,7 +459,8 @@ def run(args):
           f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
           f"step {energy_rise:+.1f}); the step's own (element masses) "
           f"{own[-1]:+.0f} J/m from step 1 (largest rise {own_rise:+.1f}), the "
-          f"remeshings adding {remeshed:+.0f} J/m of potential energy")
+          f"remeshings adding {remeshed:+.0f} J/m of potential energy and {mapped:+.0f} J/m "
+          f"of kinetic energy, the steps {stepped:+.0f} J/m")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)

@@ -228,7 +228,7 @@ def pfem_step(state, scene):
                          t_start, area=area, area0=area0, alpha=alpha, projected=projected,
                          added=added, surface=surface, thinned=thinned, phase=phase,
                          held=len(fixed), shift=shift,
-                         discharged_now=out_now)
+                         discharged_now=out_now, v_start=v_dofs)
     return new, record, result
 
 
@@ -253,7 +253,8 @@ def free_flight(state, scene, timer, t_start, alpha, thinned):
         new, out_now = discharge(new, scene.outlets)
     record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
                                 moved_over_h=moved_over_h, thinned=thinned, phase=phase,
-                                discharged_now=out_now)
+                                discharged_now=out_now, start_energy=0.5 * float(
+                                    state.mass @ np.sum(state.v ** 2, axis=1)))
     return new, record, None
 
 

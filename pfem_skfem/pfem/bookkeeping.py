@@ -147,9 +147,13 @@ def books(scene, new, timer, t_start, *, phase, alpha, discharged_now):
 
 def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
                 area, area0, alpha, projected, added, surface, thinned, phase, held,
-                discharged_now, shift):
+                discharged_now, shift, v_start):
     """The step's record for the history: geometry, mass bookkeeping, forces on the
     bodies, energy, solver iterations and status, stage times.
+
+    ``v_start`` : the velocities the step starts from on its mesh (mapped at a remeshing):
+    their kinetic energy, ``start_kinetic_energy``, less the previous step's
+    ``kinetic_energy`` is what the remeshing's map added.
 
     In axisymmetry every 'area' of the record (area, mesh_area, moved_area, area_change,
     area_regions) is a volume, the integral of 2 pi r dA, and the forces are ring forces
@@ -185,6 +189,7 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             # (dt too long for the mechanism), however 'optimal' its solve
             "max_displacement_over_h": float(du_max / h_median),
             "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
+            "start_kinetic_energy": float(0.5 * v_start @ (ops.M @ v_start)),
             "max_plastic_strain_increment": float(result.plastic_strain.max()),
             "t_compile": solved.compile_time,        # inside t_solve: building the problem
             "t_conic": solved.solve_time,            # inside t_solve: Clarabel itself
@@ -193,10 +198,11 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
 
 
 def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_over_h,
-                       thinned, phase, discharged_now):
+                       thinned, phase, discharged_now, start_energy):
     """The record of a step in which the particles formed no element (every one flew
     free, :func:`~pfem_skfem.pfem.surface.fly_free`): the keys of :func:`step_record`,
-    with no mesh, no solve and no force on the bodies."""
+    with no mesh, no solve and no force on the bodies; ``start_energy`` : the particles'
+    kinetic energy at t_n."""
     speed = np.linalg.norm(new.v, axis=1) if new.n else np.zeros(1)
     return {"area": 0.0, "mesh_area": 0.0, "moved_area": 0.0, "area_change": -1.0,
             "area_regions": {r.name: 0.0 for r in scene.regions},
@@ -210,6 +216,7 @@ def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_ov
             "volume_shift_refused": False, "max_speed": float(speed.max()),
             "max_displacement_over_h": float(moved_over_h),
             "kinetic_energy": float(0.5 * np.sum(new.mass * np.sum(new.v ** 2, axis=1))),
+            "start_kinetic_energy": float(start_energy),
             "max_plastic_strain_increment": 0.0,
             "t_compile": 0.0, "t_conic": 0.0,
             **books(scene, new, timer, t_start, phase=phase, alpha=alpha,
