@@ -253,8 +253,7 @@ def free_flight(state, scene, timer, t_start, alpha, thinned):
         new, out_now = discharge(new, scene.outlets)
     record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
                                 moved_over_h=moved_over_h, thinned=thinned, phase=phase,
-                                discharged_now=out_now, start_energy=0.5 * float(
-                                    state.mass @ np.sum(state.v ** 2, axis=1)))
+                                discharged_now=out_now, start=state)
     return new, record, None
 
 

@@ -197,12 +197,16 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
                     discharged_now=discharged_now)}
 
 
+def particle_kinetic_energy(state):
+    """sum m |v|^2 / 2 of the particles."""
+    return float(0.5 * np.sum(state.mass * np.sum(state.v ** 2, axis=1)))
+
+
 def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_over_h,
-                       thinned, phase, discharged_now, start_energy):
+                       thinned, phase, discharged_now, start):
     """The record of a step in which the particles formed no element (every one flew
     free, :func:`~pfem_skfem.pfem.surface.fly_free`): the keys of :func:`step_record`,
-    with no mesh, no solve and no force on the bodies; ``start_energy`` : the particles'
-    kinetic energy at t_n."""
+    with no mesh, no solve and no force on the bodies; ``start`` : the state at t_n."""
     speed = np.linalg.norm(new.v, axis=1) if new.n else np.zeros(1)
     return {"area": 0.0, "mesh_area": 0.0, "moved_area": 0.0, "area_change": -1.0,
             "area_regions": {r.name: 0.0 for r in scene.regions},
@@ -215,8 +219,8 @@ def free_flight_record(scene, new, timer, t_start, *, alpha, projected, moved_ov
             "projected": projected, "volume_shift_over_h": 0.0,
             "volume_shift_refused": False, "max_speed": float(speed.max()),
             "max_displacement_over_h": float(moved_over_h),
-            "kinetic_energy": float(0.5 * np.sum(new.mass * np.sum(new.v ** 2, axis=1))),
-            "start_kinetic_energy": float(start_energy),
+            "kinetic_energy": particle_kinetic_energy(new),
+            "start_kinetic_energy": particle_kinetic_energy(start),
             "max_plastic_strain_increment": 0.0,
             "t_compile": 0.0, "t_conic": 0.0,
             **books(scene, new, timer, t_start, phase=phase, alpha=alpha,

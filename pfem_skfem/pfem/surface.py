@@ -229,9 +229,9 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     if refine_interior > 0:         # stretched interior edges at the moved positions
         inner = np.flatnonzero(disc.mesh.f2t[1] >= 0)      # facets of two triangles
         ia, ib = pm.particle[disc.mesh.facets[:, inner]]
-        stretched = (np.linalg.norm(x[ia] - x[ib], axis=1)
-                     > refine_interior * 0.5 * (state.h[ia] + state.h[ib]))
-        inner = inner[stretched]
+        h_inner = 0.5 * (state.h[ia] + state.h[ib])
+        stretched = np.linalg.norm(x[ia] - x[ib], axis=1) > refine_interior * h_inner
+        inner, ia, ib, h_inner = (a[stretched] for a in (inner, ia, ib, h_inner))
     v[pm.particle] = inc.v[vd]
     sm[pm.particle] = sigma_m_vertices
     free = ~on_mesh
@@ -244,11 +244,9 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
         new_sm = 0.5 * (sm[pa[split]] + sm[pb[split]])
         moved = moved.appended(new_x, new_v, h_edge[split], new_sm, state.region[pa[split]])
     if inner.size:
-        ia, ib = pm.particle[disc.mesh.facets[:, inner]]
         fi = disc.basis_u.facet_dofs[:, inner]
         moved = moved.appended(disc.basis_u.doflocs[:, fi[0]].T + inc.du[fi].T, inc.v[fi].T,
-                               0.5 * (state.h[ia] + state.h[ib]), 0.5 * (sm[ia] + sm[ib]),
-                               state.region[ia])
+                               h_inner, 0.5 * (sm[ia] + sm[ib]), state.region[ia])
     # no particle inside a rigid body: a node that was outside the contact search (or a
     # free particle) and crossed a wall is put back on it with its normal velocity removed
     x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))
