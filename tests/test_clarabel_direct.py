@@ -303,11 +303,12 @@ def test_cleaned_data_give_the_same_step(block, monkeypatch):
     assert out[True].info.objective == pytest.approx(out[False].info.objective, rel=1e-7)
 
 
-def test_a_numerical_error_is_solved_once_more_without_equilibration(monkeypatch):
-    """A 'NumericalError' of the primal form: the step is solved again with RETRY
-    (equilibration off), its iterations counted with the first attempt's and the retry
-    recorded; the answer is the retry's (here the same problem solved well: the du of a
-    step solved without the fault, to 1e-6)."""
+@pytest.mark.parametrize("failure", ["NumericalError", "InsufficientProgress"])
+def test_a_failed_solve_is_solved_once_more_without_equilibration(monkeypatch, failure):
+    """A 'NumericalError' or an 'InsufficientProgress' of the primal form: the step is
+    solved again with RETRY (equilibration off), its iterations counted with the first
+    attempt's and the retry recorded; the answer is the retry's (here the same problem
+    solved well: the du of a step solved without the fault, to 1e-6)."""
     import clarabel
     import pfem_skfem.problems.clarabel_direct as direct
 
@@ -323,7 +324,7 @@ def test_a_numerical_error_is_solved_once_more_without_equilibration(monkeypatch
             sol = self.inner.solve()
             if len(calls) == 1:
                 class Failed:                       # the first attempt's report
-                    status, iterations, x, z, s, obj_val = ("NumericalError", 7, sol.x,
+                    status, iterations, x, z, s, obj_val = (failure, 7, sol.x,
                                                             sol.z, sol.s, sol.obj_val)
                 return Failed()
             return sol
