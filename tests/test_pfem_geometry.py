@@ -335,6 +335,61 @@ def test_thin_cloud_removes_crowding_particles_only():
     assert keep[-5:].all() and not keep[:5].any()
 
 
+def test_thin_cloud_keeps_the_preferred_of_a_mixed_pair_and_thins_preferred_pairs():
+    """``prefer`` (the free surface of AlphaMesh(keep_surface=True)): of a close pair with
+    one preferred particle, the other goes; of two preferred ones, one still goes (a pile
+    of surface particles in a corner is thinned)."""
+    from pfem_skfem.pfem.particles import thin_cloud
+    x, _ = hex_lattice(3, 0.1)
+    crowd = np.vstack([x, x[:5] + [0.01, 0.0], x[5:7] + [0.0, 0.01]])
+    prefer = np.zeros(len(crowd), bool)
+    prefer[len(x):len(x) + 5] = True                     # 5 preferred newcomers, 2 not
+    keep = thin_cloud(crowd, 0.1, fraction=0.3, prefer=prefer)
+    assert keep[len(x):len(x) + 5].all() and not keep[:5].any()      # mixed pairs
+    assert keep[5:7].all() and not keep[-2:].any()                   # neither preferred
+    prefer[:5] = True                                                 # both preferred
+    keep = thin_cloud(crowd, 0.1, fraction=0.3, prefer=prefer)
+    assert keep.sum() == len(x)
+
+
+def test_a_surface_particle_takes_the_merged_mass_where_it_stands():
+    """``stay``: a kept particle marked to stay takes the merged masses and momentum
+    without moving; the others still merge at the centre of mass; every region's mass and
+    the momentum are kept to round-off."""
+    from pfem_skfem.pfem.bookkeeping import hand_on_mass
+    from dataclasses import dataclass
+    from pfem_skfem.pfem.particles import thin_cloud
+    x, _ = hex_lattice(3, 0.1)
+    crowd = np.vstack([x, x[:6] + [0.01, 0.005]])
+    rng = np.random.default_rng(2)
+    mass = rng.uniform(0.5, 1.5, len(crowd))
+    v = rng.normal(size=(len(crowd), 2))
+    region = np.zeros(len(crowd), int)
+    stay = np.zeros(len(crowd), bool)
+    stay[:3] = True                                      # three of the pairs' survivors
+    keep = thin_cloud(crowd, 0.1, fraction=0.3, prefer=stay)
+    assert keep[:6].all() and not keep[len(x):].any()
+
+    @dataclass
+    class Cloud:                        # the fields of a PFEMState that thinning uses
+        x: np.ndarray
+        v: np.ndarray
+        mass: np.ndarray
+        region: np.ndarray
+        n = property(lambda self: len(self.x))
+
+        def subset(self, k):
+            return Cloud(self.x[k], self.v[k], self.mass[k], self.region[k])
+
+    after = hand_on_mass(Cloud(x=crowd, v=v, mass=mass, region=region), keep, stay=stay)
+    np.testing.assert_array_equal(after.x[:3], crowd[:3])             # stayed
+    centre = (mass[3:6, None] * crowd[3:6] + mass[len(x) + 3:, None] * crowd[len(x) + 3:]) \
+        / (mass[3:6] + mass[len(x) + 3:])[:, None]
+    np.testing.assert_allclose(after.x[3:6], centre, rtol=1e-14)      # merged at the centre
+    assert after.mass.sum() == pytest.approx(mass.sum(), rel=1e-14)
+    np.testing.assert_allclose(after.mass @ after.v, mass @ v, rtol=1e-13, atol=1e-13)
+
+
 def test_thinning_merges_each_particle_into_its_own_region():
     """Two regions side by side, each with particles crowding the other's at the interface:
     thinned, every region keeps its mass, and the cloud its momentum and centre of mass
@@ -424,6 +479,48 @@ def test_alpha_mesh_thinning_is_checked():
     for bad in (-0.1, 1.0, np.nan):
         with pytest.raises(ValueError, match="thin"):
             AlphaMesh(thin=bad)
+    assert not AlphaMesh().keep_surface and not QualityRemesh().keep_surface
+    with pytest.raises(ValueError, match="keep_surface"):
+        AlphaMesh(thin=0.4, keep_surface="yes")
+
+
+def test_thinning_with_the_surface_kept_keeps_the_domain():
+    """A square block of a square lattice whose top row has a crowding partner 0.3 h
+    below each particle: thinned as the engine thins (thin_cloud, hand_on_mass) with the
+    free surface preferred and staying, the alpha shape's area is the block's exactly
+    (the interior partners go); merged at the centre of mass, the top row sinks and the
+    area shrinks by 0.15 h a unit of width (each pair's centre, equal masses)."""
+    from dataclasses import dataclass
+    from pfem_skfem.pfem.bookkeeping import hand_on_mass
+    from pfem_skfem.pfem.particles import thin_cloud
+    h, n = 0.1, 11
+    g = np.arange(n) * h
+    block = np.array([(a, b) for b in g for a in g])
+    top = block[:, 1] == g[-1]
+    x = np.vstack([block, block[top] - [0.0, 0.3 * h]])
+    surface = np.r_[top | (block[:, 0] == 0) | (block[:, 0] == g[-1]) | (block[:, 1] == 0),
+                    np.zeros(top.sum(), bool)]
+
+    @dataclass
+    class Cloud:
+        x: np.ndarray
+        v: np.ndarray
+        mass: np.ndarray
+        region: np.ndarray
+        n = property(lambda self: len(self.x))
+
+        def subset(self, k):
+            return Cloud(self.x[k], self.v[k], self.mass[k], self.region[k])
+
+    cloud = Cloud(x, np.zeros_like(x), np.ones(len(x)), np.zeros(len(x), int))
+    side = g[-1]
+    for kept_surface, area in ((True, side * side), (False, side * (side - 0.15 * h))):
+        prefer = surface if kept_surface else None
+        keep = thin_cloud(x, h, fraction=0.4, prefer=prefer)
+        thinned = hand_on_mass(cloud, keep, stay=prefer)
+        assert thinned.n == len(block)
+        assert alpha_shape(thinned.x, h, 1.6).area == pytest.approx(area, rel=1e-12)
+        assert thinned.mass.sum() == pytest.approx(len(x), rel=1e-15)
 
 
 @settings(max_examples=40, deadline=None)

@@ -108,7 +108,7 @@ def make_scene(name):
                        geometry="axisymmetric" if axi else "plane",
                        config=replace(rich.config, keep_area=True, spread_mass=True,
                                       refine_interior=1.5,
-                                      remesher=AlphaMesh(thin=0.4)))
+                                      remesher=AlphaMesh(thin=0.4, keep_surface=True)))
     return scene_from_toml(EXAMPLE)
 
 

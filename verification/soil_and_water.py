@@ -89,7 +89,7 @@ CLAY = 0                # the tank scene's regions: (clay, water)
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
                keep_area=True, thin=0.4, spread_mass=False, alpha_advected=0.0,
-               refine_interior=0.0, solver="clarabel"):
+               refine_interior=0.0, keep_surface=False, solver="clarabel"):
     """The slope of height 1 (angle beta, friction mu_slope) into a tank of water d deep
     and L long (its floor of friction mu_floor, a smooth wall), a clay block ``block`` =
     (length, thickness) of cohesion c resting on the slope with its lower end 0.1 above
@@ -125,7 +125,8 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         solver=solver, volume_correction=True, keep_area=keep_area,
                         spread_mass=spread_mass, alpha_advected=alpha_advected,
-                        refine_interior=refine_interior, remesher=AlphaMesh(thin=thin))
+                        refine_interior=refine_interior,
+                        remesher=AlphaMesh(thin=thin, keep_surface=keep_surface))
     # clay first: an element with vertices of both takes the last declared region, water, so
     # the block is its own particles' elements (buoyancy exact, hydrostatics.py) and clay
     # particles the flow strips off do not make clay of the water around them
@@ -199,6 +200,7 @@ def run_tank(args, out):
                                     spread_mass=args.spread_mass == "on",
                                     alpha_advected=args.alpha_advected,
                                     refine_interior=args.refine_interior,
+                                    keep_surface=args.keep_surface == "on",
                                     solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
@@ -305,6 +307,8 @@ def build_parser():
     t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
                    help="thin particles crowded closer than this x h at each remeshing "
                         "(AlphaMesh(thin); 0: none)")
+    t.add_argument("--keep_surface", choices=("on", "off"), default="off",
+                   help="thin the free surface without moving it (AlphaMesh(keep_surface))")
     t.add_argument("--spread_mass", choices=("on", "off"), default="on",
                    help="spread each region's mass over its particles by their lumped areas "
                         "at each remeshing (PFEMConfig.spread_mass)")

@@ -139,9 +139,11 @@ def pfem_step(state, scene):
     if remesh_now:
         with timer("detect"):
             if config.remesher.thin_fraction > 0:        # keep the spacing near h
-                keep = thin_cloud(state.x, state.h, fraction=config.remesher.thin_fraction)
+                surface = state.free_surface if config.remesher.keep_surface else None
+                keep = thin_cloud(state.x, state.h, fraction=config.remesher.thin_fraction,
+                                  prefer=surface)
                 if not keep.all():
-                    state = hand_on_mass(state, keep)
+                    state = hand_on_mass(state, keep, stay=surface)
                     thinned = int((~keep).sum())
             shape = detect_domain(state, alpha, config.alpha_advected)
         if len(shape.triangles) == 0 and state.step > 0:  # the last few of a discharge

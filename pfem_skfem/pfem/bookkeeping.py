@@ -16,12 +16,16 @@ from ..discretisation.fields import vertex_dofs
 from .alpha_shape import measure, triangle_areas
 
 
-def hand_on_mass(state, keep):
+def hand_on_mass(state, keep, stay=None):
     """The state without the particles not kept, each merged into the nearest kept
     particle of its own region (of any region if none of its own is kept): the kept one
     takes the sum of their masses, at their centre of mass, with their momentum. Each
     region's mass, the momentum and the centre of mass (so the potential energy) are
     kept; a merge loses only the kinetic energy of the pair's relative motion.
+
+    stay : None, or (n,) bool: kept particles that take the merged masses and momentum
+    where they stand (the free surface of ``AlphaMesh(keep_surface=True)``): the domain's
+    boundary does not recede, and the centre of mass moves by the merged masses' offsets.
 
     Why the centre of mass: handing a removed particle's mass to its neighbour where the
     neighbour stands moves that mass; where particles crowd against a floor the kept
@@ -44,8 +48,9 @@ def hand_on_mass(state, keep):
     np.add.at(momentum, into, state.mass[:, None] * state.v)
     merged = np.flatnonzero(np.bincount(into, minlength=state.n) > 1)
     merged = merged[mass[merged] > 0]              # massless pairs: the kept one stays
+    moved = merged if stay is None else merged[~np.asarray(stay, dtype=bool)[merged]]
     x, v = state.x.copy(), state.v.copy()
-    x[merged] = moment[merged] / mass[merged, None]
+    x[moved] = moment[moved] / mass[moved, None]
     v[merged] = momentum[merged] / mass[merged, None]
     return replace(state, mass=mass, x=x, v=v).subset(keep)
 

@@ -131,7 +131,7 @@ def nodal_spacing(points, triangles):
         return total / count
 
 
-def thin_cloud(points, h, *, fraction=0.5, protect=None):
+def thin_cloud(points, h, *, fraction=0.5, protect=None, prefer=None):
     """Keep-mask that removes particles crowding another one (closer than fraction * h).
 
     Triangle can only add nodes; when particles bunch up (or added nodes became
@@ -139,11 +139,13 @@ def thin_cloud(points, h, *, fraction=0.5, protect=None):
     each close pair holds the spacing near h. Of a close pair (i, j), i < j, j is
     removed unless it is protected (e.g. free-surface or contact particles, whose
     removal would change the domain), in which case i is, unless both are protected.
+    A preferred particle wins the same way over one that is not, but of two preferred
+    particles one (j) is still removed.
 
     Parameters
     ----------
     points : (n, 2); h : float or (n,); fraction : distance, in units of the pair's
-    smaller h, below which two particles crowd each other; protect : (n,) bool.
+    smaller h, below which two particles crowd each other; protect, prefer : (n,) bool.
 
     Returns
     -------
@@ -166,6 +168,9 @@ def thin_cloud(points, h, *, fraction=0.5, protect=None):
     i, j = pairs.T
     close = np.linalg.norm(points[i] - points[j], axis=1) < fraction * np.minimum(h[i], h[j])
     i, j = i[close], j[close]
+    if prefer is not None:                   # the preferred one of a mixed pair stays
+        prefer = np.asarray(prefer, dtype=bool)
+        j, i = np.where(prefer[j] & ~prefer[i], (i, j), (j, i))
     drop = np.where(protect[j], i, j)
     keep[drop[~(protect[i] & protect[j])]] = False
     return keep
