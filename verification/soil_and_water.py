@@ -28,7 +28,9 @@ Beyond the thesis (issue 39, item 6). Two scenes of the PFEM engine:
   ``PFEMConfig.refine_interior``) adds the midside nodes of stretched interior edges as
   particles: the cloud, which thinning coarsens over a long run (the water's particles
   188 to 76 in 30 s at the quick size), stays finer, and the water then keeps more of
-  its motion (book: Water and mud).
+  its motion (book: Water and mud). ``--keep_surface on`` (off by default,
+  ``AlphaMesh(keep_surface)``) thins the free surface without moving it: the remeshings
+  then take an eighth as much area off (book).
 * **Granular twin**: the dam-break column of Martin & Moyce (a wide, 2a high, against a
   smooth wall) released twice, alike: once of water (the viscosity of water, a smooth
   floor), once of a dry granular material (:class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb`,
@@ -53,7 +55,9 @@ of the flat tank over the second half of the run beside the still level with the
 in (l with L l + l^2 / (2 tan beta) = the first area; the water still sloshes at
 --t_end: inviscid, it is damped only numerically; run to 30 s, ``--quick --t_end 30
 --steps 1000``, its kinetic energy falls below 1 % of its peak by 22 s as its cloud
-coarsens; at the full size it is still 9.5 % at 30 s, book: Water and mud), the
+coarsens; at the full size it is 1.5 % of its peak over the last 5 s with dt = 0.005 s,
+``--t_end 30 --steps 6000``, and 9.5 % with dt = 0.01 s, which moves the fastest water
+more than a spacing a step: book, Water and mud), the
 block's speed at the end (the reflected wave moves it again), the clay's own area (the
 elements all of whose vertices are clay: the clay is declared first, so an element with
 vertices of both is water, and the block's area shrinks as the flow strips particles off
@@ -71,6 +75,8 @@ Usage::
     python verification/soil_and_water.py --json book/data/soil_and_water.json         # 5 minutes
     python verification/soil_and_water.py --quick --t_end 30 --steps 1000   # 3 minutes
     # (the tank to 30 s; with --json book/data/soil_and_water_30s.json, the book's data)
+    python verification/soil_and_water.py --t_end 30 --steps 6000           # 30 minutes
+    # (the full size to 30 s: book/data/soil_and_water_full_30s.json)
     python verification/soil_and_water.py --save-every 5        # VTU/PVD of the three scenes
 """
 import sys
