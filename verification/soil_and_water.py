@@ -429,6 +429,9 @@ def run(args):
     remeshed = float(np.sum(mesh[1:, 1] - mesh[:-1, 2]))      # the remeshings' potential
     mapped = float(np.sum(mesh[1:, 3] - mesh[:-1, 0]))        # and kinetic energy
     stepped = float(np.sum(mesh[:, 0] + mesh[:, 2] - mesh[:, 3] - mesh[:, 1]))  # the steps
+    # the fastest particle's motion in a step (the 99th percentile over the run), in h:
+    # a long run needs it below about a half (book: Water and mud, the time step)
+    motion = float(np.percentile(series["fastest"], 99) * args.t_end / args.steps / args.h)
     late = series["t"] >= 0.5 * args.t_end
     level = float(np.nanmean(series["level"][late]))
     expected = tank_level(first_area, args.L, args.beta)
@@ -447,7 +450,7 @@ def run(args):
                                  "clay"]["area_first"], args.L, args.beta),
                              "largest_rise": rise, "t_stop": t_stop,
                              "block_speed_at_end": float(series["block_speed"][-1]),
-                             "shift_refused": refused,
+                             "shift_refused": refused, "step_motion_over_h": motion,
                              "energy_change_end": float(energy[-1]),
                              "energy_largest_rise": energy_rise,
                              "mesh_energy_change_end": float(own[-1]),
@@ -466,7 +469,8 @@ def run(args):
           f"{rise[0]:.3f}, {rise[1]:.3f} m; mean level over the second half {level:.4f} m "
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
-          f"refused; the particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
+          f"refused; the fastest particle moves {motion:.2f} h a step (99th percentile); the "
+          f"particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
           f"step {energy_rise:+.1f}); the step's own (element masses) "
           f"{own[-1]:+.0f} J/m from step 1 (largest rise {own_rise:+.1f}), the "
           f"remeshings adding {remeshed:+.0f} J/m of potential energy and {mapped:+.0f} J/m "

@@ -409,7 +409,8 @@ _UNSET = object()
 _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): None,
                  ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0,
                  ("PFEMConfig", "spread_mass"): False,
-                 ("PFEMConfig", "refine_interior"): 0.0}
+                 ("PFEMConfig", "refine_interior"): 0.0,
+                 ("AlphaMesh", "keep_surface"): False}
 
 
 def _identity(value):
