@@ -202,8 +202,8 @@ class AlphaMesh:
         (:func:`~pfem_skfem.pfem.bookkeeping.hand_on_mass`'s ``stay``). Why: merged at
         their centre of mass, the surface's pairs pull the boundary in at each remeshing
         (measured on the clay block into the tank at the quick size: the remeshings take
-        28 % of the area off in 30 s, which ``keep_area`` grows back by lifting the
-        water). Off by default.
+        a quarter of the domain's area off in 30 s, which ``keep_area`` grows back by
+        lifting the water; with it, an eighth of that). Off by default.
     """
 
     thin: float = 0.0
