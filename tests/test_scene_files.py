@@ -106,7 +106,8 @@ def make_scene(name):
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, (water, mud))),
                        geometry="axisymmetric" if axi else "plane",
-                       config=replace(rich.config, keep_area=True, spread_mass=True,
+                       config=replace(rich.config, keep_area=True, keep_area_step=0.002,
+                                      spread_mass=True,
                                       refine_interior=1.5,
                                       remesher=AlphaMesh(thin=0.4, keep_surface=True)))
     return scene_from_toml(EXAMPLE)

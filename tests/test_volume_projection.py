@@ -248,6 +248,25 @@ def test_a_growth_target_scales_the_domain_to_it_at_second_order(geometry):
         area_growth(step_constraint(disc), -1.0)
 
 
+def test_a_growth_limit_gives_back_at_most_that_much_a_step():
+    """keep_area_step: a domain asked to grow or shrink by 4 % with a limit of 1 % grows
+    or shrinks by 1 % (the sign kept), within the limit as asked; the limit is checked
+    and needs keep_area."""
+    from pfem_skfem.scene.config import PFEMConfig
+    disc = square("plane")
+    before = step_constraint(disc).volumes(disc.mesh.p.T).sum()
+    for g, expected in ((0.04, 0.01), (-0.04, -0.01), (0.005, 0.005), (-0.005, -0.005)):
+        c = step_constraint(disc, volume=(1 + g) * before, growth_limit=0.01)
+        assert c.growth == pytest.approx(expected, rel=1e-12)
+    c = step_constraint(disc, volume=1.04 * before)                     # no limit
+    assert c.growth == pytest.approx(0.04, rel=1e-12)
+    for bad in (-0.1, np.nan, np.inf):
+        with pytest.raises(ValueError, match="keep_area_step"):
+            PFEMConfig(volume_correction=True, keep_area=True, keep_area_step=bad)
+    with pytest.raises(ValueError, match="needs keep_area"):
+        PFEMConfig(keep_area_step=0.01)
+
+
 def test_keep_area_gives_back_what_the_remeshing_adds():
     """A block of water sliding into a tank breaks its surface, and each remeshing's alpha
     shape closes gaps: without keep_area the detected area grows step after step; with

@@ -95,7 +95,8 @@ CLAY = 0                # the tank scene's regions: (clay, water)
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
                keep_area=True, thin=0.4, spread_mass=False, alpha_advected=0.0,
-               refine_interior=0.0, keep_surface=False, solver="clarabel"):
+               refine_interior=0.0, keep_surface=False, keep_area_step=0.0,
+               solver="clarabel"):
     """The slope of height 1 (angle beta, friction mu_slope) into a tank of water d deep
     and L long (its floor of friction mu_floor, a smooth wall), a clay block ``block`` =
     (length, thickness) of cohesion c resting on the slope with its lower end 0.1 above
@@ -130,6 +131,7 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
               Body("wall", RigidSegment((foot + L, -h), (foot + L, far), 0.0)))
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         solver=solver, volume_correction=True, keep_area=keep_area,
+                        keep_area_step=keep_area_step,
                         spread_mass=spread_mass, alpha_advected=alpha_advected,
                         refine_interior=refine_interior,
                         remesher=AlphaMesh(thin=thin, keep_surface=keep_surface))
@@ -207,6 +209,7 @@ def run_tank(args, out):
                                     alpha_advected=args.alpha_advected,
                                     refine_interior=args.refine_interior,
                                     keep_surface=args.keep_surface == "on",
+                                    keep_area_step=args.keep_area_step,
                                     solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
@@ -313,6 +316,9 @@ def build_parser():
     t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
                    help="thin particles crowded closer than this x h at each remeshing "
                         "(AlphaMesh(thin); 0: none)")
+    t.add_argument("--keep_area_step", type=nonnegative_float, default=0.0,
+                   help="the most of the domain's area keep_area gives back in one step, a "
+                        "fraction (PFEMConfig.keep_area_step; 0: all at once)")
     t.add_argument("--keep_surface", choices=("on", "off"), default="off",
                    help="thin the free surface without moving it (AlphaMesh(keep_surface))")
     t.add_argument("--spread_mass", choices=("on", "off"), default="on",

@@ -207,7 +207,8 @@ def pfem_step(state, scene):
             volume = step_constraint(disc, fixed=fixed, contacts=contacts,
                                      pressed=None if contacts is None else
                                      inc.p > 1e-6 * stress_scale / scene.length * h_median ** 2,
-                                     volume=kept_area(state, scene, area0, meshed))
+                                     volume=kept_area(state, scene, area0, meshed),
+                                     growth_limit=config.keep_area_step)
         moved, projected, shift = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
             bodies=bodies_next, refine_surface=config.refine_surface,

@@ -162,7 +162,8 @@ def allowed_directions(n_vertices, blocked):
     return allowed
 
 
-def step_constraint(disc, *, fixed=(), contacts=None, pressed=None, volume=None):
+def step_constraint(disc, *, fixed=(), contacts=None, pressed=None, volume=None,
+                    growth_limit=0.0):
     """The :class:`VolumeConstraint` of a step.
 
     Parameters
@@ -172,6 +173,9 @@ def step_constraint(disc, *, fixed=(), contacts=None, pressed=None, volume=None)
     contacts : the step's ContactSet or None;  pressed : (n_contacts,) bool, the contact
     rows whose node presses on its body: no shift along the body's normal there.
     volume : None, or the volume the moved domain is to have (:func:`area_growth`).
+    growth_limit : the largest growth (or shrinking) asked of one step, a fraction of the
+    domain's volume (0: none; ``PFEMConfig.keep_area_step``): the rest is left to the
+    next steps.
     """
     mesh = disc.mesh
     t = mesh.t[:3].T
@@ -194,6 +198,8 @@ def step_constraint(disc, *, fixed=(), contacts=None, pressed=None, volume=None)
                                   disc.geometry.axisymmetric)
     if volume is not None:
         constraint.growth = area_growth(constraint, volume)
+        if growth_limit > 0:                     # the rest at the next steps
+            constraint.growth = float(np.clip(constraint.growth, -growth_limit, growth_limit))
     return constraint
 
 

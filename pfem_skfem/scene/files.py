@@ -354,7 +354,8 @@ CONFIG = Spec(PFEMConfig, {
     "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,
     "bulge": BOOLEAN,
     "refine_surface": NUMBER, "refine_interior": NUMBER, "volume_correction": BOOLEAN,
-    "keep_area": BOOLEAN, "spread_mass": BOOLEAN, "alpha_advected": NUMBER})
+    "keep_area": BOOLEAN, "keep_area_step": NUMBER, "spread_mass": BOOLEAN,
+    "alpha_advected": NUMBER})
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,

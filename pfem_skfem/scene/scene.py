@@ -410,7 +410,8 @@ _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): N
                  ("PFEMConfig", "keep_area"): False, ("AlphaMesh", "thin"): 0.0,
                  ("PFEMConfig", "spread_mass"): False,
                  ("PFEMConfig", "refine_interior"): 0.0,
-                 ("AlphaMesh", "keep_surface"): False}
+                 ("AlphaMesh", "keep_surface"): False,
+                 ("PFEMConfig", "keep_area_step"): 0.0}
 
 
 def _identity(value):
