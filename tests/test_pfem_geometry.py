@@ -1,4 +1,6 @@
 """PFEM geometry (thesis Ch 2): alpha-shape detection, remeshing, state mapping."""
+from dataclasses import dataclass
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -321,6 +323,21 @@ def test_nodal_spacing_of_a_lattice_is_its_edge_length():
     np.testing.assert_allclose(nodal_spacing(x, Delaunay(x).simplices), 0.1, rtol=1e-12)
 
 
+@dataclass
+class Cloud:                            # the fields of a PFEMState that thinning uses
+    x: np.ndarray
+    v: np.ndarray
+    mass: np.ndarray
+    region: np.ndarray
+
+    @property
+    def n(self):
+        return len(self.x)
+
+    def subset(self, keep):
+        return Cloud(self.x[keep], self.v[keep], self.mass[keep], self.region[keep])
+
+
 def test_thin_cloud_removes_crowding_particles_only():
     from pfem_skfem.pfem.particles import thin_cloud
     x, _ = hex_lattice(3, 0.1)
@@ -357,7 +374,6 @@ def test_a_surface_particle_takes_the_merged_mass_where_it_stands():
     without moving; the others still merge at the centre of mass; every region's mass and
     the momentum are kept to round-off."""
     from pfem_skfem.pfem.bookkeeping import hand_on_mass
-    from dataclasses import dataclass
     from pfem_skfem.pfem.particles import thin_cloud
     x, _ = hex_lattice(3, 0.1)
     crowd = np.vstack([x, x[:6] + [0.01, 0.005]])
@@ -369,17 +385,6 @@ def test_a_surface_particle_takes_the_merged_mass_where_it_stands():
     stay[:3] = True                                      # three of the pairs' survivors
     keep = thin_cloud(crowd, 0.1, fraction=0.3, prefer=stay)
     assert keep[:6].all() and not keep[len(x):].any()
-
-    @dataclass
-    class Cloud:                        # the fields of a PFEMState that thinning uses
-        x: np.ndarray
-        v: np.ndarray
-        mass: np.ndarray
-        region: np.ndarray
-        n = property(lambda self: len(self.x))
-
-        def subset(self, k):
-            return Cloud(self.x[k], self.v[k], self.mass[k], self.region[k])
 
     after = hand_on_mass(Cloud(x=crowd, v=v, mass=mass, region=region), keep, stay=stay)
     np.testing.assert_array_equal(after.x[:3], crowd[:3])             # stayed
@@ -395,7 +400,6 @@ def test_thinning_merges_each_particle_into_its_own_region():
     thinned, every region keeps its mass, and the cloud its momentum and centre of mass
     (so its potential energy), to round-off: a removed particle merges into the nearest
     kept particle of its own region, not into the nearer one across."""
-    from dataclasses import dataclass
     from pfem_skfem.pfem.bookkeeping import hand_on_mass
     from pfem_skfem.pfem.particles import thin_cloud
     x, _ = hex_lattice(3, 0.1)
@@ -406,21 +410,6 @@ def test_thinning_merges_each_particle_into_its_own_region():
     mass = rng.uniform(0.5, 1.5, len(crowd))
     mass[-1] = 0.0                                     # a massless surface particle
     v = rng.normal(size=(len(crowd), 2))
-
-    @dataclass
-    class Cloud:                        # the fields of a PFEMState that thinning uses
-        x: np.ndarray
-        v: np.ndarray
-        mass: np.ndarray
-        region: np.ndarray
-
-        @property
-        def n(self):
-            return len(self.x)
-
-        def subset(self, keep):
-            return Cloud(self.x[keep], self.v[keep], self.mass[keep], self.region[keep])
-
     keep = thin_cloud(crowd, 0.1, fraction=0.4)
     assert not keep.all()
     after = hand_on_mass(Cloud(crowd, v, mass, region), keep)
@@ -490,7 +479,6 @@ def test_thinning_with_the_surface_kept_keeps_the_domain():
     free surface preferred and staying, the alpha shape's area is the block's exactly
     (the interior partners go); merged at the centre of mass, the top row sinks and the
     area shrinks by 0.15 h a unit of width (each pair's centre, equal masses)."""
-    from dataclasses import dataclass
     from pfem_skfem.pfem.bookkeeping import hand_on_mass
     from pfem_skfem.pfem.particles import thin_cloud
     h, n = 0.1, 11
@@ -500,17 +488,6 @@ def test_thinning_with_the_surface_kept_keeps_the_domain():
     x = np.vstack([block, block[top] - [0.0, 0.3 * h]])
     surface = np.r_[top | (block[:, 0] == 0) | (block[:, 0] == g[-1]) | (block[:, 1] == 0),
                     np.zeros(top.sum(), bool)]
-
-    @dataclass
-    class Cloud:
-        x: np.ndarray
-        v: np.ndarray
-        mass: np.ndarray
-        region: np.ndarray
-        n = property(lambda self: len(self.x))
-
-        def subset(self, k):
-            return Cloud(self.x[k], self.v[k], self.mass[k], self.region[k])
 
     cloud = Cloud(x, np.zeros_like(x), np.ones(len(x)), np.zeros(len(x), int))
     side = g[-1]
