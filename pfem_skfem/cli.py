@@ -22,7 +22,7 @@ import sys
 import time
 
 from . import runfolder
-from .harness.options import SOLVER_NAMES, nonnegative_int, positive_int, workers
+from .harness.options import SOLVER_NAMES, STEP_SOLVER_NAMES, nonnegative_int, positive_int, workers
 from .harness.progress import StepBar, progress, progress_bar
 
 
@@ -261,8 +261,6 @@ def _run(args):
     scene = replace(scene, output=Output(str(out), every, checkpoint_every))
     if args.solver is not None:                     # the scene's config.solver, overridden
         scene = replace(scene, config=replace(scene.config, solver=args.solver))
-    if args.form is not None:                       # and its config.form
-        scene = replace(scene, config=replace(scene.config, form=args.form))
     if args.steps is not None:
         if args.steps < 1:
             raise RunError(f"--steps must be >= 1, got {args.steps}")
@@ -377,10 +375,9 @@ def main(argv=None):
                    "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
-    r.add_argument("--solver", choices=SOLVER_NAMES, help="the conic solver of every step "
-                   "(default: the scene's config.solver, clarabel unless it says)")
-    r.add_argument("--form", choices=("primal", "dual"), help="the form the direct assembly "
-                   "hands the solver (default: the scene's config.form, primal unless it says)")
+    r.add_argument("--solver", choices=STEP_SOLVER_NAMES, help="who states and solves every "
+                   "step (default: the scene's config.solver, clarabel unless it says; "
+                   "'clarabel-dual': the displacement form; 'cvxpy': the reference statement)")
     r.set_defaults(func=cmd_run)
     args = parser.parse_args(argv)
     return args.func(args)

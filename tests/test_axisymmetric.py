@@ -327,31 +327,31 @@ def granular_cylinder(nr=4, nz=6, r0=0.5, h0=1.0, wall=False, mu=np.tan(np.radia
     return disc, contacts, fixed
 
 
-def gravity_step(disc, contacts, fixed, criterion, backend, rho=2.0, g=9.8, dt=None):
+def gravity_step(disc, contacts, fixed, criterion, solver, rho=2.0, g=9.8, dt=None):
     from pfem_skfem.problems.axisymmetric import dynamic_step_axisymmetric
+    from pfem_skfem.problems.step_terms import Contact
     from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     dt = dt or 0.01 * np.sqrt(1.0 / g)
     ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0))
     f = gravity_vector(disc, rho, g)
     return dynamic_step_axisymmetric(disc, ops, f, f, np.zeros((disc.n_points, 4)),
                                      np.zeros(disc.n_u), criterion, fixed=fixed,
-                                     contacts=contacts, backend=backend), ops
+                                     terms=[Contact(contacts)], solver=solver), ops
 
 
 @pytest.mark.parametrize("criterion", [drucker_prager_match(0.0, 30.0),
                                        MohrCoulombAxisymmetric(0.0, 30.0)],
                          ids=["dp_7_10", "mohr_coulomb_3_cones"])
 @pytest.mark.parametrize("form", ["primal", "dual"])
-def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion, form, monkeypatch):
+def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion, form):
     """(7.30) for a collapsing granular cylinder on a rough base: the cvxpy statement and
     the direct Clarabel assembly give the same step. Unique in a rigid-plastic step: du,
     the dynamic forces r (strictly concave objective in r), the resultant base force;
     the stresses need not be unique, so each is checked admissible instead."""
-    from pfem_skfem.problems import clarabel_direct
-    monkeypatch.setattr(clarabel_direct, "FORM", form)
     disc, contacts, fixed = granular_cylinder()
     ref, _ = gravity_step(disc, contacts, fixed, criterion, "cvxpy")
-    out, _ = gravity_step(disc, contacts, fixed, criterion, "clarabel")
+    out, _ = gravity_step(disc, contacts, fixed, criterion,
+                          "clarabel-dual" if form == "dual" else "clarabel")
     assert out.info.status == ref.info.status == "optimal"
     assert out.info.extra.get("form", "primal") == form
     assert np.abs(out.du - ref.du).max() < 1e-5 * np.abs(ref.du).max()
@@ -363,13 +363,13 @@ def test_dynamic_step_with_contact_cvxpy_equals_direct_clarabel(criterion, form,
         assert np.all(res.du[axis_dofs(disc)] == 0)             # u_r = 0 on the axis
 
 
-@pytest.mark.parametrize("backend", ["cvxpy", "clarabel"])
-def test_confined_granular_cylinder_carries_its_weight(backend):
+@pytest.mark.parametrize("solver", ["cvxpy", "clarabel"])
+def test_confined_granular_cylinder_carries_its_weight(solver):
     """A rigid-plastic granular cylinder in a smooth-walled container on a rough base is at
     rest under gravity: the base reaction (ring forces of (7.30)) is rho g pi r0^2 h0."""
     r0, h0, rho, g = 0.5, 1.0, 2.0, 9.8
     disc, contacts, fixed = granular_cylinder(r0=r0, h0=h0, wall=True)
-    step, _ = gravity_step(disc, contacts, fixed, MohrCoulombAxisymmetric(0.0, 30.0), backend,
+    step, _ = gravity_step(disc, contacts, fixed, MohrCoulombAxisymmetric(0.0, 30.0), solver,
                            rho=rho, g=g)
     weight = rho * g * np.pi * r0 ** 2 * h0
     assert abs(step.p.sum() / weight - 1) < 1e-6

@@ -11,6 +11,7 @@ from pfem_skfem.problems.contact import (RigidSegment, potential_contacts, resul
                                          with_friction_bound)
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
 from pfem_skfem.problems.dynamic import dynamic_increment
+from pfem_skfem.problems.step_terms import Contact
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_clarabel_direct")
@@ -23,9 +24,14 @@ def block():
     return discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
 
 
+def direct(form):
+    """The step solver of the direct assembly with Clarabel in ``form``."""
+    return "clarabel" if form == "primal" else "clarabel-dual"
+
+
 def both(*args, form="primal", **kwargs):
     return (dynamic_increment(*args, **kwargs),
-            dynamic_increment(*args, backend="clarabel", form=form, **kwargs))
+            dynamic_increment(*args, solver=direct(form), **kwargs))
 
 
 def close(a, b, tol=1e-5):
@@ -39,7 +45,7 @@ def test_free_fall_is_exact(block, elastic, theta1, theta2):
     ops = dynamic_operators(block, 2.0, ThetaMethod(dt, theta1, theta2), elastic)
     f = gravity_vector(block, 2.0, G)
     res = dynamic_increment(ops, f, f, np.zeros((block.n_points, 4)), np.zeros(block.n_u),
-                            Tresca(5.0), backend="clarabel")
+                            Tresca(5.0), solver="clarabel")
     assert np.allclose(res.du[1::2], -G * dt ** 2 * theta2, rtol=1e-6)
     assert np.abs(res.du[0::2]).max() <= 1e-6 * G * dt ** 2
 
@@ -57,8 +63,8 @@ def test_kkt_and_agreement_with_cvxpy_elastoplastic_with_supports_and_prescribed
     sigma_n = rng.standard_normal((block.n_points, 4))
     f = gravity_vector(block, 2.0, G)
     du_P = np.full(P.size, 1e-3)
-    ref, res = both(ops, f, f, sigma_n, v_n, Tresca(6.0), fixed=fixed, prescribed=P,
-                    du_prescribed=du_P, form=form)
+    ref, res = both(ops, f, f, sigma_n, v_n, Tresca(6.0), fixed=fixed, prescribed=(P, du_P),
+                    form=form)
     assert res.info.status == "optimal"
     assert res.info.extra.get("form", "primal") == form
     # an elastoplastic step is unique: stresses, increments, multipliers agree
@@ -84,8 +90,8 @@ def sliding_block(block, contact, form, k=50.0, reference=True):
     v_n = np.zeros(block.n_u)
     v_n[0::2] = 2.0
     args = (ops, f, f, np.zeros((block.n_points, 4)), v_n, TrescaField(np.full(block.n_points, k)))
-    res = dynamic_increment(*args, contacts=contacts, backend="clarabel", form=form)
-    ref = dynamic_increment(*args, contacts=contacts) if reference else None
+    res = dynamic_increment(*args, terms=[Contact(contacts)], solver=direct(form))
+    ref = dynamic_increment(*args, terms=[Contact(contacts)]) if reference else None
     return ref, res, ops, f, contacts
 
 
@@ -144,7 +150,7 @@ def test_dual_form_scales_with_the_density_of_a_cohesionless_step(block, factor,
         v_n[0::2] = 2.0
         k = TrescaField(np.full(block.n_points, 1.5 * rho))
         return dynamic_increment(ops, f, f, np.zeros((block.n_points, 4)), v_n, k,
-                                 contacts=contacts, backend="clarabel", form="dual")
+                                 terms=[Contact(contacts)], solver="clarabel-dual")
     one, other = step(2.0), step(2.0 * factor)
     assert other.info.extra["form"] == "dual"
     if exact:
@@ -191,7 +197,7 @@ def test_solve_dual_recovers_the_primal_solution(seed):
     sign error in any recovery formula is an O(1) difference."""
     import clarabel
 
-    from pfem_skfem.problems.clarabel_direct import solve_dual
+    from pfem_skfem.problems.backends.dual_form import solve_dual
     P, c, A, b, cones = small_conic_problem(seed)
     primal = clarabel.DefaultSolver(P, c, A, b, cones, settings()).solve()
     dual = solve_dual(P, c, A, b, cones, settings())
@@ -209,7 +215,7 @@ def test_solve_dual_reads_the_status_as_the_primal():
     import clarabel
     import scipy.sparse as sp
 
-    from pfem_skfem.problems.clarabel_direct import solve_dual
+    from pfem_skfem.problems.backends.dual_form import solve_dual
     P = sp.csc_matrix(np.ones((1, 1)))
     A = sp.csc_matrix(np.ones((2, 1)))
     out = solve_dual(P, np.zeros(1), A, np.array([1.0, 2.0]), [clarabel.ZeroConeT(2)],
@@ -221,7 +227,7 @@ def test_solve_dual_refuses_cones_that_are_not_self_dual_and_singular_blocks():
     import clarabel
     import scipy.sparse as sp
 
-    from pfem_skfem.problems.clarabel_direct import solve_dual
+    from pfem_skfem.problems.backends.dual_form import solve_dual
     P = sp.csc_matrix(np.eye(3))
     A = sp.csc_matrix(np.eye(3))
     with pytest.raises(ValueError, match="self-dual"):
@@ -235,20 +241,20 @@ def test_solve_dual_refuses_cones_that_are_not_self_dual_and_singular_blocks():
 def test_unsupported_options_are_refused(block):
     ops = dynamic_operators(block, 2.0, ThetaMethod(0.05), Elastic(1e3, 0.3))
     z = np.zeros(block.n_u)
-    with pytest.raises(ValueError, match="backend"):
+    with pytest.raises(ValueError, match="solver must be one of"):
         dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, Tresca(1.0),
-                          backend="mosek")
+                          solver="clarabel-adjoint")
+    with pytest.raises(ValueError, match="needs a yield criterion"):
+        dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, None, solver="clarabel")
     with pytest.raises(ValueError, match="quad_form"):
-        dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, None, backend="clarabel")
-    with pytest.raises(ValueError, match="form must be one of"):
         dynamic_increment(ops, z, z, np.zeros((block.n_points, 4)), z, Tresca(1.0),
-                          backend="clarabel", form="adjoint")
+                          solver="clarabel", d_form="cone")
 
 
 # -- the data clean-up before the call (benchmarks/iteration_cost.py) ---------------------------
 def test_drop_roundoff_keeps_the_couplings_and_is_invariant_under_scaling():
     import scipy.sparse as sp
-    from pfem_skfem.problems.clarabel_direct import drop_roundoff
+    from pfem_skfem.problems.backends.standard_form import drop_roundoff
     rng = np.random.default_rng(1)
     Q = rng.standard_normal((6, 6))
     blocks = [Q @ Q.T, sp.csr_matrix((3, 3))]                     # an SPD block, a zero one
@@ -271,7 +277,7 @@ def test_cleaned_data_give_the_same_step(block, monkeypatch):
     to the solver's tolerance."""
     import clarabel
 
-    from pfem_skfem.problems import clarabel_direct
+    from pfem_skfem.problems.backends import direct as direct_module
     theta = ThetaMethod(0.05, 1.0, 0.5)
     ops = dynamic_operators(block, 2.0, theta, Elastic(1e3, 0.3))
     base = lambda x: x[1] < 1e-9                                    # noqa: E731
@@ -290,9 +296,9 @@ def test_cleaned_data_give_the_same_step(block, monkeypatch):
     monkeypatch.setattr(clarabel, "DefaultSolver", recording)
     out = {}
     for clean in (False, True):
-        monkeypatch.setattr(clarabel_direct, "CLEAN_DATA", clean)
+        monkeypatch.setattr(direct_module, "CLEAN_DATA", clean)
         out[clean] = dynamic_increment(ops, f, f, sigma_n, v_n, Tresca(3.0), fixed=fixed,
-                                       backend="clarabel")
+                                       solver="clarabel")
     (P0, A0), (P1, A1) = seen
     assert (A0.data == 0).any() and not (A1.data == 0).any()     # the yield block's zeros
     assert A1.nnz == np.count_nonzero(A0.data) and abs(A1 - A0).max() == 0.0
@@ -310,7 +316,7 @@ def test_a_failed_solve_is_solved_once_more_without_equilibration(monkeypatch, f
     attempt's and the retry recorded; the answer is the retry's (here the same problem
     solved well: the du of a step solved without the fault, to 1e-6)."""
     import clarabel
-    import pfem_skfem.problems.clarabel_direct as direct
+    import pfem_skfem.problems.backends.clarabel as engine
 
     real = clarabel.DefaultSolver
     calls = []
@@ -336,7 +342,7 @@ def test_a_failed_solve_is_solved_once_more_without_equilibration(monkeypatch, f
     from pfem_skfem.materials import BinghamFluid
     mud = BinghamFluid(tau_y=200.0, mu=0.5)
     reference = _column_step(mud, False, "clarabel")
-    monkeypatch.setattr(direct.clarabel, "DefaultSolver", FirstFails)
+    monkeypatch.setattr(engine.clarabel, "DefaultSolver", FirstFails)
     retried = _column_step(mud, False, "clarabel")
     assert calls == [True, False]
     assert retried.info.extra["retried"] == {"equilibrate_enable": False}

@@ -135,6 +135,7 @@ def test_buried_pipe_dynamic_step_adds_only_the_inertia_of_the_soil():
 def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight():
     from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.step_terms import Contact
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
     floor = RigidSegment((-1.0, 0.0), (2.0, 0.0), mu=0.3)
     ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 1.0), elastic=None)
@@ -142,7 +143,7 @@ def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight()
     sigma, v, u = np.zeros((disc.n_points, 4)), np.zeros(disc.n_u), np.zeros(disc.n_u)
     for _ in range(3):
         contacts = potential_contacts(disc, [floor], 0.05, displacement=u)
-        res = dynamic_increment(ops, f, f, sigma, v, Tresca(1e3), contacts=contacts)
+        res = dynamic_increment(ops, f, f, sigma, v, Tresca(1e3), terms=[Contact(contacts)])
         sigma, v, u = res.sigma, res.v, u + res.du
         R = resultants(contacts, res.p, res.q)[0]
         assert R[1] == pytest.approx(-2.0 * 9.8 * 0.5, rel=1e-6)   # the weight

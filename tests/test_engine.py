@@ -53,14 +53,14 @@ def test_a_smooth_wall_pushing_a_block_over_a_rough_base_feels_mu_w():
     assert state.x[:, 0].min() == pytest.approx(speed * state.time, rel=1e-6)
 
 
-@pytest.mark.parametrize("backend", ["clarabel", "cvxpy"])
-def test_a_block_on_a_translated_rough_base_moves_with_it_rigidly(backend):
+@pytest.mark.parametrize("solver", ["clarabel", "cvxpy"])
+def test_a_block_on_a_translated_rough_base_moves_with_it_rigidly(solver):
     """The base moves at V from t = 0; its friction (mu W dt > m V) carries the block along
     from the first step: every particle is displaced by the base's (V t, 0). (The slip of
     (5.12) is relative to the moving body in both statements of the step.)"""
     speed, dt = 0.1, 0.05
     scene = Scene(regions=(block(),), bodies=(base(1.0, ConstantVelocity((speed, 0.0))),),
-                  config=PFEMConfig(theta=ThetaMethod(dt), backend=backend))
+                  config=PFEMConfig(theta=ThetaMethod(dt), solver=solver))
     x0 = scene.initial_state().x
     state, _ = steps(scene, 5)
     np.testing.assert_allclose(state.x - x0, np.tile([speed * state.time, 0.0], (len(x0), 1)),

@@ -150,7 +150,7 @@ def test_regions_of_a_cohesive_and_a_frictional_material_share_a_scene(monkeypat
     from pfem_skfem.drivers import pfem_loop
     from pfem_skfem.drivers.pfem_loop import PFEMConfig, run
     from pfem_skfem.problems.contact import RigidSegment
-    from pfem_skfem.problems.dynamic import ThetaMethod
+    from pfem_skfem.discretisation.theta import ThetaMethod
     from pfem_skfem.scene import Body, Scene
     seen = []
     step_material = pfem_loop.step_material

@@ -54,12 +54,12 @@ def test_bad_parameters_are_named(kwargs, word):
         MuIRheology(**kwargs)
 
 
-def _layer_run(material, theta=25.0, steps=6, ny=4, rho=PHI * RHO_S, backend="clarabel"):
+def _layer_run(material, theta=25.0, steps=6, ny=4, rho=PHI * RHO_S, solver="clarabel"):
     """A few steps of the periodic layer from rest (velocities of the x = 0 end)."""
     m = material
     t_end = steps * 0.02
     return flow(theta, H, m, ny=ny, steps=steps, t_end=t_end, phi=rho / m.rho_s, g=G,
-                passes=2, backend=backend)
+                passes=2, solver=solver)
 
 
 @pytest.mark.parametrize("lag", ["viscosity", "friction"])
@@ -80,12 +80,13 @@ def test_rate_independent_limit(lag):
     assert np.abs(near["u"] - ref["u"]).max() < 1e-5 * scale
 
 
-def _one_viscous_step(backend, lag="viscosity"):
+def _one_viscous_step(solver, lag="viscosity"):
     """One step of the layer at theta = 25 from a Bagnold-like profile, with its data."""
     from pfem_skfem.discretisation.fields import plastic_strain_increment, vertex_to_points
     from pfem_skfem.discretisation.static import body_force_vector
     from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
     from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.step_terms import step_terms
 
     m = MuIRheology(lag=lag)
     ny, rho, th = 4, PHI * RHO_S, np.radians(25.0)
@@ -104,7 +105,7 @@ def _one_viscous_step(backend, lag="viscosity"):
     viscous = m.viscous(sm, scale, rate, disc.weights)
     cone = m.cone(sm, scale, shear_rate=rate)
     inc = dynamic_increment(ops, f, f, np.zeros((disc.n_points, 4)), v, cone, fixed=base,
-                            viscous=viscous, backend=backend)
+                            terms=step_terms(viscous=viscous), solver=solver)
     return disc, ops, inc, cone, viscous, sm, scale
 
 
@@ -140,12 +141,11 @@ def test_implicit_step_has_the_friction_of_its_own_rate():
 
 @pytest.mark.parametrize("form", ["primal", "dual"])
 @pytest.mark.parametrize("lag", ["viscosity", "implicit"])
-def test_rate_step_cvxpy_and_direct_agree(lag, form, monkeypatch):
+def test_rate_step_cvxpy_and_direct_agree(lag, form):
     """Either form of the direct assembly; the implicit term's exponential cones are not
-    self-dual: its step is stated in the primal form whatever FORM says."""
-    from pfem_skfem.problems import clarabel_direct
-    monkeypatch.setattr(clarabel_direct, "FORM", form)
-    _, _, a, _, _, _, _ = _one_viscous_step("clarabel", lag)
+    self-dual: its step is stated in the primal form whatever the solver's form says."""
+    solver = "clarabel-dual" if form == "dual" else "clarabel"
+    _, _, a, _, _, _, _ = _one_viscous_step(solver, lag)
     _, _, b, _, _, _, _ = _one_viscous_step("cvxpy", lag)
     stated = "dual" if form == "dual" and lag == "viscosity" else "primal"
     assert a.info.extra.get("form", "primal") == stated

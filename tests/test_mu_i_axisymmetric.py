@@ -20,9 +20,9 @@ import skfem
 from pfem_skfem.discretisation.fields import plastic_strain_increment
 from pfem_skfem.materials import MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
 from pfem_skfem.discretisation.static import discretise
-from pfem_skfem.problems.clarabel_direct import viscous_stress_map
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
 from pfem_skfem.problems.dynamic import dynamic_increment
+from pfem_skfem.problems.step_terms import step_terms, viscous_stress_map
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
 from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
@@ -50,7 +50,7 @@ def test_hoop_rate_deviator_is_traceless_with_sqrt_j2_its_norm():
     np.testing.assert_array_equal(plane[:, 2], 0.0)          # plane strain: no hoop part
 
 
-def _extension_step(lag, backend):
+def _extension_step(lag, solver):
     """One step of a cylinder r, z in [0, 1] in uniaxial extension v = D_zz (-r/2, z),
     every boundary dof driven, the interior free, no gravity, at the frozen pressure P0."""
     mesh = skfem.MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
@@ -67,9 +67,9 @@ def _extension_step(lag, backend):
     full = plastic_strain_increment(disc, ops.B, v, hoop=True)    # the lagged (fixed-point) rate
     f = np.zeros(disc.n_u)
     inc = dynamic_increment(ops, f, f, np.zeros((disc.n_points, 4)), v,
-                            m.cone(sm, P0, shear_rate=full), prescribed=driven,
-                            du_prescribed=v[driven] * DT,
-                            viscous=m.viscous(sm, P0, full, disc.weights), backend=backend)
+                            m.cone(sm, P0, shear_rate=full), prescribed=(driven, v[driven] * DT),
+                            terms=step_terms(viscous=m.viscous(sm, P0, full, disc.weights)),
+                            solver=solver)
     return disc, ops, inc, v, m
 
 
@@ -105,11 +105,9 @@ def test_extension_friction_is_mu_of_the_full_rate(lag, tol):
 
 @pytest.mark.parametrize("form", ["primal", "dual"])
 @pytest.mark.parametrize("lag", ["viscosity", "implicit"])
-def test_extension_step_cvxpy_and_direct_agree(lag, form, monkeypatch):
-    """Either form of the direct assembly (the implicit term: primal whatever FORM says)."""
-    from pfem_skfem.problems import clarabel_direct
-    monkeypatch.setattr(clarabel_direct, "FORM", form)
-    _, _, a, _, _ = _extension_step(lag, "clarabel")
+def test_extension_step_cvxpy_and_direct_agree(lag, form):
+    """Either form of the direct assembly (the implicit term: primal whatever the form)."""
+    _, _, a, _, _ = _extension_step(lag, "clarabel-dual" if form == "dual" else "clarabel")
     _, _, b, _, _ = _extension_step(lag, "cvxpy")
     stated = "dual" if form == "dual" and lag == "viscosity" else "primal"
     assert a.info.extra.get("form", "primal") == stated

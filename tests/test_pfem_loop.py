@@ -107,8 +107,8 @@ def test_config_rejects_bad_values():
         PFEMConfig(passes=0)
     with pytest.raises(ValueError, match="contact"):
         PFEMConfig(contact="glue")
-    with pytest.raises(ValueError, match="backend"):
-        PFEMConfig(backend="mosek")
+    with pytest.raises(ValueError, match="solver"):
+        PFEMConfig(solver="gurobi")
     with pytest.raises(ValueError, match="velocity"):
         PFEMConfig(velocity="nearest")
     with pytest.raises(ValueError, match="stress_mapping"):
@@ -189,9 +189,9 @@ def test_backends_give_the_same_collapse():
     scale in either backend is an O(1) difference)."""
     x0 = granular_column(1.0, 6)[0].x
     runs = {}
-    for backend in ("cvxpy", "clarabel"):
-        state, scene = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G), backend=backend)
-        runs[backend], _ = run(state, scene, 5)
+    for solver in ("cvxpy", "clarabel"):
+        state, scene = granular_column(1.0, 6, dt=0.05 * np.sqrt(1.0 / G), solver=solver)
+        runs[solver], _ = run(state, scene, 5)
     a, b = runs["cvxpy"], runs["clarabel"]
     assert a.x.shape == b.x.shape
     motion = np.abs(a.x[:len(x0)] - x0).max()

@@ -118,11 +118,10 @@ def test_bounds_of_the_cut_agree_with_clarabel(bound):
 
 
 @needs_qoco
-@pytest.mark.parametrize("backend, form", [("clarabel", "primal"), ("clarabel", "dual"),
-                                           ("cvxpy", None)])
-def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(backend, form):
-    """QOCO handed the direct assembly (``backend='clarabel'``, primal or dual form) or the
-    cvxpy statement: the step of Clarabel's direct assembly, to 1e-6."""
+@pytest.mark.parametrize("solver", ["qoco", "qoco-dual", "cvxpy-qoco"])
+def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(solver):
+    """QOCO handed the direct assembly (primal or dual form) or the cvxpy statement: the
+    step of Clarabel's direct assembly, to 1e-6."""
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
     theta = ThetaMethod(0.05, 1.0, 0.5)
     ops = dynamic_operators(disc, 2.0, theta, Elastic(1e3, 0.3))
@@ -134,15 +133,15 @@ def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(backend, fo
     sigma_n = rng.standard_normal((disc.n_points, 4))
     f = gravity_vector(disc, 2.0, 9.8)
     args = (ops, f, f, sigma_n, v_n, Tresca(6.0))
-    kw = dict(fixed=fixed, prescribed=P, du_prescribed=np.full(P.size, 1e-3))
-    ref = dynamic_increment(*args, backend="clarabel", **kw)
-    res = dynamic_increment(*args, solver="qoco", backend=backend,
-                            **(dict(form=form) if form else {}), **kw)
-    if backend == "cvxpy":
+    kw = dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+    ref = dynamic_increment(*args, solver="clarabel", **kw)
+    res = dynamic_increment(*args, solver=solver, **kw)
+    if solver == "cvxpy-qoco":
         assert res.info.extra["measures"]["solver"] == "QOCO"
     else:
         assert res.info.extra["engine"] == "qoco"
-        assert res.info.extra.get("form", "primal") == form
+        assert res.info.extra.get("form", "primal") == ("dual" if "dual" in solver
+                                                        else "primal")
     for name in ("du", "sigma", "r", "reactions"):
         assert rel(getattr(res, name), getattr(ref, name)) <= 1e-6, name
 
@@ -193,25 +192,20 @@ def test_pfem_steps_with_qoco_agree_with_clarabel(geometry, statement, monkeypat
     problem: a later pass or step lags the mean stress of rigid zones, which is not unique
     (measured 3e-4 after two steps, tests/test_pfem_loop.py)."""
     from pfem_skfem.drivers.pfem_loop import run
-    from pfem_skfem.problems import clarabel_direct
     if geometry == "plane":
         from verification.granular_column_plane import granular_column as column
     else:
         from verification.granular_column_axisymmetric import (
             granular_column_axisymmetric as column)
-    from pfem_skfem.problems.direct_engines import ENGINES
+    from pfem_skfem.problems.backends import ENGINES
     direct_solves = []                  # QOCO's solves of the direct assembly
     engine_solve = ENGINES["qoco"].solve
     monkeypatch.setattr(ENGINES["qoco"], "solve",
                         lambda *a, **k: direct_solves.append(1) or engine_solve(*a, **k))
     states = []
-    for solver in ("clarabel", "qoco"):
-        if solver == "qoco":
-            monkeypatch.setattr(clarabel_direct, "FORM",
-                                "dual" if statement == "direct-dual" else "primal")
-        backend = "cvxpy" if solver == "qoco" and statement == "cvxpy" else "clarabel"
-        state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1,
-                              backend=backend)
+    qoco = {"direct": "qoco", "direct-dual": "qoco-dual", "cvxpy": "cvxpy-qoco"}[statement]
+    for solver in ("clarabel", qoco):
+        state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1)
         states.append(run(state, scene, 1)[0])
     assert (len(direct_solves) > 0) == statement.startswith("direct")
     a, b = states
@@ -323,8 +317,10 @@ def test_a_numerical_error_is_retried_with_qoco_s_retries_and_clarabel_s_raised(
 
 
 def test_the_solver_option_names_the_registry_and_reaches_the_footing_script():
-    from pfem_skfem.harness.options import SOLVER_NAMES
+    from pfem_skfem.harness.options import SOLVER_NAMES, STEP_SOLVER_NAMES
+    from pfem_skfem.problems.backends import STEP_SOLVERS
     assert SOLVER_NAMES == tuple(SOLVERS)
+    assert STEP_SOLVER_NAMES == tuple(STEP_SOLVERS)
     args = strip_footing.build_parser().parse_args(["--solver", "qoco"])
     assert args.solver == "qoco"
     assert strip_footing.build_parser().parse_args([]).solver == "clarabel"
@@ -335,13 +331,14 @@ def test_the_solver_option_names_the_registry_and_reaches_the_footing_script():
 def test_a_mu_i_step_refuses_qoco_before_any_work(no_solve):
     """mu(I)'s rate term needs exponential cones: refused by name, no problem stated."""
     from pfem_skfem.materials.rate import RateDissipation
+    from pfem_skfem.problems.step_terms import MuIRate
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 0.5, 2)))
     ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 1.0), None)
     ones, z = np.ones(disc.n_points), np.zeros(disc.n_u)
     rate = RateDissipation(c=ones, tau_max=ones, weights=ones)
     with pytest.raises(ValueError, match=r"'qoco'.*exp"):
         dynamic_increment(ops, z, z, np.zeros((disc.n_points, 4)), z, Tresca(1.0),
-                          viscous=rate, solver="qoco", backend="clarabel")
+                          terms=[MuIRate(rate)], solver="qoco")
 
 
 def test_qoco_engine_answers_in_clarabels_rows_and_signs():
@@ -351,7 +348,7 @@ def test_qoco_engine_answers_in_clarabels_rows_and_signs():
     tolerance; both satisfy the KKT stationarity P x + c + A^T z = 0."""
     import clarabel
     import scipy.sparse as sp
-    from pfem_skfem.problems.direct_engines import ENGINES
+    from pfem_skfem.problems.backends import ENGINES
     rng = np.random.default_rng(3)
     n = 6
     M = rng.normal(size=(n, n))
@@ -381,32 +378,32 @@ def test_qoco_engine_answers_in_clarabels_rows_and_signs():
 
 def test_qoco_engine_refuses_exponential_cones():
     import clarabel
-    from pfem_skfem.problems.direct_engines import row_order
+    from pfem_skfem.problems.backends.qoco import row_order
     with pytest.raises(ValueError, match="ExponentialConeT"):
         row_order([clarabel.ZeroConeT(1), clarabel.ExponentialConeT()])
 
 
-def test_the_form_of_a_pfem_run_is_an_option_of_its_config(monkeypatch):
-    """``PFEMConfig.form='dual'`` states every step in the dual form: the same run, bit for
-    bit, as the library's ``clarabel_direct.FORM = 'dual'``; the primal form's run differs
-    (a different solve) within solver tolerance; an unknown form is refused by name."""
+def test_the_form_of_a_pfem_run_is_its_config_s_solver(monkeypatch):
+    """``PFEMConfig(solver='clarabel-dual')`` states every step in the dual form (every solve
+    goes through solve_dual), the default none; the primal form's run differs (a different
+    solve) within solver tolerance; an unknown solver is refused by name, naming the
+    choices."""
     from pfem_skfem.drivers.pfem_loop import run
-    from pfem_skfem.problems import clarabel_direct
+    from pfem_skfem.problems.backends import direct
     from pfem_skfem.scene.config import PFEMConfig
     from verification.granular_column_plane import granular_column as column
+    duals, real = [], direct.solve_dual
+    monkeypatch.setattr(direct, "solve_dual", lambda *a, **k: duals.append(1) or real(*a, **k))
     dt = 0.05 * np.sqrt(1.0 / 9.8)
-    by_config = run(*column(1.0, 6, dt=dt, form="dual"), 2)[0]
-    dual_step = run(*column(1.0, 6, dt=dt, form="dual", passes=1), 1)[0]
+    dual_step = run(*column(1.0, 6, dt=dt, solver="clarabel-dual", passes=1), 1)[0]
+    assert len(duals) == 1
     primal_step = run(*column(1.0, 6, dt=dt, passes=1), 1)[0]
-    monkeypatch.setattr(clarabel_direct, "FORM", "dual")
-    by_library = run(*column(1.0, 6, dt=dt), 2)[0]
-    assert np.array_equal(by_config.x, by_library.x) and np.array_equal(by_config.v,
-                                                                        by_library.v)
+    assert len(duals) == 1
     # one step, one pass: the same problem (later passes lag a non-unique mean stress)
     assert not np.array_equal(dual_step.v, primal_step.v)
     assert rel(dual_step.v, primal_step.v) < 1e-4
-    with pytest.raises(ValueError, match="form must be one of"):
-        PFEMConfig(form="displacement")
+    with pytest.raises(ValueError, match="clarabel-dual"):
+        PFEMConfig(solver="displacement")
 
 
 @pytest.mark.parametrize("engine", ["clarabel", "qoco"])
@@ -416,7 +413,7 @@ def test_non_finite_conic_data_is_refused_before_the_solve(engine):
     naming no cause; QOCO raised nothing)."""
     import scipy.sparse as sp
     import clarabel
-    from pfem_skfem.problems.direct_engines import ENGINES
+    from pfem_skfem.problems.backends import ENGINES
     P = sp.csc_matrix((2, 2))
     A = sp.csc_matrix(np.eye(2))
     cones = [clarabel.NonnegativeConeT(2)]

@@ -88,10 +88,13 @@ def pipe_resistance(model, *, su, rho, g, mu=0.0, step=None, dt=None, solver="cl
                                fixed=model["fixed"], contacts=contacts, solver=solver)
     else:
         from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+        from pfem_skfem.problems.backends import cvxpy_solver
         from pfem_skfem.problems.dynamic import dynamic_increment
+        from pfem_skfem.problems.step_terms import Contact
         ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0), elastic=None)
         res = dynamic_increment(ops, f, f, zero_stress, np.zeros(disc.n_u), Tresca(su),
-                                fixed=model["fixed"], contacts=contacts, solver=solver)
+                                fixed=model["fixed"], terms=[Contact(contacts)],
+                                solver=cvxpy_solver(solver))
     force_on_pipe = resultants(contacts, res.p, res.q)[0]
     return force_on_pipe[1], res, contacts      # the soil pushes the pipe up
 

@@ -42,7 +42,8 @@ from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_d
                                               consistent_mass, discretise, stiffness_matrix,
                                               traction_vector)
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-from pfem_skfem.problems.dynamic import D_FORMS
+from pfem_skfem.problems.backends import cvxpy_solver
+from pfem_skfem.problems.backends.cvxpy_step import D_FORMS
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,
@@ -194,7 +195,8 @@ def run(args):
         wall = time.perf_counter()
         hist = integrate(ops, load, n_steps, fixed=fixed, d_form=args.d_form,
                          monitor=lambda u, v, s: u[tip], progress=args.progress,
-                         label=f"{name} (theta1={t1:g}, theta2={t2:g})", solver=args.solver)
+                         label=f"{name} (theta1={t1:g}, theta2={t2:g})",
+                         solver=cvxpy_solver(args.solver))
         wall = time.perf_counter() - wall
         ref, ref_energy = theta_method_fe(K, M, load, n_steps, theta, free,
                                           monitor=lambda u: u[tip])

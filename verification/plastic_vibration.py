@@ -33,7 +33,8 @@ from pfem_skfem.drivers.dynamic import integrate
 from pfem_skfem.materials import Elastic, Tresca
 from pfem_skfem.discretisation.static import boundary_dofs, discretise
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-from pfem_skfem.problems.dynamic import D_FORMS
+from pfem_skfem.problems.backends import cvxpy_solver
+from pfem_skfem.problems.backends.cvxpy_step import D_FORMS
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, poisson_ratio, positive_float,
                                         positive_int, theta_weight)
@@ -82,7 +83,7 @@ def run(args):
     for name, criterion in (("elastic", None), ("elastoplastic", Tresca(args.su))):
         runs[name] = integrate(ops, no_load, args.steps, criterion=criterion, fixed=fixed,
                                v0=v0, d_form=args.d_form, progress=args.progress, label=name,
-                               solver=args.solver)
+                               solver=cvxpy_solver(args.solver))
     K0 = runs["elastic"].energy[0]
     el, pl = runs["elastic"], runs["elastoplastic"]
     undamped = args.theta1 == 0.5 and args.theta2 == 0.5

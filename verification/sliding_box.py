@@ -72,7 +72,9 @@ def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=
     from pfem_skfem.discretisation.static import body_force_vector, discretise
     from pfem_skfem.problems.contact import potential_contacts, with_friction_bound
     from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.backends import cvxpy_solver
     from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.step_terms import Contact
 
     mesh = MeshTri.init_tensor(np.linspace(-width / 2, width / 2, cells[0] + 1),
                                np.linspace(0.0, height, cells[1] + 1))
@@ -91,11 +93,11 @@ def slide_fe(v0, mu, g, steps, total_time, theta, *, width=1.0, height=0.5, rho=
         contacts = potential_contacts(disc, [plane], 0.1 * height, displacement=u)
         if contact == "zero-dilation":          # pass 1: smooth, for the normal force
             smooth = with_friction_bound(contacts, np.zeros(contacts.size))
-            first = dynamic_increment(ops, f, f, sigma, v, strong, contacts=smooth,
-                                      scaling=scales, solver=solver)
+            first = dynamic_increment(ops, f, f, sigma, v, strong, terms=[Contact(smooth)],
+                                      scaling=scales, solver=cvxpy_solver(solver))
             contacts = with_friction_bound(contacts, first.p)
-        step = dynamic_increment(ops, f, f, sigma, v, strong, contacts=contacts,
-                                 scaling=scales, solver=solver)
+        step = dynamic_increment(ops, f, f, sigma, v, strong, terms=[Contact(contacts)],
+                                 scaling=scales, solver=cvxpy_solver(solver))
         u, v, sigma, scales = u + step.du, step.v, step.sigma, step.scales
         base = contacts.dofs
         path.append(np.array([u[base[:, 0]].mean(), u[base[:, 1]].mean()]))

@@ -106,7 +106,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         du_P = (np.asarray(u_prescribed(t_next)) - np.asarray(u_prescribed(t_n))
                 if prescribed.size else ())
         res = dynamic_increment(ops, f_n, f_next, sigma, v, criterion, fixed=fixed,
-                                prescribed=prescribed, du_prescribed=du_P, scaling=scaling,
+                                prescribed=(prescribed, du_P), scaling=scaling,
                                 d_form=d_form, **solver_settings)
         scaling = res.scales                     # this step's magnitudes scale the next one
         # energy book-keeping (module docstring)

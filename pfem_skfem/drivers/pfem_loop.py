@@ -192,9 +192,8 @@ def pfem_step(state, scene):
         scales = step_scales(state.scales, scene, theta.dt)
         solved = lagged_step(ops, f, contacts, disc, material, config.contact, v_dofs,
                              sigma_n, state.sigma_m[pm.particle], scales, passes=config.passes,
-                             stress_scale=stress_scale, fixed=fixed, backend=config.backend,
-                             pass_tolerance=config.pass_tolerance, solver=config.solver,
-                             form=config.form)
+                             stress_scale=stress_scale, fixed=fixed,
+                             pass_tolerance=config.pass_tolerance, solver=config.solver)
     inc = solved.increment
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies

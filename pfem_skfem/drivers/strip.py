@@ -39,7 +39,7 @@ def profile_weights(z):
 
 
 def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, passes, v0=None,
-               verbose=False, backend="clarabel", solver="clarabel"):
+               verbose=False, solver="clarabel"):
     """Run the periodic layer of depth h at slope theta [deg] from rest (or from
     x-velocities ``v0(z)``) for ``steps`` implicit steps (theta1 = theta2 = 1) to t_end.
 
@@ -78,7 +78,7 @@ def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, passes, v0=None,
     for n in bar:
         solved = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
                              scales, passes=passes, stress_scale=stress_scale, fixed=base,
-                             backend=backend, solver=solver)
+                             solver=solver)
         inc = solved.increment
         v, sigma, sigma_m = inc.v, inc.sigma, solved.sigma_m
         # the next step's scales, not below a free-fall step's (as pfem.assemble.step_scales):

@@ -145,6 +145,10 @@ def base_parser(description, quick=None, check=None, solver=True):
 #: the names of :data:`pfem_skfem.problems.conic.SOLVERS` (the harness imports no science
 #: module; tests/test_solvers.py checks that the two agree)
 SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
+#: the names of problems.backends.STEP_SOLVERS (who states and solves a PFEM step), a copy for
+#: the same reason (tests/test_solvers.py checks it)
+STEP_SOLVER_NAMES = ("clarabel", "clarabel-dual", "qoco", "qoco-dual", "cvxpy", "cvxpy-qoco",
+                     "mosek", "scs")
 
 
 def solver_option(parser, default="clarabel", why=""):

@@ -99,8 +99,7 @@ def limit_analysis_axisymmetric(disc, B, f_live, criterion, *, fixed, **kwargs):
 
 
 def dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma_n, v_n, criterion=None, *,
-                              fixed=(), prescribed=(), du_prescribed=(), contacts=None,
-                              **kwargs):
+                              fixed=(), prescribed=((), ()), **kwargs):
     """One time step of the axisymmetric dynamic problem (7.29), with contact (7.30).
 
     .. math::
@@ -113,8 +112,9 @@ def dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma_n, v_n, criterion=No
     (7.28) over 2 pi r dA, and u_r = 0 on the axis. ``ops`` comes from
     :func:`~pfem_skfem.problems.dynamic.dynamic_operators` on an axisymmetric
     ``disc``; everything else (elastic or rigid-plastic, the theta-method data b~
-    and t~ of (7.15)-(7.17), ``backend="cvxpy"`` as the reference or
-    ``"clarabel"``) is :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
+    and t~ of (7.15)-(7.17), the terms (contacts: ``terms=step_terms(contacts=...)``), the
+    solver: 'cvxpy', the reference, or 'clarabel') is
+    :func:`~pfem_skfem.problems.dynamic.dynamic_increment`.
 
     Returns
     -------
@@ -122,8 +122,8 @@ def dynamic_step_axisymmetric(disc, ops, f_n, f_next, sigma_n, v_n, criterion=No
     """
     _check_axisymmetric(disc, ops.B)
     return dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion,
-                             fixed=with_axis(disc, fixed, prescribed), prescribed=prescribed,
-                             du_prescribed=du_prescribed, contacts=contacts, **kwargs)
+                             fixed=with_axis(disc, fixed, prescribed[0]), prescribed=prescribed,
+                             **kwargs)
 
 
 def zero_dilation(solve_pass, criterion, *, floor, measure=None, passes=40, relaxation=0.5,

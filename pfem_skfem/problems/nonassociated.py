@@ -17,7 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..discretisation.fields import plastic_strain_increment, smoothed_mean_stress, vertex_to_points
-from .dynamic import dynamic_increment, estimate_scales
+from .dynamic import dynamic_increment
+from .step_scaling import estimate_scales
+from .step_terms import step_terms
 
 
 @dataclass
@@ -113,8 +115,8 @@ def lagged_change(sm_before, sm_after, p_before, p_after, stress_scale):
 
 
 def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, sigma_m,
-                scales, *, passes, stress_scale, fixed=(), backend="clarabel",
-                pass_tolerance=0.0, solver="clarabel", form=None):
+                scales, *, passes, stress_scale, fixed=(), pass_tolerance=0.0,
+                solver="clarabel"):
     """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
 
     Parameters
@@ -138,11 +140,8 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         :func:`least_passes` are done (0: always ``passes``; a rate-dependent material's
         passes also update the shear rate, which this does not measure: 0 only).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
-    backend : 'clarabel' or 'cvxpy' (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
-    solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; one without an
-        engine of the direct assembly, :mod:`~pfem_skfem.problems.direct_engines`, solves
-        the cvxpy statement).
-    form : the direct assembly's form ('primal', 'dual'; None: ``clarabel_direct.FORM``).
+    solver : the step's solver (:data:`~pfem_skfem.problems.backends.STEP_SOLVERS`: the
+        direct assembly with Clarabel by default).
 
     Returns
     -------
@@ -169,10 +168,9 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         cone = material.cone(at_points, stress_scale, shear_rate=gamma_dot)
         viscous = material.viscous(at_points, stress_scale, gamma_dot, disc.weights)
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
-        inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, contacts=step_contacts,
-                                fixed=fixed, scaling=scales, accept_inaccurate=True,
-                                backend=backend, viscous=viscous, solver=solver,
-                                **({} if form is None else {"form": form}))
+        inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, fixed=fixed,
+                                terms=step_terms(contacts=step_contacts, viscous=viscous),
+                                scaling=scales, solver=solver, accept_inaccurate=True)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time

@@ -1,8 +1,8 @@
 """The numerical choices of a PFEM run, beside the scene that holds them.
 
 :class:`PFEMConfig` is the ``config`` of a :class:`~pfem_skfem.scene.Scene`: the time
-step, the fixed-point passes, the contact rule, the remesher, the mappings, the solver
-backend. The rule for the passes is written once, :func:`check_passes` (beside
+step, the fixed-point passes, the contact rule, the remesher, the mappings, the step's
+solver. The rule for the passes is written once, :func:`check_passes` (beside
 :func:`~pfem_skfem.problems.nonassociated.least_passes`, where the step that runs the
 passes can use it too): the config checks what it alone knows, the scene what its
 regions add (a lagged or rate-dependent material).
@@ -15,12 +15,11 @@ from ..discretisation.theta import ThetaMethod
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction
-from ..problems.clarabel_direct import FORMS
-from ..problems.conic import SOLVERS
-from ..problems.dynamic import BACKENDS
+from ..problems.backends import STEP_SOLVERS
 from ..problems.nonassociated import MAX_PASSES, check_passes, least_passes  # noqa: F401
 
-__all__ = ["PFEMConfig", "STRESS_MAPPINGS", "MAX_PASSES", "check_passes", "least_passes"]
+__all__ = ["PFEMConfig", "STRESS_MAPPINGS", "MAX_PASSES", "check_passes", "least_passes",
+           "legacy_solver", "legacy_keys"]
 
 STRESS_MAPPINGS = ("uem_bounded", "uem", "ida", "spr")
 
@@ -52,18 +51,13 @@ class PFEMConfig:
     velocity : :class:`~pfem_skfem.pfem.transfer.L2Projection` (no kinetic energy added)
         or :class:`~pfem_skfem.pfem.transfer.Interpolation`.
     search : contact search distance in units of h.
-    backend : 'clarabel' (the step assembled directly) or 'cvxpy' (the reference statement).
-    solver : the conic solver of every step (:data:`~pfem_skfem.problems.conic.SOLVERS`:
-        'clarabel', the default, 'qoco', 'mosek', 'scs'); Clarabel and QOCO are handed the
-        direct assembly (``backend='clarabel'``,
-        :mod:`~pfem_skfem.problems.direct_engines`), the others the cvxpy statement
-        whatever ``backend`` says.
-    form : the form the direct assembly hands the solver: 'primal', 'dual' (the
-        displacement form, :func:`~pfem_skfem.problems.clarabel_direct.solve_dual`) or
-        None (default: :data:`~pfem_skfem.problems.clarabel_direct.FORM`, 'primal').
-        Measured (book, performance appendix): QOCO on the dual form keeps the plane
-        column's figures within their density-rerun spread at 0.64x of the default's CPU
-        time, but not the dam break's at-rest figures: it is an option, not the default.
+    solver : who states and solves every step, one name of
+        :data:`~pfem_skfem.problems.backends.STEP_SOLVERS`: 'clarabel' (the default: the
+        step assembled directly, primal form, Clarabel), 'clarabel-dual' (its dual, the
+        displacement form), 'qoco', 'qoco-dual', 'cvxpy' (the reference statement,
+        Clarabel), 'cvxpy-qoco', 'mosek', 'scs'. (Scene files written before one name
+        held the choice say it with ``backend``, ``solver`` and ``form``: they are read
+        into this name, :func:`legacy_solver`.)
     bulge : place the boundary particles so that the straight-sided boundary keeps the
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
@@ -117,9 +111,7 @@ class PFEMConfig:
     stress_mapping: str = "uem_bounded"
     velocity: object = field(default_factory=L2Projection)
     search: float = 1.0
-    backend: str = "clarabel"
     solver: str = "clarabel"
-    form: object = None
     bulge: bool = True
     refine_surface: float = 2.0
     refine_interior: float = 0.0
@@ -147,13 +139,9 @@ class PFEMConfig:
         if not isinstance(self.velocity, (L2Projection, Interpolation)):
             raise ValueError(f"velocity must be L2Projection() or Interpolation(), got "
                              f"{self.velocity!r}")
-        if self.backend not in BACKENDS:
-            raise ValueError(f"backend must be one of {BACKENDS}, got {self.backend!r}")
-        if self.solver not in SOLVERS:
-            raise ValueError(f"solver must be one of {tuple(SOLVERS)}, got {self.solver!r}")
-        if self.form is not None and self.form not in FORMS:
-            raise ValueError(f"form must be one of {FORMS} or None (the library's, "
-                             f"clarabel_direct.FORM), got {self.form!r}")
+        if self.solver not in STEP_SOLVERS:
+            raise ValueError(f"solver must be one of {tuple(STEP_SOLVERS)}, got "
+                             f"{self.solver!r}")
         if not (np.isfinite(self.search) and self.search > 0):
             raise ValueError(f"search must be positive, got {self.search!r}")
         if not (np.isfinite(self.alpha_advected) and self.alpha_advected >= 0):
@@ -177,3 +165,35 @@ class PFEMConfig:
     @property
     def dt(self):
         return self.theta.dt
+
+
+#: the solvers that had an engine of the direct assembly (the others went to cvxpy)
+_DIRECT = ("clarabel", "qoco")
+
+
+def legacy_solver(backend="clarabel", solver="clarabel", form=None):
+    """The step's solver (a name of ``STEP_SOLVERS``) that the three keys of earlier scene
+    files chose: ``backend`` 'clarabel' (the direct assembly, where ``solver`` had an
+    engine: Clarabel, QOCO) or 'cvxpy'; ``form`` 'primal', 'dual' or None (primal)."""
+    for key, value, allowed in (("backend", backend, ("clarabel", "cvxpy")),
+                                ("form", form, (None, "primal", "dual"))):
+        if value not in allowed:
+            raise ValueError(f"{key} must be one of {allowed}, got {value!r}")
+    if solver not in _DIRECT:
+        name = solver
+    elif backend == "cvxpy":
+        name = "cvxpy" if solver == "clarabel" else f"cvxpy-{solver}"
+    else:
+        name = solver + ("-dual" if form == "dual" else "")
+    if name not in STEP_SOLVERS:
+        raise ValueError(f"solver must be one of {tuple(STEP_SOLVERS)}, got {solver!r}")
+    return name
+
+
+def legacy_keys(name):
+    """The keys (backend, solver, form) that :func:`legacy_solver` reads as ``name``: a scene's
+    identity is written in them, so that the digests of earlier runs stay theirs."""
+    if name.startswith("cvxpy"):
+        return dict(backend="cvxpy", solver=name[6:] or "clarabel", form=None)
+    solver, _, form = name.partition("-")
+    return dict(backend="clarabel", solver=solver, form=form or None)

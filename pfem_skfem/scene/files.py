@@ -49,6 +49,7 @@ their brackets and quotes. A key inside an inline table or an element of an arra
 reported at the line of the key that holds it.
 """
 import difflib
+import warnings
 from dataclasses import MISSING, fields, is_dataclass
 import json
 import math
@@ -66,7 +67,7 @@ from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidP
     RigidSegment
 from ..discretisation.theta import ThetaMethod
 from .bodies import Body, ConstantVelocity, Fixed, PiecewiseLinear
-from .config import PFEMConfig
+from .config import PFEMConfig, legacy_solver
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
@@ -343,6 +344,23 @@ ZONE = OneOf(Spec(HalfPlane, {"point": POINT, "normal": POINT}),
              Spec(PolygonZone, {"vertices": POINTS}))
 OUTLET = Spec(Outlet, {"name": STRING, "zone": ZONE})
 PHASE = Spec(Phase, {"name": STRING, "until": NUMBER, "hold": STRING})
+#: keys of [config] that earlier scene files used for the step's solver (PFEMConfig.solver)
+_EARLIER_KEYS = ("backend", "form")
+
+
+def _config(**keys):
+    """PFEMConfig of a [config] table; an earlier file's ``backend`` and ``form`` (beside
+    ``solver``) are read into the one ``solver`` name they chose, with a FutureWarning that
+    says what to write instead."""
+    if any(key in keys for key in _EARLIER_KEYS):
+        earlier = {key: keys.pop(key) for key in ("backend", "solver", "form") if key in keys}
+        keys["solver"] = legacy_solver(**earlier)
+        warnings.warn(f"config: {', '.join(f'{k} = {v!r}' for k, v in earlier.items())} read as "
+                      f"solver = {keys['solver']!r} (one key now says who states and solves "
+                      "the step; write that)", FutureWarning, stacklevel=2)
+    return PFEMConfig(**keys)
+
+
 CONFIG = Spec(PFEMConfig, {
     "theta": Table(Spec(ThetaMethod, {"dt": NUMBER, "theta1": NUMBER, "theta2": NUMBER})),
     "passes": INTEGER, "pass_tolerance": NUMBER,
@@ -351,11 +369,12 @@ CONFIG = Spec(PFEMConfig, {
                       Spec(QualityRemesh, {"size": NUMBER})),
     "remesh_interval": INTEGER, "stress_mapping": STRING,
     "velocity": OneOf(Spec(L2Projection, {}), Spec(Interpolation, {})),
-    "search": NUMBER, "backend": STRING, "solver": STRING, "form": STRING,
+    "search": NUMBER, "solver": STRING, "backend": STRING, "form": STRING,
     "bulge": BOOLEAN,
     "refine_surface": NUMBER, "refine_interior": NUMBER, "volume_correction": BOOLEAN,
     "keep_area": BOOLEAN, "keep_area_step": NUMBER, "spread_mass": BOOLEAN,
-    "alpha_advected": NUMBER})
+    "alpha_advected": NUMBER}, build=lambda **keys: _config(**keys),
+    get=lambda config, key: None if key in _EARLIER_KEYS else getattr(config, key))
 OUTPUT = Spec(Output, {"directory": STRING, "every": INTEGER, "checkpoint_every": INTEGER})
 SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,

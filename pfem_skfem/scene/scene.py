@@ -19,7 +19,7 @@ import numpy as np
 from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
 from .bodies import Body
-from .config import PFEMConfig, check_passes
+from .config import PFEMConfig, check_passes, legacy_keys
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 
@@ -414,15 +414,25 @@ _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): N
                  ("PFEMConfig", "keep_area_step"): 0.0}
 
 
+#: fields whose one value replaced several earlier ones: the identity is written in the
+#: earlier keys (a function of the value), so that the digests of earlier runs stay theirs
+_RENAMED = {("PFEMConfig", "solver"): legacy_keys}
+
+
 def _identity(value):
     """Plain JSON values of a scene's parts: dataclasses by type and fields, functions by
     qualified name (a repr would hold a memory address), floats exactly (repr)."""
     if is_dataclass(value) and not isinstance(value, type):
         kind = type(value).__name__
-        return {"type": kind,
-                **{f.name: _identity(getattr(value, f.name)) for f in fields(value)
-                   if f.compare and _LATER_FIELDS.get((kind, f.name), _UNSET)
-                   != getattr(value, f.name)}}
+        items = {}
+        for f in fields(value):
+            if not f.compare:
+                continue
+            earlier = _RENAMED.get((kind, f.name))
+            keys = earlier(getattr(value, f.name)) if earlier else {f.name: getattr(value, f.name)}
+            items.update({key: _identity(v) for key, v in keys.items()
+                          if _LATER_FIELDS.get((kind, key), _UNSET) != v})
+        return {"type": kind, **items}
     if isinstance(value, (list, tuple, np.ndarray)):
         return [_identity(v) for v in value]
     if isinstance(value, np.generic):

@@ -1,0 +1,84 @@
+"""The backends of the dynamic step (4.23): who states it and who solves it, one choice.
+
+A backend takes the scaled step (:class:`~pfem_skfem.problems.step_scaling.ScaledStep`),
+the yield criterion and the terms (:mod:`~pfem_skfem.problems.step_terms`), states them and
+answers a :class:`~pfem_skfem.problems.step_scaling.ScaledSolution`. Each declares what it
+supports: its ``cones`` (the kinds of :data:`~pfem_skfem.problems.conic.CONE_KINDS`) and
+``unsupported(criterion, terms, settings)``, asked before any work.
+
+:data:`STEP_SOLVERS`, the one choice of a step's solver (``PFEMConfig.solver``,
+``dynamic_increment(solver=...)``):
+
+=================  ===========================================================
+'clarabel'         the direct assembly, primal form, Clarabel (the default)
+'clarabel-dual'    the direct assembly's dual (displacement) form, Clarabel
+'qoco'             the direct assembly, primal form, QOCO
+'qoco-dual'        the dual form, QOCO
+'cvxpy'            the cvxpy statement (the reference), Clarabel
+'cvxpy-qoco'       the cvxpy statement, QOCO
+'mosek', 'scs'     the cvxpy statement, MOSEK (licensed) or SCS
+=================  ===========================================================
+
+A solver of :data:`~pfem_skfem.problems.conic.SOLVERS` keeps its name here, so one
+``--solver`` serves the static problems (always cvxpy) and the step alike.
+"""
+from ..conic import solver_backend
+from .clarabel import ClarabelEngine
+from .cvxpy_step import CvxpyStep
+from .direct import DirectStep
+from .qoco import QOCOEngine
+
+#: the engines of the direct assembly by name
+ENGINES = {engine.name: engine for engine in (ClarabelEngine(), QOCOEngine())}
+
+#: the step's solvers by name (module docstring)
+STEP_SOLVERS = {
+    "clarabel": DirectStep(ENGINES["clarabel"], "primal"),
+    "clarabel-dual": DirectStep(ENGINES["clarabel"], "dual"),
+    "qoco": DirectStep(ENGINES["qoco"], "primal"),
+    "qoco-dual": DirectStep(ENGINES["qoco"], "dual"),
+    "cvxpy": CvxpyStep("clarabel"),
+    "cvxpy-qoco": CvxpyStep("qoco"),
+    "mosek": CvxpyStep("mosek"),
+    "scs": CvxpyStep("scs"),
+}
+
+
+def conic_solver(name):
+    """The conic solver (a name of :data:`~pfem_skfem.problems.conic.SOLVERS`) behind the step
+    solver ``name``."""
+    backend = STEP_SOLVERS[name]
+    return backend.solver if isinstance(backend, CvxpyStep) else backend.engine.name
+
+
+def cvxpy_solver(conic):
+    """The step solver that states the step in cvxpy and hands it to the conic solver
+    ``conic`` (a name of :data:`~pfem_skfem.problems.conic.SOLVERS`): 'cvxpy', 'cvxpy-qoco',
+    'mosek', 'scs'."""
+    name = {"clarabel": "cvxpy", "qoco": "cvxpy-qoco"}.get(conic, conic)
+    if name not in STEP_SOLVERS:
+        raise ValueError(f"solver must be one of {('clarabel', 'qoco', 'mosek', 'scs')}, "
+                         f"got {conic!r}")
+    return name
+
+
+def step_solver(name, criterion=None, terms=(), settings=None):
+    """The backend named ``name`` (:data:`STEP_SOLVERS`), checked before any work: a
+    ValueError for an unknown name, a cone the solver lacks (naming the term) or a step the
+    backend cannot state; a SolverError (status 'unavailable') for a solver not installed
+    or not licensed."""
+    if name not in STEP_SOLVERS:
+        raise ValueError(f"solver must be one of {tuple(STEP_SOLVERS)}, got {name!r}")
+    backend = STEP_SOLVERS[name]
+    needed = set().union(*(term.cones for term in terms)) if terms else set()
+    for term in terms:
+        missing = sorted(set(term.cones) - set(backend.cones))
+        if missing:
+            raise ValueError(f"solver {name!r} does not support the {', '.join(missing)} "
+                             f"cone(s) of the step's {term.name} term; it supports "
+                             f"{', '.join(sorted(backend.cones))} (use 'clarabel')")
+    solver_backend(conic_solver(name), cones=needed)     # installed, licensed
+    why = backend.unsupported(criterion, terms, settings or {})
+    if why is not None:
+        raise ValueError(f"solver {name!r}: {why}")
+    return backend
