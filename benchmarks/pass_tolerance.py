@@ -76,7 +76,7 @@ def pass_settings(tolerance, guess, steps):
     lagged_step, pfem_step = pfem_loop.lagged_step, pfem_loop.pfem_step
 
     def stepping(*args, **kw):
-        kw["pass_tolerance"] = tolerance
+        kw["config"] = replace(kw["config"], pass_tolerance=tolerance)
         solved = lagged_step(*args, **kw)
         steps.append((solved.passes, solved.changes, solved.iterations))
         return solved

@@ -32,9 +32,9 @@ def time_case(n_elements):
     disc, fp = model["disc"], model["footing"]
     zero = np.zeros((disc.n_points, 4))
     ep = static_increment(B, C, np.zeros(disc.n_u), zero, Tresca(100.0), fixed=model["fixed"],
-                          prescribed=fp, du_prescribed=-0.02 * np.ones(fp.size))
+                          prescribed=(fp, -0.02 * np.ones(fp.size)))
     la = static_increment(B, None, np.zeros(disc.n_u), zero, Tresca(100.0),
-                          fixed=model["fixed"], prescribed=fp, du_prescribed=-np.ones(fp.size))
+                          fixed=model["fixed"], prescribed=(fp, -np.ones(fp.size)))
     return model["n_elements"], t_assembly, ep.info, la.info
 
 

@@ -141,7 +141,7 @@ def _frame_cloud(ax, p, title):
 
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
                show_edges=True, window_size=(1200, 800), timeout=300, title=None,
-               bar_title=None, axes=True, units="m"):
+               bar_title=None, axes="m"):
     """Render a VTU file to a PNG with pyvista, off-screen, in a subprocess.
 
     Parameters
@@ -155,7 +155,8 @@ def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
     timeout : seconds before the renderer is abandoned.
     title : a line at the top saying what the picture shows.
     bar_title : the title of the vertical colour bar (default ``scalars``), above it.
-    axes : draw the x and y axes with ticks around the mesh, labelled in ``units``.
+    axes : the units of the x and y axes drawn with ticks around the mesh ('m'), or None:
+        no axes.
 
     Returns
     -------
@@ -176,9 +177,7 @@ def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
         cmd += ["--title", title]
     if bar_title:
         cmd += ["--bar-title", bar_title]
-    if not axes:
-        cmd += ["--no-axes"]
-    cmd += ["--units", units]
+    cmd += ["--units", axes] if axes else ["--no-axes"]
     env = dict(os.environ, PYVISTA_OFF_SCREEN="true")
     # the subprocess imports this copy of the package, installed or not
     package_parent = str(Path(__file__).resolve().parents[1])

@@ -95,7 +95,7 @@ def test_patch_test_uniform_strain_and_stress_with_hoop_component():
     bd = np.unique(bd)
     res = static_increment_axisymmetric(
         disc, B, assemble_C(disc, el), np.zeros(disc.n_u), np.zeros((disc.n_points, 4)),
-        TrescaAxisymmetric(1e3), fixed=(), prescribed=bd, du_prescribed=u[bd])
+        TrescaAxisymmetric(1e3), fixed=(), prescribed=(bd, u[bd]))
     sigma_ref = np.linalg.solve(el.compliance(), [a, b, a, 0])
     assert np.isclose(sigma_ref[0], sigma_ref[2])              # s_rr = s_tt
     assert np.abs(res.sigma - sigma_ref).max() < 1e-7 * np.abs(sigma_ref).max()

@@ -48,7 +48,7 @@ def test_block_pushed_along_a_rough_plane_sticks_then_slides_at_mu_N(push):
     left = boundary_dofs(disc, lambda x: x[0] < 1e-9, 0)
     W = RHO_G * 1.0
     res = static_increment(B, C, f, np.zeros((disc.n_points, 4)), Tresca(1e3), fixed=[],
-                           prescribed=left, du_prescribed=push * 1e-3 * np.ones(left.size),
+                           prescribed=(left, push * 1e-3 * np.ones(left.size)),
                            contacts=contacts)
     H = res.reactions[left].sum()                               # force needed to push
     R = resultants(contacts, res.p, res.q)[0]

@@ -122,7 +122,7 @@ def test_prescribed_motion_drags_a_stiff_body():
     base = lambda x: x[1] < 1e-9                                   # noqa: E731
     P = boundary_dofs(disc, base, 1)
     hist = integrate(ops, lambda t: np.zeros(disc.n_u), n, fixed=boundary_dofs(disc, base, 0),
-                     prescribed=P, u_prescribed=lambda t: np.full(P.size, 0.5 * a * t ** 2))
+                     prescribed=(P, lambda t: np.full(P.size, 0.5 * a * t ** 2)))
     t = n * dt
     assert np.allclose(hist.u[1::2], 0.5 * a * t ** 2, rtol=1e-3)
     # work of the supports = kinetic + elastic energy gained (no loads, no damping)
@@ -141,7 +141,8 @@ def test_rigid_plastic_shear_flow_ends_in_rigid_rotation():
     x, y = disc.basis_u.doflocs
     v0 = np.zeros(disc.n_u)
     v0[0::2] = y[0::2] - 0.5
-    hist = integrate(ops, lambda t: np.zeros(disc.n_u), 20, criterion=Tresca(1.0), v0=v0)
+    hist = integrate(ops, lambda t: np.zeros(disc.n_u), 20, criterion=Tresca(1.0),
+                     initial=dict(v=v0))
     K0 = hist.kinetic[0]
     rotation = np.zeros(disc.n_u)
     rotation[0::2], rotation[1::2] = -(y[0::2] - 0.5), x[1::2] - 0.5

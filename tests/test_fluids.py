@@ -186,8 +186,8 @@ def _pipe(ny, R=0.01, mu=1.0):
     value, and the largest radial velocity likewise."""
     from skfem import MeshTri
     from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
-    from pfem_skfem.problems.contact import CoulombCones
-    from pfem_skfem.problems.nonassociated import lagged_step
+    from pfem_skfem.problems.nonassociated import StepStart, lagged_step
+    from pfem_skfem.scene.config import PFEMConfig
 
     material = NewtonianFluidAxisymmetric(mu=mu)
     mesh = MeshTri.init_tensor(np.linspace(0.0, R, ny + 1), np.linspace(0.0, R / ny, 2))
@@ -208,8 +208,8 @@ def _pipe(ny, R=0.01, mu=1.0):
     sigma_m = np.zeros(disc.mesh.p.shape[1])
     scales = DynamicScales(RHO * G * R, G * (t_end / steps) ** 2, RHO * G)
     for _ in range(steps):
-        step = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
-                           scales, passes=1, stress_scale=RHO * G * R, fixed=fixed)
+        step = lagged_step(ops, f, None, disc, material, StepStart(v, sigma, sigma_m, scales),
+                           config=PFEMConfig(passes=1), stress_scale=RHO * G * R, fixed=fixed)
         v, sigma, scales = step.increment.v, step.increment.sigma, step.increment.scales
     centre = RHO * G * R ** 2 / (4 * mu)
     exact = -RHO * G * (R ** 2 - xy[0, ~radial] ** 2) / (4 * mu)

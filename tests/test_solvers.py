@@ -88,8 +88,7 @@ def test_elastoplastic_increments_agree_with_clarabel(solver):
         sigma, loads = np.zeros((disc.n_points, 4)), []
         for _ in range(4):
             res = static_increment(B, C, np.zeros(disc.n_u), sigma, MohrCoulomb(1.0, 20.0),
-                                   fixed=fixed, prescribed=top,
-                                   du_prescribed=np.full(top.size, -1e-3), solver=name)
+                                   fixed=fixed, prescribed=(top, np.full(top.size, -1e-3)), solver=name)
             sigma = res.sigma
             loads.append(-res.reactions[top].sum())
         runs[name] = (np.array(loads), sigma, res.du)

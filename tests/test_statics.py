@@ -109,7 +109,7 @@ def test_patch_test_uniform_strain_gives_uniform_stress():
     P = np.unique(np.concatenate([boundary_dofs(disc, bnd, 0), boundary_dofs(disc, bnd, 1)]))
     res = static_increment(assemble_B(disc), assemble_C(disc, el), np.zeros(disc.n_u),
                            np.zeros((disc.n_points, 4)), Tresca(10.0), fixed=[],
-                           prescribed=P, du_prescribed=u_exact[P])
+                           prescribed=(P, u_exact[P]))
     sigma_exact = np.linalg.solve(el.compliance(), eps)
     assert np.abs(res.sigma - sigma_exact).max() <= 1e-7 * np.abs(sigma_exact).max()
     assert np.abs(res.du - u_exact).max() <= 1e-7 * np.abs(u_exact).max()
@@ -144,7 +144,7 @@ def test_displacement_control_reaches_the_collapse_load_and_no_more():
     loads = []
     for _ in range(8):
         res = static_increment(B, C, np.zeros(disc.n_u), sigma, crit, fixed=fixed,
-                               prescribed=P, du_prescribed=-1e-3 * np.ones(P.size))
+                               prescribed=(P, -1e-3 * np.ones(P.size)))
         sigma = res.sigma
         loads.append(-res.reactions[P].sum())
     assert max(loads) <= p_exact * (1 + 1e-6)
@@ -161,7 +161,7 @@ def test_kkt_conditions_of_the_footing_increment():
     sigma = np.zeros((disc.n_points, 4))
     for _ in range(2):
         res = static_increment(B, C, np.zeros(disc.n_u), sigma, crit, fixed=model["fixed"],
-                               prescribed=fp, du_prescribed=-0.01 * np.ones(fp.size))
+                               prescribed=(fp, -0.01 * np.ones(fp.size)))
         ds, sigma = res.sigma - sigma, res.sigma
     plastic_strain = (B @ res.du - C @ ds.ravel()).reshape(-1, 4)   # integrated
     scale = np.abs(B @ res.du).max()
@@ -274,9 +274,9 @@ def test_prescribed_dofs_in_any_order_keep_their_values():
     B, C = assemble_B(disc), assemble_C(disc, Elastic(100.0, 0.3))
     values = -1e-3 * (1 + disc.basis_u.doflocs[0, P])           # a tilted platen
     order = np.random.default_rng(0).permutation(P.size)
-    kw = dict(fixed=fixed, prescribed=P, du_prescribed=values)
+    kw = dict(fixed=fixed, prescribed=(P, values))
     a = static_increment(B, C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), Tresca(10.0), **kw)
-    kw = dict(fixed=fixed, prescribed=P[order], du_prescribed=values[order])
+    kw = dict(fixed=fixed, prescribed=(P[order], values[order]))
     b = static_increment(B, C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), Tresca(10.0), **kw)
     assert np.allclose(a.du, b.du, rtol=1e-8, atol=1e-12)
     assert np.allclose(a.du[P], values)

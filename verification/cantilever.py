@@ -194,8 +194,8 @@ def run(args):
         ops = dynamic_operators(disc, args.rho, theta, elastic)
         wall = time.perf_counter()
         hist = integrate(ops, load, n_steps, fixed=fixed, d_form=args.d_form,
-                         monitor=lambda u, v, s: u[tip], progress=args.progress,
-                         label=f"{name} (theta1={t1:g}, theta2={t2:g})",
+                         monitor=lambda u, v, s: u[tip],
+                         progress=args.progress and f"{name} (theta1={t1:g}, theta2={t2:g})",
                          solver=cvxpy_solver(args.solver))
         wall = time.perf_counter() - wall
         ref, ref_energy = theta_method_fe(K, M, load, n_steps, theta, free,

@@ -111,7 +111,7 @@ def nc_limit(model, criterion, c, solver="clarabel"):
     disc = model["disc"]
     res = static_increment_axisymmetric(
         disc, model["B"], None, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
-        fixed=model["fixed"], prescribed=model["prescribed"], du_prescribed=model["motion"],
+        fixed=model["fixed"], prescribed=(model["prescribed"], model["motion"]),
         solver=solver)
     return bearing_factor(model, res.reactions, c), res
 
@@ -120,8 +120,7 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, c, solver="cla
     """Elastoplastic Nc-settlement curve (3.45) under displacement control."""
     C = assemble_C(model["disc"], elastic)
     hist = displacement_control(model["B"], C, criterion, fixed=model["fixed"],
-                                prescribed=model["prescribed"],
-                                displacement=settlement * model["motion"],
+                                prescribed=(model["prescribed"], settlement * model["motion"]),
                                 n_increments=n_increments, solver=solver)
     return hist.factors * settlement, bearing_factor(model, hist.reactions, c), hist
 

@@ -82,7 +82,8 @@ def run(args):
     runs = {}
     for name, criterion in (("elastic", None), ("elastoplastic", Tresca(args.su))):
         runs[name] = integrate(ops, no_load, args.steps, criterion=criterion, fixed=fixed,
-                               v0=v0, d_form=args.d_form, progress=args.progress, label=name,
+                               initial=dict(v=v0), d_form=args.d_form,
+                               progress=args.progress and name,
                                solver=cvxpy_solver(args.solver))
     K0 = runs["elastic"].energy[0]
     el, pl = runs["elastic"], runs["elastoplastic"]

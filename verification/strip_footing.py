@@ -107,9 +107,9 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, *, c, B=1.0,
     C = assemble_C(model["disc"], elastic)
     footing = model["footing"]
     hist = displacement_control(
-        model["B"], C, criterion, fixed=model["fixed"], prescribed=footing,
-        displacement=-settlement * np.ones(footing.size), n_increments=n_increments,
-        progress=progress_label is not None, label=progress_label or "", solver=solver)
+        model["B"], C, criterion, fixed=model["fixed"],
+        prescribed=(footing, -settlement * np.ones(footing.size)), n_increments=n_increments,
+        progress=False if progress_label is None else progress_label or True, solver=solver)
     nc = footing_force(hist.reactions, footing) / (c * B)
     return hist.factors * settlement, nc, hist
 
@@ -119,8 +119,7 @@ def nc_limit(model, criterion, *, c, B=1.0, solver="clarabel"):
     footing = model["footing"]
     res = static_increment(model["B"], None, np.zeros(model["disc"].n_u),
                            np.zeros((model["disc"].n_points, 4)), criterion,
-                           fixed=model["fixed"], prescribed=footing,
-                           du_prescribed=-np.ones(footing.size), solver=solver)
+                           fixed=model["fixed"], prescribed=(footing, -np.ones(footing.size)), solver=solver)
     return footing_force(res.reactions, footing) / (c * B), res
 
 

@@ -118,7 +118,7 @@ def limit_pressure(model, criterion, solver="clarabel"):
     disc = model["disc"]
     res = static_increment_axisymmetric(
         disc, model["B"], None, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
-        fixed=model["fixed"], prescribed=model["bore"], du_prescribed=np.ones(model["bore"].size),
+        fixed=model["fixed"], prescribed=(model["bore"], np.ones(model["bore"].size)),
         solver=solver)
     return bore_pressure(model, res.reactions), res
 
@@ -127,8 +127,7 @@ def pressure_curve(model, elastic, criterion, u_bore, n_increments, solver="clar
     """Elastoplastic pressure against bore displacement (3.45) under displacement control."""
     C = assemble_C(model["disc"], elastic)
     hist = displacement_control(model["B"], C, criterion, fixed=model["fixed"],
-                                prescribed=model["bore"],
-                                displacement=u_bore * np.ones(model["bore"].size),
+                                prescribed=(model["bore"], u_bore * np.ones(model["bore"].size)),
                                 n_increments=n_increments, solver=solver)
     return hist.factors * u_bore, bore_pressure(model, hist.reactions), hist
 
@@ -140,8 +139,7 @@ def elastic_check(model, elastic, criterion, u_bore, solver="clarabel"):
     C = assemble_C(disc, elastic)
     res = static_increment_axisymmetric(
         disc, model["B"], C, np.zeros(disc.n_u), np.zeros((disc.n_points, 4)), criterion,
-        fixed=model["fixed"], prescribed=model["bore"],
-        du_prescribed=u_bore * np.ones(model["bore"].size), solver=solver)
+        fixed=model["fixed"], prescribed=(model["bore"], u_bore * np.ones(model["bore"].size)), solver=solver)
     p_ref = u_bore / lame(a, 1.0, a, b, elastic)[0]
     radial = np.concatenate([disc.basis_u.nodal_dofs[0], disc.basis_u.facet_dofs[0]])
     r_dof = disc.basis_u.doflocs[0, radial]

@@ -57,9 +57,8 @@ def _energy(ops, v, sigma):
     return kinetic, elastic
 
 
-def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
-              u_prescribed=None, t0=0.0, u0=None, v0=None, sigma0=None, monitor=None,
-              scaling=None, d_form="quad_form", progress=False, label="", **solver_settings):
+def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=((), None),
+              initial=None, monitor=None, scaling=None, progress=False, **solver_settings):
     """Integrate the dynamic problem over ``n_steps`` steps of ``ops.theta.dt``.
 
     Parameters
@@ -69,13 +68,17 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         time-dependent tractions).
     n_steps : number of time steps (>= 1).
     criterion : yield criterion, or None for an elastic material.
-    fixed : dofs held at zero.  prescribed : dofs whose displacement is
-        ``u_prescribed(t)`` (callable returning one value per prescribed dof).
-    u0, v0, sigma0 : initial state (zero by default).
+    fixed : dofs held at zero.  prescribed : (dofs, u(t)): dofs whose displacement is
+        u(t), a callable returning one value per prescribed dof.
+    initial : the initial state, a mapping with any of t (0 by default), u, v, sigma (zero
+        by default).
     monitor : callable (u, v, sigma) -> array of values recorded every step.
     scaling : :class:`~pfem_skfem.problems.dynamic.DynamicScales` of the first step
         (estimated by default); each later step is scaled by its predecessor's solution.
-    progress : a progress bar (tqdm) on stderr: steps, time, solver iterations, time left.
+    progress : False, or a progress bar (tqdm) on stderr: steps, time, solver iterations,
+        time left; a string labels it.
+    solver_settings : the step's ``solver`` (the cvxpy statement by default), ``d_form``
+        and the solver's settings (:func:`~pfem_skfem.problems.dynamic.dynamic_increment`).
 
     Returns
     -------
@@ -85,12 +88,17 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
         raise ValueError(f"n_steps must be a positive integer, got {n_steps!r}")
     th = ops.theta
     n_s, n_u = ops.B.shape
-    prescribed = np.asarray(prescribed, dtype=int)
+    prescribed, u_prescribed = np.asarray(prescribed[0], dtype=int), prescribed[1]
     if prescribed.size and u_prescribed is None:
-        raise ValueError("prescribed dofs need u_prescribed(t)")
-    u = np.zeros(n_u) if u0 is None else np.array(u0, dtype=float)
-    v = np.zeros(n_u) if v0 is None else np.array(v0, dtype=float)
-    sigma = np.zeros((n_s // 4, 4)) if sigma0 is None else np.array(sigma0, dtype=float)
+        raise ValueError("prescribed dofs need u(t): prescribed=(dofs, u)")
+    initial = dict(initial or {})
+    unknown = set(initial) - {"t", "u", "v", "sigma"}
+    if unknown:
+        raise ValueError(f"initial: unknown keys {sorted(unknown)} (t, u, v, sigma)")
+    t0 = float(initial.get("t", 0.0))
+    u = np.array(initial.get("u", np.zeros(n_u)), dtype=float)
+    v = np.array(initial.get("v", np.zeros(n_u)), dtype=float)
+    sigma = np.array(initial.get("sigma", np.zeros((n_s // 4, 4))), dtype=float)
     monitor = monitor or (lambda u, v, s: np.zeros(0))
 
     times, mon = [t0], [np.atleast_1d(monitor(u, v, sigma))]
@@ -98,6 +106,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
     kinetic, elastic, work, dissipation = [k], [e], [0.0], [0.0]
     iterations, solve_times = [], []
     f_n = np.asarray(load(t0), dtype=float)
+    label = progress if isinstance(progress, str) else None
     bar = tqdm(total=int(n_steps), desc=label or None, unit="step", file=sys.stderr,
                disable=not progress, dynamic_ncols=True)
     for i in range(1, int(n_steps) + 1):
@@ -107,7 +116,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=(),
                 if prescribed.size else ())
         res = dynamic_increment(ops, f_n, f_next, sigma, v, criterion, fixed=fixed,
                                 prescribed=(prescribed, du_P), scaling=scaling,
-                                d_form=d_form, **solver_settings)
+                                **solver_settings)
         scaling = res.scales                     # this step's magnitudes scale the next one
         # energy book-keeping (module docstring)
         sigma_theta = (th.theta1 * res.sigma + (1 - th.theta1) * sigma).ravel()

@@ -28,20 +28,21 @@ class IncrementalHistory:
     solve_times: list = field(default_factory=list)
 
 
-def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
-                         n_increments, f=None, sigma0=None, scaling=None,
-                         progress=False, label="", **solver_settings):
-    """Impose ``displacement`` on the ``prescribed`` dofs in equal increments.
+def displacement_control(B, C, criterion, *, fixed, prescribed, n_increments, f=None,
+                         sigma0=None, scaling=None, progress=False, **solver_settings):
+    """Impose a displacement on some dofs in equal increments.
 
     Each increment solves (3.45) from the stresses of the previous one.
 
     Parameters
     ----------
-    displacement : (len(prescribed),) total prescribed displacements.
+    prescribed : (dofs, displacements): the dofs and their total prescribed displacements.
     n_increments : number of equal increments (>= 1).
     f : constant external forces (default zero).  sigma0 : initial stresses.
-    progress : a progress bar (tqdm) on stderr: increments, solver iterations, time left.
+    progress : False, or a progress bar (tqdm) on stderr: increments, solver iterations,
+        time left; a string labels it.
     """
+    prescribed, displacement = prescribed
     if int(n_increments) != n_increments or n_increments < 1:
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
     n_s, n_u = B.shape
@@ -52,11 +53,12 @@ def displacement_control(B, C, criterion, *, fixed, prescribed, displacement,
     factors, reactions = [0.0], [np.zeros(n_u)]
     iterations, times = [], []
     multiplier = np.zeros(n_s // 4)
+    label = progress if isinstance(progress, str) else None
     bar = tqdm(total=int(n_increments), desc=label or None, unit="increment", file=sys.stderr,
                disable=not progress, dynamic_ncols=True)
     for i in range(1, int(n_increments) + 1):
-        res = static_increment(B, C, f, sigma, criterion, fixed=fixed, prescribed=prescribed,
-                               du_prescribed=step, scaling=scaling, **solver_settings)
+        res = static_increment(B, C, f, sigma, criterion, fixed=fixed,
+                               prescribed=(prescribed, step), scaling=scaling, **solver_settings)
         sigma, u = res.sigma, u + res.du
         multiplier = res.plastic_multiplier
         factors.append(i / n_increments)

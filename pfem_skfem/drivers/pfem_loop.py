@@ -41,7 +41,7 @@ from ..pfem.surface import fly_free, move_particles, particle_tags
 from ..pfem.transfer import adopt_added_nodes, map_state, old_discretisation
 from ..pfem.volume_projection import step_constraint
 from ..problems.contact import without_nodes
-from ..problems.nonassociated import lagged_step
+from ..problems.nonassociated import StepStart, lagged_step
 # PFEMConfig lives beside the scene since issue 37; re-exported for its users
 from ..scene.config import MAX_PASSES, STRESS_MAPPINGS, PFEMConfig  # noqa: F401
 from .resumable import open_series
@@ -190,10 +190,9 @@ def pfem_step(state, scene):
         material = step_material(scene, disc, regions)
     with timer("solve"):
         scales = step_scales(state.scales, scene, theta.dt)
-        solved = lagged_step(ops, f, contacts, disc, material, config.contact, v_dofs,
-                             sigma_n, state.sigma_m[pm.particle], scales, passes=config.passes,
-                             stress_scale=stress_scale, fixed=fixed,
-                             pass_tolerance=config.pass_tolerance, solver=config.solver)
+        start = StepStart(v_dofs, sigma_n, state.sigma_m[pm.particle], scales)
+        solved = lagged_step(ops, f, contacts, disc, material, start, config=config,
+                             stress_scale=stress_scale, fixed=fixed)
     inc = solved.increment
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
@@ -210,8 +209,7 @@ def pfem_step(state, scene):
                                      growth_limit=config.keep_area_step)
         moved, projected, shift = move_particles(
             state, pm, disc, inc, solved.sigma_m, theta=theta, gravity=scene.gravity,
-            bodies=bodies_next, refine_surface=config.refine_surface,
-            refine_interior=config.refine_interior,
+            bodies=bodies_next, refine=(config.refine_surface, config.refine_interior),
             bulge=config.bulge and not holding,     # a held boundary keeps its place exactly
             volume=volume)
         deps = plastic_strain_increment(disc, ops.B, inc.du)

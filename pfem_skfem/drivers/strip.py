@@ -17,8 +17,8 @@ from ..discretisation import ThetaMethod, dynamic_operators
 from ..discretisation.periodic import periodic_operators, periodic_tie
 from ..discretisation.static import body_force_vector, discretise
 from ..harness.progress import progress_bar
-from ..problems.contact import CoulombCones
-from ..problems.nonassociated import lagged_step
+from ..problems.nonassociated import StepStart, lagged_step
+from ..scene.config import PFEMConfig
 
 
 def layer(h, ny):
@@ -38,8 +38,8 @@ def profile_weights(z):
     return w
 
 
-def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, passes, v0=None,
-               verbose=False, solver="clarabel"):
+def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, v0=None, verbose=False,
+               **config):
     """Run the periodic layer of depth h at slope theta [deg] from rest (or from
     x-velocities ``v0(z)``) for ``steps`` implicit steps (theta1 = theta2 = 1) to t_end.
 
@@ -65,6 +65,7 @@ def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, passes, v0=None,
     end = np.flatnonzero(along & (np.abs(xy[0]) <= 1e-9 * h))
     end = end[np.argsort(xy[1, end])]
     top = end[-1]
+    config = PFEMConfig(theta=method, **config)      # passes, solver, ...
     stress_scale = rho * g * h
     sigma_m = -rho * g * np.cos(th) * (h - disc.mesh.p[1])    # lagged: geostatic
     sigma = np.zeros((disc.n_points, 4))
@@ -76,9 +77,8 @@ def strip_flow(theta, h, material, rho, *, ny, steps, t_end, g, passes, v0=None,
     bar = progress_bar(range(steps), total=steps, desc=f"theta = {theta:g}, h = {h:.3g}",
                        unit="step", disable=not verbose)
     for n in bar:
-        solved = lagged_step(ops, f, None, disc, material, CoulombCones(), v, sigma, sigma_m,
-                             scales, passes=passes, stress_scale=stress_scale, fixed=base,
-                             solver=solver)
+        solved = lagged_step(ops, f, None, disc, material, StepStart(v, sigma, sigma_m, scales),
+                             config=config, stress_scale=stress_scale, fixed=base)
         inc = solved.increment
         v, sigma, sigma_m = inc.v, inc.sigma, solved.sigma_m
         # the next step's scales, not below a free-fall step's (as pfem.assemble.step_scales):

@@ -167,7 +167,7 @@ def project_out_of_bodies(x, v, bodies, h):
 
 
 def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bodies,
-                   refine_surface=2.0, bulge=True, volume=None, refine_interior=0.0):
+                   refine=(2.0, 0.0), bulge=True, volume=None):
     """Step 2b: particles of the mesh move by du (vertex dofs) and take v_{n+1}; particles
     in no element fly ballistically (theta-method free fall) and slide with friction on the
     rigid bodies (:func:`~pfem_skfem.problems.particle.free_particles_step`).
@@ -177,11 +177,12 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     state : PFEMState at t_n;  pm, disc : the step's ParticleMesh and Discretisation;
     inc : its DynamicIncrement;  sigma_m_vertices : the smoothed mean stress of the solution.
     theta : ThetaMethod;  gravity : (2,) acceleration;  bodies : rigid bodies at t_{n+1}.
-    refine_surface : a boundary edge longer than this many h gets its P2 midside node as a
-        new particle (0: never);  bulge : apply :func:`bulge_correction`.
-    refine_interior : the same for an interior edge (0, the default: never; the new
-        particle takes the region of the edge's first vertex), so that a cloud that
-        thinning merges keeps its spacing where the flow stretches it.
+    refine : (surface, interior): a boundary edge longer than ``surface`` h gets its P2
+        midside node as a new particle (0: never); an interior edge longer than ``interior``
+        h likewise (0, the default: never; the new particle takes the region of the edge's
+        first vertex), so that a cloud that thinning merges keeps its spacing where the
+        flow stretches it.
+    bulge : apply :func:`bulge_correction`.
     volume : a :class:`~pfem_skfem.pfem.volume_projection.VolumeConstraint` of the step, or
         None: after the bulge correction the vertices are shifted so that every vertex
         patch keeps the volume their linearised motion states
@@ -198,6 +199,7 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     refused (larger than the step's largest vertex motion: the linearisation failed, the
     positions are left unshifted).
     """
+    refine_surface, refine_interior = refine
     vd = vertex_dofs(disc)
     x, v = state.x.copy(), state.v.copy()
     sm = state.sigma_m.copy()

@@ -52,7 +52,7 @@ def with_axis(disc, fixed, prescribed=()):
 
 
 def static_increment_axisymmetric(disc, B, C, f, sigma_n, criterion, *, fixed,
-                                  prescribed=(), du_prescribed=(), **kwargs):
+                                  prescribed=((), ()), **kwargs):
     """One increment of the axisymmetric static problem: (3.45) with (7.25)-(7.26).
 
     .. math::
@@ -71,8 +71,8 @@ def static_increment_axisymmetric(disc, B, C, f, sigma_n, criterion, *, fixed,
     """
     _check_axisymmetric(disc, B)
     return static_increment(B, C, f, sigma_n, criterion,
-                            fixed=with_axis(disc, fixed, prescribed), prescribed=prescribed,
-                            du_prescribed=du_prescribed, **kwargs)
+                            fixed=with_axis(disc, fixed, prescribed[0]), prescribed=prescribed,
+                            **kwargs)
 
 
 def limit_analysis_axisymmetric(disc, B, f_live, criterion, *, fixed, **kwargs):

@@ -42,7 +42,7 @@ of :mod:`~pfem_skfem.problems.step_terms` (the compliance, contacts, a rate stre
 work of prescribed increments); a backend of :mod:`~pfem_skfem.problems.backends` states
 and solves it (the cvxpy statement, the reference, or the direct assembly).
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -64,7 +64,8 @@ class DynamicIncrement:
         ``scaling`` for the next step;
     p, q : (nc,) normal and tangential contact forces of the step (empty without
         contacts), the forces of the momentum balance, i.e. theta1 times the
-        multipliers of the theta1-weighted equilibrium.
+        multipliers of the theta1-weighted equilibrium;
+    parts : what other terms of the step return, by name (``spring_forces``, ...).
     """
 
     sigma: np.ndarray
@@ -77,6 +78,7 @@ class DynamicIncrement:
     scales: DynamicScales = None
     p: np.ndarray = None
     q: np.ndarray = None
+    parts: dict = field(default_factory=dict)
 
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),

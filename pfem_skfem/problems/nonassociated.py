@@ -114,9 +114,20 @@ def lagged_change(sm_before, sm_after, p_before, p_after, stress_scale):
     return change
 
 
-def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, sigma_m,
-                scales, *, passes, stress_scale, fixed=(), pass_tolerance=0.0,
-                solver="clarabel"):
+@dataclass(frozen=True)
+class StepStart:
+    """What a step starts from: the velocities v (n_u,) and stresses sigma (n_points, 4) at
+    t_n, the lagged mean stress sigma_m (n_vertices,) at the vertices, and the previous
+    step's DynamicScales (None: a first step, scaled from an elastic predictor with the
+    material's strength at sigma_m)."""
+
+    v: np.ndarray
+    sigma: np.ndarray
+    sigma_m: np.ndarray
+    scales: object = None
+
+
+def lagged_step(ops, f, contacts, disc, material, start, *, config, stress_scale, fixed=()):
     """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
 
     Parameters
@@ -128,25 +139,24 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         lags its ``mean_stress``; a ``rate_dependent`` one is given the shear rate at the
         points (counting the hoop strain if ``hoop``), that of v_n in the first pass, of
         du / dt of the previous pass after (None for the others).
-    contact_rule : :class:`~pfem_skfem.problems.contact.CoulombCones` or ``LaggedFriction``.
-    v_n : (n_u,) velocities at t_n.  sigma_n : (n_points, 4) stresses at t_n.
-    sigma_m : (n_vertices,) lagged mean stress at the vertices.
-    fixed : dofs held at zero increment (a held phase; in axisymmetry u_r on the axis).
-    scales : the previous step's DynamicScales, or None (first step: from an elastic
-        predictor with the material's strength at sigma_m).
-    passes : number of passes when the material or the contact rule is lagged (else 1):
-        the most, with ``pass_tolerance``.
-    pass_tolerance : stop after a pass whose :func:`lagged_change` is below this, once
-        :func:`least_passes` are done (0: always ``passes``; a rate-dependent material's
-        passes also update the shear rate, which this does not measure: 0 only).
+    start : :class:`StepStart` (v_n, sigma_n, the lagged sigma_m, the scales).
+    config : the run's numerics (a :class:`~pfem_skfem.scene.config.PFEMConfig`): its
+        ``contact`` rule (:class:`~pfem_skfem.problems.contact.CoulombCones` or
+        ``LaggedFriction``); ``passes``, the number of passes when the material or the
+        contact rule is lagged (else 1), the most with ``pass_tolerance``: stop after a
+        pass whose :func:`lagged_change` is below it, once :func:`least_passes` are done
+        (0: always ``passes``; a rate-dependent material's passes also update the shear
+        rate, which this does not measure: 0 only); ``solver``, the step's solver
+        (:data:`~pfem_skfem.problems.backends.STEP_SOLVERS`).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
-    solver : the step's solver (:data:`~pfem_skfem.problems.backends.STEP_SOLVERS`: the
-        direct assembly with Clarabel by default).
+    fixed : dofs held at zero increment (a held phase; in axisymmetry u_r on the axis).
 
     Returns
     -------
     LaggedStep
     """
+    contact_rule, passes, pass_tolerance = config.contact, config.passes, config.pass_tolerance
+    v_n, sigma_n, sigma_m, scales = start.v, start.sigma, start.sigma_m, start.scales
     lagged_contact = contacts is not None and contact_rule.passes_needed > 1
     passes = int(passes) if material.lagged or lagged_contact else 1
     rate = material.rate_dependent
@@ -170,7 +180,7 @@ def lagged_step(ops, f, contacts, disc, material, contact_rule, v_n, sigma_n, si
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
         inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, fixed=fixed,
                                 terms=step_terms(contacts=step_contacts, viscous=viscous),
-                                scaling=scales, solver=solver, accept_inaccurate=True)
+                                scaling=scales, solver=config.solver, accept_inaccurate=True)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations
         compile_time += inc.info.compile_time

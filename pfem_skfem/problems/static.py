@@ -43,9 +43,8 @@ class StaticIncrement:
     q: np.ndarray = None
 
 
-def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
-                     du_prescribed=(), contacts=None, scaling=None, solver="clarabel",
-                     **solver_settings):
+def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
+                     contacts=None, scaling=None, solver="clarabel", **solver_settings):
     """Solve the incremental elastoplastic static problem (3.45).
 
     .. math::
@@ -68,7 +67,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     B : (4 n_points, n_u) sparse, (3.41).  C : (4 n_points,)^2 sparse (3.43) or None.
     f : (n_u,) external forces at t_{n+1} (3.42).  sigma_n : (n_points, 4) stresses at t_n.
     criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
-    fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
+    fixed : dofs with zero increment.  prescribed : (dofs, increments): the dofs with a
+        prescribed increment and its values.
     scaling : :class:`Scaling`; by default the criterion's strength and medians of B, C.
     solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
     solver_settings : the solver's settings, and ``accept_inaccurate``
@@ -90,8 +90,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     n = n_s // 4
     sigma_n = np.asarray(sigma_n, dtype=float).reshape(n, 4)
     f = np.asarray(f, dtype=float)
-    free, P = split_dofs(n_u, fixed, prescribed)
-    du_P = prescribed_values(P, du_prescribed)
+    free, P = split_dofs(n_u, fixed, prescribed[0])
+    du_P = prescribed_values(P, prescribed[1])
     closing = 0.0 if contacts is None else max(0.0, -float(np.min(contacts.gap)))
     if C is None and not np.any(du_P) and closing == 0:
         raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion "
@@ -101,8 +101,9 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
         B, C, max(criterion.strength_scale(), float(np.sqrt(np.mean(sigma_n ** 2)))))
     accept = solver_settings.get("accept_inaccurate", False)
     solver_settings = dict(solver_settings, solver=solver)
-    res = _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing,
-                            sc, solver_settings)
+    supports = (free, P, du_P)
+    res = _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing, sc,
+                            solver_settings)
     if res.info.status == cp.OPTIMAL_INACCURATE and scaling is None:
         # Frictional materials can carry stresses far above their cohesion, and the
         # solver's absolute tolerances then stop it short ('AlmostSolved'). Rescale
@@ -110,8 +111,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
         level = float(np.sqrt(np.mean(res.sigma ** 2)))
         if np.isfinite(level) and level > sc.stress:
             sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
-            res = _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts,
-                                    closing, sc, solver_settings)
+            res = _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing,
+                                    sc, solver_settings)
     if not accept:          # an AlmostSolved end: certified by its measures, or raised
         try:
             certify(res.info.status, "static increment (3.45)", res.info.extra.get("measures"))
@@ -121,9 +122,11 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=(),
     return res
 
 
-def _static_increment(B, C, f, sigma_n, criterion, free, P, du_P, contacts, closing, sc,
+def _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing, sc,
                       solver_settings):
-    """(3.45) in the scaled variables of ``sc``; see :func:`static_increment`."""
+    """(3.45) in the scaled variables of ``sc``, ``supports`` the free dofs, the prescribed
+    ones and their increments; see :func:`static_increment`."""
+    free, P, du_P = supports
     n_s, n_u = B.shape
     n = n_s // 4
     # reference displacement: yield strain x element size, or the prescribed motion

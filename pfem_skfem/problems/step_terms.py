@@ -23,6 +23,7 @@ term                      in (4.23)                                            c
 :class:`Contact`          (5.12): - sum g0_j p_j, |q_j| <= mu_j p_j, G (p, q)  nonneg
 :class:`BinghamStress`    - sum_j dt w_j tau_j^2 / (2 eta_j), sigma += E (a, b)  (none)
 :class:`MuIRate`          - sum_j dt w_j c_j (-s_j - ln(1 - s_j)), tau <= tau_max s  soc, exp
+:class:`ElasticSupport`   - sum_i g_i^2 / (2 k_i), + g_i on dof i (springs)     (none)
 :class:`PrescribedWork`   + du_P^T (B_P^T sigma + A_P^T r' - f'_P)             (none)
 ========================  ===================================================  ========
 
@@ -292,6 +293,61 @@ class MuIRate(_RateStress):
         col = np.concatenate([t0 + j, s0 + j])
         form.rows("after_yield", sp.csr_matrix((np.ones(2 * n), (r, col)), shape=(3 * n, form.n_x)),
                   np.tile([0.0, 1.0, 1.0], n), ("exp", 3, n))
+
+
+class ElasticSupport(StepTerm):
+    """Springs on some dofs (an elastic foundation, Winkler's): nodal forces g_i = k_i du_i
+    that resist the motion, stated as the springs' complementary energy
+    - sum_i g_i^2 / (2 k_i) in the objective and + g_i in the internal forces of dof i, so
+    that stationarity in g_i gives g_i = k_i du_i. ``dofs`` (m,), ``stiffness`` (m,) > 0 in
+    force per length (per unit thickness in plane strain, per radian in axisymmetry).
+    The increment's ``parts["spring_forces"]`` holds g."""
+
+    name = "elastic support"
+
+    def __init__(self, dofs, stiffness):
+        self.dofs = np.asarray(dofs, dtype=int).ravel()
+        self.k = np.broadcast_to(np.asarray(stiffness, dtype=float), self.dofs.shape).copy()
+        if np.unique(self.dofs).size != self.dofs.size:
+            raise ValueError("ElasticSupport: dofs must not repeat")
+        if not np.all(np.isfinite(self.k) & (self.k > 0)):
+            raise ValueError("ElasticSupport: stiffness must be positive and finite")
+
+    def check(self, ops, criterion):
+        if self.dofs.size and (self.dofs.min() < 0 or self.dofs.max() >= ops.B.shape[1]):
+            raise ValueError(f"ElasticSupport: dofs out of range [0, {ops.B.shape[1]})")
+
+    def map(self, n_u):
+        """E (n_u, m): the spring forces' nodal forces."""
+        m = self.dofs.size
+        return sp.csr_matrix((np.ones(m), (self.dofs, np.arange(m))), shape=(n_u, m))
+
+    def weights(self, step):
+        """The weight of each g_h^2 / 2 in units of j_ref (g in units of force)."""
+        return step.force / (self.k * step.u_ref)
+
+    def cvxpy(self, st):
+        self.g = cp.Variable(self.dofs.size)                     # g / force
+        st.internal = st.internal + self.map(st.step.n_u) @ self.g   # + E g
+        st.objective += -0.5 * cp.sum(cp.multiply(self.weights(st.step), cp.square(self.g)))
+
+    def read(self, st, solution):
+        solution.parts["spring_forces"] = self.g.value
+
+    def declare(self, form):
+        form.layout.add("spring_forces", self.dofs.size)
+
+    def blocks(self, form):
+        form.quadratic("spring_forces", sp.diags(self.weights(form.step)))
+        form.columns(self.map(form.step.n_u))
+
+    def read_direct(self, form, x, solution):
+        solution.parts["spring_forces"] = x[form.layout["spring_forces"]]
+
+    def invert(self, solution, increment, step):
+        g = solution.parts["spring_forces"] * step.force
+        increment.reactions -= self.map(step.n_u) @ g
+        increment.parts["spring_forces"] = g
 
 
 class PrescribedWork(StepTerm):

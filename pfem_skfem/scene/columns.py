@@ -1,6 +1,8 @@
 """A rectangular column of material on a floor against a wall, released: the scene of the
 granular column collapse (thesis 6.4.3), the dam break and the slump benchmarks.
 """
+from dataclasses import dataclass, field, fields
+
 from ..discretisation.theta import ThetaMethod
 from ..problems.contact import RigidSegment
 from .bodies import Body
@@ -8,18 +10,16 @@ from .config import PFEMConfig
 from .regions import Region
 from .scene import Scene
 
-__all__ = ["column_scene"]
+__all__ = ["Column", "column_scene"]
 
 
-def column_scene(material, width, height, spacing, *, rho, g, dt, name="column", stress=None,
-                 floor_friction=0.0, wall_friction=0.0, gate_removed_at=None, far=None,
-                 body_names=("floor", "wall", "gate"), alpha=1.6, t_end=None, theta1=1.0,
-                 theta2=1.0, **config):
+@dataclass(frozen=True)
+class Column:
     """A column ``width`` x ``height`` of ``material`` (particles ``spacing`` apart on a
-    square lattice) standing on the floor y = 0 against the wall x = 0, and its initial
-    state.
+    square lattice) standing on the floor y = 0 against the wall x = 0: the parameters of
+    the scene, which :meth:`scene` builds.
 
-    Parameters
+    Attributes
     ----------
     material, rho, name, stress : the column's :class:`~pfem_skfem.scene.Region` (``stress``
         None: unstressed, or :class:`~pfem_skfem.scene.Geostatic`).
@@ -33,23 +33,56 @@ def column_scene(material, width, height, spacing, *, rho, g, dt, name="column",
     body_names : the names of the floor, the wall and the gate in the records.
     alpha, t_end : the :class:`~pfem_skfem.scene.Scene`'s; its length is ``height``.
     theta1, theta2 : the :class:`~pfem_skfem.discretisation.theta.ThetaMethod`'s.
-    **config : the rest of the :class:`~pfem_skfem.scene.config.PFEMConfig` (passes, contact,
-        solver, volume_correction, ...).
-
-    Returns
-    -------
-    (state, scene)
+    config : the rest of the :class:`~pfem_skfem.scene.config.PFEMConfig` (passes, contact,
+        solver, volume_correction, ...), a dict.
     """
-    far = 50 * max(width, height) if far is None else far
-    floor, wall, gate = body_names
-    column = Region(((0.0, 0.0), (width, 0.0), (width, height), (0.0, height)), material,
-                    rho, spacing, stress=stress, name=name)
-    bodies = (Body(floor, RigidSegment((-far, 0.0), (far, 0.0), floor_friction)),  # solid above
-              Body(wall, RigidSegment((0.0, far), (0.0, -spacing), wall_friction)))  # solid right
-    if gate_removed_at is not None:                                                 # solid left
-        bodies += (Body(gate, RigidSegment((width, -spacing), (width, far), wall_friction),
-                        removed_at=gate_removed_at),)
-    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), **config)
-    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
-                  t_end=t_end, length=height, config=numerics)
+
+    material: object
+    width: float
+    height: float
+    spacing: float
+    rho: float
+    g: float
+    dt: float
+    name: str = "column"
+    stress: object = None
+    floor_friction: float = 0.0
+    wall_friction: float = 0.0
+    gate_removed_at: float = None
+    far: float = None
+    body_names: tuple = ("floor", "wall", "gate")
+    alpha: float = 1.6
+    t_end: float = None
+    theta1: float = 1.0
+    theta2: float = 1.0
+    config: dict = field(default_factory=dict)
+
+    def scene(self):
+        """The :class:`~pfem_skfem.scene.Scene` of the column, its floor, wall and gate."""
+        far = 50 * max(self.width, self.height) if self.far is None else self.far
+        w, h, s = self.width, self.height, self.spacing
+        floor, wall, gate = self.body_names
+        column = Region(((0.0, 0.0), (w, 0.0), (w, h), (0.0, h)), self.material, self.rho, s,
+                        stress=self.stress, name=self.name)
+        bodies = (Body(floor, RigidSegment((-far, 0.0), (far, 0.0), self.floor_friction)),
+                  Body(wall, RigidSegment((0.0, far), (0.0, -s), self.wall_friction)))
+        if self.gate_removed_at is not None:   # the solid: above the floor, right of the wall
+            bodies += (Body(gate, RigidSegment((w, -s), (w, far), self.wall_friction),  # left
+                            removed_at=self.gate_removed_at),)
+        numerics = PFEMConfig(theta=ThetaMethod(self.dt, self.theta1, self.theta2), **self.config)
+        return Scene(regions=(column,), bodies=bodies, gravity=(0.0, -self.g), alpha=self.alpha,
+                     t_end=self.t_end, length=h, config=numerics)
+
+
+_FIELDS = {f.name for f in fields(Column)} - {"config"}
+
+
+def column_scene(material, width, height, spacing, **parameters):
+    """(state, scene) of a :class:`Column` of ``material``; ``parameters`` are its other
+    attributes (``rho``, ``g``, ``dt`` needed) and the rest of its PFEMConfig (passes, contact,
+    solver, volume_correction, ...)."""
+    config = {k: v for k, v in parameters.items() if k not in _FIELDS}
+    column = Column(material, width, height, spacing, config=config,
+                    **{k: v for k, v in parameters.items() if k in _FIELDS})
+    scene = column.scene()
     return scene.initial_state(), scene
