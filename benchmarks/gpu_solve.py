@@ -7,8 +7,8 @@ reference solve) happens once, and a machine with a GPU only reads files:
 ``benchmarks/solve_floor.py``'s ``capture_step`` does (``granular_column(1.0, nx,
 passes=2, solver="clarabel", dt=0.02 sqrt(1/9.8))``, the direct Clarabel assembly,
 primal form, the data as the step hands them to Clarabel's engine,
-``ENGINES["clarabel"].solve``, already cleaned) for ``--steps`` steps, keeps the last ``--keep`` of its conic solves and writes
-each to ``DIR/nx<nx>_solve<k>.npz``:
+``ENGINES["clarabel"].solve``, already cleaned) for ``--steps`` steps, keeps the last
+``--keep`` of its conic solves and writes each to ``DIR/nx<nx>_solve<k>.npz``:
 
 * P (upper triangle) and A as CSC arrays (``P_data``, ``P_indices``, ``P_indptr``,
   ``P_shape``; the same for A), ``q`` (Clarabel's c), ``b``;

@@ -21,8 +21,8 @@ machine's load average is printed in the header: the timings are noisy when othe
 shares the cores, the ratios less so.
 
 With ``--qoco`` the same captured problem is also solved by QOCO (handed Clarabel's data
-as the direct assembly hands it, :class:`pfem_skfem.problems.backends.qoco.QOCOEngine`): its KKT matrix
-has Clarabel's pattern, so its ratio is to the same refactorisation.
+as the direct assembly hands it, :class:`pfem_skfem.problems.backends.qoco.QOCOEngine`):
+its KKT matrix has Clarabel's pattern, so its ratio is to the same refactorisation.
 
 Run: python benchmarks/solve_floor.py [--nx 17 33 65] [--steps 2] [--repeat 3] [--qoco]
      (17: ~500 elements, 33: ~2,000, 65: ~8,000)
