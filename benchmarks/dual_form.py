@@ -1,18 +1,20 @@
 """The dual (displacement) form of a PFEM step's conic problem against the primal (issue 19 item 3).
 
-``pfem_skfem.problems.clarabel_direct.solve_dynamic_step`` states the step (4.23)+(5.12)
-in Clarabel's form, min 1/2 x^T P x + c^T x s.t. A x + s = b, s in K (``form="primal"``),
-or hands Clarabel its Lagrangian dual (``form="dual"``, :func:`~pfem_skfem.problems.
-clarabel_direct.solve_dual`)
+``pfem_skfem.problems.backends.direct.DirectStep`` states the step (4.23)+(5.12) in
+Clarabel's form, min 1/2 x^T P x + c^T x s.t. A x + s = b, s in K (form "primal", the step
+solver 'clarabel'), or hands Clarabel its Lagrangian dual (form "dual", 'clarabel-dual',
+:func:`~pfem_skfem.problems.backends.dual_form.solve_dual`)
 
     min 1/2 z^T A_r P_r^-1 A_r^T z + (A_r P_r^-1 c_r + b)^T z
     s.t. A_0^T z = -c_0  (the columns without P: stresses, contact forces),  z_K in K,
 
 with P_r^-1 block-diagonal (each element's 12 x 12 inverse-mass block inverted): the
 variables are the displacement increment (z on the equilibrium rows) and the cones'
-multipliers. The calls of ``solve_dynamic_step`` of ``--steps`` steps of the a = 1 column
-(built as benchmarks/pfem_step.py builds it, every pass of every step) are captured and
-each is solved in both forms through ``solve_dynamic_step`` (the library's settings:
+multipliers. The calls of ``DirectStep.solve(step, criterion, terms, **settings)`` (the
+scaled step, :class:`~pfem_skfem.problems.step_scaling.ScaledStep`) of ``--steps`` steps
+of the a = 1 column (built as benchmarks/pfem_step.py builds it, solver 'clarabel', every
+pass of every step) are captured and each is solved in both forms through
+``DirectStep(ENGINES["clarabel"], form).solve`` (the library's settings:
 qdldl, 1e-8, clean data); the table gives Clarabel's KKT dimension and nnz of its KKT
 matrix and factor (of the last solve), the iterations and CPU seconds of the call
 (assembly, the dual's statement and recovery included; the mean over the solves), the
@@ -33,32 +35,37 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
-from pfem_skfem.problems import clarabel_direct                     # noqa: E402
+import clarabel                                                     # noqa: E402
+from pfem_skfem.problems.backends import ENGINES, STEP_SOLVERS, DirectStep   # noqa: E402
+
+#: the direct assembly handed to Clarabel in each form
+FORMS = {form: DirectStep(ENGINES["clarabel"], form) for form in ("primal", "dual")}
 
 
 def capture_calls(nx, steps=2, passes=2):
-    """The keyword arguments of every solve_dynamic_step call of ``steps`` steps of the
-    a = 1 column with ``nx`` particles across, and the element count of the last step."""
-    calls, original = [], clarabel_direct.solve_dynamic_step
+    """(step, criterion, terms, settings) of every DirectStep.solve call of ``steps`` steps
+    of the a = 1 column with ``nx`` particles across (solver 'clarabel'), and the element
+    count of the last step."""
+    calls, backend = [], STEP_SOLVERS["clarabel"]
 
-    def recording(**kwargs):
-        calls.append(copy.deepcopy(kwargs))
-        return original(**kwargs)
+    def recording(step, criterion, terms, **settings):
+        calls.append(copy.deepcopy((step, criterion, terms, settings)))
+        return DirectStep.solve(backend, step, criterion, terms, **settings)
 
-    state, scene = granular_column(1.0, nx, passes=passes, backend="clarabel",
+    state, scene = granular_column(1.0, nx, passes=passes, solver="clarabel",
                                    dt=0.02 * np.sqrt(1.0 / 9.8))
-    clarabel_direct.solve_dynamic_step = recording
+    backend.solve = recording                   # this instance only, removed after
     try:
         state, _ = run(state, scene, steps)
     finally:
-        clarabel_direct.solve_dynamic_step = original
+        del backend.solve
     return calls, int(state.history["elements"][-1])
 
 
 def solve(call, form, repeat):
     """(KKT dimension, nnz(KKT), nnz(L), iterations, Clarabel's status, least CPU seconds,
     equilibrium dual) of one call in ``form``."""
-    clarabel = clarabel_direct.clarabel
+    step, criterion, terms, settings = call
     original, seen = clarabel.DefaultSolver, []
 
     class Recording:
@@ -75,14 +82,14 @@ def solve(call, form, repeat):
     try:
         for _ in range(repeat):
             t0 = time.process_time()
-            out = clarabel_direct.solve_dynamic_step(**call, form=form)
+            out = FORMS[form].solve(step, criterion, terms, **settings)
             cpu.append(time.process_time() - t0)
     finally:
         clarabel.DefaultSolver = original
     rec, dim = seen[-1]
     info = rec.solver.get_info().linsolver
-    return (dim, int(info.nnzA), int(info.nnzL), out["info"].iterations,
-            str(rec.solution.status), min(cpu), out["dual_equilibrium"])
+    return (dim, int(info.nnzA), int(info.nnzL), out.info.iterations,
+            str(rec.solution.status), min(cpu), out.dual_equilibrium)
 
 
 def main(argv=None):
@@ -114,7 +121,7 @@ def main(argv=None):
                   f"{np.mean([r[5] for r in rs]):7.3f} "
                   f"{np.mean([r[5] for r in rs]) / base:8.2f} {diff:8.1e}", flush=True)
     print("KKT dim, nnz(K), nnz(L): of the last solve (Clarabel's); iterations, CPU: mean over "
-          "the solves (CPU: the whole solve_dynamic_step call); du diff: the dual's "
+          "the solves (CPU: the whole DirectStep.solve call); du diff: the dual's "
           "displacement increment against the primal's, largest")
 
 

@@ -17,7 +17,8 @@ from skfem import MeshTri
 from pfem_skfem.materials import Elastic, Tresca
 from pfem_skfem.discretisation.static import boundary_dofs, boundary_facets, discretise, traction_vector
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-from pfem_skfem.problems.dynamic import D_FORMS, dynamic_increment
+from pfem_skfem.problems.backends.cvxpy_step import D_FORMS
+from pfem_skfem.problems.dynamic import dynamic_increment
 
 
 def run(nx, ny, criterion, d_form, steps):

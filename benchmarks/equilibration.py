@@ -9,7 +9,7 @@ twice, round-robin: once with Clarabel's settings as they are (equilibration on,
 default) and once with ``equilibrate_enable=False`` added to them, for every Clarabel
 solve (the cvxpy statements through ``conic.CLARABEL_DEFAULTS`` /
 ``ClarabelBackend.defaults`` and the direct PFEM / dynamic assembly through
-``clarabel_direct.SETTINGS``; restored after). Each solve is recorded (iterations,
+``problems.backends.direct.SETTINGS``; restored after). Each solve is recorded (iterations,
 status, and whether it really ran with equilibration off). The table gives, per case, the
 Report quantities compared, the largest relative difference between the two runs (which
 quantity), the checks each run passes, the solves, mean iterations, 'AlmostSolved' ends,
@@ -65,14 +65,15 @@ def equilibration(enabled, record):
     """Every Clarabel solve inside runs with equilibration as ``enabled`` (True: the
     settings as they are); ``record`` gets (iterations, status, equilibrate_enable) per
     solve and ('bound', settings) per bound problem solved."""
-    from pfem_skfem.problems import bounds, clarabel_direct, conic
+    from pfem_skfem.problems import bounds, conic
+    from pfem_skfem.problems.backends import direct
     saved = (conic.CLARABEL_DEFAULTS, conic.ClarabelBackend.defaults,
-             clarabel_direct.SETTINGS, clarabel.DefaultSolver, bounds._solve_bound)
+             direct.SETTINGS, clarabel.DefaultSolver, bounds._solve_bound)
     solver_class, solve_bound = clarabel.DefaultSolver, bounds._solve_bound
     if not enabled:
         conic.CLARABEL_DEFAULTS = {**conic.CLARABEL_DEFAULTS, **SETTING}
         conic.ClarabelBackend.defaults = {**conic.ClarabelBackend.defaults, **SETTING}
-        clarabel_direct.SETTINGS = {**clarabel_direct.SETTINGS, **SETTING}
+        direct.SETTINGS = {**direct.SETTINGS, **SETTING}
 
     class Solver:                       # records every solve, cvxpy's and the direct ones
         def __init__(self, P, q, A, b, cones, opts):
@@ -96,7 +97,7 @@ def equilibration(enabled, record):
     try:
         yield
     finally:
-        (conic.CLARABEL_DEFAULTS, conic.ClarabelBackend.defaults, clarabel_direct.SETTINGS,
+        (conic.CLARABEL_DEFAULTS, conic.ClarabelBackend.defaults, direct.SETTINGS,
          clarabel.DefaultSolver, bounds._solve_bound) = saved
 
 

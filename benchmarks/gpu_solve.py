@@ -5,10 +5,10 @@ reference solve) happens once, and a machine with a GPU only reads files:
 
 ``capture`` (CPU) runs the plane granular column (a = 1, thesis 6.4.3) as
 ``benchmarks/solve_floor.py``'s ``capture_step`` does (``granular_column(1.0, nx,
-passes=2, backend="clarabel", dt=0.02 sqrt(1/9.8))``, the direct Clarabel assembly,
-primal form, the data as the step hands them to ``clarabel.DefaultSolver``, already
-cleaned) for ``--steps`` steps, keeps the last ``--keep`` of its conic solves and writes
-each to ``DIR/nx<nx>_solve<k>.npz``:
+passes=2, solver="clarabel", dt=0.02 sqrt(1/9.8))``, the direct Clarabel assembly,
+primal form, the data as the step hands them to Clarabel's engine,
+``ENGINES["clarabel"].solve``, already cleaned) for ``--steps`` steps, keeps the last
+``--keep`` of its conic solves and writes each to ``DIR/nx<nx>_solve<k>.npz``:
 
 * P (upper triangle) and A as CSC arrays (``P_data``, ``P_indices``, ``P_indptr``,
   ``P_shape``; the same for A), ``q`` (Clarabel's c), ``b``;
@@ -16,8 +16,8 @@ each to ``DIR/nx<nx>_solve<k>.npz``:
   ZeroConeT, NonnegativeConeT, SecondOrderConeT, ExponentialConeT) and ``cone_dims``;
 * ``elements`` (of the step), ``nx``, ``n_free`` (the free dofs: the first ``n_free``
   rows are the equilibrium rows, and their duals ``z[:n_free]`` are the displacement
-  increment du in the solver's scaling, as ``clarabel_direct.solve_dynamic_step``
-  returns it as ``dual_equilibrium``);
+  increment du in the solver's scaling, as ``DirectStep.solve`` returns it as
+  ``dual_equilibrium``);
 * the reference ``x_ref``, ``z_ref``, ``s_ref``, ``du_ref`` from CPU Clarabel at
   ``--ref-tol`` (1e-10: gap abs / rel and feasibility) with equilibration off (the
   reference of ``/work/shared/PERF.md`` and issue 40: with equilibration on Clarabel
@@ -39,7 +39,7 @@ their other settings as shipped):
 ==============  =============================================================================
 clarabel        CPU Clarabel (Python API), the same cones, the library's settings.
 clarabel-noeq   the same, equilibration off.
-clarabel-dual   ``clarabel_direct.solve_dual`` (the displacement form) on the same data.
+clarabel-dual   ``backends.dual_form.solve_dual`` (the displacement form), same data.
 qoco            QOCO, ``qoco.QOCO(algebra="builtin")``; rows reordered zero | nonneg | SOC.
 qoco-cuda       QOCO's CUDA backend, ``qoco.QOCO(algebra="cuda")`` (cuDSS).
 moreau          moreau on the CPU, ``Settings(device="cpu")``.
@@ -130,9 +130,9 @@ import numpy as np
 import scipy.sparse as sp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
-from pfem_skfem.problems import clarabel_direct                     # noqa: E402
-
-clarabel = clarabel_direct.clarabel
+import clarabel                                                     # noqa: E402
+from pfem_skfem.problems.backends import ENGINES, STEP_SOLVERS      # noqa: E402
+from pfem_skfem.problems.backends.dual_form import solve_dual       # noqa: E402
 
 #: the reference: Clarabel at 1e-10 with equilibration off (PERF.md, issue 40)
 REF_TOL = 1e-10
@@ -153,27 +153,25 @@ def capture_step(nx, steps=2, passes=2):
     from verification.granular_column_plane import granular_column
     from pfem_skfem.drivers.pfem_loop import run
     captured = []
-    original, step = clarabel.DefaultSolver, clarabel_direct.solve_dynamic_step
+    engine, backend = ENGINES["clarabel"], STEP_SOLVERS["clarabel"]    # primal form
     n_free = []
 
     def recording(P, c, A, b, cones, settings):
         captured.append(dict(P=P.copy(), c=np.array(c), A=A.copy(), b=np.array(b),
                              cones=list(cones), n_free=n_free[-1] if n_free else None))
-        return original(P, c, A, b, cones, settings)
+        return type(engine).solve(engine, P, c, A, b, cones, settings)
 
-    def stepping(**kw):
-        n_free.append(int(np.asarray(kw["free"]).size))
-        return step(**kw)
+    def stepping(step, criterion, terms, **settings):
+        n_free.append(int(np.asarray(step.free).size))
+        return type(backend).solve(backend, step, criterion, terms, **settings)
 
-    state, scene = granular_column(1.0, nx, passes=passes, backend="clarabel",
+    state, scene = granular_column(1.0, nx, passes=passes, solver="clarabel",
                                    dt=0.02 * np.sqrt(1.0 / 9.8))
-    clarabel.DefaultSolver, clarabel_direct.solve_dynamic_step = recording, stepping
-    saved_form, clarabel_direct.FORM = clarabel_direct.FORM, "primal"
+    engine.solve, backend.solve = recording, stepping     # these instances only
     try:
         state, _ = run(state, scene, steps)
     finally:
-        clarabel.DefaultSolver, clarabel_direct.solve_dynamic_step = original, step
-        clarabel_direct.FORM = saved_form
+        del engine.solve, backend.solve
     return captured, int(state.history["elements"][-1])
 
 
@@ -295,9 +293,8 @@ def _clarabel(prob, tol, **changes):
 
 
 def _clarabel_dual(prob, tol):
-    sol = clarabel_direct.solve_dual(prob["P"], prob["q"], prob["A"], prob["b"],
-                                     make_cones(prob["cone_kinds"], prob["cone_dims"]),
-                                     clarabel_settings(tol))
+    sol = solve_dual(prob["P"], prob["q"], prob["A"], prob["b"],
+                     make_cones(prob["cone_kinds"], prob["cone_dims"]), clarabel_settings(tol))
     return np.asarray(sol.x), np.asarray(sol.z), str(sol.status), int(sol.iterations)
 
 

@@ -34,7 +34,7 @@ first row (the data as assembled), and the solution's change: the largest over t
 solves of ||du - du_0|| / ||du_0|| (du: the dual of the equilibrium rows, the
 displacement increment in the solver's scaling) and of the objective's relative change.
 
-Data clean-ups (not settings; what ``problems/clarabel_direct.py`` does before the call
+Data clean-ups (not settings; what ``problems/backends/direct.py`` does before the call
 since this study, ``CLEAN_DATA``; the data are captured here as assembled, without it,
 so the first row is the solver as it was and 'A0 + P0' today's): 'A0' drops the stored
 zeros of A (the same as ``input_sparse_dropzeros``), 'P0' the entries of P below 1e-12
@@ -56,8 +56,9 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from benchmarks.solve_floor import (Clock, capture_step, kkt_matrix,       # noqa: E402
                                     with_settings)
-from pfem_skfem.problems import clarabel_direct                           # noqa: E402
-from pfem_skfem.problems.clarabel_direct import drop_roundoff             # noqa: E402
+import clarabel                                                           # noqa: E402
+from pfem_skfem.problems.backends import direct                           # noqa: E402
+from pfem_skfem.problems.backends.standard_form import drop_roundoff      # noqa: E402
 
 
 # name: (Clarabel settings changed from Clarabel's defaults + qdldl, data clean-ups)
@@ -102,7 +103,6 @@ def cleaned(problem, clean):
 def solve_once(problem):
     """(setup, solve) CPU seconds of a fresh solve; iterations, status, the equilibrium
     duals, objective, Clarabel's nnz(L)."""
-    clarabel = clarabel_direct.clarabel
     with Clock() as setup:
         solver = clarabel.DefaultSolver(problem["P"], problem["c"], problem["A"],
                                         problem["b"], problem["cones"], problem["settings"])
@@ -174,11 +174,11 @@ def main(argv=None):
           f"cores; every solve of {args.steps} steps of the a = 1 column (2 passes a step); "
           f"CPU seconds, least of {args.repeat} rounds")
     for nx in args.nx:
-        saved, clarabel_direct.CLEAN_DATA = clarabel_direct.CLEAN_DATA, False
+        saved, direct.CLEAN_DATA = direct.CLEAN_DATA, False
         try:                                        # the data as assembled
             problems, elements = capture_step(nx, args.steps)
         finally:
-            clarabel_direct.CLEAN_DATA = saved
+            direct.CLEAN_DATA = saved
         refactor, tri, product = floor_pieces(problems[-1])
         print(f"\n{elements} elements, {len(problems)} solves; floor pieces (last solve): "
               f"refactorisation {refactor * 1e3:.2f} ms, triangular solves {tri * 1e3:.2f} ms "

@@ -5,7 +5,7 @@ The plane granular column (a = 1, thesis 6.4.3) collapsing, at about 500, 2,000 
 first (which has no old mesh to map from), the mean seconds of each stage of
 :func:`pfem_skfem.drivers.pfem_loop.pfem_step` (detect, remesh, map, assemble, solve,
 move). Within 'solve', 'compile' is building the conic problem (cvxpy's
-canonicalisation, or the direct assembly of pfem_skfem.problems.clarabel_direct) and
+canonicalisation, or the direct assembly of pfem_skfem.problems.backends.direct) and
 'conic' is the conic solver itself; 'other' is what no stage timer covers (the rest of
 the solve stage and the step record). Each step solves one problem per fixed-point pass
 on the lagged mean stress (``--passes`` at most; with a pass tolerance,
@@ -22,17 +22,21 @@ machine whose load average is printed: other work on its cores inflates the wall
 times (the shares and the CPU times less).
 
 ``--solvers clarabel qoco`` runs the same steps with each conic solver
-(``PFEMConfig.solver``, :data:`pfem_skfem.problems.conic.SOLVERS`). A solver with an
-engine of the direct assembly (:data:`pfem_skfem.problems.direct_engines.ENGINES`:
-Clarabel, QOCO) runs on each of ``--backends`` (the direct assembly 'clarabel', the
-cvxpy statement 'cvxpy'); another solves the cvxpy statement only. The ratios of every
+(:data:`pfem_skfem.problems.conic.SOLVERS`). A solver with an engine of the direct
+assembly (:data:`pfem_skfem.problems.backends.ENGINES`: Clarabel, QOCO) runs on each of
+``--backends`` (the direct assembly 'clarabel', the cvxpy statement 'cvxpy'); another
+solves the cvxpy statement only. Each run's (backend, conic solver, form) is one step
+solver, ``PFEMConfig.solver`` (:data:`pfem_skfem.problems.backends.STEP_SOLVERS`, read by
+:func:`pfem_skfem.scene.config.legacy_solver`): clarabel on 'clarabel' is 'clarabel' (its
+'dual' settings 'clarabel-dual'), qoco on 'clarabel' 'qoco' / 'qoco-dual', clarabel on
+'cvxpy' 'cvxpy', qoco on 'cvxpy' 'cvxpy-qoco', scs 'scs'. The ratios of every
 run to the first (Clarabel's, direct, the first ``--settings``) of the step's CPU time,
 its wall time, the conic solve and the iterations are printed at each size.
 
 ``--settings`` are configurations of the direct backend: 'before' (Clarabel as before
 issue 19's iteration study: qdldl, Clarabel's other defaults, the data as assembled),
-'after' (today's: ``clarabel_direct.SETTINGS`` and ``CLEAN_DATA``, the primal form),
-'dual' (today's in the dual form, ``clarabel_direct.FORM``), 'noref' and 'dual-noref'
+'after' (today's: ``backends.direct.SETTINGS`` and ``CLEAN_DATA``, the primal form),
+'dual' (today's in the dual form: the step solver '<solver>-dual'), 'noref' and 'dual-noref'
 (those with Clarabel's iterative refinement off). QOCO takes the form of each ('before'
 and 'noref' are Clarabel's: QOCO runs 'after' and 'dual' only); the cvxpy backend runs
 the first.
@@ -57,18 +61,24 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
-from pfem_skfem.problems import clarabel_direct                     # noqa: E402
+from pfem_skfem.problems.backends import ENGINES, direct           # noqa: E402
 from pfem_skfem.problems.conic import SOLVERS as CONIC_SOLVERS      # noqa: E402
-from pfem_skfem.problems.direct_engines import ENGINES              # noqa: E402
+from pfem_skfem.scene.config import legacy_solver                   # noqa: E402
 
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
 
-def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel"):
+def step_solver(backend, solver, form="primal"):
+    """The step's solver (``PFEMConfig.solver``) of a run: the conic ``solver`` on
+    ``backend`` ('clarabel': the direct assembly in ``form``; 'cvxpy': the statement)."""
+    return legacy_solver(backend, solver, form if backend == "clarabel" else None)
+
+
+def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel", form="primal"):
     """Mean seconds per stage, the step, passes and iterations over steps 2..steps+1."""
-    state, scene = granular_column(1.0, nx, passes=passes, backend=backend,
-                                   pass_tolerance=pass_tolerance, solver=solver,
-                                   dt=0.02 * np.sqrt(1.0 / 9.8))
+    name = step_solver(backend, solver, form)
+    state, scene = granular_column(1.0, nx, passes=passes, pass_tolerance=pass_tolerance,
+                                   solver=name, dt=0.02 * np.sqrt(1.0 / 9.8))
     state, _ = run(state, scene, 1)
     cpu = []
     for _ in range(steps):                  # CPU seconds of each step (all its threads)
@@ -81,7 +91,8 @@ def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel"):
     t = {s: float(h[f"t_{s}"].mean()) for s in STAGES[:-1]}
     total = float(h["seconds"].mean())
     t["other"] = total - sum(t.values())     # compile and conic are parts of the solve
-    return dict(nx=nx, backend=backend, solver=solver, pass_tolerance=pass_tolerance,
+    return dict(nx=nx, backend=backend, solver=solver, step_solver=name,
+                pass_tolerance=pass_tolerance,
                 elements=int(np.median(h["elements"])), seconds=total,
                 cpu=float(np.mean(cpu)), stages=t,
                 solve=float(h["t_solve"].mean()), conic_share=t["conic"] / total,
@@ -93,25 +104,26 @@ def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel"):
 
 
 # the direct backend's Clarabel configuration: (Clarabel settings, clean the data, form)
-NO_REFINEMENT = dict(clarabel_direct.SETTINGS, iterative_refinement_enable=False)
+NO_REFINEMENT = dict(direct.SETTINGS, iterative_refinement_enable=False)
 SETTINGS = {"before": (dict(direct_solve_method="qdldl"), False, "primal"),
-            "after": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "primal"),
-            "dual": (dict(clarabel_direct.SETTINGS), clarabel_direct.CLEAN_DATA, "dual"),
-            "noref": (NO_REFINEMENT, clarabel_direct.CLEAN_DATA, "primal"),
-            "dual-noref": (NO_REFINEMENT, clarabel_direct.CLEAN_DATA, "dual")}
+            "after": (dict(direct.SETTINGS), direct.CLEAN_DATA, "primal"),
+            "dual": (dict(direct.SETTINGS), direct.CLEAN_DATA, "dual"),
+            "noref": (NO_REFINEMENT, direct.CLEAN_DATA, "primal"),
+            "dual-noref": (NO_REFINEMENT, direct.CLEAN_DATA, "dual")}
 #: the configurations that mean something to another engine than Clarabel (the form)
 FORM_ONLY = ("after", "dual")
 
 
 def with_settings(name, *args):
-    """time_steps(*args) with the direct backend configured as SETTINGS[name]."""
-    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM
-    (clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA,
-     clarabel_direct.FORM) = SETTINGS[name]
+    """time_steps(*args) with the direct backend configured as SETTINGS[name] (its Clarabel
+    settings and clean-up: ``backends.direct.SETTINGS``, ``CLEAN_DATA``; its form: the step
+    solver's name)."""
+    saved = direct.SETTINGS, direct.CLEAN_DATA
+    direct.SETTINGS, direct.CLEAN_DATA, form = SETTINGS[name]
     try:
-        return dict(time_steps(*args), settings=name)
+        return dict(time_steps(*args, form=form), settings=name)
     finally:
-        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM = saved
+        direct.SETTINGS, direct.CLEAN_DATA = saved
 
 
 def configurations(backends, solvers, settings):

@@ -1,8 +1,9 @@
 """How close the interior-point solve of a PFEM step comes to its floor: iterations x one LDL.
 
 The conic data of a step of the plane granular column (a = 1, thesis 6.4.3, built as
-benchmarks/pfem_step.py builds it, direct Clarabel backend) are captured as the step
-hands them to Clarabel (the last pass of the last step run). On them are timed
+benchmarks/pfem_step.py builds it, the step solver 'clarabel': the direct assembly) are
+captured as the step hands them to Clarabel (``ENGINES["clarabel"].solve``; the last pass
+of the last step run). On them are timed
 
 * the full Clarabel solve with qdldl (setup, equilibration and every iteration), as the
   step runs it;
@@ -20,8 +21,8 @@ machine's load average is printed in the header: the timings are noisy when othe
 shares the cores, the ratios less so.
 
 With ``--qoco`` the same captured problem is also solved by QOCO (handed Clarabel's data
-as the direct assembly hands it, :mod:`pfem_skfem.problems.direct_engines`): its KKT matrix
-has Clarabel's pattern, so its ratio is to the same refactorisation.
+as the direct assembly hands it, :class:`pfem_skfem.problems.backends.qoco.QOCOEngine`):
+its KKT matrix has Clarabel's pattern, so its ratio is to the same refactorisation.
 
 Run: python benchmarks/solve_floor.py [--nx 17 33 65] [--steps 2] [--repeat 3] [--qoco]
      (17: ~500 elements, 33: ~2,000, 65: ~8,000)
@@ -40,7 +41,8 @@ import scipy.sparse.linalg as spla
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
-from pfem_skfem.problems import clarabel_direct                     # noqa: E402
+import clarabel                                                     # noqa: E402
+from pfem_skfem.problems.backends import ENGINES                    # noqa: E402
 
 REGULARISATION = 1e-8            # Clarabel's static regularisation (its default)
 
@@ -50,21 +52,20 @@ def capture_step(nx, steps=2, passes=2):
     a = 1 column with ``nx`` particles across (the passes of each step, in order), and the
     element count of the last step."""
     captured = []
-    clarabel = clarabel_direct.clarabel
-    original = clarabel.DefaultSolver
+    engine = ENGINES["clarabel"]
 
     def recording(P, c, A, b, cones, settings):
         captured.append(dict(P=P.copy(), c=np.array(c), A=A.copy(), b=np.array(b),
                              cones=list(cones), settings=settings))
-        return original(P, c, A, b, cones, settings)
+        return type(engine).solve(engine, P, c, A, b, cones, settings)
 
-    state, scene = granular_column(1.0, nx, passes=passes, backend="clarabel",
+    state, scene = granular_column(1.0, nx, passes=passes, solver="clarabel",
                                    dt=0.02 * np.sqrt(1.0 / 9.8))
-    clarabel.DefaultSolver = recording
+    engine.solve = recording                    # this instance only, removed after
     try:
         state, _ = run(state, scene, steps)
     finally:
-        clarabel.DefaultSolver = original
+        del engine.solve
     return captured, int(state.history["elements"][-1])
 
 
@@ -120,7 +121,6 @@ def best(clocks):
 def time_solve(problem, repeat):
     """((wall, CPU) seconds of the best fresh solve, iterations, status, Clarabel's
     nnz(KKT) and nnz(L))."""
-    clarabel = clarabel_direct.clarabel
     clocks = []
     for _ in range(repeat):
         with Clock() as clock:
@@ -134,8 +134,7 @@ def time_solve(problem, repeat):
 
 def time_qoco(problem, repeat):
     """((wall, CPU) seconds of the best fresh QOCO solve (setup and iterations), iterations,
-    status) of the captured problem (pfem_skfem.problems.direct_engines.QOCOEngine)."""
-    from pfem_skfem.problems.direct_engines import ENGINES
+    status) of the captured problem (pfem_skfem.problems.backends.qoco.QOCOEngine)."""
     engine, clocks = ENGINES["qoco"], []
     for _ in range(repeat):
         with Clock() as clock:
@@ -156,7 +155,7 @@ VARIANTS = {                      # Clarabel settings changed from the step's ow
 
 def with_settings(problem, **changes):
     """``problem`` with a copy of its Clarabel settings, ``changes`` applied."""
-    settings = clarabel_direct.clarabel.DefaultSettings()
+    settings = clarabel.DefaultSettings()
     for name in dir(problem["settings"]):
         if not name.startswith("_") and not callable(getattr(problem["settings"], name)):
             try:
@@ -206,7 +205,7 @@ def main(argv=None):
                    help="best of this many timings (solves above 2,000 elements: once)")
     p.add_argument("--no-lu", action="store_true", help="skip scipy's LU")
     p.add_argument("--qoco", action="store_true",
-                   help="also solve the captured problem with QOCO (direct_engines, its own "
+                   help="also solve the captured problem with QOCO (backends.ENGINES, its own "
                         "defaults) and give its ratio to the same LDL refactorisation (QOCO's "
                         "KKT matrix has Clarabel's pattern)")
     p.add_argument("--variants", nargs="*", choices=tuple(VARIANTS), default=None,

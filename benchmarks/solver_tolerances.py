@@ -76,25 +76,33 @@ NEAR_ZERO = 1e-6                # a residual or drift (round-off level): judged 
 def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
     and the settings ``extra`` (the settings object is made by clarabel.DefaultSettings,
-    in cvxpy's interface as in pfem_skfem.problems.clarabel_direct); ``record`` gets
-    (iterations, status) per solve. Pseudo-settings: ``clean`` ('A0', 'P0' or 'A0+P0')
-    cleans every problem's data before Clarabel sees it (benchmarks/iteration_cost.py: A's
-    stored zeros, P's relative round-off); ``form`` ('primal' or 'dual') is the direct
-    assembly's form (``clarabel_direct.FORM``); with ``direct=True`` the extra settings
-    apply only to the direct assembly (pfem_skfem.problems.clarabel_direct: the PFEM
-    steps), through its ``SETTINGS`` (and ``clean=A0+P0`` is its ``CLEAN_DATA``), not to
-    the cvxpy statements."""
-    from pfem_skfem.problems import clarabel_direct
+    in cvxpy's interface as in the direct assembly, pfem_skfem.problems.backends.direct);
+    ``record`` gets (iterations, status) per solve. Pseudo-settings: ``clean`` ('A0', 'P0'
+    or 'A0+P0') cleans every problem's data before Clarabel sees it
+    (benchmarks/iteration_cost.py: A's stored zeros, P's relative round-off); ``form``
+    ('primal' or 'dual') is the direct assembly's form for the PFEM steps of the step
+    solvers 'clarabel' and 'qoco' (the scripts' ``--solver``): with 'dual' they are solved
+    as 'clarabel-dual' / 'qoco-dual' would (the ``form`` of those two DirectSteps of
+    ``backends.STEP_SOLVERS``); with ``direct=True`` the extra settings apply only to the
+    direct assembly (the PFEM steps), through ``backends.direct.SETTINGS`` (and
+    ``clean=A0+P0`` is its ``CLEAN_DATA``), not to the cvxpy statements."""
+    from pfem_skfem.problems.backends import STEP_SOLVERS, direct
     settings_class, solver_class = clarabel.DefaultSettings, clarabel.DefaultSolver
-    saved = clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM
+    plain = [STEP_SOLVERS[name] for name in ("clarabel", "qoco")]    # the primal-form names
+    saved = direct.SETTINGS, direct.CLEAN_DATA, [backend.form for backend in plain]
     extra = dict(extra or {})
     clean = tuple(str(extra.pop("clean", "")).split("+")) if "clean" in extra else ()
-    clarabel_direct.FORM = extra.pop("form", clarabel_direct.FORM)
-    if extra.pop("direct", False):                   # the direct assembly's own switches
-        if clean and set(clean) != {"A0", "P0"}:
-            raise ValueError("direct=True cleans A0+P0 (clarabel_direct.CLEAN_DATA) or nothing")
-        clarabel_direct.SETTINGS = {**clarabel_direct.SETTINGS, **extra}
-        clarabel_direct.CLEAN_DATA = clarabel_direct.CLEAN_DATA or bool(clean)
+    form = extra.pop("form", None)
+    if form is not None and form not in direct.FORMS:
+        raise ValueError(f"form must be one of {direct.FORMS}, got {form!r}")
+    direct_only = extra.pop("direct", False)
+    if direct_only and clean and set(clean) != {"A0", "P0"}:
+        raise ValueError("direct=True cleans A0+P0 (backends.direct.CLEAN_DATA) or nothing")
+    for backend in plain if form is not None else ():
+        backend.form = form
+    if direct_only:                                  # the direct assembly's own switches
+        direct.SETTINGS = {**direct.SETTINGS, **extra}
+        direct.CLEAN_DATA = direct.CLEAN_DATA or bool(clean)
         extra, clean = {}, ()
 
     def settings():
@@ -125,7 +133,9 @@ def clarabel_tolerances(tol, record, extra=None):
         yield
     finally:
         clarabel.DefaultSettings, clarabel.DefaultSolver = settings_class, solver_class
-        clarabel_direct.SETTINGS, clarabel_direct.CLEAN_DATA, clarabel_direct.FORM = saved
+        direct.SETTINGS, direct.CLEAN_DATA = saved[:2]
+        for backend, form in zip(plain, saved[2]):
+            backend.form = form
 
 
 def run_family(script_name, argv, tol, outdir, extra=None):

@@ -1,18 +1,12 @@
 """benchmarks/pfem_step.py: its options (--solvers, --settings) and one tiny run."""
-import importlib.util
-from pathlib import Path
-
 import pytest
 
-PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "pfem_step.py"
+from benchmarks import pfem_step
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("pfem_step_bench", PATH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return pfem_step
 
 
 def test_configurations(bench):
@@ -26,6 +20,12 @@ def test_configurations(bench):
     assert bench.configurations(["clarabel"], ["qoco"], ["before", "after", "dual", "noref"]) \
         == [("clarabel", "qoco", "after"), ("clarabel", "qoco", "dual")]
     assert bench.configurations(["clarabel"], ["scs"], ["after"]) == [("cvxpy", "scs", "after")]
+    # each run is one step solver (PFEMConfig.solver)
+    assert [bench.step_solver(b, s, f) for b, s, f in (
+        ("clarabel", "clarabel", "primal"), ("clarabel", "clarabel", "dual"),
+        ("clarabel", "qoco", "dual"), ("cvxpy", "clarabel", "dual"), ("cvxpy", "qoco", "primal"),
+        ("cvxpy", "scs", "primal"))] == ["clarabel", "clarabel-dual", "qoco-dual", "cvxpy",
+                                         "cvxpy-qoco", "scs"]
 
 
 def test_options_refused(bench):
@@ -46,6 +46,7 @@ def test_tiny_run_by_solver(bench, tmp_path, capsys):
     rows = json.loads(out.read_text())
     assert [(r["solver"], r["backend"]) for r in rows] == [("clarabel", "clarabel"),
                                                            ("qoco", "clarabel")]
+    assert [r["step_solver"] for r in rows] == ["clarabel", "qoco"]
     for r in rows:
         assert r["iterations"] > 0 and r["total_passes"] >= 1
         assert sum(r["statuses"].values()) == 1 and 0 <= r["inaccurate"] <= r["total_passes"]
