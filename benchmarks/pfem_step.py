@@ -26,10 +26,10 @@ times (the shares and the CPU times less).
 assembly (:data:`pfem_skfem.problems.backends.ENGINES`: Clarabel, QOCO) runs on each of
 ``--backends`` (the direct assembly 'clarabel', the cvxpy statement 'cvxpy'); another
 solves the cvxpy statement only. Each run's (backend, conic solver, form) is one step
-solver, ``PFEMConfig.solver`` (:data:`pfem_skfem.problems.backends.STEP_SOLVERS`, read by
-:func:`pfem_skfem.scene.config.legacy_solver`): clarabel on 'clarabel' is 'clarabel' (its
-'dual' settings 'clarabel-dual'), qoco on 'clarabel' 'qoco' / 'qoco-dual', clarabel on
-'cvxpy' 'cvxpy', qoco on 'cvxpy' 'cvxpy-qoco', scs 'scs'. The ratios of every
+solver, ``PFEMConfig.solver`` (:data:`pfem_skfem.problems.backends.STEP_SOLVERS`):
+clarabel on 'clarabel' is 'clarabel' (its 'dual' settings 'clarabel-dual'), qoco on
+'clarabel' 'qoco' / 'qoco-dual', scs on 'clarabel' 'scs', clarabel on 'cvxpy' 'cvxpy',
+qoco on 'cvxpy' 'cvxpy-qoco', mosek 'mosek'. The ratios of every
 run to the first (Clarabel's, direct, the first ``--settings``) of the step's CPU time,
 its wall time, the conic solve and the iterations are printed at each size.
 
@@ -61,9 +61,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))       # the verification scripts
 from verification.granular_column_plane import granular_column      # noqa: E402
 from pfem_skfem.drivers.pfem_loop import run                        # noqa: E402
-from pfem_skfem.problems.backends import ENGINES, direct           # noqa: E402
+from pfem_skfem.problems.backends import ENGINES, cvxpy_solver, direct   # noqa: E402
 from pfem_skfem.problems.conic import SOLVERS as CONIC_SOLVERS      # noqa: E402
-from pfem_skfem.scene.config import legacy_solver                   # noqa: E402
 
 STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "other")
 
@@ -71,7 +70,9 @@ STAGES = ("detect", "remesh", "map", "assemble", "compile", "conic", "move", "ot
 def step_solver(backend, solver, form="primal"):
     """The step's solver (``PFEMConfig.solver``) of a run: the conic ``solver`` on
     ``backend`` ('clarabel': the direct assembly in ``form``; 'cvxpy': the statement)."""
-    return legacy_solver(backend, solver, form if backend == "clarabel" else None)
+    if backend == "cvxpy" or solver not in ENGINES:
+        return cvxpy_solver(solver)
+    return solver + ("-dual" if form == "dual" else "")
 
 
 def time_steps(nx, steps, passes, pass_tolerance, backend, solver="clarabel", form="primal"):

@@ -19,13 +19,14 @@ def test_configurations(bench):
         ("clarabel", "clarabel", "before"), ("clarabel", "clarabel", "after")]
     assert bench.configurations(["clarabel"], ["qoco"], ["before", "after", "dual", "noref"]) \
         == [("clarabel", "qoco", "after"), ("clarabel", "qoco", "dual")]
-    assert bench.configurations(["clarabel"], ["scs"], ["after"]) == [("cvxpy", "scs", "after")]
+    assert bench.configurations(["clarabel"], ["scs"], ["after"]) == [("clarabel", "scs", "after")]
+    assert bench.configurations(["clarabel"], ["mosek"], ["after"]) == [("cvxpy", "mosek", "after")]
     # each run is one step solver (PFEMConfig.solver)
     assert [bench.step_solver(b, s, f) for b, s, f in (
         ("clarabel", "clarabel", "primal"), ("clarabel", "clarabel", "dual"),
         ("clarabel", "qoco", "dual"), ("cvxpy", "clarabel", "dual"), ("cvxpy", "qoco", "primal"),
-        ("cvxpy", "scs", "primal"))] == ["clarabel", "clarabel-dual", "qoco-dual", "cvxpy",
-                                         "cvxpy-qoco", "scs"]
+        ("cvxpy", "scs", "primal"), ("clarabel", "mosek", "primal"))] == [
+            "clarabel", "clarabel-dual", "qoco-dual", "cvxpy", "cvxpy-qoco", "cvxpy-scs", "mosek"]
 
 
 def test_options_refused(bench):

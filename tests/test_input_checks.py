@@ -116,12 +116,12 @@ def test_a_field_added_later_leaves_the_digests_of_earlier_runs_unchanged():
     ("clarabel-dual", "9859eac1a4f4548b6a6348ec2ad15a96b0d41bff2c7dfdac92129e333f750b11"),
     ("qoco-dual", "5de8037bc6043862f3aed95d97e742df642c0f02ea4f1b833e54dd34bf5c106c"),
     ("cvxpy-qoco", "2fa66c42a5f9ee6c753b7043292594c366b85b5c2dbebe922362366a02ef527f"),
-    ("scs", "8621cb0d718a643b988d1dd8cf4f9cb9d0400e3989253903ba4d90f8f11d2d55")])
+    ("cvxpy-scs", "8621cb0d718a643b988d1dd8cf4f9cb9d0400e3989253903ba4d90f8f11d2d55")])
 def test_one_solver_name_keeps_the_digests_of_the_three_keys_it_replaced(solver, digest):
     # PFEMConfig's backend, solver and form became one solver name; the digests below are
     # the example column's with the three keys that chose the same step (backend 'cvxpy';
     # form 'dual'; solver 'qoco' with form 'dual'; backend 'cvxpy' with solver 'qoco';
-    # solver 'scs'), computed by the code of that time (commit bec35a2): a run
+    # solver 'scs', the cvxpy statement then), computed by the code of that time (commit bec35a2): a run
     # checkpointed then is still recognised
     from dataclasses import replace
     a = scene_from_toml(example_text("column"))

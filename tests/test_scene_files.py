@@ -394,7 +394,8 @@ def test_a_scene_holding_numpy_scalars_writes_and_reads_back():
     ('backend = "cvxpy"', "cvxpy"), ('form = "dual"', "clarabel-dual"),
     ('backend = "cvxpy"\nsolver = "qoco"', "cvxpy-qoco"),
     ('solver = "qoco"\nform = "dual"', "qoco-dual"),
-    ('backend = "clarabel"\nsolver = "scs"', "scs")])
+    ('backend = "clarabel"\nsolver = "scs"', "cvxpy-scs"),
+    ('backend = "cvxpy"\nsolver = "mosek"', "mosek")])
 def test_an_earlier_file_s_backend_and_form_are_read_into_one_solver(keys, solver):
     """The keys that chose the step's solver before one name did are read into that name,
     with a warning that says what to write; a bad value is located as any other."""

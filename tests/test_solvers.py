@@ -426,3 +426,27 @@ def test_non_finite_conic_data_is_refused_before_the_solve(engine):
                               np.ones(2)))):
         with pytest.raises(ValueError, match=f"conic problem's {name} holds 1 non-finite"):
             solver.solve(*data, cones, solver.settings({}))
+
+
+@pytest.mark.parametrize("solver", ["scs", "scs-dual"])
+def test_scs_as_an_engine_of_the_direct_assembly_agrees_with_clarabel(solver):
+    """SCS (first order) handed the direct assembly, primal or dual form, at its tolerances
+    of 1e-9: the elastoplastic step with supports and prescribed increments of Clarabel's
+    direct assembly, to 1e-5 (an engine whose rows or signs were wrong is an O(1) miss)."""
+    pytest.importorskip("scs")
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(0.05, 1.0, 0.5), Elastic(1e3, 0.3))
+    base = lambda x: x[1] < 1e-9                                    # noqa: E731
+    fixed, P = boundary_dofs(disc, base, 0), boundary_dofs(disc, base, 1)
+    rng = np.random.default_rng(3)
+    v_n = 0.1 * rng.standard_normal(disc.n_u)
+    v_n[fixed] = 0.0
+    args = (ops, *(2 * [gravity_vector(disc, 2.0, 9.8)]), rng.standard_normal((disc.n_points, 4)),
+            v_n, Tresca(6.0))
+    kw = dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+    ref = dynamic_increment(*args, solver="clarabel", **kw)
+    res = dynamic_increment(*args, solver=solver, **kw)
+    assert res.info.extra["engine"] == "scs"
+    assert res.info.extra.get("form", "primal") == ("dual" if "dual" in solver else "primal")
+    for name in ("du", "sigma", "r"):
+        assert rel(getattr(res, name), getattr(ref, name)) <= 1e-5, name

@@ -147,8 +147,8 @@ def base_parser(description, quick=None, check=None, solver=True):
 SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
 #: the names of problems.backends.STEP_SOLVERS (who states and solves a PFEM step), a copy for
 #: the same reason (tests/test_solvers.py checks it)
-STEP_SOLVER_NAMES = ("clarabel", "clarabel-dual", "qoco", "qoco-dual", "cvxpy", "cvxpy-qoco",
-                     "mosek", "scs")
+STEP_SOLVER_NAMES = ("clarabel", "clarabel-dual", "qoco", "qoco-dual", "scs", "scs-dual",
+                     "cvxpy", "cvxpy-qoco", "cvxpy-scs", "mosek")
 
 
 def solver_option(parser, default="clarabel", why=""):

@@ -167,33 +167,39 @@ class PFEMConfig:
         return self.theta.dt
 
 
-#: the solvers that had an engine of the direct assembly (the others went to cvxpy)
+#: the solvers that had an engine of the direct assembly when three keys chose the solver
 _DIRECT = ("clarabel", "qoco")
+
+#: the keys (backend, solver, form) of the step solvers that three keys could choose
+_EARLIER = {"clarabel": ("clarabel", "clarabel", None),
+            "clarabel-dual": ("clarabel", "clarabel", "dual"),
+            "qoco": ("clarabel", "qoco", None), "qoco-dual": ("clarabel", "qoco", "dual"),
+            "cvxpy": ("cvxpy", "clarabel", None), "cvxpy-qoco": ("cvxpy", "qoco", None),
+            "cvxpy-scs": ("clarabel", "scs", None), "mosek": ("clarabel", "mosek", None)}
 
 
 def legacy_solver(backend="clarabel", solver="clarabel", form=None):
     """The step's solver (a name of ``STEP_SOLVERS``) that the three keys of earlier scene
     files chose: ``backend`` 'clarabel' (the direct assembly, where ``solver`` had an
-    engine: Clarabel, QOCO) or 'cvxpy'; ``form`` 'primal', 'dual' or None (primal)."""
+    engine: Clarabel, QOCO; the others' cvxpy statement) or 'cvxpy'; ``form`` 'primal',
+    'dual' or None (primal)."""
     for key, value, allowed in (("backend", backend, ("clarabel", "cvxpy")),
                                 ("form", form, (None, "primal", "dual"))):
         if value not in allowed:
             raise ValueError(f"{key} must be one of {allowed}, got {value!r}")
-    if solver not in _DIRECT:
-        name = solver
-    elif backend == "cvxpy":
-        name = "cvxpy" if solver == "clarabel" else f"cvxpy-{solver}"
-    else:
-        name = solver + ("-dual" if form == "dual" else "")
-    if name not in STEP_SOLVERS:
-        raise ValueError(f"solver must be one of {tuple(STEP_SOLVERS)}, got {solver!r}")
-    return name
+    if solver not in ("clarabel", "qoco", "mosek", "scs"):
+        raise ValueError(f"solver must be one of ('clarabel', 'qoco', 'mosek', 'scs'), got "
+                         f"{solver!r}")
+    if solver == "mosek":
+        return "mosek"
+    if backend == "cvxpy" or solver not in _DIRECT:
+        return "cvxpy" if solver == "clarabel" else f"cvxpy-{solver}"
+    return solver + ("-dual" if form == "dual" else "")
 
 
 def legacy_keys(name):
-    """The keys (backend, solver, form) that :func:`legacy_solver` reads as ``name``: a scene's
-    identity is written in them, so that the digests of earlier runs stay theirs."""
-    if name.startswith("cvxpy"):
-        return dict(backend="cvxpy", solver=name[6:] or "clarabel", form=None)
-    solver, _, form = name.partition("-")
-    return dict(backend="clarabel", solver=solver, form=form or None)
+    """The keys (backend, solver, form) that :func:`legacy_solver` reads as ``name``, in which
+    a scene's identity is written so that the digests of earlier runs stay theirs; a solver
+    added since is written with backend 'direct', which no earlier file had."""
+    backend, solver, form = _EARLIER.get(name, ("direct", name, None))
+    return dict(backend=backend, solver=solver, form=form)

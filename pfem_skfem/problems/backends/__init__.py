@@ -14,22 +14,26 @@ supports: its ``cones`` (the kinds of :data:`~pfem_skfem.problems.conic.CONE_KIN
 'clarabel-dual'    the direct assembly's dual (displacement) form, Clarabel
 'qoco'             the direct assembly, primal form, QOCO
 'qoco-dual'        the dual form, QOCO
+'scs', 'scs-dual'  the direct assembly, SCS (first order), primal or dual form
 'cvxpy'            the cvxpy statement (the reference), Clarabel
 'cvxpy-qoco'       the cvxpy statement, QOCO
-'mosek', 'scs'     the cvxpy statement, MOSEK (licensed) or SCS
+'cvxpy-scs'        the cvxpy statement, SCS
+'mosek'            the cvxpy statement, MOSEK (licensed)
 =================  ===========================================================
 
-A solver of :data:`~pfem_skfem.problems.conic.SOLVERS` keeps its name here, so one
-``--solver`` serves the static problems (always cvxpy) and the step alike.
+A solver of :data:`~pfem_skfem.problems.conic.SOLVERS` keeps its name here (its direct
+assembly where it has an engine), so one ``--solver`` serves the static problems (always
+cvxpy) and the step alike.
 """
 from ..conic import solver_backend
 from .clarabel import ClarabelEngine
 from .cvxpy_step import CvxpyStep
 from .direct import DirectStep
 from .qoco import QOCOEngine
+from .scs import SCSEngine
 
 #: the engines of the direct assembly by name
-ENGINES = {engine.name: engine for engine in (ClarabelEngine(), QOCOEngine())}
+ENGINES = {engine.name: engine for engine in (ClarabelEngine(), QOCOEngine(), SCSEngine())}
 
 #: the step's solvers by name (module docstring)
 STEP_SOLVERS = {
@@ -37,10 +41,12 @@ STEP_SOLVERS = {
     "clarabel-dual": DirectStep(ENGINES["clarabel"], "dual"),
     "qoco": DirectStep(ENGINES["qoco"], "primal"),
     "qoco-dual": DirectStep(ENGINES["qoco"], "dual"),
+    "scs": DirectStep(ENGINES["scs"], "primal"),
+    "scs-dual": DirectStep(ENGINES["scs"], "dual"),
     "cvxpy": CvxpyStep("clarabel"),
     "cvxpy-qoco": CvxpyStep("qoco"),
+    "cvxpy-scs": CvxpyStep("scs"),
     "mosek": CvxpyStep("mosek"),
-    "scs": CvxpyStep("scs"),
 }
 
 
@@ -54,8 +60,8 @@ def conic_solver(name):
 def cvxpy_solver(conic):
     """The step solver that states the step in cvxpy and hands it to the conic solver
     ``conic`` (a name of :data:`~pfem_skfem.problems.conic.SOLVERS`): 'cvxpy', 'cvxpy-qoco',
-    'mosek', 'scs'."""
-    name = {"clarabel": "cvxpy", "qoco": "cvxpy-qoco"}.get(conic, conic)
+    'cvxpy-scs', 'mosek'."""
+    name = {"clarabel": "cvxpy", "mosek": "mosek"}.get(conic, f"cvxpy-{conic}")
     if name not in STEP_SOLVERS:
         raise ValueError(f"solver must be one of {('clarabel', 'qoco', 'mosek', 'scs')}, "
                          f"got {conic!r}")
