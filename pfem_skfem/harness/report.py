@@ -160,7 +160,9 @@ class Report:
     quantities : list of Quantity
         What :meth:`add` and :meth:`add_interval` compared, in order.
     extra : dict
-        Further results written to the JSON (histories, tables).
+        Further results written to the JSON (histories).
+    tables : dict
+        The tables of :meth:`add_table` by name, written to the JSON as ``tables``.
     data : dict
         In-memory results for the script's figures and for callers; not written.
     """
@@ -173,6 +175,7 @@ class Report:
         self.params = {k: _plain(v) for k, v in params.items() if k not in HARNESS_OPTIONS}
         self.quantities = []
         self.extra = {}
+        self.tables = {}
         self.data = {}
 
     def add(self, name, value, reference, source, tolerance):
@@ -212,6 +215,25 @@ class Report:
         self.quantities.append(q)
         return q
 
+    def add_table(self, name, columns, rows, *, formats=None, title=None, show=True):
+        """A table of results: printed now (``show``), and written to the JSON
+        (``tables[name]``: its ``columns`` and ``rows``).
+
+        ``columns`` : the column names;  ``rows`` : sequences of one value per column;
+        ``formats`` : {column: format spec} (default: integers as they are, other numbers
+        ``.4g``, the rest as text);  ``title`` : a line above it (default ``name``).
+        """
+        columns = [str(c) for c in columns]
+        rows = [list(row) for row in rows]
+        for row in rows:
+            if len(row) != len(columns):
+                raise ValueError(f"table {name!r}: a row of {len(row)} values for "
+                                 f"{len(columns)} columns")
+        self.tables[name] = {"columns": columns, "rows": rows}
+        if show:
+            print(format_table(columns, rows, formats, title or name))
+        return self.tables[name]
+
     @property
     def passed(self):
         """True when every quantity is within its tolerance."""
@@ -230,6 +252,8 @@ class Report:
                "quantities": [q.as_json() for q in self.quantities]}
         if self.extra:
             out["extra"] = json.loads(json.dumps(self.extra, default=_plain))
+        if self.tables:
+            out["tables"] = json.loads(json.dumps(self.tables, default=_plain))
         return out
 
     def table(self):
@@ -270,6 +294,35 @@ class Report:
             print(f"results written to {args.json}")
         return 0 if self.passed else 1
 
+
+
+def format_table(columns, rows, formats=None, title=None):
+    """The text of a table: a title line, the header, a rule and one line a row, each
+    column as wide as its widest cell, numbers right-aligned (:meth:`Report.add_table`)."""
+    formats = formats or {}
+
+    def cell(column, value):
+        if column in formats and value is not None:
+            return format(value, formats[column])
+        if isinstance(value, (bool, np.bool_)) or value is None:
+            return str(value)
+        if isinstance(value, (int, np.integer)):
+            return str(int(value))
+        if isinstance(value, (float, np.floating)):
+            return format(float(value), ".4g")
+        return str(value)
+
+    cells = [[cell(c, v) for c, v in zip(columns, row)] for row in rows]
+    numeric = [all(isinstance(row[i], (int, float, np.number)) and not isinstance(row[i], bool)
+                   for row in rows) for i in range(len(columns))]
+    width = [max([len(c)] + [len(r[i]) for r in cells]) for i, c in enumerate(columns)]
+
+    def line(values):
+        return "  ".join(v.rjust(w) if num else v.ljust(w)
+                         for v, w, num in zip(values, width, numeric)).rstrip()
+    head = line(columns)
+    return "\n".join(([title] if title else []) + [head, "-" * len(head)]
+                     + [line(r) for r in cells])
 
 
 def thinned(case, histories, drop=(), entries=100):
