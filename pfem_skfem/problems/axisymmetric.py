@@ -18,8 +18,8 @@ yield criteria that read the hoop stress are the Drucker-Prager cones of
 and the exact three-cone Mohr-Coulomb / Tresca
 (:class:`~pfem_skfem.materials.axisymmetric.MohrCoulombAxisymmetric`).
 
-Clarabel ends these problems 'AlmostSolved' more often than the plane ones (measured:
-10 of 45 limit analyses of a thick sphere, book/axisymmetry.md). As every static
+Clarabel ends these problems 'AlmostSolved' more often than the plane ones (the thick
+sphere's limit analyses, book/axisymmetry.md). As every static
 problem, such an end is certified by Clarabel's own residuals and relative gap and
 returned with an :class:`~pfem_skfem.problems.conic.AlmostSolvedWarning`, or raised
 (:func:`~pfem_skfem.problems.conic.certify`).

@@ -64,8 +64,8 @@ BOUND_CERTIFY = dict(feasibility=1e-6, gap=1e-3)
 
 #: Clarabel's settings tried in turn when it stops with a NumericalError (cvxpy's
 #: 'solver_error') or an uncertified field, which the bound problems of refined footing
-#: meshes met near their optimum (measured: 3,000-9,000 elements); equilibration off and
-#: a larger static regularisation then ended with a feasible field and a gap of 1e-7
+#: meshes met near their optimum; equilibration off and a larger static regularisation
+#: then end with a feasible field (book, performance appendix)
 BOUND_RETRIES = (dict(), dict(equilibrate_enable=False, static_regularization_constant=1e-7))
 
 _COMPONENTS = {"x": (0,), "y": (1,), "xy": (0, 1)}

@@ -34,12 +34,9 @@ import numpy as np
 CLARABEL_DEFAULTS = dict(direct_solve_method="qdldl")
 
 #: QOCO's settings tried in turn after a 'numerical error' (cvxpy's 'solver_error'), its own
-#: defaults first: their static regularisations (1e-8 on A, 1e-13 on P and G) met a NaN
-#: first iterate on the strip footing's limit analysis at 1,000 elements and the cut's
-#: upper bound (sizes 0.15 and 0.05); the first retry ended those within 1e-8 of Clarabel
-#: at 1,000 elements and 7e-8 on the cut at 0.15, the second the cut at 0.05 (2.2e-6). A
-#: larger regularisation from the start costs accuracy: the footing at 200 elements then
-#: stopped 'solved inaccurate' with a relative gap 1.3e-5, uncertified (3.2e-6 by default)
+#: defaults first: larger static regularisations than its own (1e-8 on A, 1e-13 on P and
+#: G), which met a NaN first iterate on some limit analyses; not from the start, which
+#: costs accuracy (book, performance appendix, "Choosing the solver").
 QOCO_RETRIES = (dict(kkt_static_reg_A=1e-7, kkt_static_reg_P=1e-8, kkt_static_reg_G=1e-8),
                 dict(kkt_static_reg_A=1e-6, kkt_static_reg_P=1e-8, kkt_static_reg_G=1e-8))
 
@@ -104,10 +101,8 @@ MEASURES = ("res_primal", "res_dual", "gap_rel", "gap_abs", "ktratio")
 #: accepted with an :class:`AlmostSolvedWarning`, when each of these of its own measures
 #: is at most the bound: a tenth of Clarabel's reduced feasibility tolerance (1e-4) and a
 #: fifth of its reduced gap (5e-5), still 1000x its full ones (1e-8). The relative gap
-#: bounds the objective's relative error (a load factor's, say). Measured on the thick
-#: sphere's limit analyses (book/axisymmetry.md, tests/test_certified_solves.py): the 10
-#: AlmostSolved ends of 45 solves had residuals <= 7.6e-6 and a gap <= 6.9e-6, their load
-#: factors within 4.2e-6 of the closed form, as the Solved ends' (3.6e-7 to 5.7e-6).
+#: bounds the objective's relative error (a load factor's, say); the thick sphere's limit
+#: analyses are the evidence (book/axisymmetry.md, tests/test_certified_solves.py).
 CERTIFY = dict(res_primal=1e-5, res_dual=1e-5, gap_rel=1e-5)
 
 

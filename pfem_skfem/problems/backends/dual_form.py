@@ -26,17 +26,12 @@ from scipy.sparse.csgraph import connected_components
 from .clarabel import ClarabelEngine
 
 #: State the dual's objective with its constant 1/2 c_r^T P_r^-1 c_r (a variable t with
-#: cost 1 and the row t = constant), so that Clarabel's relative gap is measured on the
-#: primal's objective value. Without it the dual's objective lacks that constant (the
+#: cost 1 and the row t = constant), so that the engine's relative gap is measured on the
+#: primal's objective value: without it the dual's objective lacks that constant (the
 #: inertia term's, or the work of the prescribed increments), which can exceed the step's
-#: objective by 600x (the axisymmetric extension of tests/test_mu_i_axisymmetric.py):
-#: Clarabel's relative stop was that much looser (sqrt(J2) 1.1e-5 from cvxpy's instead of
-#: 1e-6). The constant goes in b, not in c: as a cost (t = 1, cost the constant) it
-#: upsets Clarabel's scaling of the cost (measured 26.2 iterations per solve against
-#: 21.3 on the a = 1 column's steps 2-7 at 512 elements; 20.6 without the constant, 21.0
-#: in the primal form). On those steps the dual's du is 5e-5 and its r' 1.3e-4 from a
-#: primal solve at 1e-11 whatever the placement and tolerance (1e-8 to 1e-10), the
-#: primal's 5.5e-6 and 1.1e-5 (book/performance.md).
+#: objective by orders of magnitude, and the relative stop is that much looser. The
+#: constant goes in b, not in c, where it upsets Clarabel's scaling of the cost (book,
+#: performance appendix, "The dual form").
 DUAL_CONSTANT = True
 
 #: A block of P whose least eigenvalue is below this fraction of its largest is singular
