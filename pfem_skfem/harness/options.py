@@ -1,10 +1,14 @@
 """Command-line options of the verification scripts: the parser (``--quick``, the checks,
 the output paths), the typed validators (an error names the option, its range and the
-value given) and the option groups several scripts share (sweep, checkpoint, PFEM
-numerics). The table of the validators is in :mod:`pfem_skfem.harness.report`.
+value given) and the option groups several scripts share, each option declared once with
+its validator and help: :func:`material_options`, :func:`pfem_options` (PFEM numerics),
+:func:`time_options`, :func:`adaptive_options` (a limit-bound loop), :func:`sweep_options`,
+:func:`checkpoint_options`. One spelling (:data:`OPTION_SPELLING`): hyphens join the parts
+of a name. The table of the validators is in :mod:`pfem_skfem.harness.report`.
 """
 import argparse
 import math
+import re
 from pathlib import Path
 
 class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
@@ -268,7 +272,6 @@ def scheduler_address(text):
     :func:`run_cases` connects before any case runs, and an unreachable scheduler is an
     error naming ``--scheduler``.
     """
-    import re
     match = re.fullmatch(r"(?:(?P<scheme>[a-z]+)://)?(?P<host>[^\s:/]+|\[[0-9a-fA-F:]+\])"
                          r":(?P<port>\d{1,5})", text.strip())
     if match is None or (match["scheme"] or "tcp") not in SCHEDULER_SCHEMES \
@@ -374,6 +377,13 @@ UNITS = {"kPa": dict(density="t/m3", stress="kPa", acceleration="m/s2", angle="d
          "Pa": dict(density="kg/m3", stress="Pa", acceleration="m/s2", angle="deg"),
          "N/mm2": dict(stress="N/mm^2", angle="deg"),
          None: dict(angle="deg")}
+
+
+#: the spelling of every option of the scripts and of ``pfem-skfem`` (CONTRIBUTING.md): its
+#: parts, words or a symbol and its subscript, joined by hyphens, never an underscore
+#: (``--save-every``, ``--k-min``, ``--mu-2``, ``--T-end``); argparse's dest, the name the
+#: code reads, has underscores in their place (``args.save_every``, ``args.mu_2``)
+OPTION_SPELLING = re.compile(r"-[A-Za-z0-9]|--[A-Za-z0-9]+(-[A-Za-z0-9]+)*")
 
 
 class opt:
