@@ -303,9 +303,9 @@ def build_parser():
                    help="a silo is empty when V < empty V0 (the discharge time)")
     p.add_argument("--r2-min", type=fraction, default=0.97,
                    help="least R^2 of the linear fit of V(t) over 20-80 %% discharged")
-    p.add_argument("--snapshots-smooth", type=float, nargs="*",
+    p.add_argument("--snapshots-smooth", type=nonnegative_float, nargs="*",
                    default=[0.0, 1.0, 2.0, 3.5, 4.0, 4.5], help="times [s] (Fig 6.17)")
-    p.add_argument("--snapshots-rough", type=float, nargs="*",
+    p.add_argument("--snapshots-rough", type=nonnegative_float, nargs="*",
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
     checkpoint_options(p, "run")
     sweep_options(p, default_workers=min(2, os.cpu_count() or 1), what="the runs")
