@@ -155,17 +155,16 @@ def check(args):
             return f"--mu-2{flag} must be >= --mu-s{flag}"
     if not args.rho_axi < args.rho_s_axi:
         return "--rho-axi (bulk density) must be below --rho-s-axi (grain density)"
-    if args.lag == "implicit" and "mu(I)" in args.laws:     # exponential cones: qoco refused
-        from pfem_skfem.problems.conic import solver_backend
-        try:
-            solver_backend(args.solver, cones={"exp"})
-        except ValueError as error:
-            return f"--solver {args.solver} with --lag implicit (mu(I)): {error}"
     return None
 
 
+def cones(args):
+    """The cones beyond the second-order ones: mu(I)'s implicit rate term is exponential."""
+    return {"exp"} if args.lag == "implicit" and "mu(I)" in args.laws else set()
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check, cones=cones,
                     solver="qoco has no exponential cone: refused with mu(I) and --lag implicit")
     p.add_argument("--a", type=positive_float, nargs="*", default=list(plane.ASPECTS),
                    help="plane aspect ratios h0/d0 (none: no plane sweep)")

@@ -89,17 +89,16 @@ def check(args):
         return "--theta-fast must lie above atan(--mu-2)"
     if not args.rho < args.rho_s:
         return "--rho (bulk density) must be below --rho-s (grain density)"
-    if args.lag == "implicit":                   # exponential cones: qoco refused
-        from pfem_skfem.problems.conic import solver_backend
-        try:
-            solver_backend(args.solver, cones={"exp"})
-        except ValueError as error:
-            return f"--solver {args.solver} with --lag implicit: {error}"
     return None
 
 
+def cones(args):
+    """The cones beyond the second-order ones: the implicit rate term is exponential."""
+    return {"exp"} if args.lag == "implicit" else set()
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check, cones=cones,
                     solver="qoco has no exponential cone: refused with --lag implicit")
     p.add_argument("--theta", type=slope_angle, default=25.0, help="slope angle [deg]")
     p.add_argument("--theta-2", type=slope_angle, default=28.0,

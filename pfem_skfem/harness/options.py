@@ -69,14 +69,17 @@ class ScriptParser(argparse.ArgumentParser):
 
     With ``--quick``, each option named in ``quick`` takes its quick value unless
     the user gave it (even at its default value); then ``check(args)`` may
-    return a message, reported as a usage error (exit code 2).
+    return a message, reported as a usage error (exit code 2), and ``cones(args)`` names
+    the cones the problems need with these options: a ``--solver`` without one of them is
+    a usage error too.
     """
 
-    def __init__(self, description, quick=None, check=None):
+    def __init__(self, description, quick=None, check=None, cones=None):
         super().__init__(description=description,
                          formatter_class=_DefaultsOnce)
         self.quick = dict(quick or {})
         self.check = check
+        self.cones = cones
 
     def parse_args(self, args=None, namespace=None):
         parsed = super().parse_args(args, namespace)
@@ -94,6 +97,13 @@ class ScriptParser(argparse.ArgumentParser):
         message = self.check(parsed) if self.check else None
         if message:
             self.error(message)
+        if self.cones is not None and getattr(parsed, "solver", None) in SOLVER_CONES:
+            missing = sorted(set(self.cones(parsed)) - SOLVER_CONES[parsed.solver])
+            if missing:
+                able = [n for n in SOLVER_NAMES if not set(missing) - SOLVER_CONES[n]]
+                self.error(f"argument --solver: {parsed.solver} has no {', '.join(missing)} "
+                           f"cone, which the problems of these options have; use one of "
+                           f"{', '.join(able)}")
         for dest, kind in OUTPUT_PATHS.items():
             value = getattr(parsed, dest, None)
             if value is None or (dest == "outdir" and value == self.get_default(dest)
@@ -106,7 +116,7 @@ class ScriptParser(argparse.ArgumentParser):
         return parsed
 
 
-def base_parser(description, quick=None, check=None, solver=True):
+def base_parser(description, quick=None, check=None, solver=True, cones=None):
     """An argument parser with the options every verification script shares.
 
     Parameters
@@ -123,12 +133,16 @@ def base_parser(description, quick=None, check=None, solver=True):
         Add ``--solver`` (:func:`solver_option`), the conic solver of every problem the
         script solves; a str is appended to its help. False for a script that solves no
         conic problem (an option that did nothing would mislead).
+    cones : callable, optional
+        ``cones(args) -> set``: the cone kinds (:data:`SOLVER_CONES`) the script's
+        problems have with these options (``{"exp"}`` for mu(I)'s implicit rate term); a
+        ``--solver`` that lacks one is a usage error, before any work.
 
     Returns
     -------
     ScriptParser
     """
-    p = ScriptParser(description, quick, check)
+    p = ScriptParser(description, quick, check, cones)
     sizes = ", ".join(f"{k}={v}" for k, v in p.quick.items())
     p.add_argument("--quick", action="store_true",
                    help="a small size that runs in seconds to a minute (tests, CI)"
@@ -149,6 +163,11 @@ def base_parser(description, quick=None, check=None, solver=True):
 #: the names of :data:`pfem_skfem.problems.conic.SOLVERS` (the harness imports no science
 #: module; tests/test_solvers.py checks that the two agree)
 SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
+_ALL_CONES = frozenset({"zero", "nonneg", "soc", "exp", "psd", "power"})
+#: the cone kinds each solver supports (``SolverBackend.cones`` of
+#: :data:`pfem_skfem.problems.conic.SOLVERS`; tests/test_solvers.py checks that they agree)
+SOLVER_CONES = {"clarabel": _ALL_CONES, "qoco": frozenset({"zero", "nonneg", "soc"}),
+                "mosek": _ALL_CONES, "scs": _ALL_CONES}
 
 
 def solver_option(parser, default="clarabel", why=""):
@@ -316,22 +335,11 @@ def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
 def volume_correction_option(parser, default="off", why=""):
     """Add ``--volume-correction {on,off}``, ``PFEMConfig.volume_correction`` (the move
     stage's volume projection, :mod:`pfem_skfem.pfem.volume_projection`), to ``parser``;
-    the script reads it as ``args.volume_correction == "on"``.
-
-    Parameters
-    ----------
-    parser : argparse.ArgumentParser
-    default : "on" or "off"
-    why : str
-        Appended to the help text (e.g. what the default is chosen for).
-    """
-    if default not in ("on", "off"):
+    the script reads it as ``args.volume_correction == "on"``. One option of
+    :func:`pfem_options`; ``why`` is appended to the help text."""
+    if default not in on_off:
         raise ValueError(f"default must be 'on' or 'off', got {default!r}")
-    parser.add_argument("--volume-correction", choices=("on", "off"), default=default,
-                        help="shift the moved particles so that every vertex patch keeps the "
-                             "volume their linearised motion states "
-                             "(PFEMConfig.volume_correction)" + (f"; {why}" if why else ""))
-    return parser
+    return pfem_options(parser, volume_correction=opt(default, why=why or None))
 
 
 def checkpoint_options(parser, what="run", every=20, directory=True):
@@ -358,13 +366,9 @@ def checkpoint_options(parser, what="run", every=20, directory=True):
 
 def alpha_advected_option(parser, default=0.0, why=""):
     """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
-    previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape)."""
-    parser.add_argument("--alpha-advected", type=nonnegative_float, default=default,
-                        help="keep a Delaunay triangle inside the previous step's moved mesh "
-                             "while its circumradius is at most this many h "
-                             "(PFEMConfig.alpha_advected; 0: off, the plain alpha-shape)"
-                             + (f"; {why}" if why else ""))
-    return parser
+    previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape). One
+    option of :func:`pfem_options`."""
+    return pfem_options(parser, alpha_advected=opt(default, why=why or None))
 
 
 # -- option groups: one declaration of each option several scripts share --------------------
