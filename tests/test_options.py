@@ -371,6 +371,12 @@ def test_each_option_takes_its_default_given_back(name):
                 assert action.type(str(value)) == value, (name, action.dest, value)
 
 
+def test_quick_says_its_sizes_as_options():
+    text = " ".join(importlib.import_module("verification.bingham_slump").build_parser()
+                    .format_help().split())
+    assert "--k 0.04 0.02, --n-h 3.5, --no-studies," in text
+
+
 def test_help_keeps_the_stated_defaults():
     text = " ".join(importlib.import_module("verification.strip_footing").build_parser()
                     .format_help().split())

@@ -81,6 +81,21 @@ class ScriptParser(argparse.ArgumentParser):
         self.check = check
         self.cones = cones
 
+    def format_help(self):
+        """The help, ``--quick`` saying its sizes as options (``--t-end 3.0``)."""
+        actions = {a.dest: a for a in self._actions if a.option_strings}
+        quick = actions.get("quick")
+
+        def given(dest, value):                 # as on the command line
+            flags = actions[dest].option_strings if dest in actions else [f"--{dest}"]
+            if isinstance(value, bool):
+                return flags[-1] if not value and len(flags) > 1 else flags[0]
+            values = value if isinstance(value, (list, tuple)) else [value]
+            return " ".join([flags[0], *map(str, values)])
+        if quick is not None and self.quick and ":" not in quick.help:
+            quick.help += ": " + ", ".join(given(k, v) for k, v in self.quick.items())
+        return super().format_help()
+
     def parse_args(self, args=None, namespace=None):
         parsed = super().parse_args(args, namespace)
         if hasattr(parsed, "quiet"):             # progress is the default; --quiet turns it off
@@ -143,10 +158,8 @@ def base_parser(description, quick=None, check=None, solver=True, cones=None):
     ScriptParser
     """
     p = ScriptParser(description, quick, check, cones)
-    sizes = ", ".join(f"{k}={v}" for k, v in p.quick.items())
     p.add_argument("--quick", action="store_true",
-                   help="a small size that runs in seconds to a minute (tests, CI)"
-                        + (f": {sizes}" if sizes else ""))
+                   help="a small size that runs in seconds to a minute (tests, CI)")
     p.add_argument("--json", metavar="PATH", help="write the results as JSON to PATH")
     p.add_argument("--outdir", default="results",
                    help="directory for figures and VTU files")
