@@ -218,6 +218,12 @@ def test_a_group_option_is_declared_by_its_group(name):
                     f"{name}: {text} by hand: declare it with {shared[text]}_options"
 
 
+def test_the_harness_knows_each_solver_s_cones():
+    """The copy the parser checks --solver with (the harness imports no science module)."""
+    from pfem_skfem.problems.conic import SOLVERS
+    assert options.SOLVER_CONES == {name: backend.cones for name, backend in SOLVERS.items()}
+
+
 def test_the_groups_declare_what_a_script_gives():
     parser = argparse.ArgumentParser()
     options.material_options(parser, units="Pa", rho=1000.0,

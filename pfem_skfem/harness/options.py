@@ -176,11 +176,6 @@ def base_parser(description, quick=None, check=None, solver=True, cones=None):
 #: the names of :data:`pfem_skfem.problems.conic.SOLVERS` (the harness imports no science
 #: module; tests/test_solvers.py checks that the two agree)
 SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
-_ALL_CONES = frozenset({"zero", "nonneg", "soc", "exp", "psd", "power"})
-#: the cone kinds each solver supports (``SolverBackend.cones`` of
-#: :data:`pfem_skfem.problems.conic.SOLVERS`; tests/test_solvers.py checks that they agree)
-SOLVER_CONES = {"clarabel": _ALL_CONES, "qoco": frozenset({"zero", "nonneg", "soc"}),
-                "mosek": _ALL_CONES, "scs": _ALL_CONES}
 
 
 def solver_option(parser, default="clarabel", why=""):
@@ -199,6 +194,13 @@ def solver_keyword(args):
     kept of earlier runs (``--results-dir``, keyed by the case's keywords) are found."""
     solver = getattr(args, "solver", "clarabel")
     return {} if solver == "clarabel" else {"solver": solver}
+
+
+_ALL_CONES = frozenset({"zero", "nonneg", "soc", "exp", "psd", "power"})
+#: the cone kinds each solver supports (``SolverBackend.cones`` of
+#: :data:`pfem_skfem.problems.conic.SOLVERS`; tests/test_options.py checks that they agree)
+SOLVER_CONES = {"clarabel": _ALL_CONES, "qoco": frozenset({"zero", "nonneg", "soc"}),
+                "mosek": _ALL_CONES, "scs": _ALL_CONES}
 
 
 class OptionError(ValueError):
