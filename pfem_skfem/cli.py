@@ -324,7 +324,9 @@ def _examples_help():
     return "; ".join(lines)
 
 
-def main(argv=None):
+def build_parser():
+    """The parser of ``pfem-skfem`` and its subcommands (their options follow the scripts'
+    spelling, CONTRIBUTING.md; tests/test_options.py walks them)."""
     parser = argparse.ArgumentParser(prog="pfem-skfem", description=DESCRIPTION,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True, metavar="{list,verify,run}")
@@ -379,7 +381,11 @@ def main(argv=None):
                    "step (default: the scene's config.solver, clarabel unless it says; "
                    "'clarabel-dual': the displacement form; 'cvxpy': the reference statement)")
     r.set_defaults(func=cmd_run)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
     return args.func(args)
 
 

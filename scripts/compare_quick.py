@@ -18,7 +18,8 @@ TIMING_PREFIX = ("seconds", "wall_time", "wall", "t_compile", "t_conic", "t_solv
 
 def timing(key):
     key = str(key)
-    return key.startswith(TIMING_PREFIX) or key.endswith(("_seconds", "_time_s", "_wall")) \
+    return key.startswith(TIMING_PREFIX) \
+        or key.endswith(("_seconds", "_time_s", "_wall", "_solve_s")) \
         or key in {"profile", "machine", "boot"}
 
 

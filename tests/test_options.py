@@ -1,15 +1,21 @@
 """Bad options are usage errors before any work: exit code 2, a message naming the option.
 
-Each verification script runs in-process (its ``main``) with one bad value of each
-kind it takes (a count, an angle, Poisson's ratio, a positive or non-negative number,
-a worker count, inconsistent options); it must stop with ``SystemExit(2)`` within a
+Each verification script runs in-process (its ``main``) with every bad value its options'
+validators are known to refuse (:func:`pfem_skfem.harness.options.bad_values`: below and
+above the range, a fraction for a count, NaN, a name not among the choices), and with the
+rows of ``CHECKS``: values each option's validator accepts but the script's ``check``
+refuses (options that cannot go together). It must stop with ``SystemExit(2)`` within a
 second, before any mesh is built or any problem solved, and its message on stderr must
-name the option given. A validation that is missing lets the script start its work:
-the alarm of ``ALARM`` seconds turns that into a failure.
+name the option given. A validation that is missing lets the script start its work: the
+alarm of ``ALARM`` seconds turns that into a failure. Every option that takes a value is
+refused somewhere: ``test_every_option_can_be_refused`` fails for one with neither a
+known validator nor a row in ``CHECKS``.
 
-Adding a script is one entry in ``BAD``: its name -> [(argv, the option the message
-must name), ...]; ``test_every_script_has_bad_options`` fails until it is there.
+One spelling (CONTRIBUTING.md, ``options.OPTION_SPELLING``): the parsers of every script
+and of ``pfem-skfem`` are walked; and an option of a shared group (``GROUPS``) is declared
+through its group, not by hand, unless it names another thing (``OTHER_MEANINGS``).
 """
+import argparse
 import importlib
 from pathlib import Path
 import signal
@@ -26,138 +32,81 @@ from pfem_skfem.harness import options, progress, report, store, sweeps
 ROOT = Path(__file__).resolve().parents[1]
 ALARM = 10                                    # seconds before a script that started work is stopped
 LIMIT = 1.0                                   # seconds a usage error may take
+SCRIPTS = sorted(p.stem for p in (ROOT / "verification").glob("*.py")
+                 if not p.stem.startswith("_"))
 
-BAD = {
-    "alpha_shape": [(["--h", "0"], "--h"), (["--alpha-step", "-0.1"], "--alpha-step"),
-                    (["--radius", "x"], "--radius")],
-    "bingham_slump": [(["--k", "0"], "--k"), (["--k", "1.5"], "--k"), (["--mu", "0"], "--mu"),
-                      (["--n_h", "1"], "--n_h"), (["--cfl", "3"], "--cfl"),
-                      (["--mu_f", "-1"], "--mu_f"), (["--study_k", "0.03"], "--study_k"),
-                      (["--materials", "sand"], "--materials"),
-                      (["--alpha_tol", "0"], "--alpha_tol"),
-                      (["--stretch_tol", "1.5"], "--stretch_tol"),
-                      (["--bound_rounds", "0"], "--bound_rounds"),
-                      (["--bound_elements", "2.5"], "--bound_elements"),
-                      (["--bound_gap", "-1"], "--bound_gap"),
-                      (["--bound_size", "0"], "--bound_size")],
-    "buried_pipe": [(["--elements", "0"], "--elements"), (["--mu", "-0.1"], "--mu"),
-                    (["--r", "-1"], "--r"), (["--dt", "0"], "--dt"), (["--g", "-9.8"], "--g"),
-                    (["--elements", "3"], "--elements"), (["--depth", "20"], "--depth")],
-    "accretionary_wedge": [(["--phi", "95"], "--phi"), (["--steps", "0"], "--steps"),
-                           (["--mu-wall", "-0.1"], "--mu-wall"),
-                           (["--base-friction", "40"], "--base-friction"), (["--h", "0.05"], "--h"),
-                           (["--stability-steps", "1"], "--stability-steps"),
-                           (["--save-every", "-1"], "--save-every"),
-                           (["--passes", "2"], "--passes"),
-                           (["--increment-study", "0"], "--increment-study"),
-                           (["--workers", "0"], "--workers"),
-                           (["--scheduler", "x:0"], "--scheduler")],
-    "limit_bounds": [(["--elements", "0"], "--elements"), (["--phi", "0"], "--phi"),
-                     (["--theta", "0"], "--theta"), (["--target-gap", "-1"], "--target-gap"),
-                     (["--uniform", "-1"], "--uniform"), (["--slope-phi", "95"], "--slope-phi"),
-                     (["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
-    "cantilever": [(["--nx", "0"], "--nx"), (["--nu", "0.5"], "--nu"),
-                   (["--theta1", "0.3"], "--theta1"), (["--steps", "-1"], "--steps"),
-                   (["--dt", "0"], "--dt"), (["--g", "-1"], "--g"),
-                   (["--t-end", "0.01", "--dt", "0.1", "--steps", "1.5"], "--steps")],
-    "circular_footing": [(["--elements", "0"], "--elements"), (["--phi", "95"], "--phi"),
-                         (["--nu", "0.6"], "--nu"), (["--increments", "0"], "--increments"),
-                         (["--tol", "-1"], "--tol")],
-    "cylinder_soil": [(["--mu", "-1"], "--mu"), (["--du", "0"], "--du"),
-                      (["--theta1", "0.3"], "--theta1"), (["--c", "0"], "--c"),
-                      (["--h-fine", "0.5", "--h-coarse", "0.3"], "--h-fine"),
-                      (["--save-every", "-1"], "--save-every"),
-                      (["--dt-study", "0"], "--dt-study"), (["--mesh-study", "-1"], "--mesh-study"),
-                      (["--workers", "0"], "--workers"), (["--scheduler", "x:0"], "--scheduler")],
-    "granular_column_axisymmetric": [(["--phi", "95"], "--phi"),
-                                     (["--scheduler", "x:0"], "--scheduler"),
-                                     (["--steps", "0"], "--steps"),
-                                     (["--nr", "1"], "--nr"), (["--a", "0"], "--a"),
-                                     (["--settle", "-1"], "--settle"),
-                                     (["--workers", "0"], "--workers"),
-                                     (["--base-study", "90"], "--base-study"),
-                                     (["--mesh-study", "1"], "--mesh-study"),
-                                     (["--courant", "0"], "--courant"),
-                                     (["--volume-correction", "yes"], "--volume-correction")],
-    "granular_column_mu_i": [(["--mu_2", "0.1"], "--mu_2"), (["--mu_s", "1.5"], "--mu_s"),
-                             (["--nx", "1"], "--nx"), (["--nr", "1"], "--nr"),
-                             (["--a", "0"], "--a"), (["--a_axi", "-1"], "--a_axi"),
-                             (["--laws", "mu"], "--laws"), (["--phi", "95"], "--phi"),
-                             (["--rho_axi", "3"], "--rho_axi"), (["--steps", "0"], "--steps"),
-                             (["--h0_over_d", "0"], "--h0_over_d"),
-                             (["--settle", "-1"], "--settle"), (["--workers", "0"], "--workers"),
-                             (["--scheduler", "x:0"], "--scheduler"),
-                             (["--volume-correction", "yes"], "--volume-correction")],
-    "granular_column_plane": [(["--phi", "95"], "--phi"), (["--scheduler", "x:0"], "--scheduler"),
-                              (["--contact", "zero-dilation", "--passes", "2"], "--passes"),
-                              (["--steps", "0"], "--steps"),
-                              (["--settle", "-1"], "--settle"), (["--workers", "0"], "--workers"),
-                              (["--nx", "1"], "--nx"), (["--nu", "-1"], "--nu"),
-                              (["--mu", "-0.5"], "--mu"), (["--save-every", "-1"], "--save-every"),
-                              (["--a", "0"], "--a"), (["--time-steps", "0"], "--time-steps")],
-    "fluid_films": [(["--theta", "95"], "--theta"), (["--mu", "-1"], "--mu"),
-                    (["--tau_y", "-1"], "--tau_y"), (["--ny", "0"], "--ny"),
-                    (["--tau_y", "100"], "--tau_y"), (["--tau_y_stop", "10"], "--tau_y_stop"),
+# values the option's validator accepts and the script's check refuses: name -> [(argv, the
+# option the message must name), ...]
+CHECKS = {
+    "bingham_slump": [(["--study-k", "0.03"], "--study-k")],
+    "buried_pipe": [(["--depth", "20"], "--depth")],
+    "accretionary_wedge": [(["--base-friction", "40"], "--base-friction"),
+                           (["--h", "0.05"], "--h"), (["--passes", "2"], "--passes")],
+    "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
+    "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps")],
+    "cylinder_soil": [(["--h-fine", "0.5", "--h-coarse", "0.3"], "--h-fine")],
+    "granular_column_mu_i": [(["--mu-2", "0.1"], "--mu-2"), (["--rho-axi", "3"], "--rho-axi"),
+                             (["--solver", "qoco", "--lag", "implicit"], "--solver")],
+    "granular_column_plane": [(["--contact", "zero-dilation", "--passes", "2"], "--passes")],
+    "fluid_films": [(["--tau-y", "100"], "--tau-y"), (["--tau-y-stop", "10"], "--tau-y-stop"),
                     (["--ny", "8"], "--ny")],
-    "dam_break": [(["--mu", "-1"], "--mu"), (["--nx", "0"], "--nx"), (["--nx", "3"], "--nx"),
-                  (["--n2", "0"], "--n2"), (["--steps", "0"], "--steps"),
-                  (["--save-every", "-1"], "--save-every")],
-    "hydrostatics": [(["--rho_s", "0"], "--rho_s"), (["--rho_s", "900"], "--rho_s"),
-                     (["--n", "0"], "--n"), (["--b", "0.15"], "--b"), (["--h_b", "0.3"], "--h_b"),
-                     (["--c", "-1"], "--c"), (["--dt", "0"], "--dt")],
-    "soil_and_water": [(["--phi", "95"], "--phi"), (["--nx", "0"], "--nx"), (["--nx", "2"], "--nx"),
-                       (["--a", "0"], "--a"), (["--tol_area", "-1"], "--tol_area"),
-                       (["--beta", "90"], "--beta"), (["--mu_slope", "0.6"], "--mu_slope"),
-                       (["--d", "1.2"], "--d"), (["--h", "0"], "--h"), (["--c", "-1"], "--c"),
-                       (["--keep_area", "maybe"], "--keep_area"),
-                       (["--mu_floor", "-0.1"], "--mu_floor"), (["--thin", "1"], "--thin"),
-                       (["--tol_speed", "0"], "--tol_speed"),
-                       (["--tol_refused", "2"], "--tol_refused"),
-                       (["--spread_mass", "maybe"], "--spread_mass"),
-                       (["--alpha-advected", "-1"], "--alpha-advected"),
-                       (["--tol_energy", "0"], "--tol_energy"),
-                       (["--refine_interior", "-1"], "--refine_interior"),
-                       (["--keep_surface", "maybe"], "--keep_surface"),
-                       (["--keep_area_step", "-0.1"], "--keep_area_step")],
-    "inclined_plane_flow": [(["--theta", "95"], "--theta"), (["--ny", "0"], "--ny"),
-                            (["--steps", "0"], "--steps"), (["--d", "0"], "--d"),
-                            (["--mu_2", "0.3"], "--mu_2"), (["--theta_stop", "25"], "--theta_stop"),
-                            (["--theta_fast", "30"], "--theta_fast"), (["--lag", "x"], "--lag"),
-                            (["--rho", "3000"], "--rho")],
-    "inclined_rod": [(["--steps", "0", "10"], "--steps"), (["--steps", "10", "10"], "--steps"),
-                     (["--E", "0"], "--E"), (["--tol", "-1"], "--tol")],
-    "plastic_vibration": [(["--steps", "0"], "--steps"), (["--nu", "0.6"], "--nu"),
-                          (["--theta2", "1.5"], "--theta2"), (["--ny", "-2"], "--ny")],
-    "rotating_bar": [(["--steps", "0", "8"], "--steps"), (["--theta", "270"], "--theta"),
-                     (["--steps", "1", "2"], "--steps"), (["--L0", "0"], "--L0")],
-    "silo_discharge": [(["--phi", "95"], "--phi"), (["--scheduler", "x:0"], "--scheduler"),
-                       (["--h", "0"], "--h"), (["--c", "-1"], "--c"),
-                       (["--workers", "0"], "--workers"), (["--passes", "0"], "--passes"),
-                       (["--save-every", "-1"], "--save-every"),
-                       (["--dt-study", "0"], "--dt-study"), (["--r2-min", "1.5"], "--r2-min"),
-                       (["--B", "10"], "--B")],
-    "landslide_yangbaodi": [(["--phi", "95"], "--phi"), (["--h", "0"], "--h"),
-                            (["--h", "20"], "--h"), (["--profile", "/no/such/profile.csv"], "--profile"),
-                            (["--mu-study", "0"], "--mu-study"), (["--rho-study", "-1"], "--rho-study"),
-                            (["--theta1", "0.3"], "--theta1"), (["--workers", "0"], "--workers"),
-                            (["--t-after", "0.01"], "--t-after"), (["--rest", "2"], "--rest"),
-                            (["--hold", "top"], "--hold"), (["--save-every", "-1"], "--save-every"),
-                            (["--volume-correction", "1"], "--volume-correction")],
-    "sliding_box": [(["--steps", "0"], "--steps"), (["--theta", "0"], "--theta"),
-                    (["--mu", "0"], "--mu"), (["--contact", "zero-dilation"], "--contact")],
-    "strip_footing": [(["--elements", "0"], "--elements"), (["--elements", "-5"], "--elements"),
-                      (["--phi", "95"], "--phi"), (["--nu", "0.6"], "--nu"),
-                      (["--increments", "0"], "--increments"),
-                      (["--mc-increments", "0"], "--mc-increments"),
-                      (["--tol-tresca", "-0.1"], "--tol-tresca"), (["--c", "nan"], "--c"),
-                      (["--elements", "1"], "--elements"), (["--mc-elements", "2"], "--mc-elements")],
-    "thick_cylinder": [(["--phi", "90"], "--phi"), (["--nu", "0.5"], "--nu"),
-                       (["--nr", "0"], "--nr"), (["--a", "2", "--b", "1"], "--a"),
-                       (["--increments", "0"], "--increments"), (["--phi", "45"], "--phi")],
-    "trussed_frame": [(["--steps", "0"], "--steps"), (["--uV", "-1"], "--uV"),
-                      (["--tol", "-1"], "--tol"), (["--width", "7"], "--width")],
+    "dam_break": [(["--nx", "3"], "--nx")],
+    "hydrostatics": [(["--rho-s", "900"], "--rho-s"), (["--b", "0.15"], "--b"),
+                     (["--h-b", "0.3"], "--h-b")],
+    "soil_and_water": [(["--nx", "2"], "--nx"), (["--mu-slope", "0.6"], "--mu-slope"),
+                       (["--d", "1.2"], "--d")],
+    "inclined_plane_flow": [(["--mu-2", "0.3"], "--mu-2"),
+                            (["--theta-stop", "25"], "--theta-stop"),
+                            (["--theta-fast", "30"], "--theta-fast"), (["--rho", "3000"], "--rho"),
+                            (["--solver", "qoco", "--lag", "implicit"], "--solver")],
+    "inclined_rod": [(["--steps", "10", "10"], "--steps")],
+    "rotating_bar": [(["--theta", "270"], "--theta"), (["--steps", "1", "2"], "--steps")],
+    "silo_discharge": [(["--B", "10"], "--B")],
+    "landslide_yangbaodi": [(["--h", "20"], "--h"),
+                            (["--profile", "/no/such/profile.csv"], "--profile"),
+                            (["--t-after", "0.01"], "--t-after"), (["--rest", "2"], "--rest")],
+    "sliding_box": [(["--contact", "zero-dilation"], "--contact")],
+    "thick_cylinder": [(["--a", "2", "--b", "1"], "--a"), (["--phi", "45"], "--phi")],
+    "trussed_frame": [(["--width", "7"], "--width")],
 }
-CASES = [(name, argv, option) for name, rows in BAD.items() for argv, option in rows]
+CHECK_CASES = [(name, argv, option) for name, rows in CHECKS.items() for argv, option in rows]
+
+# options of a shared group's name declared by hand, for they name another thing
+OTHER_MEANINGS = {
+    ("fluid_films", "--h"): "the film's depth h, not a particle spacing",
+    ("inclined_plane_flow", "--h"): "the layer's depth h, not a particle spacing",
+}
+
+# options of a bare float: any number is meant, or the script's check says what is not
+ANY_NUMBER = {("accretionary_wedge", "--taper"): "a surface slope may dip either way",
+              ("rotating_bar", "--theta"): "either way; CHECKS: within (0, 180] degrees"}
+
+# free text: a path (checked when parsed: OUTPUT_PATHS), a file read by the script, a name
+FREE = {"json", "outdir", "results_dir", "checkpoint_dir", "json_dir", "out", "extra", "example"}
+
+
+def _parser(name):
+    if name == "cli":
+        return cli.build_parser()
+    return importlib.import_module(f"verification.{name}").build_parser()
+
+
+def _actions(parser, command=()):
+    """(the subcommand's words, action) of every option of ``parser`` and its subcommands."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for word, sub in action.choices.items():
+                yield from _actions(sub, (*command, word))
+        elif action.option_strings:
+            yield command, action
+
+
+def _bad_argvs(action):
+    """A command line for each value the option of ``action`` is known to refuse (an option
+    of N values: the bad one first, then its defaults)."""
+    rest = ([str(v) for v in action.default[1:]] if isinstance(action.nargs, int)
+            and action.nargs > 1 else [])
+    return [[action.option_strings[0], bad, *rest] for bad in options.bad_values(action)]
 
 
 class StartedWork(Exception):
@@ -166,34 +115,62 @@ class StartedWork(Exception):
 
 @pytest.fixture
 def alarm():
+    """Arms the alarm (called before each command line)."""
     def stop(signum, frame):
         raise StartedWork(f"still running after {ALARM} s: the bad option was not caught")
     old = signal.signal(signal.SIGALRM, stop)
-    signal.alarm(ALARM)
-    yield
+    yield lambda: signal.alarm(ALARM)
     signal.alarm(0)
     signal.signal(signal.SIGALRM, old)
 
 
-def test_every_script_has_bad_options():
-    scripts = {p.stem for p in (ROOT / "verification").glob("*.py") if not p.stem.startswith("_")}
-    assert scripts - set(BAD) == set(), "add the scripts' bad options to BAD"
-    assert set(BAD) - scripts == set(), "BAD names scripts that are not in verification/"
-
-
-@pytest.mark.parametrize("name, argv, option", CASES,
-                         ids=[f"{n}:{' '.join(a)}" for n, a, _ in CASES])
-def test_a_bad_option_is_a_usage_error_naming_it(name, argv, option, tmp_path, capsys, alarm):
-    script = importlib.import_module(f"verification.{name}")
+def _refused(main, argv, option, capsys, arm):
+    """Why ``main(argv)`` is not a usage error naming ``option`` within LIMIT s, or None."""
+    arm()
     t0 = time.perf_counter()
     with pytest.raises(SystemExit) as exit_:
-        script.main([*argv, "--quiet", "--no-figures", "--outdir", str(tmp_path)])
+        main(argv)
     seconds = time.perf_counter() - t0
+    signal.alarm(0)
     err = capsys.readouterr().err
-    assert exit_.value.code == 2, err
+    if exit_.value.code != 2:
+        return f"{argv}: exit code {exit_.value.code}: {err}"
     message = err.strip().splitlines()[-1]
-    assert option in message, f"the message does not name {option}: {message}"
-    assert seconds < LIMIT, f"{seconds:.2f} s before the usage error"
+    if option not in message:
+        return f"{argv}: the message does not name {option}: {message}"
+    if seconds > LIMIT:
+        return f"{argv}: {seconds:.2f} s before the usage error"
+    return None
+
+
+def test_every_script_is_walked():
+    assert set(CHECKS) <= set(SCRIPTS) and len(SCRIPTS) >= 25
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_every_bad_value_is_a_usage_error_naming_its_option(name, tmp_path, capsys, alarm):
+    script = importlib.import_module(f"verification.{name}")
+    tail = ["--quiet", "--no-figures", "--outdir", str(tmp_path)]
+    problems = [_refused(script.main, [*argv, *tail], action.option_strings[0], capsys, alarm)
+                for _, action in _actions(script.build_parser())
+                for argv in _bad_argvs(action)]
+    assert len(problems) >= 5 and [p for p in problems if p] == []
+
+
+@pytest.mark.parametrize("name, argv, option", CHECK_CASES,
+                         ids=[f"{n}:{' '.join(a)}" for n, a, _ in CHECK_CASES])
+def test_options_that_cannot_go_together_are_a_usage_error(name, argv, option, tmp_path,
+                                                           capsys, alarm):
+    script = importlib.import_module(f"verification.{name}")
+    argv = [*argv, "--quiet", "--no-figures", "--outdir", str(tmp_path)]
+    assert _refused(script.main, argv, option, capsys, alarm) is None
+
+
+def test_the_cli_refuses_every_bad_value(capsys, alarm):
+    problems = [_refused(cli.main, [*command, *argv], action.option_strings[0], capsys, alarm)
+                for command, action in _actions(cli.build_parser())
+                for argv in _bad_argvs(action)]
+    assert len(problems) >= 8 and [p for p in problems if p] == []
 
 
 def test_the_script_exits_with_code_2_from_the_command_line():
@@ -203,17 +180,79 @@ def test_the_script_exits_with_code_2_from_the_command_line():
     assert "argument --elements: must be a number of elements >= 4, got '0'" in proc.stderr
 
 
-@pytest.mark.parametrize("argv, option", [
-    (["verify", "--jobs", "0"], "--jobs"),
-    (["run", "x.toml", "--steps", "0"], "--steps"),
-    (["run", "x.toml", "--every", "-1"], "--every"),
-    (["run", "x.toml", "--checkpoint-every", "-2"], "--checkpoint-every"),
-])
-def test_the_cli_checks_its_options(argv, option, capsys):
-    with pytest.raises(SystemExit) as exit_:
-        cli.main(argv)
-    assert exit_.value.code == 2
-    assert option in capsys.readouterr().err.strip().splitlines()[-1]
+@pytest.mark.parametrize("name", [*SCRIPTS, "cli"])
+def test_every_option_can_be_refused(name):
+    """An option that takes a value has a validator whose refusals are known, or its script
+    checks it (a row in CHECKS), or it is free text (FREE)."""
+    checked = {option for _, option in CHECKS.get(name, [])}
+    for _, action in _actions(_parser(name)):
+        if action.nargs == 0 or action.dest in FREE:
+            continue
+        if action.type in (float, int):                 # "x" only: any number
+            assert (name, action.option_strings[0]) in ANY_NUMBER, \
+                f"{name}: {action.option_strings[0]} takes any number: give it a range"
+        elif not options.bad_values(action):
+            assert set(action.option_strings) & checked, \
+                f"{name}: {action.option_strings[0]} accepts anything: give it a validator"
+
+
+@pytest.mark.parametrize("name", [*SCRIPTS, "cli"])
+def test_one_spelling(name):
+    """Hyphens join the parts of an option's name (CONTRIBUTING.md), in every script and in
+    the command line."""
+    for _, action in _actions(_parser(name)):
+        for text in action.option_strings:
+            assert options.OPTION_SPELLING.fullmatch(text), f"{name}: {text}"
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_a_group_option_is_declared_by_its_group(name):
+    """``--rho``, ``--dt``, ``--k-min``, ... are declared once, in harness/options.py, with
+    their validator; a script gives their defaults (and, where it must, its help)."""
+    shared = {options.option_name(key): group for group, specs in options.GROUPS.items()
+              if group != "adaptive" for key in specs}
+    for _, action in _actions(_parser(name)):
+        for text in action.option_strings:
+            if text in shared and (name, text) not in OTHER_MEANINGS:
+                assert getattr(action, "option_group", None) == shared[text], \
+                    f"{name}: {text} by hand: declare it with {shared[text]}_options"
+
+
+def test_the_harness_knows_each_solver_s_cones():
+    """The copy the parser checks --solver with (the harness imports no science module)."""
+    from pfem_skfem.problems.conic import SOLVERS
+    assert options.SOLVER_CONES == {name: backend.cones for name, backend in SOLVERS.items()}
+
+
+def test_the_groups_declare_what_a_script_gives():
+    parser = argparse.ArgumentParser()
+    options.material_options(parser, units="Pa", rho=1000.0,
+                             phi=options.opt([30.0], nargs="+", why="the thesis'"))
+    options.pfem_options(parser, k_min=options.opt(0.005, dest="floor"))
+    options.adaptive_options(parser, "mc", what="the footing", rounds=5)
+    options.time_options(parser, save_every=0)
+    args = parser.parse_args(["--phi", "20", "35", "--k-min", "0.01"])
+    assert (args.rho, args.phi, args.floor, args.mc_rounds, args.save_every) == \
+        (1000.0, [20.0, 35.0], 0.01, 5, 0)
+    helps = {a.dest: a.help for a in parser._actions}
+    assert helps["rho"] == "density [kg/m3]" and helps["phi"].endswith("; the thesis'")
+    assert helps["mc_rounds"] == "adaptive rounds (the footing)"
+    with pytest.raises(TypeError, match="no option psi"):
+        options.material_options(parser, psi=0.0)
+
+
+@pytest.mark.parametrize("group", sorted(options.GROUPS))
+def test_each_group_option_refuses_what_it_says(group):
+    """Each option of a group has known bad values (one at least), and its parser refuses
+    each of them."""
+    parser = argparse.ArgumentParser(exit_on_error=False)
+    options._declare(parser, group, dict.fromkeys(options.GROUPS[group]))
+    for action in parser._actions[1:]:
+        bad = options.bad_values(action)
+        assert bad, action.dest
+        for text in bad:
+            with pytest.raises(argparse.ArgumentError, match=action.option_strings[0]):
+                parser.parse_args([action.option_strings[0], text])
 
 
 @pytest.mark.parametrize("validator, good, bad", [
@@ -309,7 +348,7 @@ def test_a_writable_output_is_not_created_when_parsed(tmp_path):
     assert list(tmp_path.iterdir()) == []                       # the probe file is gone
 
 
-@pytest.mark.parametrize("name", sorted(BAD))
+@pytest.mark.parametrize("name", SCRIPTS)
 def test_help_says_each_default_once(name):
     parser = importlib.import_module(f"verification.{name}").build_parser()
     formatter = parser._get_formatter()
@@ -320,17 +359,28 @@ def test_help_says_each_default_once(name):
     assert "(default: False)" not in text and "(default: None)" not in text
 
 
-@pytest.mark.parametrize("name", sorted(BAD))
+@pytest.mark.parametrize("name", [*SCRIPTS, "cli"])
 def test_each_option_takes_its_default_given_back(name):
     """A default written out on the command line parses to itself: a validator that
-    refuses its own default would refuse every value a user gives (--n_h 5 did)."""
-    parser = importlib.import_module(f"verification.{name}").build_parser()
-    for action in parser._actions:
-        if action.type is None or action.default is None or isinstance(action.default, str):
+    refuses its own default would refuse every value a user gives (--n-h 5 did); a
+    default among the choices."""
+    parser = _parser(name)
+    for _, action in _actions(parser):
+        if action.default is None or action.nargs == 0 or action.default is argparse.SUPPRESS:
             continue
-        for value in (action.default if isinstance(action.default, (list, tuple))
-                      else [action.default]):
-            assert action.type(str(value)) == value, (action.dest, value)
+        values = (action.default if isinstance(action.default, (list, tuple))
+                  else [action.default])
+        for value in values:
+            if action.choices is not None:
+                assert value in action.choices, (name, action.dest, value)
+            if action.type is not None:
+                assert action.type(str(value)) == value, (name, action.dest, value)
+
+
+def test_quick_says_its_sizes_as_options():
+    text = " ".join(importlib.import_module("verification.bingham_slump").build_parser()
+                    .format_help().split())
+    assert "--k 0.04 0.02, --n-h 3.5, --no-studies," in text
 
 
 def test_help_keeps_the_stated_defaults():

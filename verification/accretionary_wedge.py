@@ -71,9 +71,10 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
-                                        nonnegative_int, positive, positive_int,
-                                        solver_keyword, sweep_options, positive_angle)
+from pfem_skfem.harness.options import (base_parser, in_range, material_options,
+                                        nonnegative_float, opt, pfem_options, positive_angle,
+                                        positive_float, positive_int, solver_keyword,
+                                        sweep_options, time_options)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
@@ -343,28 +344,22 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--h0", type=positive("h0"), default=0.08, help="layer height [m]")
-    p.add_argument("--L", type=positive("L"), default=1.4, help="layer length [m]")
-    p.add_argument("--phi", type=positive_angle("the critical taper (Dahlen 1984) divides by sin "
-                                                "phi"),
-                   default=30.0, help="friction angle [deg]")
-    p.add_argument("--rho", type=positive("rho"), default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
+    p.add_argument("--h0", type=positive_float, default=0.08, help="layer height [m]")
+    p.add_argument("--L", type=positive_float, default=1.4, help="layer length [m]")
+    material_options(p, phi=opt(30.0, type=positive_angle("the critical taper (Dahlen 1984) "
+                                                          "divides by sin phi")),
+                     rho=2.0, g=9.8)
     p.add_argument("--mu-wall", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
                    help="friction of the pushing wall (tan 30 deg)")
     p.add_argument("--base-friction", type=in_range(0, 90, high_open=True, unit="degrees"),
                    default=15.0,
                    help="base friction angle phi_b [deg] (mu_b = tan phi_b)")
-    p.add_argument("--s", type=positive("s"), default=0.16, help="wall displacement [m]")
-    p.add_argument("--steps", type=positive_int, default=1000, help="steps for the wall displacement")
-    p.add_argument("--dt", type=positive("dt"), default=0.16, help="time step [s]")
-    p.add_argument("--h", type=positive("h"), default=0.01, help="particle spacing [m]")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.4, help="alpha-shape parameter")
-    p.add_argument("--k-min", type=positive("k_min"), default=0.005,
-                   help="least cone radius / (rho g h0)")
+    p.add_argument("--s", type=positive_float, default=0.16, help="wall displacement [m]")
+    time_options(p, steps=opt(1000, "steps for the wall displacement"), dt=0.16, save_every=0)
+    pfem_options(p, h=0.01, alpha=1.4, k_min=opt(0.005, why="a fraction of rho g h0"),
+                 passes=3)
     p.add_argument("--contact", choices=sorted(CONTACTS), default="zero-dilation",
                    help="contact rule at base and wall")
-    p.add_argument("--passes", type=positive_int, default=3, help="fixed-point passes a step")
     p.add_argument("--stability-test", action="store_true",
                    help="only the critical-taper stability test on a pre-built wedge")
     p.add_argument("--taper", type=float, nargs="+", default=[15.0, 3.0],
@@ -372,7 +367,6 @@ def build_parser():
     p.add_argument("--stability-steps", type=in_range(2, integer=True), default=6, help="push steps of the test")
     p.add_argument("--stability-layers", type=positive_int, default=8,
                    help="particles through the height of the test wedge")
-    p.add_argument("--save-every", type=nonnegative_int, default=0, help="VTU every this many steps (0: none)")
     p.add_argument("--increment-study", type=positive_int, nargs="+", default=[], metavar="N",
                    help="also shorten the layer by --s in N steps each (same spacing); the "
                         "slope, length and wall force checked against the run of most steps")

@@ -33,7 +33,7 @@ from scipy.spatial import ConvexHull
 from pfem_skfem.discretisation.meshes import triangulate_polygon
 from pfem_skfem.pfem.alpha_shape import alpha_shape
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, positive_float
+from pfem_skfem.harness.options import (base_parser, opt, pfem_options, positive_float)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 
@@ -75,7 +75,7 @@ def sweep(points, h, alphas):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, solver=False)
-    p.add_argument("--h", type=positive_float, default=1.0, help="characteristic spacing h")
+    pfem_options(p, h=opt(1.0, "characteristic spacing h"))
     p.add_argument("--radius", type=positive_float, default=6.0,
                    help="radius of the disc cluster (units of h)")
     p.add_argument("--gap", type=positive_float, default=2.6,

@@ -26,9 +26,9 @@ Materials and set-ups (measured, see the book page):
   past the profile (x_f 1.7 times Nye's at k = 0.02). It is brought down quasi-statically:
   every step starts from rest (the velocities set to zero), so that a step moves the
   deposit only while gravity exceeds what the yield stress can hold, and the deposit is at
-  rest when the acceleration of a step from rest is below --rest_a g.
+  rest when the acceleration of a step from rest is below --rest-a g.
 
-The particle spacing is Nye's height at the wall over --n_h, so that every k has the same
+The particle spacing is Nye's height at the wall over --n-h, so that every k has the same
 resolution of the deposit; alpha_advected keeps the thinning corner by the wall (without
 it 3.5 % of the area was cut off at k = 0.01).
 
@@ -41,21 +41,21 @@ longitudinal stresses suggest); the front in [1 - sqrt(eps), 1] of Nye's x_f; th
 round-off and the area within 2 %. For each material, the excess at the smallest eps below
 that at the largest where the two are a factor TREND = 2 apart (--quick's two k are not:
 their excesses differ by less than the discretisation's spread, +-0.04 at n_h = 3.5-5).
-The full run adds the studies at --study_k (Tresca): the mesh (n_h x 1.4) and the step
+The full run adds the studies at --study-k (Tresca): the mesh (n_h x 1.4) and the step
 (cfl / 2) change the excess by less than half of it (a deviation from Nye, not from the
 discretisation); the fast mud and the dynamic Tresca slump run farther than the slow ones.
 
 How much gravity a heap can carry, as a rigid-plastic Tresca body (c = tau_y) on a floor
 without slip against the smooth wall: certified limit bounds alpha_L <= alpha <= alpha_U
-(:func:`pfem_skfem.drivers.bounds.adapt`, refined until they are --bound_gap apart or
---bound_elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha_L = 1 + 1.6-1.7
+(:func:`pfem_skfem.drivers.bounds.adapt`, refined until they are --bound-target-gap apart or
+--bound-max-elements). Nye's heap stands in 2D, alpha_L >= 1 (measured alpha_L = 1 + 1.6-1.7
 eps, alpha_U = 1 + 1.9-2.1 eps: the longitudinal stresses its shallow theory neglects),
 and its excess strength alpha - 1 shrinks with eps (the upper bound at the smaller eps
 below the lower bound at the larger). Stretched upright by s = sqrt(alpha) (a shallow
-heap's basal shear grows as s^2) it is at its limit: its bounds within --stretch_tol of 1
+heap's basal shear grows as s^2) it is at its limit: its bounds within --stretch-tol of 1
 (measured 0.99-1.07), so a 2D heap at its limit is about s - 1 = 0.9 eps taller than
 Nye's. Each deposit, the heap under its measured surface,
-stopped at its limit within --alpha_tol: alpha_U >= 1 - alpha_tol (not steeper than the
+stopped at its limit within --alpha-tol: alpha_U >= 1 - alpha_tol (not steeper than the
 continuum can hold; measured alpha 0.80-0.95 at n_h = 3.5-5: the PFEM's step, a few
 elements across the deposit, is a little stronger than the continuum, as displacement
 elements' collapse loads are) and alpha_L <= 1 + alpha_tol (not flatter than it had to
@@ -75,8 +75,9 @@ import time
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
-                                        nonnegative_int, positive_float, positive_int)
+from pfem_skfem.harness.options import (adaptive_options, base_parser, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_float, positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
@@ -187,7 +188,7 @@ def no_bracket(status):
 def deposit_bracket(r, args):
     """:func:`limit_bracket` of a slump's deposit, the heap under its measured surface h(x)
     (continued flat to the wall, down to the floor at its front x_f) in units of its
-    height at the wall, c = k H0 / h(0); elements of --bound_size h(0)."""
+    height at the wall, c = k H0 / h(0); elements of --bound-size h(0)."""
     h0 = r["h"][0]
     x = np.r_[0.0, r["xs"], r["x_f"]] / h0
     h = np.r_[r["h"][0], r["h"], 0.0] / h0
@@ -212,7 +213,7 @@ def slump_scene(k, material, *, L0, H0, rho, g, mu, mu_f, spacing, dt, alpha_adv
 
 
 def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0):
-    """One slump from release to rest (or to --max_steps / --T_max).
+    """One slump from release to rest (or to --max-steps / --T-max).
 
     The time step: a dynamic slump's next step moves the fastest particle ``cfl``
     spacings (at most 1.5 times the last step, at least dt0, at most dt_max); a
@@ -294,7 +295,7 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
 
 def check(args):
     if args.study_k not in args.k and args.studies:
-        return f"--study_k ({args.study_k:g}) must be one of --k {args.k}"
+        return f"--study-k ({args.study_k:g}) must be one of --k {args.k}"
     return None
 
 
@@ -303,61 +304,53 @@ def build_parser():
     p.add_argument("--L0", type=positive_float, default=0.1,
                    help="column width [m] (half of a column against its symmetry plane)")
     p.add_argument("--H0", type=positive_float, default=0.1, help="column height [m]")
-    p.add_argument("--rho", type=positive_float, default=1000.0, help="density [kg/m3]")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
+    material_options(p, units="Pa", rho=1000.0, g=9.81)
     p.add_argument("--k", type=yield_number, nargs="+", default=[0.04, 0.02, 0.01],
                    help="yield numbers k = tau_y / (rho g H0), one slump each (tau_y = "
                         "k rho g H0): Nye's aspect ratio eps = 0.16, 0.10, 0.064")
     p.add_argument("--mu", type=positive_float, default=10.0,
                    help="plastic viscosity of the mud [Pa s] (the slow slump)")
-    p.add_argument("--mu_fast", type=nonnegative_float, default=1.0,
+    p.add_argument("--mu-fast", type=nonnegative_float, default=1.0,
                    help="plastic viscosity of the fast mud of the studies [Pa s]")
-    p.add_argument("--mu_f", type=nonnegative_float, default=5.0,
+    p.add_argument("--mu-f", type=nonnegative_float, default=5.0,
                    help="Coulomb friction coefficient of the rough floor")
     p.add_argument("--materials", nargs="+", choices=MATERIALS, default=list(MATERIALS),
                    help="bingham: the slow viscous slump; tresca: quasi-static, c = tau_y")
-    p.add_argument("--n_h", type=in_range(2, None, what="a number of particles >= 2"),
+    p.add_argument("--n-h", type=in_range(2, None, what="a number of particles >= 2"),
                    default=5.0, help="particles across Nye's height at the wall (spacing)")
     p.add_argument("--cfl", type=in_range(0, 2, low_open=True, what="a fraction of a spacing "
                                           "in (0, 2]"), default=0.5,
                    help="largest particle displacement per step, in spacings")
     p.add_argument("--dt0", type=positive_float, default=0.05,
                    help="first (and least) time step, in units of sqrt(H0 / g)")
-    p.add_argument("--dt_max", type=positive_float, default=50.0,
+    p.add_argument("--dt-max", type=positive_float, default=50.0,
                    help="largest time step, in units of sqrt(H0 / g)")
-    p.add_argument("--fall_max", type=positive_float, default=16.0,
+    p.add_argument("--fall-max", type=positive_float, default=16.0,
                    help="quasi-static: the step in which a free particle falls this many "
                         "spacings is the largest")
     p.add_argument("--rest", type=positive_float, default=1e-6,
                    help="a dynamic slump is at rest below this speed / sqrt(g H0)")
-    p.add_argument("--rest_a", type=positive_float, default=1e-4,
+    p.add_argument("--rest-a", type=positive_float, default=1e-4,
                    help="a quasi-static one below this acceleration of a step from rest / g")
-    p.add_argument("--max_steps", type=positive_int, default=2000, help="steps at most")
-    p.add_argument("--T_max", type=positive_float, default=1e4,
+    p.add_argument("--max-steps", type=positive_int, default=2000, help="steps at most")
+    p.add_argument("--T-max", type=positive_float, default=1e4,
                    help="time at most, in units of sqrt(H0 / g)")
-    p.add_argument("--alpha_advected", type=nonnegative_float, default=3.0,
-                   help="keep a stretched triangle of the moved mesh up to this many h "
-                        "(PFEMConfig.alpha_advected)")
+    pfem_options(p, alpha_advected=3.0)
     p.add_argument("--tol", type=positive_float, default=1.0,
                    help="the height excess in the middle may reach tol sqrt(eps)")
-    p.add_argument("--alpha_tol", type=TOLERANCE, default=0.2,
+    p.add_argument("--alpha-tol", type=TOLERANCE, default=0.2,
                    help="a deposit's certified gravity multiplier may miss 1 by this much")
-    p.add_argument("--stretch_tol", type=TOLERANCE, default=0.05,
+    p.add_argument("--stretch-tol", type=TOLERANCE, default=0.05,
                    help="Nye's heap stretched upright by sqrt(alpha) carries 1 within this")
-    p.add_argument("--bound_rounds", type=positive_int, default=6,
-                   help="rounds of refinement of the limit bounds (drivers.bounds.adapt)")
-    p.add_argument("--bound_elements", type=positive_int, default=8000,
-                   help="elements at most of a limit-bound mesh")
-    p.add_argument("--bound_gap", type=positive_float, default=0.01,
-                   help="stop refining the limit bounds below this relative gap")
-    p.add_argument("--bound_size", type=positive_float, default=0.25,
-                   help="first element size of a heap's limit-bound mesh, in its height at "
-                        "the wall")
+    adaptive_options(p, "bound", what="the limit bounds, drivers.bounds.adapt", rounds=6,
+                     max_elements=opt(8000, dest="bound_elements"),
+                     target_gap=opt(0.01, dest="bound_gap"),
+                     size=opt(0.25, "first element size of a heap's limit-bound mesh, in "
+                                    "its height at the wall"))
     p.add_argument("--studies", action=argparse.BooleanOptionalAction, default=True,
-                   help="at --study_k: the mesh and step twins, the fast and dynamic slumps")
-    p.add_argument("--study_k", type=yield_number, default=0.02, help="k of the studies")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU of every slump every this many steps (0: none), a PVD")
+                   help="at --study-k: the mesh and step twins, the fast and dynamic slumps")
+    p.add_argument("--study-k", type=yield_number, default=0.02, help="k of the studies")
+    time_options(p, save_every=opt(0, why="of every slump, and a PVD"))
     return p
 
 

@@ -44,8 +44,8 @@ from pfem_skfem.discretisation.static import assemble_B, body_force_vector, boun
 from pfem_skfem.problems.contact import RigidCircle, potential_contacts, resultants
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
-                                        positive_float)
+from pfem_skfem.harness.options import (base_parser, element_count, material_options,
+                                        nonnegative_float, opt, positive_float, time_options)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -110,17 +110,14 @@ def check(args):
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--r", type=positive_float, default=0.5, help="pipe radius [m]")
-    p.add_argument("--su", type=positive_float, default=50.0, help="undrained strength [kPa]")
-    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=nonnegative_float, default=9.8, help="gravity [m/s2]")
+    material_options(p, su=50.0, rho=2.0, g=opt(9.8, type=nonnegative_float))
     p.add_argument("--mu", type=nonnegative_float, default=0.0, help="pipe-soil friction (0: smooth)")
     p.add_argument("--width", type=positive_float, default=10.0, help="half width [m]")
     p.add_argument("--height", type=positive_float, default=15.0, help="column [m]")
     p.add_argument("--depth", type=positive_float, default=7.5,
                    help="depth of the pipe centre [m]")
-    p.add_argument("--dt", type=positive_float, default=None,
-                   help="solve one dynamic step (4.23) of this length [s] (theta1 = theta2 "
-                        "= 1, from rest) instead of the quasi-static step")
+    time_options(p, dt=opt(None, "solve one dynamic step (4.23) of this length [s] (theta1 = "
+                                 "theta2 = 1, from rest) instead of the quasi-static step"))
     p.add_argument("--elements", type=element_count, nargs="+", default=[700, 1400, 2812],
                    help="approximate element counts (a mesh-convergence table)")
     return p

@@ -46,8 +46,9 @@ from pfem_skfem.problems.backends import cvxpy_solver
 from pfem_skfem.problems.backends.cvxpy_step import D_FORMS
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,
-                                        positive_float, positive_int, theta_weight)
+from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
+                                        positive_float, positive_int, theta_weight,
+                                        time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 
@@ -137,20 +138,15 @@ def build_parser():
     p.add_argument("--height", type=positive_float, default=1.0, help="beam depth h (m)")
     p.add_argument("--nx", type=positive_int, default=50, help="element columns (2 nx ny triangles)")
     p.add_argument("--ny", type=positive_int, default=5, help="element rows")
-    p.add_argument("--rho", type=positive_float, default=0.01, help="density (t/m3)")
-    p.add_argument("--E", type=positive_float, default=3e5, help="Young's modulus (kPa)")
-    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
-    p.add_argument("--g", type=nonnegative_float, default=0.0,
-                   help="gravity (m/s2); the benchmark has none (then no beam-theory check)")
+    material_options(p, rho=0.01, E=3e5, nu=0.3,
+                     g=opt(0.0, type=nonnegative_float,
+                           why="the benchmark has none (then no beam-theory check)"))
     p.add_argument("--F", type=positive_float, default=10.0, help="end load (kN/m)")
     p.add_argument("--t-ramp", type=positive_float, default=1.0, help="ramp time (s)")
     p.add_argument("--t-hold", type=positive_float, default=6.0, help="hold time (s)")
-    p.add_argument("--t-end", type=positive_float, default=14.0, help="end time (s)")
-    p.add_argument("--dt", type=positive_float, default=0.1, help="time step (s)")
-    p.add_argument("--steps", type=positive_int, default=None,
-                   help="number of time steps (default: t_end / dt)")
-    p.add_argument("--theta1", type=theta_weight, default=0.5, help="theta1, undamped run")
-    p.add_argument("--theta2", type=theta_weight, default=0.5, help="theta2, undamped run")
+    time_options(p, t_end=14.0, dt=0.1,
+                 steps=opt(None, "number of time steps (default: t_end / dt)"),
+                 theta1=opt(0.5, why="undamped run"), theta2=opt(0.5, why="undamped run"))
     p.add_argument("--theta1-damped", type=theta_weight, default=1.0, help="theta1, damped run")
     p.add_argument("--theta2-damped", type=theta_weight, default=0.5, help="theta2, damped run")
     p.add_argument("--d-form", choices=D_FORMS, default="quad_form",

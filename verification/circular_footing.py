@@ -45,9 +45,9 @@ from pfem_skfem.discretisation.meshes import graded_rectangle_with_elements
 from pfem_skfem.discretisation.static import assemble_B, assemble_C, boundary_dofs, discretise
 from pfem_skfem.problems.axisymmetric import static_increment_axisymmetric, with_axis
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
-                                        poisson_ratio, positive_float, positive_int,
-                                        positive_angle)
+from pfem_skfem.harness.options import (base_parser, element_count, material_options,
+                                        nonnegative_float, opt, positive_angle, positive_float,
+                                        positive_int)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -128,9 +128,12 @@ def nc_curve(model, elastic, criterion, settlement, n_increments, c, solver="cla
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--R", type=positive_float, default=0.5, help="footing radius [m]")
-    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
+    material_options(p, c=opt(100.0, "cohesion / Su [kPa]"), E=1.0e5, nu=0.49,
+                     phi=opt([10, 20, 30], nargs="*",
+                             help="friction angles of the Mohr-Coulomb footings [deg] (none "
+                                  "to skip)",
+                             type=positive_angle("the Mohr-Coulomb reference has cot phi; "
+                                                 "phi = 0 is the Tresca case, always run")))
     p.add_argument("--rough", action="store_true",
                    help="rough footing: the soil under it moves with it (u_r = 0)")
     p.add_argument("--elements", type=element_count, nargs="+", default=[300, 1000, 3000],
@@ -139,10 +142,6 @@ def build_parser():
                    help="final footing displacement of the Nc-settlement curves [m]")
     p.add_argument("--increments", type=positive_int, default=20,
                    help="increments of each Nc-settlement curve")
-    p.add_argument("--phi", type=positive_angle("the Mohr-Coulomb reference has cot phi; phi = 0 "
-                                                "is the Tresca case, always run"),
-                   nargs="*", default=[10, 20, 30],
-                   help="friction angles of the Mohr-Coulomb footings [deg] (none to skip)")
     p.add_argument("--mc-elements", type=element_count, default=1000,
                    help="elements of the Mohr-Coulomb meshes")
     p.add_argument("--tol", type=nonnegative_float, default=None,

@@ -75,9 +75,9 @@ from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
-                                        nonnegative_int, positive, positive_float,
-                                        solver_keyword, sweep_options, theta_weight)
+from pfem_skfem.harness.options import (base_parser, in_range, material_options,
+                                        nonnegative_float, opt, pfem_options, positive_float,
+                                        solver_keyword, sweep_options, time_options)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
@@ -247,33 +247,30 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--D", type=positive("D"), default=1.0, help="cylinder diameter [m]")
-    p.add_argument("--c", type=positive("c"), default=1.0, help="undrained strength c_u [kPa]")
-    p.add_argument("--rho", type=positive("rho"), default=1.6, help="soil density [t/m3]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
+    p.add_argument("--D", type=positive_float, default=1.0, help="cylinder diameter [m]")
+    material_options(p, c=opt(1.0, "undrained strength c_u [kPa]"),
+                     rho=opt(1.6, "soil density [t/m3]"), g=9.8)
     p.add_argument("--mu", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
                    help="cylinder-soil friction coefficient (tan 30 deg)")
-    p.add_argument("--uV", type=positive("uV"), default=0.8, help="penetration [m]")
-    p.add_argument("--uH", type=positive("uH"), default=2.0, help="lateral travel [m]")
+    p.add_argument("--uV", type=positive_float, default=0.8, help="penetration [m]")
+    p.add_argument("--uH", type=positive_float, default=2.0, help="lateral travel [m]")
     p.add_argument("--du", type=in_range(0, 0.2, low_open=True, unit="m"), default=0.01,
                    help="displacement per step [m]")
-    p.add_argument("--dt", type=positive("dt"), default=0.1,
-                   help="time step [s] (thesis 1 s; see the docstring)")
-    p.add_argument("--theta1", type=theta_weight, default=1.0, help="theta1 of (4.4)")
-    p.add_argument("--theta2", type=theta_weight, default=1.0, help="theta2 of (4.4)")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.4, help="alpha-shape parameter")
-    p.add_argument("--W", type=positive("W"), default=8.0, help="domain width [m]")
-    p.add_argument("--H", type=positive("H"), default=3.0, help="domain depth [m]")
-    p.add_argument("--h-fine", type=positive("h_fine"), default=0.1,
+    time_options(p, dt=opt(0.1, why="thesis 1 s; see the docstring"), theta1=1.0, theta2=1.0,
+                 save_every=opt(0, why="into --outdir"))
+    pfem_options(p, alpha=1.4)
+    p.add_argument("--W", type=positive_float, default=8.0, help="domain width [m]")
+    p.add_argument("--H", type=positive_float, default=3.0, help="domain depth [m]")
+    p.add_argument("--h-fine", type=positive_float, default=0.1,
                    help="particle spacing near the cylinder's path [m]")
-    p.add_argument("--h-coarse", type=positive("h_coarse"), default=0.3,
+    p.add_argument("--h-coarse", type=positive_float, default=0.3,
                    help="particle spacing elsewhere [m]")
     p.add_argument("--contact", choices=sorted(CONTACTS), default="coulomb",
                    help="interface rule: associated Coulomb cones (5.12, the thesis') or "
                         "zero dilation (lagged friction bound)")
     p.add_argument("--domain-study", action="store_true",
                    help="also run in a domain --study-scale times wider and deeper")
-    p.add_argument("--study-scale", type=positive("study_scale"), default=1.5,
+    p.add_argument("--study-scale", type=positive_float, default=1.5,
                    help="domain enlargement of --domain-study")
     p.add_argument("--dt-study", type=positive_float, nargs="+", default=[], metavar="DT",
                    help="also run with these time steps [s]; the steady forces of every dt "
@@ -282,8 +279,6 @@ def build_parser():
                    help="also run with these spacings h_fine [m] (h_coarse = max(--h-coarse, "
                         "2 h)); the steady forces within 15 %% of the finest's (issue 15)")
     sweep_options(p, default_workers=1, what="the runs (main and studies)")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU every this many steps (0: none) into --outdir")
     return p
 
 

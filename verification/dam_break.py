@@ -25,10 +25,10 @@ comparison is of the time at which the front (the top) reaches each tabulated po
 
 Checks: the column held by a gate first (hydrostatics: the pressure rho g depth, median
 over the elements, the force rho g h0^2 / 2 on the gate and the weight on the floor, to
-1e-6); after the release the anchored front times within --tol_T of Table 2 (the spread of
+1e-6); after the release the anchored front times within --tol-T of Table 2 (the spread of
 the runs at a position is 0.1-0.3); the fall of the height at the wall: the times at
 which it reaches Table 6's heights, less their mean offset (measured about 0.2 in tau: the
-table's time origin is not that of Table 2's anchor; reported), within --tol_T / n (the
+table's time origin is not that of Table 2's anchor; reported), within --tol-T / n (the
 same tolerance in T); the front slower than Ritter's shallow-water bound 2 sqrt(g n^2 a)
 (dZ/dT <= 2); the mass of water (particles) to round-off and the water's area (the
 alpha-shape domain, with the move stage's volume correction) within 2 % (measured 1.0 % at
@@ -47,8 +47,9 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, nonnegative_int,
-                                        positive_float, positive_int, in_range)
+from pfem_skfem.harness.options import (base_parser, in_range, material_options,
+                                        nonnegative_float, opt, positive_float, positive_int,
+                                        time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, steps=40, T_end=3.0, studies=False)
@@ -194,20 +195,18 @@ def build_parser():
                    help="column width [m] (Martin & Moyce: 2.25 in)")
     p.add_argument("--n2", type=in_range(0, None, low_open=True, what="a height ratio > 0"),
                    default=2.0, help="column height / width, n^2 (the tables: 2)")
-    p.add_argument("--rho", type=positive_float, default=1000.0, help="density [kg/m3]")
+    material_options(p, units="Pa", rho=1000.0, g=9.81)
     p.add_argument("--mu", type=nonnegative_float, default=1.0e-3,
                    help="viscosity [Pa s] (water at 20 C; 0: inviscid)")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
     p.add_argument("--nx", type=positive_int, default=16, help="particles across the column")
-    p.add_argument("--steps", type=positive_int, default=80, help="steps to T_end")
-    p.add_argument("--T_end", type=positive_float, default=4.0,
+    time_options(p, steps=opt(80, "steps to T_end"),
+                 save_every=opt(0, why="of the base run, and a PVD"))
+    p.add_argument("--T-end", type=positive_float, default=4.0,
                    help="end time in units of sqrt(a / (2 g)) (Martin & Moyce's T)")
-    p.add_argument("--tol_T", type=positive_float, default=0.2,
+    p.add_argument("--tol-T", type=positive_float, default=0.2,
                    help="tolerance of the anchored front times, in units of T")
     p.add_argument("--studies", action=__import__("argparse").BooleanOptionalAction,
                    default=True, help="the inviscid, time-step and resolution twins")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU of the base run every this many steps (0: none), a PVD")
     return p
 
 

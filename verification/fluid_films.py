@@ -39,8 +39,8 @@ import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, slope_angle,
-                                        positive_float, positive_int)
+from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
+                                        positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=[4, 8, 16])
@@ -78,10 +78,10 @@ def check(args):
     """Options that cannot go together (a usage error), or None."""
     load = args.rho * args.g * args.h * np.sin(np.radians(args.theta))
     if not args.tau_y < load:
-        return (f"--tau_y must be below rho g h sin(theta) = {load:.4g} Pa (a flowing layer); "
+        return (f"--tau-y must be below rho g h sin(theta) = {load:.4g} Pa (a flowing layer); "
                 f"tau_y_stop is the no-flow case")
     if not args.tau_y_stop > load:
-        return f"--tau_y_stop must exceed rho g h sin(theta) = {load:.4g} Pa (no flow)"
+        return f"--tau-y-stop must exceed rho g h sin(theta) = {load:.4g} Pa (no flow)"
     if len(args.ny) < 2:
         return "--ny needs two meshes at least (a convergence order)"
     return None
@@ -91,17 +91,16 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--theta", type=slope_angle, default=10.0, help="slope angle [deg]")
     p.add_argument("--h", type=positive_float, default=0.02, help="layer depth [m]")
-    p.add_argument("--rho", type=positive_float, default=1000.0, help="density [kg/m3]")
+    material_options(p, units="Pa", rho=1000.0, g=9.81)
     p.add_argument("--mu", type=positive_float, default=1.0,
                    help="viscosity [Pa s] of the film and plastic viscosity of the mud")
-    p.add_argument("--tau_y", type=nonnegative_float, default=22.7,
+    p.add_argument("--tau-y", type=nonnegative_float, default=22.7,
                    help="yield stress of the mud [Pa] (default: z_y near h/3)")
-    p.add_argument("--tau_y_stop", type=positive_float, default=42.6,
+    p.add_argument("--tau-y-stop", type=positive_float, default=42.6,
                    help="a yield stress above rho g h sin(theta) [Pa]: no flow")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
     p.add_argument("--ny", type=positive_int, nargs="+", default=[4, 8, 16, 32, 64],
                    help="elements through the depth, one Bingham run each")
-    p.add_argument("--steps", type=positive_int, default=40, help="steps of each run")
+    time_options(p, steps=opt(40, "steps of each run"))
     p.add_argument("--T", type=positive_float, default=10.0,
                    help="run time in units of h^2 / nu (nu = mu / rho)")
     p.add_argument("--tol", type=positive_float, default=1e-3,

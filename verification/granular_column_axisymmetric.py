@@ -64,11 +64,10 @@ from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import ResumableRun, sitting
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (alpha_advected_option, base_parser,
-                                        checkpoint_options, friction_angle, in_range,
-                                        nonnegative_float, nonnegative_int, positive_float,
-                                        positive_int, solver_keyword, sweep_options,
-                                        volume_correction_option, positive_angle)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
+                                        friction_angle, in_range, material_options, opt,
+                                        pfem_options, positive_float, solver_keyword,
+                                        sweep_options, time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -318,33 +317,31 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios a = h0/r0")
-    p.add_argument("--phi", type=positive_angle("c = 0: phi = 0 is a material without strength"),
-                   default=30.0,
-                   help="friction angle phi_g of the material [deg]")
+    material_options(p, phi=opt(30.0, "friction angle phi_g of the material [deg]",
+                                type=cohesionless_angle),
+                     rho=2.0, g=9.8)
     p.add_argument("--phi-s", type=friction_angle, default=None,
                    help="base friction angle phi_s [deg], mu = tan phi_s (default phi_g)")
-    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
     p.add_argument("--r0", type=positive_float, default=1.0, help="initial radius [m]")
     p.add_argument("--nr", type=PARTICLES_ACROSS, default=10,
                    help="particles across the radius r0, or across the height h0 where it is "
                         "smaller (a < 1)")
-    p.add_argument("--steps", type=positive_int, default=400,
-                   help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
+    time_options(p, steps=opt(400, "time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = "
+                                   "0.01)"),
+                 settle=opt(4.0, "after t/sqrt(h0/g) = 4 go on for at most this long until at "
+                                 "rest"),
+                 save_every=opt(0, why="a PVD per case"))
     p.add_argument("--courant", type=positive_float, default=None,
                    help="at least the steps that hold sqrt(2 g h0) dt / h to this (tall "
                         "columns: the volume error grows with it); default: --steps only")
-    p.add_argument("--settle", type=nonnegative_float, default=4.0,
-                   help="after t/sqrt(h0/g) = 4 go on for at most this long until at rest")
     p.add_argument("--material", choices=tuple(MATERIALS), default="dp",
                    help="dp: the (7.10) cone, zero dilation; mc: Mohr-Coulomb, 3 cones")
     p.add_argument("--compare-mc", type=positive_float, nargs="*", default=[],
                    help="aspect ratios also run with the other material (compared once)")
     p.add_argument("--density", type=positive_float, nargs="*", default=[],
                    help="densities for the invariance check (c = 0), at the first a")
-    p.add_argument("--friction-study", type=positive_angle("c = 0: phi = 0 is a material without "
-                                                           "strength"),
-                   nargs="*", default=[],
+    p.add_argument("--friction-study", type=cohesionless_angle, nargs="*",
+                   default=[],
                    help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
     p.add_argument("--base-study", type=friction_angle, nargs="*", default=[],
                    help="phi_s values for Fig 7.11, at every a of --base-a")
@@ -358,20 +355,16 @@ def build_parser():
                    help="the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
     p.add_argument("--no-fit-gates", action="store_true",
                    help="report the deviations from (7.31)-(7.32) without gating them")
-    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
-    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
-    p.add_argument("--floor", type=positive_float, default=0.005,
-                   help="least cone radius, as a fraction of rho g h0")
-    volume_correction_option(p, "on", why="with --alpha-advected 3 every volume measured "
-                                          "is within 3 %% (see the book)")
+    pfem_options(p, alpha=1.6, passes=2,
+                 k_min=opt(0.005, dest="floor", why="a fraction of rho g h0"),
+                 volume_correction=opt("on", why="with --alpha-advected 3 every volume "
+                                                 "measured is within 3 %% (see the book)"),
+                 alpha_advected=opt(3.0, why="3 keeps the toe's flattened triangles (see the "
+                                             "book); the deposit is measured on the domain "
+                                             "the run detects"))
     p.add_argument("--adaptive-alpha", action="store_true",
                    help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n "
                         "(thesis Ch 8)")
-    alpha_advected_option(p, 3.0, why="3 keeps the toe's flattened triangles (see the "
-                                       "book); the deposit is measured on the domain the "
-                                       "run detects")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU every this many steps (0: none); PVD per case")
     checkpoint_options(p, "column")
     sweep_options(p, what="the cases (sweep and studies)")
     return p

@@ -19,8 +19,8 @@ depends on a and on h0 / d, and on the solid fraction rho / rho_s).
 
 * Plane: Lagree, Staron & Popinet (2011), J. Fluid Mech. 686, their continuum parameters
   mu_s = 0.32, mu_2 = mu_s + 0.28, I_0 = 0.40, and their column size, h0 = 65 d (their
-  a = 1.42 and 6.26 columns; ``--h0_over_d``), at every a; or a fixed width in grains
-  (``--d0_over_d``). The thesis gives no size for its plane columns, and Lube et al.'s
+  a = 1.42 and 6.26 columns; ``--h0-over-d``), at every a; or a fixed width in grains
+  (``--d0-over-d``). The thesis gives no size for its plane columns, and Lube et al.'s
   (2005) channels are not in the research notes. Lagree et al. write I with the continuum
   density, so rho_s defaults to rho.
 * Axisymmetric: Jop et al.'s glass beads (mu_s = 0.38, mu_2 = 0.64, I_0 = 0.279,
@@ -62,9 +62,10 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
+from pfem_skfem.harness.options import (base_parser, cohesionless_angle, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, positive_int, solver_keyword,
-                                        sweep_options, volume_correction_option, positive_angle)
+                                        sweep_options, time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -150,81 +151,74 @@ def check(args):
     """Options that cannot go together (a usage error), or None."""
     for suffix in ("", "_axi"):
         if not getattr(args, "mu_2" + suffix) >= getattr(args, "mu_s" + suffix):
-            return f"--mu_2{suffix} must be >= --mu_s{suffix}"
+            flag = suffix.replace("_", "-")
+            return f"--mu-2{flag} must be >= --mu-s{flag}"
     if not args.rho_axi < args.rho_s_axi:
-        return "--rho_axi (bulk density) must be below --rho_s_axi (grain density)"
-    if args.lag == "implicit" and "mu(I)" in args.laws:     # exponential cones: qoco refused
-        from pfem_skfem.problems.conic import solver_backend
-        try:
-            solver_backend(args.solver, cones={"exp"})
-        except ValueError as error:
-            return f"--solver {args.solver} with --lag implicit (mu(I)): {error}"
+        return "--rho-axi (bulk density) must be below --rho-s-axi (grain density)"
     return None
 
 
+def cones(args):
+    """The cones beyond the second-order ones: mu(I)'s implicit rate term is exponential."""
+    return {"exp"} if args.lag == "implicit" and "mu(I)" in args.laws else set()
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check, cones=cones,
                     solver="qoco has no exponential cone: refused with mu(I) and --lag implicit")
     p.add_argument("--a", type=positive_float, nargs="*", default=list(plane.ASPECTS),
                    help="plane aspect ratios h0/d0 (none: no plane sweep)")
-    p.add_argument("--a_axi", type=positive_float, nargs="*", default=list(axi.ASPECTS),
+    p.add_argument("--a-axi", type=positive_float, nargs="*", default=list(axi.ASPECTS),
                    help="axisymmetric aspect ratios h0/r0 (none: no axisymmetric sweep)")
     p.add_argument("--laws", choices=LAWS, nargs="+", default=list(LAWS),
                    help="mu(I) and the rate-independent twins to run")
     p.add_argument("--lag", choices=("viscosity", "implicit", "friction"), default="viscosity",
                    help="how the rate enters the step (MuIRheology)")
-    p.add_argument("--p_min", type=positive_float, default=1e-3,
+    p.add_argument("--p-min", type=positive_float, default=1e-3,
                    help="least pressure in I, in units of rho g h0")
-    p.add_argument("--k_min", type=positive_float, default=0.005,
-                   help="least cone radius, in units of rho g h0 (the column scripts' floor)")
-    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--settle", type=nonnegative_float, default=4.0,
-                   help="after t/sqrt(h0/g) = 4, go on for at most this long until at rest")
-    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes a step")
-    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
-    p.add_argument("--density_factor", type=positive_float, default=2.0,
+    material_options(p, g=9.8)
+    time_options(p, settle=opt(4.0, "after t/sqrt(h0/g) = 4, go on for at most this long "
+                                    "until at rest"))
+    pfem_options(p, k_min=opt(0.005, why="in units of rho g h0"), passes=2, alpha=1.6)
+    p.add_argument("--density-factor", type=positive_float, default=2.0,
                    help="factor on rho and rho_s of the invariance run (mu(I), first plane a; "
                         "1: none)")
     g = p.add_argument_group("plane columns (Lagree, Staron & Popinet 2011)")
-    g.add_argument("--mu_s", type=FRICTION, default=0.32, help="static friction")
-    g.add_argument("--mu_2", type=FRICTION, default=0.60, help="limiting friction (mu_s + 0.28)")
-    g.add_argument("--I_0", type=positive_float, default=0.40, help="I_0 of mu(I)")
-    g.add_argument("--h0_over_d", type=positive_float, default=65.0,
+    g.add_argument("--mu-s", type=FRICTION, default=0.32, help="static friction")
+    g.add_argument("--mu-2", type=FRICTION, default=0.60, help="limiting friction (mu_s + 0.28)")
+    g.add_argument("--I-0", type=positive_float, default=0.40, help="I_0 of mu(I)")
+    g.add_argument("--h0-over-d", type=positive_float, default=65.0,
                    help="column height in grain diameters (Lagree et al.: 65)")
-    g.add_argument("--d0_over_d", type=positive_float, default=None,
-                   help="column width in grain diameters, in place of --h0_over_d")
-    g.add_argument("--rho", type=positive_float, default=2.0, help="bulk density [t/m3]")
-    g.add_argument("--rho_s", type=positive_float, default=None,
+    g.add_argument("--d0-over-d", type=positive_float, default=None,
+                   help="column width in grain diameters, in place of --h0-over-d")
+    material_options(g, rho=opt(2.0, "bulk density [t/m3]"),
+                     phi=opt(31.0, "friction angle of the thesis' run [deg]",
+                             type=cohesionless_angle))
+    g.add_argument("--rho-s", type=positive_float, default=None,
                    help="density in I [t/m3] (default --rho: Lagree et al.'s continuum density)")
-    g.add_argument("--mu_w", type=nonnegative_float, default=float(np.tan(np.radians(31.0))),
+    g.add_argument("--mu-w", type=nonnegative_float, default=float(np.tan(np.radians(31.0))),
                    help="base and wall friction (default tan 31 deg, the plane script's)")
-    g.add_argument("--phi", type=positive_angle("c = 0: phi = 0 is a material without strength"),
-                   default=31.0,
-                   help="friction angle of the thesis' run [deg]")
     g.add_argument("--nx", type=PARTICLES_ACROSS, default=8, help="particles across d0")
-    g.add_argument("--steps", type=positive_int, default=100,
-                   help="time steps to t/sqrt(h0/g) = 4")
+    time_options(g, steps=opt(100, "time steps to t/sqrt(h0/g) = 4"))
     g = p.add_argument_group("axisymmetric columns (Jop et al. 2006 glass beads)")
-    g.add_argument("--mu_s_axi", type=FRICTION, default=0.38, help="static friction")
-    g.add_argument("--mu_2_axi", type=FRICTION, default=0.64, help="limiting friction")
-    g.add_argument("--I_0_axi", type=positive_float, default=0.279, help="I_0 of mu(I)")
-    g.add_argument("--d_axi", type=positive_float, default=0.53e-3, help="grain diameter [m]")
-    g.add_argument("--rho_s_axi", type=positive_float, default=2.45,
+    g.add_argument("--mu-s-axi", type=FRICTION, default=0.38, help="static friction")
+    g.add_argument("--mu-2-axi", type=FRICTION, default=0.64, help="limiting friction")
+    g.add_argument("--I-0-axi", type=positive_float, default=0.279, help="I_0 of mu(I)")
+    g.add_argument("--d-axi", type=positive_float, default=0.53e-3, help="grain diameter [m]")
+    g.add_argument("--rho-s-axi", type=positive_float, default=2.45,
                    help="grain density [t/m3]")
-    g.add_argument("--rho_axi", type=positive_float, default=0.6 * 2.45,
+    g.add_argument("--rho-axi", type=positive_float, default=0.6 * 2.45,
                    help="bulk density [t/m3] (solid fraction 0.6)")
     g.add_argument("--r0", type=positive_float, default=0.039,
                    help="column radius [m] (thesis Fig 7.6: 3.9 cm)")
-    g.add_argument("--mu_w_axi", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
+    g.add_argument("--mu-w-axi", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
                    help="base friction (default tan 30 deg, the axisymmetric script's)")
-    g.add_argument("--phi_axi", type=positive_angle("c = 0: phi = 0 is a material without "
-                                                    "strength"),
-                   default=30.0,
+    g.add_argument("--phi-axi", type=cohesionless_angle, default=30.0,
                    help="friction angle phi_g of the thesis' (7.10) run [deg]")
     g.add_argument("--nr", type=PARTICLES_ACROSS, default=8, help="particles across r0")
-    g.add_argument("--steps_axi", type=positive_int, default=100,
+    g.add_argument("--steps-axi", type=positive_int, default=100,
                    help="time steps to t/sqrt(h0/g) = 4")
-    volume_correction_option(g, "off", why="the axisymmetric columns only")
+    pfem_options(g, volume_correction=opt("off", why="the axisymmetric columns only"))
     sweep_options(p, what="the columns")
     return p
 

@@ -49,10 +49,10 @@ from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoul
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
-                                        nonnegative_int, poisson_ratio, positive_float,
-                                        positive_int, solver_keyword, sweep_options,
-                                        positive_angle)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
+                                        in_range, material_options, nonnegative_float, opt,
+                                        pfem_options, positive_float, positive_int,
+                                        solver_keyword, sweep_options, time_options)
 from pfem_skfem.drivers.resumable import open_series
 from pfem_skfem.harness.progress import StepBar, progress
 from pfem_skfem.harness.report import Report, thinned, script_main
@@ -272,13 +272,14 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
                    help="aspect ratios h0/d0")
-    p.add_argument("--phi", type=positive_angle("c = 0: phi = 0 is a material without strength"),
-                   nargs="+", default=[31.0],
-                   help="friction angles [deg] (the thesis: 31 and 35)")
+    material_options(p, phi=opt([31.0], "friction angles [deg] (the thesis: 31 and 35)",
+                                nargs="+", type=cohesionless_angle),
+                     rho=2.0, g=9.8,
+                     E=opt(None, "Young's modulus [kPa] of an elastoplastic material (default: "
+                                 "rigid-plastic)"),
+                     nu=opt(None, f"Poisson's ratio, with --E (default {NU:g})"))
     p.add_argument("--mu", type=nonnegative_float, default=None,
                    help="base and wall friction coefficient (default tan phi)")
-    p.add_argument("--rho", type=positive_float, default=2.0, help="density [t/m3]")
-    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
     size = p.add_mutually_exclusive_group()
     size.add_argument("--d0", type=positive_float, default=1.0,
                       help="column width d0 [m] (h0 = a d0); the results are in d0 and "
@@ -287,28 +288,23 @@ def build_parser():
                       help="column height h0 [m] instead (d0 = h0 / a for each a): a "
                            "laboratory column")
     p.add_argument("--nx", type=PARTICLES_ACROSS, default=20, help="particles across the column width d0")
-    p.add_argument("--steps", type=positive_int, default=400,
-                   help="time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)")
-    p.add_argument("--settle", type=nonnegative_float, default=4.0,
-                   help="after t/sqrt(h0/g) = 4, go on for at most this long (same units) "
-                        "until the deposit is at rest (0: stop at 4, as the thesis)")
+    time_options(p, steps=opt(400, "time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = "
+                                   "0.01)"),
+                 settle=opt(4.0, "after t/sqrt(h0/g) = 4, go on for at most this long (same "
+                                 "units) until the deposit is at rest (0: stop at 4, as the "
+                                 "thesis)"),
+                 save_every=opt(0, why="a PVD per case"))
     p.add_argument("--time-steps", type=positive_int, nargs="*", default=[],
                    help="time-step study for a = 1 (Fig 6.14-6.15), e.g. 100 200 400")
     p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
                    help="mesh-convergence study for a = 1: particles across d0, e.g. 10 15 20")
     p.add_argument("--contact", choices=("coulomb", "zero-dilation"), default="coulomb",
                    help="base and wall contact: the cones of (5.12) or the lagged friction bound")
-    p.add_argument("--E", type=positive_float, default=None,
-                   help="Young's modulus [kPa] of an elastoplastic material (default: rigid-plastic)")
-    p.add_argument("--nu", type=poisson_ratio, default=None,
-                   help=f"Poisson's ratio, with --E (default {NU:g})")
-    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter")
-    p.add_argument("--passes", type=positive_int, default=None,
-                   help="fixed-point passes on the mean stress (default 2; 3 with "
-                        "--contact zero-dilation and the lagged tresca-mc material, the "
-                        "least the engine accepts there)")
-    p.add_argument("--floor", type=positive_float, default=0.005,
-                   help="least cone radius, as a fraction of rho g h0")
+    pfem_options(p, alpha=1.6,
+                 passes=opt(None, "fixed-point passes on the mean stress (default 2; 3 with "
+                                  "--contact zero-dilation and the lagged tresca-mc material, "
+                                  "the least the engine accepts there)"),
+                 k_min=opt(0.005, dest="floor", why="a fraction of rho g h0"))
     p.add_argument("--material", choices=("tresca-mc", "davis"), default="tresca-mc",
                    help="psi = 0 scheme of [80] or the plain Davis reduction")
     p.add_argument("--remesh", choices=("alpha", "quality"), default="alpha",
@@ -318,10 +314,7 @@ def build_parser():
                         "particle (0: never)")
     p.add_argument("--no-bulge", action="store_true",
                    help="move the boundary particles as bare vertices (no bulge correction)")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU every this many steps (0: none); PVD per case")
-    p.add_argument("--checkpoint-every", type=nonnegative_int, default=0,
-                   help="save the state every this many steps (0: never); a rerun resumes")
+    checkpoint_options(p, "case", every=0, directory=False)
     sweep_options(p, what="the cases (sweep, time-step and mesh studies)")
     return p
 

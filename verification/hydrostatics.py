@@ -45,7 +45,8 @@ import sys
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, positive_float, positive_int
+from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
+                                        positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=[5, 10])
@@ -155,16 +156,16 @@ def buoyancy(L, H, b, h_b, n, *, rho_w, rho_s, c, g, dt, block_first=True, solve
 def check(args):
     h = [args.h_b / n for n in args.n]
     if not (args.b < args.L and args.h_b < args.H):
-        return "--b and --h_b: the block must be narrower than the tank (--L) and below " \
+        return "--b and --h-b: the block must be narrower than the tank (--L) and below " \
                "the water (--H)"
     for length, name in ((args.b, "--b"), ((args.L - args.b) / 2, "(--L - --b) / 2"),
                          (args.H, "--H")):
         for hh, n in zip(h, args.n):
             if abs(length / hh - round(length / hh)) > 1e-9 * length / hh:
                 return (f"--n {n}: {name} = {length:g} is not a whole number of spacings "
-                        f"--h_b / --n = {hh:g} (block and water share one square lattice)")
+                        f"--h-b / --n = {hh:g} (block and water share one square lattice)")
     if args.rho_s <= args.rho_w:
-        return "--rho_s must exceed --rho_w (a block lighter than the water floats)"
+        return "--rho-s must exceed --rho-w (a block lighter than the water floats)"
     return None
 
 
@@ -173,13 +174,12 @@ def build_parser():
     p.add_argument("--L", type=positive_float, default=0.6, help="tank width [m]")
     p.add_argument("--H", type=positive_float, default=0.2, help="water depth [m]")
     p.add_argument("--b", type=positive_float, default=0.2, help="block width [m]")
-    p.add_argument("--h_b", type=positive_float, default=0.1, help="block height [m]")
-    p.add_argument("--rho_w", type=positive_float, default=1000.0, help="water density [kg/m3]")
-    p.add_argument("--rho_s", type=positive_float, default=2000.0, help="block density [kg/m3]")
-    p.add_argument("--c", type=positive_float, default=1.0e4,
-                   help="the block's undrained strength [Pa] (Tresca)")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
-    p.add_argument("--dt", type=positive_float, default=0.01, help="the one step [s]")
+    p.add_argument("--h-b", type=positive_float, default=0.1, help="block height [m]")
+    p.add_argument("--rho-w", type=positive_float, default=1000.0, help="water density [kg/m3]")
+    p.add_argument("--rho-s", type=positive_float, default=2000.0, help="block density [kg/m3]")
+    material_options(p, units="Pa", g=9.81,
+                     c=opt(1.0e4, "the block's undrained strength [Pa] (Tresca)"))
+    time_options(p, dt=opt(0.01, "the one step [s]"))
     p.add_argument("--n", type=positive_int, nargs="+", default=[5, 10, 20],
                    help="particle spacings across the block's height (h = h_b / n)")
     p.add_argument("--block-first", action=__import__("argparse").BooleanOptionalAction,

@@ -40,7 +40,8 @@ import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, positive_float, positive_int, slope_angle
+from pfem_skfem.harness.options import (base_parser, material_options, opt, pfem_options,
+                                        positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(ny=12, steps=60)
@@ -76,59 +77,56 @@ def profile_error(z, u, h):
 def check(args):
     """Options that cannot go together (a usage error), or None."""
     if not args.mu_2 > args.mu_s:
-        return "--mu_2 must exceed --mu_s (a rate-dependent friction)"
+        return "--mu-2 must exceed --mu-s (a rate-dependent friction)"
     for name in ("theta", "theta_2"):
         t = np.tan(np.radians(getattr(args, name)))
         if not args.mu_s < t < args.mu_2:
-            return f"--{name} must lie between atan(--mu_s) and atan(--mu_2) (a steady flow)"
+            return (f"--{name.replace('_', '-')} must lie between atan(--mu-s) and "
+                    f"atan(--mu-2) (a steady flow)")
     if not np.tan(np.radians(args.theta_stop)) < args.mu_s:
-        return "--theta_stop must lie below atan(--mu_s)"
+        return "--theta-stop must lie below atan(--mu-s)"
     if not np.tan(np.radians(args.theta_fast)) > args.mu_2:
-        return "--theta_fast must lie above atan(--mu_2)"
+        return "--theta-fast must lie above atan(--mu-2)"
     if not args.rho < args.rho_s:
-        return "--rho (bulk density) must be below --rho_s (grain density)"
-    if args.lag == "implicit":                   # exponential cones: qoco refused
-        from pfem_skfem.problems.conic import solver_backend
-        try:
-            solver_backend(args.solver, cones={"exp"})
-        except ValueError as error:
-            return f"--solver {args.solver} with --lag implicit: {error}"
+        return "--rho (bulk density) must be below --rho-s (grain density)"
     return None
 
 
+def cones(args):
+    """The cones beyond the second-order ones: the implicit rate term is exponential."""
+    return {"exp"} if args.lag == "implicit" else set()
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check,
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check, cones=cones,
                     solver="qoco has no exponential cone: refused with --lag implicit")
     p.add_argument("--theta", type=slope_angle, default=25.0, help="slope angle [deg]")
-    p.add_argument("--theta_2", type=slope_angle, default=28.0,
+    p.add_argument("--theta-2", type=slope_angle, default=28.0,
                    help="second slope angle, for u_surface against theta [deg]")
-    p.add_argument("--theta_stop", type=slope_angle, default=18.0,
+    p.add_argument("--theta-stop", type=slope_angle, default=18.0,
                    help="slope below atan(mu_s), where the layer must stop [deg]")
-    p.add_argument("--theta_fast", type=slope_angle, default=36.0,
+    p.add_argument("--theta-fast", type=slope_angle, default=36.0,
                    help="slope above atan(mu_2), where the layer accelerates [deg]")
     p.add_argument("--h", type=positive_float, default=20 * 0.53e-3,
                    help="layer depth [m] (default 20 d); the h-scaling run takes 2 h")
-    p.add_argument("--mu_s", type=positive_float, default=0.38, help="static friction (Jop)")
-    p.add_argument("--mu_2", type=positive_float, default=0.64, help="limiting friction (Jop)")
-    p.add_argument("--I_0", type=positive_float, default=0.279, help="I_0 of mu(I) (Jop)")
+    p.add_argument("--mu-s", type=positive_float, default=0.38, help="static friction (Jop)")
+    p.add_argument("--mu-2", type=positive_float, default=0.64, help="limiting friction (Jop)")
+    p.add_argument("--I-0", type=positive_float, default=0.279, help="I_0 of mu(I) (Jop)")
     p.add_argument("--d", type=positive_float, default=0.53e-3, help="grain diameter [m]")
-    p.add_argument("--rho_s", type=positive_float, default=2450.0,
+    p.add_argument("--rho-s", type=positive_float, default=2450.0,
                    help="grain density [kg/m3]")
-    p.add_argument("--rho", type=positive_float, default=0.6 * 2450.0,
-                   help="bulk density [kg/m3] (phi = rho / rho_s)")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
-    p.add_argument("--p_min", type=positive_float, default=1e-3,
+    material_options(p, units="Pa", g=9.81,
+                     rho=opt(0.6 * 2450.0, "bulk density [kg/m3] (phi = rho / rho_s)"))
+    p.add_argument("--p-min", type=positive_float, default=1e-3,
                    help="least pressure in I, in units of rho g h")
-    p.add_argument("--k_min", type=positive_float, default=0.005,
-                   help="least cone radius, in units of rho g h")
+    pfem_options(p, k_min=opt(0.005, why="in units of rho g h"), passes=2)
     p.add_argument("--lag", choices=("viscosity", "friction", "implicit"), default="viscosity",
                    help="what the step lags: the viscosity of the rate term (stable), the "
                         "whole friction mu(I) in the cone, or only the pressure (implicit)")
     p.add_argument("--ny", type=positive_int, default=16, help="elements through the depth")
-    p.add_argument("--steps", type=positive_int, default=120, help="steps of each run")
+    time_options(p, steps=opt(120, "steps of each run"))
     p.add_argument("--T", type=positive_float, default=3.0,
                    help="run time in units of the settling time h^2 / nu (see time_unit)")
-    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes a step")
     p.add_argument("--tol", type=positive_float, default=0.03,
                    help="tolerance of the velocity checks")
     return p

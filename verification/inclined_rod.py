@@ -65,8 +65,8 @@ import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, positive_float,
-                                        positive_int)
+from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
+                                        positive_float, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(steps=[25, 50, 100, 200])
@@ -117,13 +117,11 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--D", type=positive_float, default=100.0, help="horizontal span (mm)")
     p.add_argument("--H", type=positive_float, default=100.0, help="height (mm)")
-    p.add_argument("--E", type=positive_float, default=210e3,
-                   help="Young's modulus (N/mm^2 = 210 kN/mm^2)")
+    material_options(p, units="N/mm2", E=opt(210e3, why="210 kN/mm^2"))
     p.add_argument("--V", type=positive_float, default=100.0, help="bar volume (mm^3)")
     p.add_argument("--u", type=positive_float, default=5.0,
                    help="final downward displacement in units of L")
-    p.add_argument("--steps", type=positive_int, nargs="+", default=[100, 200, 400, 800],
-                   help="numbers of increments")
+    time_options(p, steps=opt([100, 200, 400, 800], "numbers of increments", nargs="+"))
     p.add_argument("--tol", type=nonnegative_float, default=None,
                    help="tolerance of max_rel_error (default 1 %%, 4 %% with --quick)")
     return p

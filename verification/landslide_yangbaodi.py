@@ -83,11 +83,9 @@ from pfem_skfem.problems.contact import RigidPolyline                         # 
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.drivers.resumable import ResumableRun  # noqa: E402
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
-from pfem_skfem.harness.options import (base_parser, friction_angle, nonnegative_float,  # noqa: E402
-                                        nonnegative_int, positive_float, positive_int,
-                                        theta_weight, volume_correction_option,
-                                        alpha_advected_option, checkpoint_options,
-                                        positive_angle, solver_keyword)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options,
+                                        nonnegative_float, opt, pfem_options, positive_angle,
+                                        positive_float, solver_keyword, time_options)
 from pfem_skfem.harness.progress import progress  # noqa: E402
 from pfem_skfem.harness.report import Report, script_main  # noqa: E402
 from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
@@ -425,9 +423,7 @@ def build_parser():
     p.add_argument("--profile", default=str(PROFILE),
                    help="slope profile CSV (x,z_slip,z_surface; comments '#'); the default "
                         "is the reconstruction of Fig 8.3")
-    p.add_argument("--rho", type=positive_float, default=1.25, help="density [t/m3]")
-    p.add_argument("--phi", type=friction_angle, default=28.0, help="friction angle [deg]")
-    p.add_argument("--c", type=nonnegative_float, default=0.0, help="cohesion [kPa]")
+    material_options(p, rho=1.25, phi=28.0, c=opt(0.0, type=nonnegative_float), g=9.8)
     p.add_argument("--mu-deg", type=positive_angle("the energy bound divides by mu"), default=10.0,
                    help="basal friction angle [deg] of the main run, mu = tan(mu_deg) "
                         "(thesis: tan 10 deg)")
@@ -438,13 +434,16 @@ def build_parser():
                    help="further densities [t/m3] at --mu-deg (Fig 8.5-8.6)")
     p.add_argument("--no-alpha-study", action="store_true",
                    help="skip the run without adaptive alpha (mass change reported beside)")
-    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--h", type=positive_float, default=0.95,
-                   help="particle spacing [m] (0.95: about 2,000 elements on the default profile)")
-    p.add_argument("--dt", type=positive_float, default=0.05, help="time step [s]")
-    p.add_argument("--theta1", type=theta_weight, default=1.0, help="theta-method weight (4.4)")
-    p.add_argument("--theta2", type=theta_weight, default=1.0, help="theta-method weight (4.4)")
-    p.add_argument("--alpha", type=positive_float, default=1.6, help="alpha-shape parameter alpha_0")
+    time_options(p, dt=0.05, theta1=1.0, theta2=1.0,
+                 save_every=opt(0, why="of each run, and a PVD per run"))
+    pfem_options(p, h=opt(0.95, why="0.95: about 2,000 elements on the default profile"),
+                 alpha=opt(1.6, "alpha-shape parameter alpha_0"),
+                 k_min=opt(0.005, dest="floor",
+                           why="a fraction of rho g L (L: the mass's thickness)"),
+                 passes=2, volume_correction="on",
+                 alpha_advected=opt(3.0, why="3: the thin front keeps its triangles (medium "
+                                             "size, mass change 0.27-0.65 %% against "
+                                             "1.2-5.9 %% with 0; see the book)"))
     p.add_argument("--t-hold", type=nonnegative_float, default=10.0,
                    help="held phase [s]: every boundary node held still (builds the stress)")
     p.add_argument("--hold", choices=("boundary", "free_surface"), default="boundary",
@@ -456,18 +455,8 @@ def build_parser():
                    help="at rest when the kinetic energy is below this fraction of its peak "
                         "and the centre of mass has moved at least --h (a mass that never "
                         "moves runs to --t-after)")
-    p.add_argument("--floor", type=positive_float, default=0.005,
-                   help="least cone radius, a fraction of rho g L (L: the mass's thickness)")
-    p.add_argument("--passes", type=positive_int, default=2,
-                   help="fixed-point passes on the mean stress")
-    volume_correction_option(p, "on")
-    alpha_advected_option(p, 3.0, why="3: the thin front keeps its triangles (medium size, "
-                                       "mass change 0.27-0.65 %% against 1.2-5.9 %% with 0; "
-                                       "see the book)")
     p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
                    help="snapshots every this many seconds after release (Fig 8.9-8.10)")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU of each run every this many steps (0: none); a PVD per run")
     checkpoint_options(p, "slide")
     p.add_argument("--keep-runs", action="store_true",
                    help="pickle every run's histories to OUTDIR/landslide_yangbaodi/runs.pkl")

@@ -50,9 +50,9 @@ from pfem_skfem.discretisation.meshes import (graded_rectangle_with_elements,
                                               triangulate_polygon)
 from pfem_skfem.drivers.bounds import adapt, bracket_safety, factor_of_safety, reduced
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, element_count, friction_angle,
-                                        in_range, nonnegative_int, positive_angle,
-                                        positive_float, positive_int)
+from pfem_skfem.harness.options import (adaptive_options, base_parser, friction_angle,
+                                        material_options, nonnegative_int, opt, positive_angle,
+                                        positive_float)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.materials import MohrCoulomb, Tresca
@@ -68,7 +68,6 @@ CUT_CENTRE = 3.78
 SLOPE_FE, SLOPE_CHARTS = 1.4, 1.38   # Griffiths & Lane (1999) example 1: FE, Bishop-Morgenstern
 SLOPE_RANGE = (1.30, 1.48)
 EPS = 1e-9                        # relative tolerance of the boundary selections
-fraction_open = in_range(0, 1, low_open=True, what="a number in (0, 1]")
 
 
 def prandtl_nc(phi_deg):
@@ -131,60 +130,42 @@ def build_parser():
     g.add_argument("--B", type=positive_float, default=1.0, help="footing width")
     g.add_argument("--W", type=positive_float, default=3.0, help="half-domain width (Tresca)")
     g.add_argument("--D", type=positive_float, default=2.0, help="domain depth (Tresca)")
-    g.add_argument("--c", type=positive_float, default=1.0, help="cohesion of footings and cut")
-    g.add_argument("--elements", type=element_count, default=500,
-                   help="elements of the first Tresca footing mesh")
-    g.add_argument("--ratio", type=positive_float, default=80.0,
-                   help="h_max / h_min of the graded footing meshes")
-    g.add_argument("--theta", type=fraction_open, default=0.5,
-                   help="Doerfler fraction of the Tresca footing")
-    g.add_argument("--rounds", type=positive_int, default=5, help="adaptive rounds (Tresca)")
-    g.add_argument("--target-gap", type=positive_float, default=0.005,
-                   help="relative gap the Tresca footing must reach within --rounds")
-    g.add_argument("--target-elements", type=element_count, default=5000,
-                   help="most elements the Tresca footing may use to reach --target-gap")
-    g.add_argument("--max-elements", type=element_count, default=20000,
-                   help="largest adapted mesh of every case")
+    material_options(g, units=None, c=opt(1.0, "cohesion of footings and cut"),
+                     phi=opt(30.0, "friction angle of the Mohr-Coulomb footing [deg]",
+                             type=positive_angle("(3.49) has cot phi; the Tresca footing is "
+                                                 "case 1")))
+    adaptive_options(g, what="the Tresca footing", elements=500, ratio=80.0, theta=0.5,
+                     rounds=5, target_gap=0.005, target_elements=5000,
+                     max_elements=opt(20000, "largest adapted mesh of every case"))
     g.add_argument("--uniform", type=nonnegative_int, default=2,
                    help="uniform refinements of the first Tresca mesh (0: none)")
     g.add_argument("--uniform-target-gap", type=positive_float, default=0.01,
                    help="gap the last uniform mesh must reach (measured: 0.79 %% on 8,240 "
                         "elements)")
-    g.add_argument("--phi", type=positive_angle("(3.49) has cot phi; the Tresca footing is "
-                                                "case 1"), default=30.0,
-                   help="friction angle of the Mohr-Coulomb footing [deg]")
     g.add_argument("--mc-width", type=positive_float, default=1.2,
                    help="half-width over the reach of Prandtl's mechanism (Mohr-Coulomb)")
     g.add_argument("--mc-depth", type=positive_float, default=1.5,
                    help="depth over the depth of Prandtl's mechanism (Mohr-Coulomb)")
-    g.add_argument("--mc-elements", type=element_count, default=600,
-                   help="elements of the first Mohr-Coulomb footing mesh")
-    g.add_argument("--mc-ratio", type=positive_float, default=20.0,
-                   help="h_max / h_min of the Mohr-Coulomb footing meshes (measured: 80 "
-                        "leaves 2.7 %% after 5 rounds, 20 leaves 1.6 %%)")
-    g.add_argument("--mc-theta", type=fraction_open, default=0.5, help="Doerfler fraction")
-    g.add_argument("--mc-rounds", type=positive_int, default=5, help="adaptive rounds")
-    g.add_argument("--mc-target-gap", type=positive_float, default=0.02,
-                   help="relative gap the Mohr-Coulomb footing must reach")
+    adaptive_options(g, "mc", what="the Mohr-Coulomb footing", elements=600,
+                     ratio=opt(20.0, why="measured: 80 leaves 2.7 %% after 5 rounds, 20 "
+                                         "leaves 1.6 %%"),
+                     theta=0.5, rounds=5, target_gap=0.02)
     g.add_argument("--scale", type=positive_float, default=2.0,
                    help="factor k on c (footing) and on gamma and c (cut, slope) of case 5")
     g = p.add_argument_group("vertical cut (case 3) and slope (case 4)")
     g.add_argument("--H", type=positive_float, default=1.0, help="height of cut and slope")
     g.add_argument("--gamma", type=positive_float, default=1.0, help="unit weight")
-    g.add_argument("--cut-size", type=positive_float, default=0.08,
-                   help="element size of the first cut mesh over H")
-    g.add_argument("--cut-theta", type=fraction_open, default=0.5, help="Doerfler fraction")
-    g.add_argument("--cut-rounds", type=positive_int, default=6, help="adaptive rounds")
+    adaptive_options(g, "cut", what="the cut",
+                     size=opt(0.08, "element size of the first cut mesh over H"),
+                     theta=0.5, rounds=6)
     g.add_argument("--tol-cut", type=positive_float, default=0.015,
                    help="both cut bounds within this of 3.78 (relative)")
     g.add_argument("--slope-phi", type=friction_angle, default=20.0, help="phi' [deg]")
     g.add_argument("--slope-c", type=positive_float, default=0.05, help="c' / (gamma H)")
-    g.add_argument("--slope-size", type=positive_float, default=0.15,
-                   help="element size of the first slope mesh over H")
-    g.add_argument("--slope-theta", type=fraction_open, default=0.5, help="Doerfler fraction")
-    g.add_argument("--slope-rounds", type=positive_int, default=4, help="rounds of meshes")
-    g.add_argument("--slope-target-gap", type=positive_float, default=0.03,
-                   help="relative width of [F_L, F_U] to reach")
+    adaptive_options(g, "slope", what="the slope",
+                     size=opt(0.15, "element size of the first slope mesh over H"),
+                     theta=0.5, rounds=opt(4, "rounds of meshes"),
+                     target_gap=opt(0.03, "relative width of [F_L, F_U] to reach"))
     g.add_argument("--fos-tol", type=positive_float, default=1e-3,
                    help="relative tolerance of each F's root search")
     return p

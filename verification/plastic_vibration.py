@@ -36,8 +36,8 @@ from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
 from pfem_skfem.problems.backends import cvxpy_solver
 from pfem_skfem.problems.backends.cvxpy_step import D_FORMS
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, poisson_ratio, positive_float,
-                                        positive_int, theta_weight)
+from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
+                                        positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=20, ny=2, steps=30)
@@ -49,15 +49,10 @@ def build_parser():
     p.add_argument("--height", type=positive_float, default=1.0, help="beam depth (m)")
     p.add_argument("--nx", type=positive_int, default=40, help="element columns (2 nx ny triangles)")
     p.add_argument("--ny", type=positive_int, default=4, help="element rows")
-    p.add_argument("--rho", type=positive_float, default=0.01, help="density (t/m3)")
-    p.add_argument("--E", type=positive_float, default=3e5, help="Young's modulus (kPa)")
-    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
-    p.add_argument("--su", type=positive_float, default=2.0, help="Tresca strength Su (kPa)")
+    material_options(p, rho=0.01, E=3e5, nu=0.3, su=opt(2.0, "Tresca strength Su [kPa]"))
     p.add_argument("--V", type=positive_float, default=1.0, help="initial tip velocity (m/s)")
-    p.add_argument("--dt", type=positive_float, default=0.02, help="time step (s)")
-    p.add_argument("--steps", type=positive_int, default=60, help="number of time steps")
-    p.add_argument("--theta1", type=theta_weight, default=0.5, help="theta1 (1/2: no damping)")
-    p.add_argument("--theta2", type=theta_weight, default=0.5, help="theta2 (1/2: no damping)")
+    time_options(p, dt=0.02, steps=opt(60, "number of time steps"),
+                 theta1=opt(0.5, why="1/2: no damping"), theta2=opt(0.5, why="1/2: no damping"))
     p.add_argument("--d-form", choices=D_FORMS, default="quad_form",
                    help="form of the r^T D r term")
     return p

@@ -38,7 +38,8 @@ import numpy as np
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, positive_float, positive_int
+from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
+                                        time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 
@@ -83,11 +84,10 @@ def build_parser():
     p.add_argument("--theta", type=float, default=90.0,
                    help="total rotation theta (degrees)")
     p.add_argument("--L0", type=positive_float, default=1.0, help="bar length")
-    p.add_argument("--E", type=positive_float, default=210e3,
-                   help="Young's modulus (only scales the stress)")
+    material_options(p, units=None, E=opt(210e3, why="only scales the stress"))
     p.add_argument("--A", type=positive_float, default=1.0, help="cross-sectional area")
-    p.add_argument("--steps", type=positive_int, nargs="+", default=[1, 2, 4, 8, 16, 32, 64, 128],
-                   help="numbers of increments N")
+    time_options(p, steps=opt([1, 2, 4, 8, 16, 32, 64, 128], "numbers of increments N",
+                              nargs="+"))
     return p
 
 

@@ -74,10 +74,10 @@ from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, fraction, friction_angle,
-                                        nonnegative_float, nonnegative_int, positive,
-                                        positive_float, positive_int, solver_keyword,
-                                        sweep_options, checkpoint_options, in_range)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, fraction, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_float, solver_keyword, sweep_options,
+                                        time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -270,51 +270,43 @@ OUTLET_DEPTH = in_range(0.0, what="a depth >= 0 [m] below the orifice (a negativ
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--W", type=positive("W"), default=THESIS["W"], help="bin width [m]")
-    p.add_argument("--H", type=positive("H"), default=THESIS["H"],
+    p.add_argument("--W", type=positive_float, default=THESIS["W"], help="bin width [m]")
+    p.add_argument("--H", type=positive_float, default=THESIS["H"],
                    help="fill height of the vertical bin walls above the hopper [m]")
-    p.add_argument("--Hh", type=positive("Hh"), default=THESIS["Hh"], help="hopper height [m]")
-    p.add_argument("--B", type=positive("B"), default=THESIS["B"], help="outlet width [m]")
-    p.add_argument("--rho", type=positive("rho"), default=1.5, help="density [t/m3]")
-    p.add_argument("--c", type=nonnegative_float, default=0.0, help="cohesion [kPa]")
-    p.add_argument("--phi", type=friction_angle, default=31.0, help="friction angle [deg]")
-    p.add_argument("--g", type=positive("g"), default=9.8, help="gravity [m/s2]")
+    p.add_argument("--Hh", type=positive_float, default=THESIS["Hh"], help="hopper height [m]")
+    p.add_argument("--B", type=positive_float, default=THESIS["B"], help="outlet width [m]")
+    material_options(p, rho=1.5, c=opt(0.0, type=nonnegative_float), phi=31.0, g=9.8)
     p.add_argument("--walls", nargs="*", choices=("smooth", "rough"), default=["smooth", "rough"],
                    help="wall-solid interfaces: smooth mu = 0, rough mu = tan phi")
-    p.add_argument("--h", type=positive("h"), default=0.01,
-                   help="particle spacing [m] (0.01: 8 across the outlet, 6,198 particles; at "
-                        "0.02 the smooth silo empties at 3.96 s, below the thesis' 4-6.5 s)")
-    p.add_argument("--dt", type=positive("dt"), default=0.01, help="time step [s]")
+    pfem_options(p, h=opt(0.01, why="0.01: 8 across the outlet, 6,198 particles; at 0.02 the "
+                                    "smooth silo empties at 3.96 s, below the thesis' 4-6.5 s"),
+                 alpha=1.6, k_min=opt(0.005, dest="floor", why="a fraction of rho g (Hh + H)"),
+                 passes=2)
+    time_options(p, dt=0.01, save_every=opt(0, why="a PVD per case"))
     p.add_argument("--dt-study", type=positive_float, nargs="*", default=[0.04, 0.02, 0.005],
                    help="further time steps [s] for the smooth silo (Fig 6.19)")
     p.add_argument("--B-study", type=positive_float, nargs="*", default=[0.04, 0.08, 0.16],
                    help="outlet widths [m] of the scaling study (smooth, on the silo of "
                         "--H-study; the hopper keeps its half-angle)")
-    p.add_argument("--H-study", type=positive("H-study"), default=0.6,
+    p.add_argument("--H-study", type=positive_float, default=0.6,
                    help="fill height [m] of the bin in the outlet study (0.6: a fill of 0.2 "
                         "slows the 16 cm outlet's rate by 11 %%, see the book)")
-    p.add_argument("--h-study", type=positive("h-study"), default=None,
+    p.add_argument("--h-study", type=positive_float, default=None,
                    help=f"particle spacing [m] in the outlet study (default: the narrowest "
                         f"outlet / {STUDY_SPACINGS}; at two spacings across, its rate is 13 %% "
                         f"above the rate at four, see the book)")
-    p.add_argument("--alpha", type=positive("alpha"), default=1.6, help="alpha-shape parameter")
-    p.add_argument("--floor", type=positive("floor"), default=0.005,
-                   help="least cone radius, as a fraction of rho g (Hh + H)")
-    p.add_argument("--passes", type=positive_int, default=2, help="fixed-point passes on the mean stress")
     p.add_argument("--outlet-depth", type=OUTLET_DEPTH, default=0.0,
                    help="the outlet plane lies this far below the orifice [m]")
-    p.add_argument("--t-max", type=positive("t-max"), default=14.0,
+    p.add_argument("--t-max", type=positive_float, default=14.0,
                    help="longest simulated time [s] of a run")
-    p.add_argument("--empty", type=positive("empty"), default=0.02,
+    p.add_argument("--empty", type=positive_float, default=0.02,
                    help="a silo is empty when V < empty V0 (the discharge time)")
     p.add_argument("--r2-min", type=fraction, default=0.97,
                    help="least R^2 of the linear fit of V(t) over 20-80 %% discharged")
-    p.add_argument("--snapshots-smooth", type=float, nargs="*",
+    p.add_argument("--snapshots-smooth", type=nonnegative_float, nargs="*",
                    default=[0.0, 1.0, 2.0, 3.5, 4.0, 4.5], help="times [s] (Fig 6.17)")
-    p.add_argument("--snapshots-rough", type=float, nargs="*",
+    p.add_argument("--snapshots-rough", type=nonnegative_float, nargs="*",
                    default=[0.0, 3.0, 5.0, 6.0, 7.0, 8.0], help="times [s] (Fig 6.18)")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU every this many steps (0: none); PVD per case")
     checkpoint_options(p, "run")
     sweep_options(p, default_workers=min(2, os.cpu_count() or 1), what="the runs")
     return p

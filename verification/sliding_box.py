@@ -36,7 +36,8 @@ import numpy as np
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.problems.particle import rigid_particle_step
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import base_parser, in_range, positive_float, positive_int
+from pfem_skfem.harness.options import (base_parser, in_range, material_options, opt,
+                                        positive_float, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(steps=[10, 20, 40])
@@ -117,9 +118,9 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--v0", type=positive_float, default=0.98, help="initial speed [m/s]")
     p.add_argument("--mu", type=positive_float, default=0.1, help="friction coefficient")
-    p.add_argument("--g", type=positive_float, default=9.8, help="gravity [m/s2]")
-    p.add_argument("--steps", type=positive_int, nargs="+", default=[10, 20, 40, 60],
-                   help="numbers of steps over the total time")
+    material_options(p, g=9.8)
+    time_options(p, steps=opt([10, 20, 40, 60], "numbers of steps over the total time",
+                              nargs="+"))
     p.add_argument("--time", type=positive_float, default=None,
                    help="total time [s] (default v0 / (mu g), when the box stops)")
     p.add_argument("--theta", type=in_range(0, 1, low_open=True, what="a theta in (0, 1]"), default=0.5, help="theta of (5.2), in (0, 1]")

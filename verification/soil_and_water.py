@@ -11,12 +11,12 @@ Beyond the thesis (issue 39, item 6). Two scenes of the PFEM engine:
   recorded at two gauges. The alpha shape closes the gaps of the broken surface at every
   remeshing (air a splash and the breaking wave trap) and the domain gains area no particle
   carries: 13 % by t = 1.8 s at the quick size, 21 % for a block of water (measured
-  without thinning). ``--keep_area on`` (the default, ``PFEMConfig.keep_area``) gives each
+  without thinning). ``--keep-area on`` (the default, ``PFEMConfig.keep_area``) gives each
   step's gain back at the next (:func:`~pfem_skfem.pfem.volume_projection.area_growth`).
   ``--thin 0.4`` (the default, ``AlphaMesh(thin)``) thins particles crowded closer than
   0.4 h at each remeshing: without it the added surface particles pile into the tank's
   corners, whose massless slivers the step may give any speed (the full size blew up).
-  ``--spread_mass on`` (the default, ``PFEMConfig.spread_mass``) spreads each region's
+  ``--spread-mass on`` (the default, ``PFEMConfig.spread_mass``) spreads each region's
   mass over its particles by their lumped areas at each remeshing: without it the
   masses pile onto few particles (the water's massless particles on the mesh grow from 0
   to 35 by 3 s at the quick size, 69 at 30 s) and the particles' energy measures
@@ -24,11 +24,11 @@ Beyond the thesis (issue 39, item 6). Two scenes of the PFEM engine:
   triangle fills a notch of the previous step's moved surface, where the splash's gaps
   were filled and weighed (at the full size the remeshings then add 1,570 J/m of
   potential energy instead of 4,030, and the particles' energy no longer gains 1,830
-  J/m through the splash). ``--refine_interior`` (0, the default: off,
+  J/m through the splash). ``--refine-interior`` (0, the default: off,
   ``PFEMConfig.refine_interior``) adds the midside nodes of stretched interior edges as
   particles: the cloud, which thinning coarsens over a long run (the water's particles
   188 to 76 in 30 s at the quick size), stays finer, and the water then keeps more of
-  its motion (book: Water and mud). ``--keep_surface on`` (off by default,
+  its motion (book: Water and mud). ``--keep-surface on`` (off by default,
   ``AlphaMesh(keep_surface)``) thins the free surface without moving it: the remeshings
   then take an eighth as much area off (book).
 * **Granular twin**: the dam-break column of Martin & Moyce (a wide, 2a high, against a
@@ -40,23 +40,23 @@ Beyond the thesis (issue 39, item 6). Two scenes of the PFEM engine:
 No experiment is asserted here beyond conservation (for the water against Martin & Moyce,
 ``verification/dam_break.py``; for granular columns against Lube et al.,
 ``verification/granular_column_plane.py``). Checks: each region's mass to round-off (the
-particles carry it); the tank's area (its alpha-shape domain) within --tol_area_tank of
+particles carry it); the tank's area (its alpha-shape domain) within --tol-area-tank of
 its first; the block in the water and at rest there (its centre of mass slower than
---rest_speed sqrt(g d) at some step after it entered); the block's wave at both gauges
-(the surface raised by at least h/2); no vertex faster than --tol_speed sqrt(2 g) (a
-fall from the slope's top: a faster one is a blow-up) and at most --tol_refused of the
-steps' volume projections refused; each twin's area within --tol_area, and the
+--rest-speed sqrt(g d) at some step after it entered); the block's wave at both gauges
+(the surface raised by at least h/2); no vertex faster than --tol-speed sqrt(2 g) (a
+fall from the slope's top: a faster one is a blow-up) and at most --tol-refused of the
+steps' volume projections refused; each twin's area within --tol-area, and the
 water's front ahead of the granular one at T = 4; the particles' largest energy gain
-between two instants at most --tol_energy of their peak kinetic energy (an inviscid
+between two instants at most --tol-energy of their peak kinetic energy (an inviscid
 implicit step only loses energy; the remeshings' exchanges lift it locally: 0.12 at
 the quick size, 0.31 at the full, 0.35 at the quick size run to 30 s; with
 --alpha-advected 0, 0.19 to 1.6). Recorded, not checked: the mean level
 of the flat tank over the second half of the run beside the still level with the block
 in (l with L l + l^2 / (2 tan beta) = the first area; the water still sloshes at
---t_end: inviscid, it is damped only numerically; run to 30 s, ``--quick --t_end 30
+--t-end: inviscid, it is damped only numerically; run to 30 s, ``--quick --t-end 30
 --steps 1000``, its kinetic energy falls below 1 % of its peak by 22 s as its cloud
 coarsens; at the full size it is 1.5 % of its peak over the last 5 s with dt = 0.005 s,
-``--t_end 30 --steps 6000``, and 9.5 % with dt = 0.01 s, which moves the fastest water
+``--t-end 30 --steps 6000``, and 9.5 % with dt = 0.01 s, which moves the fastest water
 more than a spacing a step: book, Water and mud), the
 block's speed at the end (the reflected wave moves it again), the clay's own area (the
 elements all of whose vertices are clay: the clay is declared first, so an element with
@@ -73,9 +73,9 @@ Usage::
 
     python verification/soil_and_water.py --quick --json results/soil_and_water.json   # 1 minute
     python verification/soil_and_water.py --json book/data/soil_and_water.json         # 5 minutes
-    python verification/soil_and_water.py --quick --t_end 30 --steps 1000   # 3 minutes
+    python verification/soil_and_water.py --quick --t-end 30 --steps 1000   # 3 minutes
     # (the tank to 30 s; with --json book/data/soil_and_water_30s.json, the book's data)
-    python verification/soil_and_water.py --t_end 30 --steps 6000           # 30 minutes
+    python verification/soil_and_water.py --t-end 30 --steps 6000           # 30 minutes
     # (the full size to 30 s: book/data/soil_and_water_full_30s.json)
     python verification/soil_and_water.py --save-every 5        # VTU/PVD of the three scenes
 """
@@ -85,9 +85,9 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (alpha_advected_option, base_parser, friction_angle,
-                                        in_range, nonnegative_float, nonnegative_int,
-                                        positive_float, positive_int, slope_angle)
+from pfem_skfem.harness.options import (base_parser, in_range, material_options,
+                                        nonnegative_float, opt, pfem_options, positive_float,
+                                        positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
@@ -196,7 +196,7 @@ def mesh_energy(state, scene, record, result):
 
 
 def run_tank(args, out):
-    """The block into the tank to --t_end: the series at each step and the books."""
+    """The block into the tank to --t-end: the series at each step and the books."""
     from pfem_skfem.drivers.pfem_loop import run_measured
 
     state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
@@ -284,7 +284,7 @@ def check(args):
     if args.nx < 4:
         return "--nx must be at least 4 (particles across a column)"
     if args.mu_slope >= np.tan(np.radians(args.beta)):
-        return "--mu_slope must be below tan(--beta): the block must slide"
+        return "--mu-slope must be below tan(--beta): the block must slide"
     if args.d >= 1.0:
         return "--d must be below the slope's height 1"
     return None
@@ -294,9 +294,9 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     t = p.add_argument_group("the block into the tank")
     t.add_argument("--beta", type=slope_angle, default=30.0, help="slope angle [deg]")
-    t.add_argument("--mu_slope", type=nonnegative_float, default=0.2,
+    t.add_argument("--mu-slope", type=nonnegative_float, default=0.2,
                    help="friction coefficient of the slope")
-    t.add_argument("--mu_floor", type=nonnegative_float, default=0.0,
+    t.add_argument("--mu-floor", type=nonnegative_float, default=0.0,
                    help="friction coefficient of the tank's floor")
     t.add_argument("--d", type=positive_float, default=0.4,
                    help="water depth [m] (the slope is 1 m high)")
@@ -304,59 +304,42 @@ def build_parser():
                    help="tank length beyond the slope's foot [m]")
     t.add_argument("--block", type=positive_float, nargs=2, default=[0.4, 0.2],
                    metavar=("LENGTH", "THICKNESS"), help="clay block [m]")
-    t.add_argument("--c", type=positive_float, default=2000.0,
-                   help="undrained shear strength of the clay [Pa]")
-    t.add_argument("--rho_w", type=positive_float, default=1000.0, help="water [kg/m3]")
-    t.add_argument("--rho_c", type=positive_float, default=1800.0, help="clay [kg/m3]")
-    t.add_argument("--h", type=positive_float, default=0.04, help="particle spacing [m]")
-    t.add_argument("--steps", type=positive_int, default=300, help="steps to --t_end")
-    t.add_argument("--t_end", type=positive_float, default=3.0, help="end [s]")
-    t.add_argument("--keep_area", choices=("on", "off"), default="on",
-                   help="give back the area each remeshing adds (PFEMConfig.keep_area)")
-    t.add_argument("--thin", type=in_range(0, 1, high_open=True), default=0.4,
-                   help="thin particles crowded closer than this x h at each remeshing "
-                        "(AlphaMesh(thin); 0: none)")
-    t.add_argument("--keep_area_step", type=nonnegative_float, default=0.0,
-                   help="the most of the domain's area keep_area gives back in one step, a "
-                        "fraction (PFEMConfig.keep_area_step; 0: all at once)")
-    t.add_argument("--keep_surface", choices=("on", "off"), default="off",
-                   help="thin the free surface without moving it (AlphaMesh(keep_surface))")
-    t.add_argument("--spread_mass", choices=("on", "off"), default="on",
-                   help="spread each region's mass over its particles by their lumped areas "
-                        "at each remeshing (PFEMConfig.spread_mass)")
-    alpha_advected_option(t, default=3.0,
-                          why="3: no triangle fills a notch of the moved surface")
-    t.add_argument("--refine_interior", type=nonnegative_float, default=0.0,
-                   help="an interior edge stretched longer than this x h gets its P2 midside "
-                        "node as a new particle (PFEMConfig.refine_interior; 0: never)")
-    t.add_argument("--tol_speed", type=positive_float, default=2.0,
+    material_options(t, units="Pa", c=opt(2000.0, "undrained shear strength of the clay [Pa]"))
+    t.add_argument("--rho-w", type=positive_float, default=1000.0, help="water [kg/m3]")
+    t.add_argument("--rho-c", type=positive_float, default=1800.0, help="clay [kg/m3]")
+    time_options(t, steps=opt(300, "steps to --t-end"), t_end=opt(3.0, "end [s]"))
+    pfem_options(t, h=0.04, keep_area="on", thin=0.4, keep_area_step=0.0, keep_surface="off",
+                 spread_mass="on",
+                 alpha_advected=opt(3.0, why="3: no triangle fills a notch of the moved "
+                                             "surface"),
+                 refine_interior=0.0)
+    t.add_argument("--tol-speed", type=positive_float, default=2.0,
                    help="the fastest vertex of the run at most this x sqrt(2 g) (a fall "
                         "from the slope's top; a splash may focus some energy)")
-    t.add_argument("--tol_refused", type=in_range(0, 1), default=0.05,
+    t.add_argument("--tol-refused", type=in_range(0, 1), default=0.05,
                    help="at most this fraction of the steps' volume projections refused")
-    t.add_argument("--tol_energy", type=positive_float, default=0.5,
+    t.add_argument("--tol-energy", type=positive_float, default=0.5,
                    help="the particles' largest energy gain between two instants, at most this "
                         "x their peak kinetic energy")
-    t.add_argument("--rest_speed", type=positive_float, default=0.02,
+    t.add_argument("--rest-speed", type=positive_float, default=0.02,
                    help="the block at rest: its centre of mass slower than this x sqrt(g d)")
-    t.add_argument("--tol_area_tank", type=positive_float, default=0.05,
+    t.add_argument("--tol-area-tank", type=positive_float, default=0.05,
                    help="tolerance of the tank's area change (each remeshing adds some, "
-                        "--keep_area gives it back at the next step)")
+                        "--keep-area gives it back at the next step)")
     w = p.add_argument_group("the granular twin")
-    w.add_argument("--rho", type=positive_float, default=1000.0,
-                   help="density of both columns [kg/m3] (the same: only the strength differs)")
+    material_options(w, units="Pa",
+                     rho=opt(1000.0, why="of both columns (the same: only the strength "
+                                         "differs)"),
+                     phi=opt(30.0, "the granular twin's friction angle [deg]"))
     w.add_argument("--a", type=positive_float, default=0.05715,
                    help="the twin columns' width [m] (Martin & Moyce's)")
-    w.add_argument("--phi", type=friction_angle, default=30.0,
-                   help="the granular twin's friction angle [deg]")
     w.add_argument("--nx", type=positive_int, default=16, help="particles across a twin")
-    w.add_argument("--twin_steps", type=positive_int, default=80,
+    w.add_argument("--twin-steps", type=positive_int, default=80,
                    help="steps of each twin to T = t sqrt(2g/a) = 4 (the dam break's)")
-    p.add_argument("--g", type=positive_float, default=9.81, help="gravity [m/s2]")
-    p.add_argument("--tol_area", type=positive_float, default=0.02,
+    material_options(p, units="Pa", g=9.81)
+    p.add_argument("--tol-area", type=positive_float, default=0.02,
                    help="tolerance of each twin's area change")
-    p.add_argument("--save-every", type=nonnegative_int, default=0,
-                   help="write a VTU every this many steps (0: none), a PVD per scene")
+    time_options(p, save_every=opt(0, why="a PVD per scene"))
     return p
 
 

@@ -39,9 +39,9 @@ from pfem_skfem.discretisation.meshes import graded_rectangle_with_elements
 from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs, discretise)
 from pfem_skfem.problems.static import static_increment
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, element_count, nonnegative_float,
-                                        poisson_ratio, positive_float, positive_int,
-                                        positive_angle)
+from pfem_skfem.harness.options import (base_parser, element_count, material_options,
+                                        nonnegative_float, opt, positive_angle, positive_float,
+                                        positive_int)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -125,9 +125,12 @@ def nc_limit(model, criterion, *, c, B=1.0, solver="clarabel"):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=poisson_ratio, default=0.49, help="Poisson's ratio")
-    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
+    material_options(p, E=1.0e5, nu=0.49, c=opt(100.0, "cohesion / Su [kPa]"),
+                     phi=opt([5, 10, 15, 20, 25, 30, 35, 40, 45], nargs="*",
+                             help="friction angles of the Mohr-Coulomb sweep [deg] (none to "
+                                  "skip)",
+                             type=positive_angle("Prandtl-Reissner Nc has cot phi; phi = 0 is "
+                                                 "the Tresca case, always run")))
     p.add_argument("--B", type=positive_float, default=1.0, help="footing width [m]")
     p.add_argument("--settlement", type=positive_float, default=0.06,
                    help="final footing displacement for Tresca [m]")
@@ -135,10 +138,6 @@ def build_parser():
                    help="approximate element counts of the graded meshes")
     p.add_argument("--increments", type=positive_int, nargs="+", default=[5, 10, 100],
                    help="numbers of increments of the Nc-settlement curves")
-    p.add_argument("--phi", type=positive_angle("Prandtl-Reissner Nc has cot phi; phi = 0 is the "
-                                                "Tresca case, always run"),
-                   nargs="*", default=[5, 10, 15, 20, 25, 30, 35, 40, 45],
-                   help="friction angles of the Mohr-Coulomb sweep [deg] (none to skip)")
     p.add_argument("--mc-elements", type=element_count, default=None,
                    help="elements of the Mohr-Coulomb meshes (default: the finest)")
     p.add_argument("--mc-increments", type=positive_int, default=20,

@@ -49,8 +49,8 @@ from pfem_skfem.discretisation.static import assemble_B, assemble_C, boundary_do
 from pfem_skfem.problems.axisymmetric import (static_increment_axisymmetric, with_axis,
                                               zero_dilation)
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, poisson_ratio,
-                                        positive_float, positive_int, positive_angle)
+from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
+                                        positive_angle, positive_float, positive_int)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
@@ -185,13 +185,11 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--a", type=positive_float, default=1.0, help="inner radius [m]")
     p.add_argument("--b", type=positive_float, default=2.0, help="outer radius [m]")
-    p.add_argument("--c", type=positive_float, default=100.0, help="cohesion / Su [kPa]")
-    p.add_argument("--phi", type=positive_angle("the Mohr-Coulomb closed form has c cot phi; phi "
-                                                "= 0 is the Tresca case, always run"),
-                   default=30.0,
-                   help="friction angle of the Mohr-Coulomb run [deg]")
-    p.add_argument("--E", type=positive_float, default=1.0e5, help="Young's modulus [kPa]")
-    p.add_argument("--nu", type=poisson_ratio, default=0.3, help="Poisson's ratio")
+    material_options(p, c=opt(100.0, "cohesion / Su [kPa]"),
+                     phi=opt(30.0, "friction angle of the Mohr-Coulomb run [deg]",
+                             type=positive_angle("the Mohr-Coulomb closed form has c cot phi; "
+                                                 "phi = 0 is the Tresca case, always run")),
+                     E=1.0e5, nu=0.3)
     p.add_argument("--nr", type=positive_int, nargs="+", default=[8, 16, 32],
                    help="elements across the wall of the limit-analysis meshes")
     p.add_argument("--nr-elastic", type=positive_int, default=512,

@@ -73,8 +73,8 @@ import scipy.linalg as sla
 
 from pfem_skfem.problems.bar import truss_displacement_control
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, nonnegative_float, positive_float,
-                                        positive_int)
+from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
+                                        positive_float, time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 
@@ -261,13 +261,13 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--E", type=positive_float, default=210e3, help="Young's modulus (N/mm^2)")
-    p.add_argument("--sigma_s", type=positive_float, default=2500.0,
+    material_options(p, units="N/mm2", E=210e3)
+    p.add_argument("--sigma-s", type=positive_float, default=2500.0,
                    help="yield stress (N/mm^2)")
     p.add_argument("--A", type=positive_float, default=1.0, help="initial bar area (mm^2)")
     p.add_argument("--uV", type=positive_float, default=65.0,
                    help="vertical displacement of the loaded point (mm)")
-    p.add_argument("--steps", type=positive_int, default=650, help="number of increments")
+    time_options(p, steps=opt(650, "number of increments"))
     p.add_argument("--width", type=positive_float, default=4.0,
                    help="depth w of the trussed members = panel length (mm)")
     p.add_argument("--tol", type=nonnegative_float, default=None,
