@@ -134,7 +134,7 @@ def test_the_kept_silo_runs_are_found_and_read_back(tmp_path):
 def test_one_writer_per_checkpoint(tmp_path):
     """A run holds its checkpoint's lock from open to the end of advance; a second open of
     the same run in this process is refused (another process waits for it)."""
-    from pfem_skfem.runfolder import RunFolderError
+    from pfem_skfem.drivers.stopping import RunFolderError
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
     first = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
     with pytest.raises(RunFolderError, match="in use by another run"):
@@ -203,9 +203,9 @@ def _equal(a, b):
 
 def test_a_script_s_vtu_series_starts_at_t_0_and_states_its_units(tmp_path):
     """Issue 36, item 8: every VTU series a run writes (the scripts' too, through
-    open_series) has the frame at t = 0 and the fields' units in its PVD."""
+    pfem_skfem.io.open_series) has the frame at t = 0 and the fields' units in its PVD."""
     from pfem_skfem.drivers.pfem_loop import run
-    from pfem_skfem.drivers.resumable import open_series
+    from pfem_skfem.io import open_series
     from pfem_skfem.scene import scene_from_toml
     from pfem_skfem.scene.files import example_text
 
@@ -227,11 +227,11 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
     ignored"): seen in CI, the run went on. The run must still stop after that step,
     with it checkpointed."""
     import signal
-    from pfem_skfem.runfolder import Terminated, _raise_terminated, _term_received
+    from pfem_skfem.drivers.stopping import TERM_RECEIVED, Terminated, raise_terminated
 
     class Finaliser:                      # where a signal's exception is swallowed
         def __del__(self):
-            _raise_terminated(signal.SIGTERM, None)
+            raise_terminated(signal.SIGTERM, None)
 
     def observe(run, more):
         if run.state.step == 2:
@@ -244,7 +244,7 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
         with pytest.raises(Terminated):
             run.advance(lambda run: run.state.step >= STEPS, observe)
     finally:                              # the TERM seen: not a TERM of the next test's runs
-        _term_received.clear()
+        TERM_RECEIVED.clear()
     assert run.state.step == 2
     saved = load_run(checkpoint_path(tmp_path, "column", KEYS))
     assert saved is not None and saved[0].step == 2

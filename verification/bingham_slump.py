@@ -220,7 +220,7 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
     and at most the step in which a particle falls freely ``fall_max`` spacings (a particle
     that left the body falls g dt^2)."""
     from pfem_skfem.drivers import pfem_loop
-    from pfem_skfem.drivers.resumable import open_series
+    from pfem_skfem.io import open_series
     from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.pfem.measure import front, surface_height
 

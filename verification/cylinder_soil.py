@@ -78,7 +78,7 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, positive, positive_float,
                                         solver_keyword, sweep_options, theta_weight)
-from pfem_skfem.drivers.resumable import open_series
+from pfem_skfem.io import open_series
 from pfem_skfem.harness.progress import StepBar
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases

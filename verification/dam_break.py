@@ -86,7 +86,7 @@ def dam_break_scene(a, n2, nx, *, rho, mu, g, dt, alpha=1.6, solver="clarabel", 
 def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outdir=None,
              save_every=0, solver="clarabel"):
     """One dam break to T = T_end: the front Z and the wall height H at every step."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+    from pfem_skfem.drivers.resumable import ResumableRun
 
     t_unit = np.sqrt(a / (2 * g))                       # T = t / t_unit
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
@@ -100,9 +100,12 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
         near = state.x[:, 0] <= 1.01 * spacing            # the first column of particles
         H.append(state.x[near, 1].max() / (n2 * a) if near.any() else 0.0)
 
-    state, series = run_measured(state, scene, steps, measure, desc=f"dam break {label}",
-                                 verbose=progress, save_every=save_every, vtu_name="dam_break",
-                                 vtu_dir=None if outdir is None else Path(outdir) / label)
+    run = ResumableRun.open(scene, state, on_step=measure, total=steps,
+                            desc=f"dam break {label}", verbose=progress, save_every=save_every,
+                            vtu_name="dam_break",
+                            vtu_dir=None if outdir is None else Path(outdir) / label)
+    state = run.advance(lambda run: run.state.step >= steps or run.state.n == 0).state
+    series = run.series
     hist = state.history
     return dict(T=np.array(T), Z=np.array(Z), H=np.array(H), label=label, nx=nx, steps=steps,
                 mu=mu, mass_error=float(np.max(np.abs(np.asarray(hist["mass"]) / hist["mass"][0]

@@ -43,17 +43,18 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import config_summary, load_checkpoint, run_to_rest
+from pfem_skfem.drivers.pfem_loop import config_summary, run_to_rest
 from pfem_skfem.pfem.measure import deposit_extent, wall_height
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
+from pfem_skfem.pfem.state import load_checkpoint
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, nonnegative_float,
                                         nonnegative_int, poisson_ratio, positive_float,
                                         positive_int, solver_keyword, sweep_options,
                                         positive_angle)
-from pfem_skfem.drivers.resumable import open_series
+from pfem_skfem.io import open_series
 from pfem_skfem.harness.progress import StepBar, progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases

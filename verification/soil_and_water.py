@@ -197,7 +197,7 @@ def mesh_energy(state, scene, record, result):
 
 def run_tank(args, out):
     """The block into the tank to --t_end: the series at each step and the books."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+    from pfem_skfem.drivers.resumable import ResumableRun
 
     state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
                                     mu_floor=args.mu_floor, d=args.d, L=args.L,
@@ -244,9 +244,11 @@ def run_tank(args, out):
             state.v[~meshed] ** 2, axis=1)))
         series["fastest"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
-    state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
-                            verbose=args.progress, vtu_dir=out / "block_into_tank",
-                            vtu_name="block_into_tank", save_every=args.save_every)
+    run = ResumableRun.open(scene, state0, on_step=measure, total=args.steps,
+                            desc="block_into_tank", verbose=args.progress,
+                            vtu_dir=out / "block_into_tank", vtu_name="block_into_tank",
+                            save_every=args.save_every)
+    state = run.advance(lambda run: run.state.step >= args.steps or run.state.n == 0).state
     books = region_books(scene, state0, state.history)
     first_area = float(state.history["area"][0])
     return state, {k: np.asarray(v) for k, v in series.items()}, books, gauges, geo, first_area
@@ -362,7 +364,7 @@ def build_parser():
 
 def run_twins(args, out):
     """The water column and its granular twin to T = 4: fronts, books, final particles."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+    from pfem_skfem.drivers.resumable import ResumableRun
     from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
     t_unit = np.sqrt(args.a / (2 * args.g))
@@ -381,9 +383,10 @@ def run_twins(args, out):
             fronts["speed"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
         label = f"twin_{name}"
-        s1, _ = run_measured(s0, sc, args.twin_steps, measure_twin, desc=label,
-                             verbose=args.progress, vtu_dir=out / label, vtu_name=label,
-                             save_every=args.save_every)
+        s1 = ResumableRun.open(sc, s0, on_step=measure_twin, total=args.twin_steps, desc=label,
+                               verbose=args.progress, vtu_dir=out / label, vtu_name=label,
+                               save_every=args.save_every).advance(
+            lambda run: run.state.step >= args.twin_steps or run.state.n == 0).state
         twins[name] = dict(fronts, books=region_books(sc, s0, s1.history), points=s1.x.copy())
     return twins
 
