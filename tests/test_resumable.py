@@ -248,3 +248,51 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
     assert run.state.step == 2
     saved = load_run(checkpoint_path(tmp_path, "column", KEYS))
     assert saved is not None and saved[0].step == 2
+
+
+def _adaptive(directory, stop, every=0):
+    """The column of KEYS under an adaptive time step (the driver's policy), to ``stop``."""
+    from pfem_skfem.drivers.time_step import AdaptiveTimeStep
+    state, scene = granular_column(KEYS["a"], KEYS["nx"])
+    dt0 = scene.config.dt
+    policy = AdaptiveTimeStep(dt0, 16 * dt0, move=0.5, spacing=float(np.median(state.h)))
+    run = ResumableRun.open(scene, state, {"dt": []}, directory=directory, label="adaptive",
+                            keys=KEYS, every=every, time_step=policy)
+    return run.advance(lambda run: run.state.step >= stop,
+                       lambda run, more: run.kept["dt"].append(run.step_scene.config.dt))
+
+
+def test_a_run_under_an_adaptive_time_step_goes_on_with_its_time_step(tmp_path, monkeypatch):
+    """The time-step policy's memory (the next dt) travels in the checkpoint: a run
+    stopped by Ctrl-C in step 4 and resumed takes the uninterrupted run's steps."""
+    whole = _adaptive(None, STEPS)
+    assert len(set(whole.kept["dt"])) > 1                 # the step did change
+    assert whole.state.time == pytest.approx(sum(whole.kept["dt"]))
+    calls, real = [], pfem_loop.run
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 4:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    with monkeypatch.context() as m:
+        m.setattr(pfem_loop, "run", interrupted)
+        with pytest.raises(KeyboardInterrupt) as stop:
+            _adaptive(tmp_path, STEPS)
+    assert stop.value.saved_step == 3
+    again = _adaptive(tmp_path, STEPS)
+    assert again.resumed and again.kept["dt"] == whole.kept["dt"]
+    _same_state(again.state, whole.state)
+
+
+def _same_state(a, b):
+    for f in fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "history":
+            x = {k: v for k, v in x.items() if not _clock(k)}
+            y = {k: v for k, v in y.items() if not _clock(k)}
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name
