@@ -162,18 +162,22 @@ def test_another_solver_s_run_has_its_own_checkpoint(tmp_path):
         run._lock.release()
 
 
-def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch):
+@pytest.mark.parametrize("stop_in", [8, 14], ids=["falling", "settling"])
+def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch,
+                                                                        stop_in):
     """granular_column_axisymmetric.run_case on its ResumableRun: Ctrl-C in step 8 keeps
     step 7 (with the deposit history measured so far), and the run started again from it
-    returns the uninterrupted run's result."""
+    returns the uninterrupted run's result; so does Ctrl-C in step 14, in the steps after
+    t_stop (12) that the run takes on towards rest."""
     from verification import granular_column_axisymmetric as column
     case = dict(a=0.5, nr=4, steps=12, phi=20.0, settle=0.7, history=True)
     whole = column.run_case(**case)
+    assert len(whole["t_bar"]) == 14                  # two steps after t_stop: settle = 0.7
     calls, real = [], pfem_loop.run
 
     def interrupted(*args, **kwargs):
         calls.append(1)
-        if len(calls) == 8:
+        if len(calls) == stop_in:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
@@ -181,7 +185,7 @@ def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path
         m.setattr(pfem_loop, "run", interrupted)
         with pytest.raises(KeyboardInterrupt) as stop:
             column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
-    assert stop.value.saved_step == 7
+    assert stop.value.saved_step == stop_in - 1
     again = column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
     timing = {"seconds", "seconds_per_step", "sitting", "pvd"}
     assert whole.keys() == again.keys()
