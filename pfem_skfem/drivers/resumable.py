@@ -28,7 +28,7 @@ from ..harness.store import DamagedFileError, _dump_pickle, checkpoint_path
 from ..io import open_series
 from ..pfem.state import load_checkpoint, save_checkpoint
 from ..problems.conic import SolverError
-from . import pfem_loop
+from . import pfem_loop          # pfem_loop.run looked up at each step (tests replace it)
 from .stopping import (TERM_RECEIVED, RunFolderError, RunLock, raise_if_terminated,
                        raise_terminated)
 
