@@ -21,8 +21,9 @@ import subprocess
 import sys
 import time
 
-from . import runfolder
-from .harness.options import SOLVER_NAMES, STEP_SOLVER_NAMES, nonnegative_int, positive_int, workers
+from .harness.options import (nonnegative_int, positive_int, SOLVER_NAMES, STEP_SOLVER_NAMES,
+                              workers)
+from .drivers.stopping import DEFAULT_CHECKPOINT_EVERY, RunFolderError
 from .harness.progress import StepBar, progress, progress_bar
 
 
@@ -203,7 +204,7 @@ class RunError(Exception):
 def cmd_run(args):
     try:
         return _run(args)
-    except (RunError, runfolder.RunFolderError) as err:
+    except (RunError, RunFolderError) as err:
         print(f"pfem-skfem run: error: {err}", file=sys.stderr)
         return 2
 
@@ -373,7 +374,7 @@ def build_parser():
                    "output.every)")
     r.add_argument("--checkpoint-every", type=nonnegative_int, help="a checkpoint every K steps "
                    "(default: output.checkpoint_every, or "
-                   f"{runfolder.DEFAULT_CHECKPOINT_EVERY} when that is 0; one is always "
+                   f"{DEFAULT_CHECKPOINT_EVERY} when that is 0; one is always "
                    "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")

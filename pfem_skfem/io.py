@@ -15,6 +15,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from .discretisation.fields import element_mean, vertex_dofs
+from .discretisation.geometry import as_geometry
 
 _VTK_CELL_TYPE = {3: 5, 6: 22}   # VTK_TRIANGLE, VTK_QUADRATIC_TRIANGLE
 
@@ -358,3 +359,25 @@ def initial_fields(state, alpha, axisymmetric=False):
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, axisymmetric)
     return state.x, cells, point_data, cell_data
+
+
+def open_series(directory, name, resume_at=None, initial=None):
+    """A VTU series ``name`` in ``directory`` (created), or None when ``directory`` is None.
+
+    The PVD states the fields' units (:data:`STEP_UNITS`).
+    ``resume_at``: the time of the checkpoint a run goes on from; the series keeps its
+    frames up to that time (:meth:`TimeSeries.resume`).
+    ``initial``: (state, scene) of a run at its start, whose frame at t = 0 is written
+    (:func:`initial_fields`); nothing for a resumed run."""
+    if directory is None:
+        return None
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    series = TimeSeries(directory, name, note=STEP_UNITS)
+    if resume_at is not None:
+        series.resume(resume_at)
+    elif initial is not None and initial[0].step == 0:
+        state, scene = initial
+        series.write(0.0, *initial_fields(state, scene.alpha,
+                                          as_geometry(scene.geometry).axisymmetric))
+    return series

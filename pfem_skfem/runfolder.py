@@ -17,22 +17,19 @@ from dataclasses import replace
 import json
 import os
 from pathlib import Path
-import socket
 import sys
-import threading
-import time
 
-#: A checkpoint every this many steps when the scene asks for none (output.checkpoint_every
-#: = 0): a stop (a kill, a crash) then loses at most this many steps.
-DEFAULT_CHECKPOINT_EVERY = 20
+from .discretisation.geometry import as_geometry
+from .drivers.resumable import ResumableRun
+from .drivers.stopping import DEFAULT_CHECKPOINT_EVERY, RunFolderError, RunLock, Terminated
+from .io import STEP_UNITS, TimeSeries, initial_fields, write_text_atomic
+from .pfem.state import CheckpointError, load_checkpoint, save_checkpoint
+from .problems.conic import SolverError
+from .scene import scene_digest
+from .scene.files import load_scene, scene_to_toml
 
 #: The files a run writes into its folder (besides ``<series>_NNNN.vtu``).
 RUN_FILES = ("checkpoint.npz", "history.json", "scene.toml", "scene.pvd")
-LOCK = "run.lock"
-
-
-class RunFolderError(Exception):
-    """The folder cannot be used as asked; the message says why and what to do."""
 
 
 def check_output_dir(out):
@@ -75,87 +72,6 @@ def clear_run(out, series="scene"):
         path.unlink()
 
 
-def _alive(pid):
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:                    # another user's process
-        return True
-    return True
-
-
-class RunLock:
-    """A lock file ``run.lock`` (or ``name``) in the folder naming its owner (pid, host,
-    start time).
-
-    Taken with an exclusive create, so two processes cannot both hold it. A lock whose
-    owner is a process of this host that no longer runs is stale and taken over; a
-    live owner, or one on another host (which cannot be checked), is refused.
-
-    Use as a context manager; :meth:`acquire` creates the folder.
-    """
-
-    def __init__(self, directory, name=LOCK):
-        self.path = Path(directory) / name
-        self.held = False
-
-    def owner(self):
-        """The owner recorded in the lock file (a dict), or None if unreadable."""
-        try:
-            return json.loads(self.path.read_text())
-        except (OSError, ValueError):
-            return None
-
-    def acquire(self):
-        """Take the lock (creating the folder); RunFolderError if another run holds it."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        me = {"pid": os.getpid(), "host": socket.gethostname(),
-              "started": time.strftime("%Y-%m-%d %H:%M:%S %Z")}
-        for _ in range(3):
-            try:
-                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                owner = self.owner()
-                if owner is None and time.time() - self._mtime() < 10:
-                    time.sleep(0.2)            # being written by its owner right now
-                    continue
-                if owner is not None and (owner.get("host") != me["host"]
-                                          or _alive(int(owner.get("pid", -1)))):
-                    raise RunFolderError(
-                        f"{self.path.parent}/ is in use by another run (pid {owner.get('pid')} "
-                        f"on {owner.get('host')}, started {owner.get('started')}): wait for "
-                        f"it, or choose another output folder; if that run is known to be "
-                        f"gone, delete {self.path}") from None
-                self.path.unlink(missing_ok=True)  # stale: its owner is dead
-                continue
-            with os.fdopen(fd, "w") as f:
-                json.dump(me, f)
-            self.held = True
-            return self
-        raise RunFolderError(f"cannot take the lock {self.path}")
-
-    def _mtime(self):
-        try:
-            return self.path.stat().st_mtime
-        except OSError:
-            return 0.0
-
-    def release(self):
-        """Remove the lock file if this process holds it."""
-        if self.held:
-            owner = self.owner()
-            if owner is not None and owner.get("pid") == os.getpid():
-                self.path.unlink(missing_ok=True)
-            self.held = False
-
-    def __enter__(self):
-        return self.acquire()
-
-    def __exit__(self, *exc):
-        self.release()
-
-
 def history_columns(records):
     """The records as the driver's ``state.history`` holds them: {key: [values]}, each
     record's values appended in its own key order (as ``drivers.pfem_loop.run`` does)."""
@@ -187,28 +103,6 @@ def read_history(path):
 
 
 # -- a run in its folder ------------------------------------------------------------------
-class Terminated(KeyboardInterrupt):
-    """SIGTERM (``kill``, ``timeout``, a batch system) raised in the run, to be handled
-    as Ctrl-C is (a KeyboardInterrupt): checkpoint the last step and stop."""
-
-
-#: set by the SIGTERM handler: a TERM that lands in a finaliser or a callback (where
-#: Python only prints "Exception ignored") is still seen after the step (measured: a run
-#: went on after such a TERM when the machine was loaded)
-_term_received = threading.Event()
-
-
-def _raise_terminated(signum, frame):
-    _term_received.set()
-    raise Terminated()
-
-
-def raise_if_terminated():
-    """Raise :class:`Terminated` if a SIGTERM came that was swallowed on its way."""
-    if _term_received.is_set():
-        raise Terminated()
-
-
 def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=None):
     """Run ``scene`` to step ``last`` in folder ``out``, under the folder's lock, every
     file written whole, the last completed step checkpointed on any stop.
@@ -247,9 +141,6 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
 
 def _resume_state(scene, out, digest):
     """The checkpoint's state and step records; history.json is checked against them."""
-    from .pfem.state import CheckpointError, load_checkpoint
-    from .scene.files import load_scene
-
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     if not checkpoint.is_file() or not copy.is_file():
         raise RunFolderError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
@@ -292,14 +183,6 @@ def _resume_state(scene, out, digest):
 
 
 def _run_locked(scene, out, last, resume, progress, overwrite):
-    from .drivers.resumable import ResumableRun
-    from .discretisation.geometry import as_geometry
-    from .io import STEP_UNITS, TimeSeries, initial_fields, write_text_atomic
-    from .pfem.state import save_checkpoint
-    from .problems.conic import SolverError
-    from .scene import scene_digest
-    from .scene.files import scene_to_toml
-
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     digest = scene_digest(scene)
     for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".*.tmp")):

@@ -255,7 +255,7 @@ def test_sigterm_checkpoints_as_ctrl_c_does(column, tmp_path):
 def test_a_scene_without_checkpoint_interval_still_checkpoints(column, tmp_path, monkeypatch):
     saved = []
     real = pstate.save_checkpoint
-    monkeypatch.setattr(pstate, "save_checkpoint",
+    monkeypatch.setattr(runfolder, "save_checkpoint",
                         lambda p, s, **kw: (saved.append(s.step), real(p, s, **kw)))
     monkeypatch.setattr(runfolder, "DEFAULT_CHECKPOINT_EVERY", 2)
     assert _run(column, "--out", tmp_path / "o", "--steps", 3, "--checkpoint-every", 0,

@@ -1,9 +1,9 @@
 """The column on a floor against a wall (pfem_skfem.scene.column_scene) and the measured run
-(pfem_skfem.drivers.pfem_loop.run_measured) that four benchmarks share."""
+(pfem_skfem.drivers.resumable.ResumableRun without a checkpoint) that four benchmarks share."""
 import numpy as np
 import pytest
 
-from pfem_skfem.drivers.pfem_loop import run_measured
+from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.materials import NewtonianFluid
 from pfem_skfem.scene import Geostatic, column_scene
 
@@ -39,11 +39,15 @@ def test_gate_and_names(removed_at):
     assert scene.regions[0].name == "water" and scene.regions[0].stress == Geostatic()
 
 
-def test_run_measured(tmp_path):
+def test_a_measured_run(tmp_path):
     state, scene = water_column(passes=1)
     seen = []
-    end, series = run_measured(state, scene, 2, lambda s, record, result: seen.append(s.step))
-    assert seen == [1, 2] and end.step == 2 and series is None
-    _, series = run_measured(state, scene, 2, lambda *a: None, vtu_dir=tmp_path, vtu_name="w",
-                             save_every=1)
-    assert series.pvd_path == tmp_path / "w.pvd" and series.pvd_path.is_file()
+    run = ResumableRun.open(scene, state, on_step=lambda s, record, result: seen.append(s.step),
+                            total=2)
+    run.advance(lambda run: run.state.step >= 2)
+    assert seen == [1, 2] and run.state.step == 2 and run.series is None
+    assert run.checkpoint is None and run.record["step"] == 2
+    run = ResumableRun.open(scene, state, vtu_dir=tmp_path, vtu_name="w", save_every=1)
+    run.advance(lambda run: run.state.step >= 2)
+    assert run.series.pvd_path == tmp_path / "w.pvd" and run.series.pvd_path.is_file()
+    assert len(run.series.entries) == 3                  # t = 0 and the two steps

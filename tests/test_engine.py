@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from pfem_skfem.scene.config import PFEMConfig
-from pfem_skfem.drivers.pfem_loop import load_checkpoint, pfem_step, run
+from pfem_skfem.drivers.pfem_loop import pfem_step, run
 from pfem_skfem.materials import CohesiveTresca, ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
+from pfem_skfem.pfem.state import load_checkpoint
 from pfem_skfem.scene import (Body, ConstantVelocity, Geostatic, HalfPlane, Outlet,
                               PiecewiseLinear, Phase, Region, Scene)
 from verification.granular_column_plane import granular_column

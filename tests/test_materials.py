@@ -148,7 +148,8 @@ def test_regions_of_a_cohesive_and_a_frictional_material_share_a_scene(monkeypat
     """A frictional block beside a Tresca clay (refused before RegionCones: the clay had no
     radius) runs; each step's material is RegionCones of the two."""
     from pfem_skfem.drivers import pfem_loop
-    from pfem_skfem.drivers.pfem_loop import PFEMConfig, run
+    from pfem_skfem.drivers.pfem_loop import run
+    from pfem_skfem.scene.config import PFEMConfig
     from pfem_skfem.problems.contact import RigidSegment
     from pfem_skfem.discretisation.theta import ThetaMethod
     from pfem_skfem.scene import Body, Scene

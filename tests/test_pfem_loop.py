@@ -6,13 +6,13 @@ from skfem import Functional, MeshTri
 from skfem.helpers import grad
 
 from pfem_skfem.scene.config import PFEMConfig
-from pfem_skfem.drivers.pfem_loop import load_checkpoint, pfem_step, run, run_to_rest, save_checkpoint
+from pfem_skfem.drivers.pfem_loop import pfem_step, run, run_to_rest
 from pfem_skfem.discretisation.fields import smoothed_mean_stress, vertex_dofs
 from pfem_skfem.io import TimeSeries
 from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.pfem.alpha_shape import triangle_areas
-from pfem_skfem.pfem.state import PFEMState, initial_state
+from pfem_skfem.pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpoint
 from pfem_skfem.pfem.surface import bulge_correction
 from pfem_skfem.pfem.transfer import old_discretisation
 from pfem_skfem.problems.contact import LaggedFriction, RigidSegment

@@ -134,7 +134,7 @@ def test_the_kept_silo_runs_are_found_and_read_back(tmp_path):
 def test_one_writer_per_checkpoint(tmp_path):
     """A run holds its checkpoint's lock from open to the end of advance; a second open of
     the same run in this process is refused (another process waits for it)."""
-    from pfem_skfem.runfolder import RunFolderError
+    from pfem_skfem.drivers.stopping import RunFolderError
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
     first = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
     with pytest.raises(RunFolderError, match="in use by another run"):
@@ -162,18 +162,22 @@ def test_another_solver_s_run_has_its_own_checkpoint(tmp_path):
         run._lock.release()
 
 
-def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch):
+@pytest.mark.parametrize("stop_in", [8, 14], ids=["falling", "settling"])
+def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path, monkeypatch,
+                                                                        stop_in):
     """granular_column_axisymmetric.run_case on its ResumableRun: Ctrl-C in step 8 keeps
     step 7 (with the deposit history measured so far), and the run started again from it
-    returns the uninterrupted run's result."""
+    returns the uninterrupted run's result; so does Ctrl-C in step 14, in the steps after
+    t_stop (12) that the run takes on towards rest."""
     from verification import granular_column_axisymmetric as column
     case = dict(a=0.5, nr=4, steps=12, phi=20.0, settle=0.7, history=True)
     whole = column.run_case(**case)
+    assert len(whole["t_bar"]) == 14                  # two steps after t_stop: settle = 0.7
     calls, real = [], pfem_loop.run
 
     def interrupted(*args, **kwargs):
         calls.append(1)
-        if len(calls) == 8:
+        if len(calls) == stop_in:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
@@ -181,7 +185,7 @@ def test_the_column_of_revolution_stopped_by_ctrl_c_goes_on_bit_for_bit(tmp_path
         m.setattr(pfem_loop, "run", interrupted)
         with pytest.raises(KeyboardInterrupt) as stop:
             column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
-    assert stop.value.saved_step == 7
+    assert stop.value.saved_step == stop_in - 1
     again = column.run_case(**case, checkpoint_dir=tmp_path, checkpoint_every=5)
     timing = {"seconds", "seconds_per_step", "sitting", "pvd"}
     assert whole.keys() == again.keys()
@@ -203,9 +207,9 @@ def _equal(a, b):
 
 def test_a_script_s_vtu_series_starts_at_t_0_and_states_its_units(tmp_path):
     """Issue 36, item 8: every VTU series a run writes (the scripts' too, through
-    open_series) has the frame at t = 0 and the fields' units in its PVD."""
+    pfem_skfem.io.open_series) has the frame at t = 0 and the fields' units in its PVD."""
     from pfem_skfem.drivers.pfem_loop import run
-    from pfem_skfem.drivers.resumable import open_series
+    from pfem_skfem.io import open_series
     from pfem_skfem.scene import scene_from_toml
     from pfem_skfem.scene.files import example_text
 
@@ -227,11 +231,11 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
     ignored"): seen in CI, the run went on. The run must still stop after that step,
     with it checkpointed."""
     import signal
-    from pfem_skfem.runfolder import Terminated, _raise_terminated, _term_received
+    from pfem_skfem.drivers.stopping import TERM_RECEIVED, Terminated, raise_terminated
 
     class Finaliser:                      # where a signal's exception is swallowed
         def __del__(self):
-            _raise_terminated(signal.SIGTERM, None)
+            raise_terminated(signal.SIGTERM, None)
 
     def observe(run, more):
         if run.state.step == 2:
@@ -244,7 +248,55 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
         with pytest.raises(Terminated):
             run.advance(lambda run: run.state.step >= STEPS, observe)
     finally:                              # the TERM seen: not a TERM of the next test's runs
-        _term_received.clear()
+        TERM_RECEIVED.clear()
     assert run.state.step == 2
     saved = load_run(checkpoint_path(tmp_path, "column", KEYS))
     assert saved is not None and saved[0].step == 2
+
+
+def _adaptive(directory, stop, every=0):
+    """The column of KEYS under an adaptive time step (the driver's policy), to ``stop``."""
+    from pfem_skfem.drivers.time_step import AdaptiveTimeStep
+    state, scene = granular_column(KEYS["a"], KEYS["nx"])
+    dt0 = scene.config.dt
+    policy = AdaptiveTimeStep(dt0, 16 * dt0, move=0.5, spacing=float(np.median(state.h)))
+    run = ResumableRun.open(scene, state, {"dt": []}, directory=directory, label="adaptive",
+                            keys=KEYS, every=every, time_step=policy)
+    return run.advance(lambda run: run.state.step >= stop,
+                       lambda run, more: run.kept["dt"].append(run.step_scene.config.dt))
+
+
+def test_a_run_under_an_adaptive_time_step_goes_on_with_its_time_step(tmp_path, monkeypatch):
+    """The time-step policy's memory (the next dt) travels in the checkpoint: a run
+    stopped by Ctrl-C in step 4 and resumed takes the uninterrupted run's steps."""
+    whole = _adaptive(None, STEPS)
+    assert len(set(whole.kept["dt"])) > 1                 # the step did change
+    assert whole.state.time == pytest.approx(sum(whole.kept["dt"]))
+    calls, real = [], pfem_loop.run
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 4:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    with monkeypatch.context() as m:
+        m.setattr(pfem_loop, "run", interrupted)
+        with pytest.raises(KeyboardInterrupt) as stop:
+            _adaptive(tmp_path, STEPS)
+    assert stop.value.saved_step == 3
+    again = _adaptive(tmp_path, STEPS)
+    assert again.resumed and again.kept["dt"] == whole.kept["dt"]
+    _same_state(again.state, whole.state)
+
+
+def _same_state(a, b):
+    for f in fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "history":
+            x = {k: v for k, v in x.items() if not _clock(k)}
+            y = {k: v for k, v in y.items() if not _clock(k)}
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name

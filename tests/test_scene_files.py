@@ -8,7 +8,7 @@ import pytest
 from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
-from pfem_skfem.drivers.pfem_loop import load_checkpoint
+from pfem_skfem.pfem.state import load_checkpoint
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,

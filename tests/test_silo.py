@@ -141,7 +141,7 @@ def test_a_checkpoint_of_the_state_alone_is_taken_without_its_snapshots(tmp_path
     """A checkpoint written before the snapshots were kept (the state's file, no loop
     file) is still resumed: the volumes go on bit for bit, the snapshots of the steps
     before it are missing and those after it are taken."""
-    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.pfem.state import load_checkpoint
     case = dict(SHORT_SILO, snapshot_times=(0.08, 0.2))
     whole = silo.run_case(**case, t_max=5 * 0.04)
     silo.run_case(**case, t_max=3 * 0.04, checkpoint_dir=tmp_path)
@@ -151,4 +151,4 @@ def test_a_checkpoint_of_the_state_alone_is_taken_without_its_snapshots(tmp_path
     resumed = silo.run_case(**case, t_max=5 * 0.04, checkpoint_dir=tmp_path)
     assert resumed["V"] == whole["V"]
     assert sorted(resumed["snapshots"]) == approx([0.2])
-    assert pfem_loop.load_checkpoint(state_file).step == 5
+    assert load_checkpoint(state_file).step == 5

@@ -62,7 +62,6 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.discretisation.fields import element_mean
@@ -71,12 +70,11 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, material_options,
-                                        nonnegative_float, opt, pfem_options, positive_angle,
-                                        positive_float, positive_int, solver_keyword,
-                                        sweep_options, time_options)
-from pfem_skfem.drivers.resumable import open_series
-from pfem_skfem.harness.progress import StepBar
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_angle, positive_float, positive_int,
+                                        solver_keyword, sweep_options, time_options)
+from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
@@ -199,12 +197,12 @@ def stability_test(taper, phi_b=15.0, phi=30.0, steps=6, layers=8, H=0.05, du=1.
     the base friction of the whole wedge mu_b W (1 when it slides as one block).
     """
     scene = taper_scene(taper=taper, H=H, layers=layers, phi=phi, phi_b=phi_b, du=du, **options)
-    state = scene.initial_state()
     t0 = time.perf_counter()
-    history = []
-    for _ in range(steps):
-        state, record, result = pfem_loop.pfem_step(state, scene)
-        history.append(result.plastic_strain / (du / H))
+    run = ResumableRun(scene, scene.initial_state(), {"history": []})
+    run.advance(lambda run: run.state.step >= steps,
+                lambda run, more: run.kept["history"].append(run.result.plastic_strain
+                                                             / (du / H)))
+    state, record, result, history = run.state, run.record, run.result, run.kept["history"]
     weight = scene.regions[0].rho * 9.8 * scene.regions[0].area
     push = -record["forces"]["wall"][0]
     return {"taper": taper, "phi": phi, "phi_b": phi_b, "steps": steps,
@@ -287,24 +285,33 @@ def popup(points, cells, deps, h0, x_wall, fraction=0.5):
     return out
 
 
-def run_layer(*, outdir=None, save_every=0, verbose=False, **options):
+def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
+              checkpoint_every=20, **options):
     """The thesis' layer shortened by s; returns histories, snapshots, the final surface
-    profile and the wedge's measures (:func:`wedge_geometry`, :func:`popup`)."""
+    profile and the wedge's measures (:func:`wedge_geometry`, :func:`popup`).
+
+    With ``checkpoint_dir`` the state and the snapshots so far are saved there every
+    ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of ``options``;
+    a run finds its own checkpoint and goes on from it, bit for bit (``seconds`` is then
+    the time of the last sitting only)."""
     scene = layer_scene(**options)
     s, steps = options["s"], options["steps"]
     du = s / steps
     state = scene.initial_state()
     snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
-    series = open_series(Path(outdir) / f"h{options['h']:g}_n{steps}"
-                         if outdir is not None and save_every else None, "wedge",
-                         initial=(state, scene))
-    tick = StepBar(0, steps, disable=not verbose, desc=f"wedge ({steps} steps)",
-                   postfix=lambda rec: f"wall {-rec['forces']['wall'][0]:.4f} kN/m, "
-                                       f"dA = {rec['area_change']:+.2%}")
+    run = ResumableRun.open(
+        scene, state, {"snaps": {}}, directory=checkpoint_dir, label="wedge",
+        keys={k: v for k, v in options.items() if k != "solver"}, every=checkpoint_every,
+        vtu_dir=None if outdir is None else Path(outdir) / f"h{options['h']:g}_n{steps}",
+        vtu_name="wedge", save_every=save_every, total=steps, desc=f"wedge ({steps} steps)",
+        verbose=verbose)
     t0 = time.perf_counter()
-    state, snaps = pfem_loop.run(state, scene, steps, series=series, save_every=save_every,
-                                 snapshots=set(snap), progress=tick)
-    tick.close()
+    run.advance(lambda run: run.state.step >= steps or run.state.n == 0,
+                lambda run, more: run.kept["snaps"].update(more), snapshots=set(snap),
+                postfix=lambda run: f"wall {-run.record['forces']['wall'][0]:.4f} kN/m, "
+                                    f"dA = {run.record['area_change']:+.2%}")
+    state, series, snaps = run.state, run.series, run.kept["snaps"]
     hist = state.history
     h0, alpha, h = options.get("h0", 0.08), options.get("alpha", 1.4), options["h"]
     bins = np.arange(s, options.get("L", 1.4) + h, h)          # from the wall's final place
@@ -371,6 +378,7 @@ def build_parser():
                    help="also shorten the layer by --s in N steps each (same spacing); the "
                         "slope, length and wall force checked against the run of most steps")
     sweep_options(p, default_workers=1, what="the layer runs")
+    checkpoint_options(p, "layer run")
     return p
 
 
@@ -484,7 +492,8 @@ def run(args):
     common = dict(h0=args.h0, L=args.L, h=args.h, phi=args.phi, rho=args.rho, g=args.g,
                   mu_wall=args.mu_wall, phi_b=args.base_friction, s=args.s, dt=args.dt,
                   alpha=args.alpha, k_min=args.k_min, contact=args.contact, passes=args.passes,
-                  verbose=args.progress) | solver_keyword(args)
+                  verbose=args.progress, checkpoint_dir=args.checkpoint_dir,
+                  checkpoint_every=args.checkpoint_every) | solver_keyword(args)
     cases = [dict(common, steps=args.steps, outdir=Path(args.outdir) / "accretionary_wedge",
                   save_every=args.save_every)]
     cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]

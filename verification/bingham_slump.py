@@ -67,7 +67,6 @@ Usage::
     python verification/bingham_slump.py --save-every 10        # VTU/PVD of every slump
 """
 import argparse
-from dataclasses import replace
 from pathlib import Path
 import sys
 import time
@@ -75,9 +74,9 @@ import time
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (adaptive_options, base_parser, in_range,
-                                        material_options, nonnegative_float, opt, pfem_options,
-                                        positive_float, positive_int, time_options)
+from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoint_options,
+                                        in_range, material_options, nonnegative_float, opt,
+                                        pfem_options, positive_float, positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
@@ -219,10 +218,13 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
     spacings (at most 1.5 times the last step, at least dt0, at most dt_max); a
     quasi-static one (every step from rest, its displacement growing as dt^2) likewise,
     and at most the step in which a particle falls freely ``fall_max`` spacings (a particle
-    that left the body falls g dt^2)."""
-    from pfem_skfem.drivers import pfem_loop
-    from pfem_skfem.drivers.resumable import open_series
-    from pfem_skfem.discretisation import ThetaMethod
+    that left the body falls g dt^2): the driver's
+    :class:`~pfem_skfem.drivers.time_step.AdaptiveTimeStep` on rungs dt0 LADDER^n.
+
+    With --checkpoint-dir the slump (its state, time step and front so far) is saved there
+    every --checkpoint-every steps and at the end, and goes on from its checkpoint."""
+    from pfem_skfem.drivers.resumable import ResumableRun
+    from pfem_skfem.drivers.time_step import AdaptiveTimeStep
     from pfem_skfem.pfem.measure import front, surface_height
 
     H0, L0, g = args.H0, args.L0, args.g
@@ -236,39 +238,39 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
     state, scene0 = slump_scene(k, material, L0=L0, H0=H0, rho=args.rho, g=g, mu=mu,
                                 mu_f=args.mu_f, spacing=spacing, dt=dt0,
                                 alpha_advected=args.alpha_advected, solver=args.solver)
-    scenes = {0: scene0}
-
-    def scene_for(dt):
-        n = int(np.floor(np.log(dt / dt0) / np.log(LADDER) + 1e-9))
-        if n not in scenes:
-            config = replace(scene0.config, theta=ThetaMethod(dt0 * LADDER ** n, 1.0, 1.0))
-            scenes[n] = replace(scene0, config=config)
-        return scenes[n]
-
-    series = (open_series(Path(args.outdir) / "bingham_slump" / label, "slump",
-                          initial=(state, scene0)) if save_every else None)
+    # the next step moves the fastest particle cfl spacings (at most 1.5 x the last step)
+    time_step = AdaptiveTimeStep(dt0, dt_max, move=cfl, spacing=spacing,
+                                 quasi_static=quasi_static, ladder=LADDER, growth=1.5)
+    keys = dict(k=k, material=material, n_h=n_h, cfl=cfl, mu=mu, quasi_static=quasi_static,
+                L0=L0, H0=H0, rho=args.rho, g=g, mu_f=args.mu_f, dt0=args.dt0,
+                dt_max=args.dt_max, fall_max=args.fall_max, alpha_advected=args.alpha_advected)
+    run = ResumableRun.open(scene0, state, {"T": [0.0], "X": [L0], "rest_measure": np.inf},
+                            directory=args.checkpoint_dir, label=f"slump_{label}", keys=keys,
+                            every=args.checkpoint_every, time_step=time_step,
+                            vtu_dir=Path(args.outdir) / "bingham_slump" / label,
+                            vtu_name="slump", save_every=save_every)
+    kept, rest = run.kept, args.rest_a if quasi_static else args.rest
     t0 = time.perf_counter()
-    dt, at_rest, rest_measure, T, X = dt0, False, np.inf, [0.0], [L0]
-    while state.step < args.max_steps and state.time < args.T_max * t_unit:
-        scene = scene_for(dt)
-        if quasi_static:                                  # the step starts from rest
-            state = replace(state, v=np.zeros_like(state.v),
-                            v_dofs=None if state.v_dofs is None else np.zeros_like(state.v_dofs))
-        state, _ = pfem_loop.run(state, scene, 1, series=series, save_every=save_every)
+
+    def observe(run, more):
+        state = run.state
         speed = float(np.linalg.norm(state.v, axis=1).max())
-        T.append(state.time / t_unit)
-        X.append(front(state) if state.mesh_p is not None else np.nan)
+        kept["T"].append(state.time / t_unit)
+        kept["X"].append(front(state) if state.mesh_p is not None else np.nan)
         # at rest: a step from rest that barely accelerates (quasi-static), every particle
         # slow (dynamic)
-        rest_measure = (speed / (g * scene.config.dt) if quasi_static
-                        else speed / np.sqrt(g * H0))
-        if state.step > 3 and rest_measure < (args.rest_a if quasi_static else args.rest):
-            at_rest = True
-            break
-        moved = max(speed * scene.config.dt, 1e-300)          # the fastest particle's move
-        grow = np.sqrt(cfl * spacing / moved) if quasi_static else cfl * spacing / moved
-        dt = float(np.clip(min(grow, 1.5) * scene.config.dt, dt0, max(dt_max, dt0)))
+        kept["rest_measure"] = (speed / (g * run.step_scene.config.dt) if quasi_static
+                                else speed / np.sqrt(g * H0))
+
+    def still(run):
+        return run.state.step > 3 and kept["rest_measure"] < rest
+
+    run.advance(lambda run: (run.state.step >= args.max_steps
+                             or run.state.time >= args.T_max * t_unit or still(run)),
+                observe)
     seconds = time.perf_counter() - t0
+    state, series, T, X = run.state, run.series, kept["T"], kept["X"]
+    at_rest, rest_measure = still(run), kept["rest_measure"]
     hist = state.history
     x_f = front(state)
     xs = np.linspace(0.0, x_f, 201)[1:-1]
@@ -351,6 +353,7 @@ def build_parser():
                    help="at --study-k: the mesh and step twins, the fast and dynamic slumps")
     p.add_argument("--study-k", type=yield_number, default=0.02, help="k of the studies")
     time_options(p, save_every=opt(0, why="of every slump, and a PVD"))
+    checkpoint_options(p, "slump")
     return p
 
 

@@ -68,18 +68,17 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.materials import CohesiveTresca
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, material_options,
-                                        nonnegative_float, opt, pfem_options, positive_float,
-                                        solver_keyword, sweep_options, time_options)
-from pfem_skfem.drivers.resumable import open_series
-from pfem_skfem.harness.progress import StepBar
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_float, solver_keyword, sweep_options,
+                                        time_options)
+from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
@@ -166,8 +165,15 @@ def penetration_band(w, D=1.0, su=1.0, gamma=15.68):
 
 
 # -- one run ------------------------------------------------------------------------------------
-def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", **options):
-    """Run the cylinder scene to the end; returns histories, snapshots and timings."""
+def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", checkpoint_dir=None,
+                 checkpoint_every=20, **options):
+    """Run the cylinder scene to the end; returns histories, snapshots and timings.
+
+    With ``checkpoint_dir`` the state and the snapshots so far are saved there every
+    ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of ``options``;
+    a run finds its own checkpoint and goes on from it, bit for bit (``seconds`` is then
+    the time of the last sitting only)."""
     scene, n_v, n_h = cylinder_scene(**options)
     du = options.get("du", 0.01)
     D = options.get("D", 1.0)
@@ -175,20 +181,25 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", **op
     snap_steps = {int(round(u / du)): f"u_V = {u:g} m" for u in SNAP_UV}
     snap_steps |= {n_v + int(round(u / du)): f"u_H = {u:g} m" for u in SNAP_UH}
     snap_steps = {k: v for k, v in snap_steps.items() if k <= n_v + n_h}
-    series = open_series(Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"
-                         if outdir is not None and save_every else None, "cylinder",
-                         initial=(state, scene))
+    x0 = state.x.copy()
+    run = ResumableRun.open(
+        scene, state, {"snaps": {}}, directory=checkpoint_dir, label="cylinder",
+        keys={k: v for k, v in options.items() if k != "solver"}, every=checkpoint_every,
+        vtu_dir=(None if outdir is None else
+                 Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"),
+        vtu_name="cylinder", save_every=save_every, total=n_v + n_h,
+        desc=f"cylinder ({label})", verbose=verbose)
     t0 = time.perf_counter()
 
-    def postfix(rec):
+    def postfix(run):
+        rec = run.record
         F = rec["forces"]["cylinder"]
         return f"F = ({-F[0]:.2f}, {F[1]:.2f}) kN/m, dA = {rec['area_change']:+.2%}"
-    tick = StepBar(0, n_v + n_h, disable=not verbose, desc=f"cylinder ({label})",
-                   postfix=postfix)
-    x0 = state.x.copy()
-    state, snaps = pfem_loop.run(state, scene, n_v + n_h, series=series, save_every=save_every,
-                                 snapshots=set(snap_steps), progress=tick)
-    tick.close()
+
+    run.advance(lambda run: run.state.step >= n_v + n_h or run.state.n == 0,
+                lambda run, more: run.kept["snaps"].update(more),
+                snapshots=set(snap_steps), postfix=postfix)
+    state, series, snaps = run.state, run.series, run.kept["snaps"]
     seconds = time.perf_counter() - t0
     hist = state.history
     F = np.array([f["cylinder"] for f in hist["forces"]])
@@ -279,6 +290,7 @@ def build_parser():
                    help="also run with these spacings h_fine [m] (h_coarse = max(--h-coarse, "
                         "2 h)); the steady forces within 15 %% of the finest's (issue 15)")
     sweep_options(p, default_workers=1, what="the runs (main and studies)")
+    checkpoint_options(p, "run")
     return p
 
 
@@ -294,6 +306,8 @@ def study_cases(args):
     opts = options_of(args) | dict(verbose=args.progress)
     main = dict(opts, label="main", outdir=Path(args.outdir) / "cylinder_soil",
                 save_every=args.save_every)
+    opts |= dict(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
+    main |= dict(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     cases = [main]
     if args.domain_study:
         s = args.study_scale

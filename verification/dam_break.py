@@ -47,9 +47,9 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, material_options,
-                                        nonnegative_float, opt, positive_float, positive_int,
-                                        time_options)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
+                                        material_options, nonnegative_float, opt, positive_float,
+                                        positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, steps=40, T_end=3.0, studies=False)
@@ -85,25 +85,35 @@ def dam_break_scene(a, n2, nx, *, rho, mu, g, dt, alpha=1.6, solver="clarabel", 
 
 
 def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outdir=None,
-             save_every=0, solver="clarabel"):
-    """One dam break to T = T_end: the front Z and the wall height H at every step."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+             save_every=0, solver="clarabel", checkpoint_dir=None, checkpoint_every=20):
+    """One dam break to T = T_end: the front Z and the wall height H at every step.
+
+    With ``checkpoint_dir`` the state and the measurements so far are saved there every
+    ``checkpoint_every`` steps and at the end
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of the run's
+    parameters; a run finds its own checkpoint and goes on from it, bit for bit."""
+    from pfem_skfem.drivers.resumable import ResumableRun
 
     t_unit = np.sqrt(a / (2 * g))                       # T = t / t_unit
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
                                    solver=solver)
     spacing = a / (nx - 1)
-    T, Z, H = [0.0], [1.0], [1.0]
+    keys = dict(a=a, n2=n2, nx=nx, steps=steps, T_end=T_end, rho=rho, mu=mu, g=g)
+    run = ResumableRun.open(scene, state, {"T": [0.0], "Z": [1.0], "H": [1.0]},
+                            directory=checkpoint_dir, label="dam_break", keys=keys,
+                            every=checkpoint_every, total=steps, desc=f"dam break {label}",
+                            verbose=progress, save_every=save_every, vtu_name="dam_break",
+                            vtu_dir=None if outdir is None else Path(outdir) / label)
 
-    def measure(state, record, result):
-        T.append(state.time / t_unit)
-        Z.append(state.x[:, 0].max() / a)
+    def observe(run, more):
+        state, kept = run.state, run.kept
+        kept["T"].append(state.time / t_unit)
+        kept["Z"].append(state.x[:, 0].max() / a)
         near = state.x[:, 0] <= 1.01 * spacing            # the first column of particles
-        H.append(state.x[near, 1].max() / (n2 * a) if near.any() else 0.0)
+        kept["H"].append(state.x[near, 1].max() / (n2 * a) if near.any() else 0.0)
 
-    state, series = run_measured(state, scene, steps, measure, desc=f"dam break {label}",
-                                 verbose=progress, save_every=save_every, vtu_name="dam_break",
-                                 vtu_dir=None if outdir is None else Path(outdir) / label)
+    run.advance(lambda run: run.state.step >= steps or run.state.n == 0, observe)
+    state, series, (T, Z, H) = run.state, run.series, (run.kept[k] for k in "TZH")
     hist = state.history
     return dict(T=np.array(T), Z=np.array(Z), H=np.array(H), label=label, nx=nx, steps=steps,
                 mu=mu, mass_error=float(np.max(np.abs(np.asarray(hist["mass"]) / hist["mass"][0]
@@ -126,24 +136,20 @@ def hydrostatics(a, n2, nx, *, rho, mu, g, dt, solver="clarabel"):
     where four triangles of the alpha-shape mesh meet at a vertex (a crossed square), a
     checkerboard of +-p on the four is invisible to equilibrium (B^T sigma). The forces, the
     integrals of the pressure, are unique; so is the pressure off those patches."""
-    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.drivers.resumable import ResumableRun
 
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=dt, solver=solver,
                                    gate=True)
-    out = {}
-
-    def keep(state, record, result):
-        out.update(record=record, result=result)
-
-    state, _ = pfem_loop.run(state, scene, 1, on_step=keep)
+    step = ResumableRun(scene, state).advance(lambda run: run.state.step >= 1)
+    state = step.state
     h0 = n2 * a
-    inc, disc = out["result"].increment, out["result"].disc
+    inc, disc = step.result.increment, step.result.disc
     # each element's mean pressure (its three points) against the exact at its centroid
     e = disc.point_element
     count = np.bincount(e)
     pressure = -np.bincount(e, inc.sigma[:, 0] + inc.sigma[:, 1]) / (2 * count)
     exact = rho * g * (h0 - np.bincount(e, disc.points[:, 1]) / count)
-    forces = out["record"]["forces"]
+    forces = step.record["forces"]
     error = np.abs(pressure - exact) / (rho * g * h0)
     return (float(np.median(error)), float(error.max()),
             forces["gate"][0] / (rho * g * h0 ** 2 / 2), -forces["floor"][1] / (rho * g * a * h0),
@@ -207,12 +213,14 @@ def build_parser():
                    help="tolerance of the anchored front times, in units of T")
     p.add_argument("--studies", action=__import__("argparse").BooleanOptionalAction,
                    default=True, help="the inviscid, time-step and resolution twins")
+    checkpoint_options(p, "run")
     return p
 
 
 def run(args):
     n = np.sqrt(args.n2)
-    common = dict(rho=args.rho, g=args.g, progress=args.progress, solver=args.solver)
+    common = dict(rho=args.rho, g=args.g, progress=args.progress, solver=args.solver,
+                  checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     out = Path(args.outdir) / "dam_break"
     base = run_case(args.a, args.n2, args.nx, args.steps, args.T_end, mu=args.mu,
                     label="base", outdir=out, save_every=args.save_every, **common)

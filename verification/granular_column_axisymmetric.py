@@ -225,7 +225,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     rest_speed = REST_SPEED * np.sqrt(g * h0)
     # what a resumed run needs besides the state: the measurements so far
     loop = dict(track={"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}, snaps={},
-                at_t_stop=None, settled=0)
+                at_t_stop=None)
     keys = dict(a=a, nr=nr, steps=steps, phi=phi, phi_s=phi_s, rho=rho, g=g, r0=r0,
                 material=material if soil is None else repr(soil), passes=passes,
                 alpha=alpha, floor=floor, settle=settle, t_stop=t_stop,
@@ -244,7 +244,9 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     rest = [False]
 
     def done(run):
-        """The thesis' deposit at t_stop, then at rest or ``settle`` more (once a step)."""
+        """The thesis' deposit at t_stop, then at rest or ``settle`` more (the steps after
+        t_stop counted from the state, not in ``loop``: a stop inside the next step saves
+        this state with ``loop`` as it is here)."""
         state = run.state
         if state.step < n_stop:
             return False
@@ -253,10 +255,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
             loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
                                  float(ke[-1] / ke.max()))
         rest[0] = np.max(np.linalg.norm(state.v, axis=1)) < rest_speed
-        if rest[0] or loop["settled"] >= n_settle:
-            return True
-        loop["settled"] += 1
-        return False
+        return bool(rest[0] or state.step - n_stop >= n_settle)
 
     def observe(run, more):
         snaps.update({snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
@@ -272,7 +271,7 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                 postfix=lambda run: f"t/sqrt(h0/g) = {run.state.time / t_scale:.2f}")
     state, series, at_rest = run.state, run.series, rest[0]
     height4, toe4, ke4 = loop["at_t_stop"]
-    extra = loop["settled"]
+    extra = state.step - n_stop
     rest = bool(at_rest)                           # the loop ends only on its test
     seconds = time.perf_counter() - t0
     height, toe = measure_deposit(state, alpha, alpha_advected) if extra else (height4, toe4)

@@ -42,8 +42,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.pfem_loop import config_summary, load_checkpoint, run_to_rest
+from pfem_skfem.drivers.pfem_loop import config_summary
+from pfem_skfem.drivers.resumable import ResumableRun
 from pfem_skfem.pfem.measure import deposit_extent, wall_height
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
@@ -51,10 +51,9 @@ from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         in_range, material_options, nonnegative_float, opt,
-                                        pfem_options, positive_float, positive_int,
-                                        solver_keyword, sweep_options, time_options)
-from pfem_skfem.drivers.resumable import open_series
-from pfem_skfem.harness.progress import StepBar, progress
+                                        pfem_options, positive_float, positive_int, solver_keyword,
+                                        sweep_options, time_options)
+from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Geostatic, column_scene
@@ -160,8 +159,11 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
 
     The deposit at t = 4 (the thesis' stopping time) and the deposit at rest are both
     measured (``soil``: a material object in place of ``material``, as
-    :func:`granular_column`). With ``checkpoint_every``, the state is saved to
-    ``checkpoint_dir``/<case>.npz every that many steps up to t = 4, and a run finding that file resumes from it.
+    :func:`granular_column`). With ``checkpoint_every``, the state and the measurements so
+    far are saved in ``checkpoint_dir`` (the current folder by default) every that many
+    steps and at the end (:class:`~pfem_skfem.drivers.resumable.ResumableRun`, under a
+    digest of the column's parameters), and a run finding its checkpoint goes on from it,
+    bit for bit (``seconds`` is then the time of the last sitting only).
     """
     h0 = a * d0
     t_end = 4.0 * np.sqrt(h0 / g)
@@ -171,34 +173,46 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                                     contact=contact, E=E, nu=nu,
                                     refine_surface=refine_surface, bulge=bulge, soil=soil,
                                     solver=solver)
-    series = open_series(Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}"
-                         if outdir is not None and save_every else None, "column",
-                         initial=(state, scene))
     snap_steps = {int(round(s * steps / 4)) for s in (1.0, 4.0)}
     x0 = state.x.copy()
-    checkpoint = None
-    if checkpoint_every:
-        checkpoint = Path(checkpoint_dir or ".") / f"column_a{a:g}_phi{phi:g}_n{steps}_nx{nx}.npz"
-        checkpoint.parent.mkdir(parents=True, exist_ok=True)
-        if checkpoint.exists():
-            state = load_checkpoint(checkpoint)
-            print(f"resuming {checkpoint} at step {state.step}", flush=True)
-    t0 = time.perf_counter()
     rest_steps = int(round(settle * steps / 4.0))
-    tick = StepBar(state.step, steps + rest_steps, disable=not verbose,
-                   desc=f"column a = {a:g}, phi = {phi:g}, {nx} across",
-                   postfix=lambda record: f"t/sqrt(h0/g) = {record['time'] / np.sqrt(h0 / g):.2f}")
-    state, snaps = pfem_loop.run(state, scene, steps - state.step, series=series,
-                                 save_every=save_every, snapshots=snap_steps, progress=tick,
-                                 checkpoint=checkpoint, checkpoint_every=checkpoint_every)
-    height4, top4, toe4 = measure_deposit(state, alpha)
-    ke = np.asarray(state.history["kinetic_energy"])
-    ke4 = float(ke[-1] / ke.max())
-    # on until at rest: every particle slower than REST_SPEED sqrt(g h0)
-    tick.bar.set_description(f"column a = {a:g}, phi = {phi:g}, {nx} across, until at rest")
-    state, rest, extra = run_to_rest(state, scene, REST_SPEED * np.sqrt(g * h0), rest_steps,
-                                     series=series, save_every=save_every, progress=tick)
-    tick.close()
+    rest_speed = REST_SPEED * np.sqrt(g * h0)
+    keys = dict(a=a, nx=nx, steps=steps, phi=phi, mu=mu, material=material, remesh=remesh,
+                passes=passes, alpha=alpha, floor=floor, g=g, rho=rho, d0=d0, contact=contact,
+                E=E, nu=nu, settle=settle, refine_surface=refine_surface, bulge=bulge,
+                soil=None if soil is None else repr(soil))
+    run = ResumableRun.open(
+        scene, state, {"snaps": {}, "at_t4": None}, keys=keys,
+        directory=Path(checkpoint_dir or ".") if checkpoint_every else None,
+        label=f"column_a{a:g}", every=checkpoint_every, save_every=save_every,
+        vtu_dir=None if outdir is None else Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}",
+        vtu_name="column", total=steps + rest_steps, verbose=verbose,
+        desc=f"column a = {a:g}, phi = {phi:g}, {nx} across")
+    kept = run.kept
+    t0 = time.perf_counter()
+
+    def at_rest(state):                      # every particle slower than REST_SPEED sqrt(g h0)
+        return bool(state.n == 0 or np.max(np.linalg.norm(state.v, axis=1)) < rest_speed)
+
+    def done(run):
+        """To t = 4 (the deposit there measured once), then on until at rest, at most
+        ``rest_steps`` more."""
+        state = run.state
+        if state.step < steps and state.n > 0:
+            return False
+        if kept["at_t4"] is None:             # a function of this state: saved with it
+            ke = np.asarray(state.history["kinetic_energy"])
+            kept["at_t4"] = (*measure_deposit(state, alpha), float(ke[-1] / ke.max()),
+                             state.step)
+        return at_rest(state) or state.step - kept["at_t4"][4] >= rest_steps
+
+    run.advance(done, lambda run, more: kept["snaps"].update(more),
+                snapshots=lambda run: snap_steps if run.state.step < steps else (),
+                postfix=lambda run: f"t/sqrt(h0/g) = {run.state.time / np.sqrt(h0 / g):.2f}"
+                                    + ("" if run.state.step <= steps else ", until at rest"))
+    state, series, snaps = run.state, run.series, kept["snaps"]
+    height4, top4, toe4, ke4, step4 = kept["at_t4"]
+    rest, extra = at_rest(state), state.step - step4
     if extra:                                             # the deposit at rest, for Fig 6.12
         snaps[state.step] = {"points": state.x.copy(),
                              "speed": np.linalg.norm(state.v, axis=1)}

@@ -109,19 +109,14 @@ def buoyancy(L, H, b, h_b, n, *, rho_w, rho_s, c, g, dt, block_first=True, solve
     block; ``V_majority`` the area of the elements with most of their vertices in the
     block (the block the step weighed before the regions followed the drawn polygons).
     """
-    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.drivers.resumable import ResumableRun
     from pfem_skfem.pfem.alpha_shape import triangle_areas
     from pfem_skfem.pfem.assemble import element_regions
 
     state0, scene = tank_scene(L, H, b, h_b, n, rho_w=rho_w, rho_s=rho_s, c=c, g=g, dt=dt,
                                block_first=block_first, solver=solver)
-    out = {}
-
-    def keep(state, record, result):
-        out.update(record=record, result=result)
-
-    state, _ = pfem_loop.run(state0, scene, 1, on_step=keep)
-    result, record = out["result"], out["record"]
+    step = ResumableRun(scene, state0).advance(lambda run: run.state.step >= 1)
+    state, result, record = step.state, step.result, step.record
     disc, inc, contacts = result.disc, result.increment, result.contacts
     k = [r.name for r in scene.regions].index("block")
     area = triangle_areas(disc.mesh.p.T, disc.mesh.t.T)

@@ -33,7 +33,6 @@ Usage::
     python verification/inclined_plane_flow.py --quick --json results/inclined_plane_flow.json
     python verification/inclined_plane_flow.py --help                # every option
 """
-from dataclasses import replace
 import sys
 
 import numpy as np

@@ -85,9 +85,9 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, material_options,
-                                        nonnegative_float, opt, pfem_options, positive_float,
-                                        positive_int, slope_angle, time_options)
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
@@ -196,8 +196,9 @@ def mesh_energy(state, scene, record, result):
 
 
 def run_tank(args, out):
-    """The block into the tank to --t-end: the series at each step and the books."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+    """The block into the tank to --t-end: the series at each step and the books
+    (checkpointed in --checkpoint-dir, and resumed from there)."""
+    from pfem_skfem.drivers.resumable import ResumableRun
 
     state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
                                     mu_floor=args.mu_floor, d=args.d, L=args.L,
@@ -213,13 +214,23 @@ def run_tank(args, out):
                                     solver=args.solver)
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
-    series = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
+    first = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
               "block_speed": [0.0], "gauges": [[args.d, args.d]], "level": [args.d],
               "energy": [particle_energy(state0, scene.gravity)], "mesh_energy": [],
               "water_massless": [0], "flying_energy": [0.0], "fastest": [0.0],
               "water_particles": [int(np.sum(state0.region != CLAY))]}
+    keys = {k: getattr(args, k) for k in (
+        "beta", "mu_slope", "mu_floor", "d", "L", "block", "c", "rho_w", "rho_c", "g", "h",
+        "t_end", "steps", "keep_area", "thin", "spread_mass", "alpha_advected",
+        "refine_interior", "keep_surface", "keep_area_step")}
+    run = ResumableRun.open(scene, state0, first, directory=args.checkpoint_dir,
+                            label="block_into_tank", keys=keys, every=args.checkpoint_every,
+                            total=args.steps, desc="block_into_tank", verbose=args.progress,
+                            vtu_dir=out / "block_into_tank", vtu_name="block_into_tank",
+                            save_every=args.save_every)
 
-    def measure(state, record, result):
+    def measure(run, more):
+        state, record, result, series = run.state, run.record, run.result, run.kept
         clay = state.region == CLAY
         meshed = np.zeros(state.n, dtype=bool)         # not the drops flying free of the mesh
         meshed[state.mesh_particle[state.mesh_particle >= 0]] = True
@@ -244,9 +255,8 @@ def run_tank(args, out):
             state.v[~meshed] ** 2, axis=1)))
         series["fastest"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
-    state, _ = run_measured(state0, scene, args.steps, measure, desc="block_into_tank",
-                            verbose=args.progress, vtu_dir=out / "block_into_tank",
-                            vtu_name="block_into_tank", save_every=args.save_every)
+    run.advance(lambda run: run.state.step >= args.steps or run.state.n == 0, measure)
+    state, series = run.state, run.kept
     books = region_books(scene, state0, state.history)
     first_area = float(state.history["area"][0])
     return state, {k: np.asarray(v) for k, v in series.items()}, books, gauges, geo, first_area
@@ -340,12 +350,14 @@ def build_parser():
     p.add_argument("--tol-area", type=positive_float, default=0.02,
                    help="tolerance of each twin's area change")
     time_options(p, save_every=opt(0, why="a PVD per scene"))
+    checkpoint_options(p, "run")
     return p
 
 
 def run_twins(args, out):
-    """The water column and its granular twin to T = 4: fronts, books, final particles."""
-    from pfem_skfem.drivers.pfem_loop import run_measured
+    """The water column and its granular twin to T = 4: fronts, books, final particles
+    (each checkpointed in --checkpoint-dir, and resumed from there)."""
+    from pfem_skfem.drivers.resumable import ResumableRun
     from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
     t_unit = np.sqrt(args.a / (2 * args.g))
@@ -356,17 +368,24 @@ def run_twins(args, out):
             ("granular", ZeroDilationMohrCoulomb(phi=args.phi), np.tan(np.radians(args.phi)))):
         s0, sc = twin_scene(material, args.rho, args.a, args.nx, mu_floor=mu_floor, g=args.g,
                             dt=dt, solver=args.solver)
-        fronts = {"T": [0.0], "Z": [1.0], "speed": [0.0]}
+        label = f"twin_{name}"
+        keys = dict(rho=args.rho, a=args.a, nx=args.nx, phi=args.phi, g=args.g,
+                    twin_steps=args.twin_steps)
+        run = ResumableRun.open(sc, s0, {"T": [0.0], "Z": [1.0], "speed": [0.0]},
+                                directory=args.checkpoint_dir, label=label, keys=keys,
+                                every=args.checkpoint_every, total=args.twin_steps, desc=label,
+                                verbose=args.progress, vtu_dir=out / label, vtu_name=label,
+                                save_every=args.save_every)
 
-        def measure_twin(state, record, result, fronts=fronts):
+        def measure_twin(run, more):
+            fronts, state = run.kept, run.state
             fronts["T"].append(state.time / t_unit)
             fronts["Z"].append(float(state.x[:, 0].max() / args.a))
             fronts["speed"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
-        label = f"twin_{name}"
-        s1, _ = run_measured(s0, sc, args.twin_steps, measure_twin, desc=label,
-                             verbose=args.progress, vtu_dir=out / label, vtu_name=label,
-                             save_every=args.save_every)
+        run.advance(lambda run: run.state.step >= args.twin_steps or run.state.n == 0,
+                    measure_twin)
+        s1, fronts = run.state, run.kept
         twins[name] = dict(fronts, books=region_books(sc, s0, s1.history), points=s1.x.copy())
     return twins
 

@@ -25,7 +25,6 @@ import numpy as np
 from skfem import MeshTri
 
 from ..discretisation.fields import plastic_strain_increment
-from ..harness.progress import StepBar
 from ..io import step_fields
 from ..discretisation.geometry import as_geometry
 from ..discretisation.static import axis_dofs, discretise
@@ -36,19 +35,15 @@ from ..pfem.assemble import (assemble_operators, contact_set, element_regions, h
 from ..pfem.bookkeeping import (discharge, free_flight_record, hand_on_mass, spread_mass,
                                step_record)
 from ..pfem.remesh import ParticleMesh
-from ..pfem.state import PFEMState, initial_state, load_checkpoint, save_checkpoint
+from ..pfem.state import PFEMState, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
 from ..pfem.transfer import adopt_added_nodes, map_state, old_discretisation
 from ..pfem.volume_projection import step_constraint
 from ..problems.contact import without_nodes
-from ..problems.nonassociated import StepStart, lagged_step
-# PFEMConfig lives beside the scene since issue 37; re-exported for its users
-from ..scene.config import MAX_PASSES, STRESS_MAPPINGS, PFEMConfig  # noqa: F401
-from .resumable import open_series
+from ..problems.nonassociated import lagged_step, StepStart
 
-__all__ = ["PFEMConfig", "PFEMState", "StepResult", "pfem_step", "run", "run_measured",
-           "run_to_rest", "check_run", "initial_state", "load_checkpoint", "save_checkpoint",
-           "config_summary", "step_fields"]
+__all__ = ["StepResult", "pfem_step", "run", "run_to_rest", "check_run", "config_summary"]
+
 
 @dataclass
 class StepResult:
@@ -264,7 +259,8 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
 
     Parameters
     ----------
-    state : PFEMState (from ``scene.initial_state()`` or :func:`load_checkpoint`).
+    state : PFEMState (from ``scene.initial_state()`` or
+        :func:`~pfem_skfem.pfem.state.load_checkpoint`).
     scene : the :class:`~pfem_skfem.scene.Scene`.
     steps : number of steps to take, an int >= 0 (0: the input state itself is returned).
     checkpoint : path of the checkpoint file, written every ``checkpoint_every`` steps.
@@ -341,23 +337,6 @@ def check_run(state, scene, steps):
         raise ValueError(f"the state does not belong to the scene: it holds mass {held:.6g} "
                          f"(with the discharged), the scene's regions {expected:.6g}")
     return int(steps)
-
-
-def run_measured(state, scene, steps, on_step, *, desc=None, verbose=False, vtu_dir=None,
-                 vtu_name="scene", save_every=0):
-    """:func:`run` for ``steps`` steps with ``on_step(state, record, result)`` after each (the
-    caller's measurements) and a progress bar titled ``desc`` (drawn when ``verbose``); with
-    ``vtu_dir`` and ``save_every``, a VTU series ``vtu_name`` in ``vtu_dir`` from t = 0 on
-    (:func:`~pfem_skfem.drivers.resumable.open_series`).
-
-    Returns (state, series), series None without VTU.
-    """
-    series = open_series(vtu_dir if save_every else None, vtu_name, initial=(state, scene))
-    bar = StepBar(0, steps, disable=not verbose, desc=desc)
-    state, _ = run(state, scene, steps, on_step=on_step, progress=bar, series=series,
-                   save_every=save_every)
-    bar.close()
-    return state, series
 
 
 def run_to_rest(state, scene, speed, max_steps, **options):

@@ -13,28 +13,42 @@ solver failure or a full disk the last completed step saved before the stop goes
 state, and ``kept`` beside it); :func:`sitting` names the machine a kept result was made
 in.
 """
+import hashlib
+import os
 from pathlib import Path
+import pickle
+import platform
 import signal
+import socket
 import threading
+import time
 
-from ..harness.progress import progress_bar
+from ..harness.progress import progress, progress_bar
 from ..harness.store import DamagedFileError, _dump_pickle, checkpoint_path
+from ..io import open_series
+from ..pfem.state import load_checkpoint, save_checkpoint
+from ..problems.conic import SolverError
+from . import pfem_loop          # pfem_loop.run looked up at each step (tests replace it)
+from .stopping import (TERM_RECEIVED, RunFolderError, RunLock, raise_if_terminated,
+                       raise_terminated)
 
-__all__ = ["ResumableRun", "open_series", "checkpoint_path", "save_run", "load_run",
-           "sitting"]
+__all__ = ["ResumableRun", "save_run", "load_run", "sitting"]
 
 
-def save_run(path, state, loop):
+def save_run(path, state, loop, driver=None):
     """Write a run's checkpoint at ``path``: the state
-    (:func:`~pfem_skfem.drivers.pfem_loop.save_checkpoint`) and the driver's own loop
-    variables ``loop`` (a dict; pickled beside it as PATH.loop.pkl with the state's step).
+    (:func:`~pfem_skfem.pfem.state.save_checkpoint`) and the driver's own loop
+    variables ``loop`` (a dict; pickled beside it as PATH.loop.pkl with the state's step,
+    and ``driver``, the memory of the run's time-step policy, when there is one).
     Each file is written under a temporary name and then renamed, so that a stop while
     writing leaves the previous one whole (:func:`load_run` checks that the two are of
     the same step)."""
-    from ..pfem.state import save_checkpoint
     path = Path(path)
     save_checkpoint(path, state)
-    _dump_pickle({"step": state.step, "loop": loop}, path.with_name(path.stem + ".loop.pkl"))
+    side = {"step": state.step, "loop": loop}
+    if driver is not None:
+        side["driver"] = driver
+    _dump_pickle(side, path.with_name(path.stem + ".loop.pkl"))
 
 
 def sitting():
@@ -42,8 +56,6 @@ def sitting():
     stepping, a digest of its feature flags), architecture and boot id. A PFEM run grows
     its round-off through remeshing, so two runs compared bit for bit (the density
     doubled, c = 0) must carry the same one."""
-    import hashlib
-    import platform
     info = {}
     try:
         with open("/proc/cpuinfo") as stream:
@@ -64,11 +76,10 @@ def sitting():
             f"{platform.machine()}), boot {boot}")
 
 
-def load_run(path):
-    """(state, loop) written by :func:`save_run`, or None when ``path`` has no checkpoint
-    or its two files are not of the same step (a stop between the two renames)."""
-    import pickle
-    from ..pfem.state import load_checkpoint
+def load_run(path, driver=False):
+    """(state, loop) written by :func:`save_run` (with ``driver``: (state, loop, driver),
+    driver None when none was saved), or None when ``path`` has no checkpoint or its two
+    files are not of the same step (a stop between the two renames)."""
     path = Path(path)
     side = path.with_name(path.stem + ".loop.pkl")
     if not (path.is_file() and side.is_file()):
@@ -81,18 +92,15 @@ def load_run(path):
         raise DamagedFileError(
             f"checkpoint {path} (with {side.name}) cannot be read ({type(error).__name__}: "
             f"{error}); delete both files to start that run again") from None
-    return (state, saved["loop"]) if saved["step"] == state.step else None
+    if saved["step"] != state.step:
+        return None
+    return (state, saved["loop"], saved.get("driver")) if driver else (state, saved["loop"])
 
 
 def _wait_for_lock(checkpoint, poll=5.0):
     """The lock of ``checkpoint`` (``<name>.lock`` beside it), waiting while another live
     run holds it: the same case twice in a sweep (or two sweeps) then runs once, and the
     second takes the first's checkpoint when it is released."""
-    import os
-    import socket
-    import time
-    from ..harness.progress import progress
-    from ..runfolder import RunFolderError, RunLock
     lock = RunLock(checkpoint.parent, checkpoint.stem + ".lock")
     told = False
     while True:
@@ -108,30 +116,6 @@ def _wait_for_lock(checkpoint, poll=5.0):
             time.sleep(poll)
 
 
-def open_series(directory, name, resume_at=None, initial=None):
-    """A VTU series ``name`` in ``directory`` (created), or None when ``directory`` is None.
-
-    The PVD states the fields' units (:data:`pfem_skfem.io.STEP_UNITS`).
-    ``resume_at``: the time of the checkpoint a run goes on from; the series keeps its
-    frames up to that time (:meth:`pfem_skfem.io.TimeSeries.resume`).
-    ``initial``: (state, scene) of a run at its start, whose frame at t = 0 is written
-    (:func:`pfem_skfem.io.initial_fields`); nothing for a resumed run."""
-    if directory is None:
-        return None
-    from ..discretisation.geometry import as_geometry
-    from ..io import STEP_UNITS, TimeSeries, initial_fields
-    directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
-    series = TimeSeries(directory, name, note=STEP_UNITS)
-    if resume_at is not None:
-        series.resume(resume_at)
-    elif initial is not None and initial[0].step == 0:
-        state, scene = initial
-        series.write(0.0, *initial_fields(state, scene.alpha,
-                                          as_geometry(scene.geometry).axisymmetric))
-    return series
-
-
 class ResumableRun:
     """A PFEM run that can stop and go on: the scene, its state, and what the caller
     measures as it goes (``kept``, a dict of plain values and arrays), saved together
@@ -141,7 +125,13 @@ class ResumableRun:
     checkpoint when there is one), then :meth:`advance` it; ``run.state`` and
     ``run.kept`` are the results. :meth:`step` is one step, the same call of
     :func:`pfem_skfem.drivers.pfem_loop.run` as a hand-written loop makes, so that the
-    numbers do not depend on whether a run was stopped.
+    numbers do not depend on whether a run was stopped. Without a checkpoint
+    (``directory=None``) it is a plain measured run: ``ResumableRun.open(scene, state,
+    on_step=measure, total=steps).advance(lambda run: run.state.step >= steps)``.
+
+    After each step ``run.record`` and ``run.result`` are that step's record and
+    :class:`~pfem_skfem.drivers.pfem_loop.StepResult` (None for a step without a mesh),
+    and ``run.step_scene`` the scene it ran (the time-step policy's, else ``scene``).
 
     Parameters
     ----------
@@ -159,16 +149,29 @@ class ResumableRun:
     save : callable ``save(state, kept)``, optional
         How a checkpoint is written (default: :func:`save_run` at ``checkpoint``).
     on_step : callable ``on_step(state, record, result)``, optional
-        Passed to :func:`~pfem_skfem.drivers.pfem_loop.run` (the CLI's step records).
+        Called inside each step, after its VTU frame (the CLI's step records; a run's
+        measurements without a checkpoint). A stop inside it saves the previous step's
+        state with ``kept`` as it left it: measurements that a checkpoint keeps are
+        taken in :meth:`advance`'s ``observe``, which sees ``run.record`` and
+        ``run.result``.
+    time_step : a time-step policy, optional
+        The scene and start state of each step (``before(scene, state)``, ``after(scene,
+        state)``, ``saved()``, ``restore(saved)``; e.g.
+        :class:`~pfem_skfem.drivers.time_step.AdaptiveTimeStep`); its memory is saved in
+        the checkpoint. None: ``scene`` at every step.
     """
 
     def __init__(self, scene, state, kept=None, *, checkpoint=None, every=20, series=None,
-                 save_every=0, bar=None, save=None, on_step=None):
+                 save_every=0, bar=None, save=None, on_step=None, time_step=None):
+        if save is not None and time_step is not None:
+            raise ValueError("a run with its own save cannot keep a time-step policy's memory")
         self.scene, self.state = scene, state
         self.kept = {} if kept is None else kept
         self.checkpoint = None if checkpoint is None else Path(checkpoint)
         self.every, self.series, self.save_every = every, series, save_every
-        self.bar, self.on_step = bar, on_step
+        self.bar, self.on_step, self.time_step = bar, on_step, time_step
+        self.record = self.result = None
+        self.step_scene = scene
         self._save = save
         self.resumed = False
         self._clean = True            # state and kept agree (a stop may save them)
@@ -177,7 +180,7 @@ class ResumableRun:
     @classmethod
     def open(cls, scene, state, kept=None, *, directory=None, label=None, keys=None,
              every=20, vtu_dir=None, vtu_name="scene", save_every=0, total=None, desc=None,
-             verbose=False, state_alone=False):
+             verbose=False, state_alone=False, on_step=None, time_step=None):
         """A run of ``scene`` from ``state``, or from its checkpoint if ``directory`` holds
         one.
 
@@ -192,12 +195,13 @@ class ResumableRun:
             scene has another name, so a run never goes on from another run's state.
         every : steps between checkpoints (``--checkpoint-every``).
         vtu_dir, vtu_name, save_every : a VTU series ``vtu_name`` in ``vtu_dir`` written
-            every ``save_every`` steps (none when either is unset); a resumed run keeps
-            the frames up to its checkpoint.
+            every ``save_every`` steps (none when either is unset), with its frame at
+            t = 0; a resumed run keeps the frames up to its checkpoint.
         total, desc, verbose : the progress bar (steps; shown when ``verbose``).
         state_alone : also go on from a checkpoint of the state without ``kept`` (written
             before the measurements were kept, or by a stop between the two files);
             ``kept`` is then the one given.
+        on_step, time_step : as the class takes them.
         """
         solver = getattr(getattr(scene, "config", None), "solver", "clarabel")
         if keys is not None and solver != "clarabel":
@@ -207,12 +211,18 @@ class ResumableRun:
         if checkpoint is not None:
             lock = _wait_for_lock(checkpoint)     # one writer; a twin case takes its result
             try:
-                saved = load_run(checkpoint)
+                saved = load_run(checkpoint, driver=True)
+                driver = None
                 if saved is not None:
-                    (state, kept), resumed = saved, True
+                    (state, kept, driver), resumed = saved, True
                 elif state_alone and checkpoint.is_file():
-                    from ..pfem.state import load_checkpoint
                     state, resumed = load_checkpoint(checkpoint), True
+                if resumed and time_step is not None:
+                    if driver is None or "time_step" not in driver:
+                        raise DamagedFileError(
+                            f"checkpoint {checkpoint} holds no time step to go on with; "
+                            "delete it to start that run again")
+                    time_step.restore(driver["time_step"])
             except BaseException:
                 lock.release()
                 raise
@@ -224,19 +234,29 @@ class ResumableRun:
             bar = progress_bar(total=total, initial=min(state.step, total),
                                disable=not verbose, unit="step", desc=desc)
         run = cls(scene, state, kept, checkpoint=checkpoint, every=every, series=series,
-                  save_every=save_every, bar=bar)
+                  save_every=save_every, bar=bar, on_step=on_step, time_step=time_step)
         run.resumed, run._lock = resumed, lock
         return run
 
+    def _stepped(self, state, record, result):
+        self.record, self.result = record, result
+        if self.on_step is not None:
+            self.on_step(state, record, result)
+
     def step(self, snapshots=()):
         """One PFEM step: ``pfem_loop.run(state, scene, 1, series=..., save_every=...,
-        snapshots=...)``; returns its snapshots ({step: dict})."""
-        from .pfem_loop import run
-        state, more = run(self.state, self.scene, 1, series=self.series,
-                          save_every=self.save_every, snapshots=snapshots,
-                          on_step=self.on_step)
+        snapshots=...)`` (the scene and start state the time-step policy gives, when the
+        run has one); returns its snapshots ({step: dict})."""
+        scene, state = self.scene, self.state
+        if self.time_step is not None:
+            scene, state = self.time_step.before(scene, state)
+        state, more = pfem_loop.run(state, scene, 1, series=self.series,
+                                    save_every=self.save_every, snapshots=snapshots,
+                                    on_step=self._stepped)
         self._clean = False            # kept is the previous step's until observed
-        self.state = state
+        self.state, self.step_scene = state, scene
+        if self.time_step is not None:
+            self.time_step.after(scene, state)
         return more
 
     def save(self):
@@ -244,7 +264,9 @@ class ResumableRun:
         if self._save is not None:
             self._save(self.state, self.kept)
         elif self.checkpoint is not None:
-            save_run(self.checkpoint, self.state, self.kept)
+            driver = (None if self.time_step is None
+                      else {"time_step": self.time_step.saved()})
+            save_run(self.checkpoint, self.state, self.kept, driver)
 
     def advance(self, done, observe=None, snapshots=(), postfix=None):
         """Step until ``done(run)``; after each step ``observe(run, snapshots)`` updates
@@ -254,18 +276,16 @@ class ResumableRun:
         ``snapshots``: step numbers to keep (as :func:`~pfem_skfem.drivers.pfem_loop.run`),
         or a callable ``snapshots(run)`` giving them before each step. ``postfix(run)``:
         the bar's text after each step. On Ctrl-C, SIGTERM (raised as
-        :class:`~pfem_skfem.runfolder.Terminated`), a solver failure or an OSError the
-        last completed step is saved (when its measurements are complete) and the error
-        raised again. Returns the run.
+        :class:`~pfem_skfem.drivers.stopping.Terminated`), a solver failure or an OSError
+        the last completed step is saved (when its measurements are complete) and the
+        error raised again. Returns the run.
         """
-        from ..runfolder import _raise_terminated, _term_received, raise_if_terminated
-        from ..problems.conic import SolverError
         lock, self._lock = self._lock, None
         in_main = threading.current_thread() is threading.main_thread()   # signal's rule
         guarded = in_main and (self.checkpoint is not None or self._save is not None)
         if guarded:
-            _term_received.clear()
-        old = signal.signal(signal.SIGTERM, _raise_terminated) if guarded else None
+            TERM_RECEIVED.clear()
+        old = signal.signal(signal.SIGTERM, raise_terminated) if guarded else None
         try:
             while not done(self):
                 more = self.step(snapshots(self) if callable(snapshots) else snapshots)

@@ -23,7 +23,6 @@ cone's dual.
 """
 import time
 
-import numpy as np
 import scipy.sparse as sp
 
 from ..conic import SolveInfo, check_status

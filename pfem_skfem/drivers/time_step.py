@@ -1,0 +1,85 @@
+"""Time-step policies of a run: the scene and the start of each step, chosen by the driver
+(:class:`~pfem_skfem.drivers.resumable.ResumableRun`'s ``time_step``).
+
+A policy answers two calls around every step and keeps what it needs between them as
+plain values, saved in the run's checkpoint so that a resumed run takes the same steps:
+
+- ``before(scene, state)`` returns (scene, state) of the next step: the run's scene with
+  the step's dt, and the state it starts from;
+- ``after(scene, state)`` is told the scene the step ran and the state it reached;
+- ``saved()`` (a dict of plain values) and ``restore(saved)`` carry its memory through a
+  checkpoint.
+
+Without a policy a run takes its scene's dt at every step.
+"""
+from dataclasses import replace
+
+import numpy as np
+
+__all__ = ["AdaptiveTimeStep"]
+
+
+class AdaptiveTimeStep:
+    """A time step chosen after each step from how far the fastest particle moved.
+
+    The next step moves the fastest particle ``move`` spacings: dt grows by the ratio
+    ``move spacing / (|v|max dt)`` (its square root when ``quasi_static``, where every
+    step starts from rest and the displacement grows as dt^2), at most by ``growth``,
+    and stays within [dt0, dt_max]. The steps taken are the rungs dt0 ladder^n at or
+    below that dt, one scene per rung, made once from the run's scene (its theta-method
+    with the rung's dt), so that a rung's problems are the same objects each time.
+
+    Parameters
+    ----------
+    dt0, dt_max : the least and the largest time step (dt0: the run's scene's dt).
+    move : spacings the fastest particle moves in a step (a Courant number).
+    spacing : the particle spacing.
+    quasi_static : every step starts from rest (velocities set to zero before it).
+    ladder : the ratio of two rungs (> 1).
+    growth : the largest ratio of two successive steps.
+    """
+
+    def __init__(self, dt0, dt_max, *, move, spacing, quasi_static=False, ladder=2 ** 0.25,
+                 growth=1.5):
+        if not dt0 > 0 or not ladder > 1:
+            raise ValueError(f"dt0 must be > 0 and ladder > 1, got {dt0!r}, {ladder!r}")
+        self.dt0, self.dt_max = float(dt0), float(max(dt_max, dt0))
+        self.move, self.spacing = float(move), float(spacing)
+        self.quasi_static, self.ladder, self.growth = bool(quasi_static), ladder, growth
+        self.dt = self.dt0                   # the next step's dt before its rung is taken
+        self._rungs = {}                     # rung n -> scene (rung 0: the run's scene)
+
+    def scene(self, scene, dt):
+        """The run's ``scene`` on the rung of ``dt``: dt0 ladder^n, n = floor(log_ladder
+        (dt / dt0))."""
+        n = int(np.floor(np.log(dt / self.dt0) / np.log(self.ladder) + 1e-9))
+        if n not in self._rungs:
+            if n == 0:
+                self._rungs[0] = scene
+            else:
+                theta = replace(scene.config.theta, dt=self.dt0 * self.ladder ** n)
+                self._rungs[n] = replace(scene, config=replace(scene.config, theta=theta))
+        return self._rungs[n]
+
+    def before(self, scene, state):
+        """The scene of the next step (its rung) and the state it starts from (at rest
+        when ``quasi_static``)."""
+        if self.quasi_static:
+            state = replace(state, v=np.zeros_like(state.v),
+                            v_dofs=None if state.v_dofs is None else np.zeros_like(state.v_dofs))
+        return self.scene(scene, self.dt), state
+
+    def after(self, scene, state):
+        """The next dt from the step just taken (``scene``'s dt) and its end ``state``."""
+        speed = float(np.linalg.norm(state.v, axis=1).max()) if state.n else 0.0
+        dt = scene.config.dt
+        moved = max(speed * dt, 1e-300)                  # the fastest particle's move
+        grow = self.move * self.spacing / moved
+        grow = np.sqrt(grow) if self.quasi_static else grow
+        self.dt = float(np.clip(min(grow, self.growth) * dt, self.dt0, self.dt_max))
+
+    def saved(self):
+        return {"dt": self.dt}
+
+    def restore(self, saved):
+        self.dt = float(saved["dt"])
