@@ -1,7 +1,7 @@
 """Yield criteria for axisymmetry (thesis Ch 7) as second-order cones.
 
-In axisymmetry the stored stress (sx, sy, sz, sxy) is (s_rr, s_zz, s_tt, s_rz)
-(see :mod:`pfem_skfem.geometry`): the hoop stress s_tt sits where plane strain
+In axisymmetry the stored stress (sx, sy, sz, sxy) is (s_rr, s_zz, s_tt, s_rz) (see
+:mod:`pfem_skfem.discretisation.geometry`): the hoop stress s_tt sits where plane strain
 keeps s_z, so the plane-strain cones of :mod:`pfem_skfem.materials.criteria` that read s_z
 (Drucker-Prager, elasticity) serve unchanged. s_tt is a principal stress
 (s_rt = s_zt = 0); the other two are s +- R with s = (s_rr + s_zz)/2,
