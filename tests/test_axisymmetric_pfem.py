@@ -8,8 +8,6 @@ independent of the density; the zero-dilation cones have the strength of their
 criterion at a fixed point.
 """
 from dataclasses import replace
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +19,7 @@ from pfem_skfem.materials import (ZeroDilationDruckerPrager, ZeroDilationMohrCou
 from pfem_skfem.materials.axisymmetric import mean_stress
 from pfem_skfem.scene import Region, Scene
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
+from verification.granular_column_axisymmetric import granular_column_axisymmetric
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_axisymmetric_pfem")
