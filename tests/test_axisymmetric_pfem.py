@@ -8,8 +8,6 @@ independent of the density; the zero-dilation cones have the strength of their
 criterion at a fixed point.
 """
 from dataclasses import replace
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +19,7 @@ from pfem_skfem.materials import (ZeroDilationDruckerPrager, ZeroDilationMohrCou
 from pfem_skfem.materials.axisymmetric import mean_stress
 from pfem_skfem.scene import Region, Scene
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
+from verification.granular_column_axisymmetric import granular_column_axisymmetric
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_axisymmetric_pfem")
@@ -184,7 +181,7 @@ def test_bulge_correction_puts_back_the_volume_the_chords_drop(collapse_steps):
 
 @pytest.mark.parametrize("a, nr, courant", [(0.5, 6, 0.5), (2.0, 8, 0.3), (8.0, 10, 1.0)])
 def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
-    from granular_column_axisymmetric import courant_steps
+    from verification.granular_column_axisymmetric import courant_steps
     steps = courant_steps(a, nr, courant)
     for r0, g in ((1.0, 9.8), (0.039, 9.81)):                # whatever r0 and g
         h0, h = a * r0, r0 / (nr - 1)
@@ -197,7 +194,7 @@ def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
 def test_a_short_column_gets_nr_particles_over_its_height(a, nr):
     """The fewest particles across r0 whose spacing puts nr - 1 spacings over the smaller
     of r0 and h0 = a r0 (nr across the radius when a >= 1)."""
-    from granular_column_axisymmetric import particles_across_radius
+    from verification.granular_column_axisymmetric import particles_across_radius
     n = particles_across_radius(a, nr)
     spacings = lambda n: min(1.0, a) * (n - 1)             # over min(r0, h0), r0 = 1  # noqa: E731
     assert spacings(n) >= (nr - 1) * (1 - 1e-12) and spacings(n - 1) < nr - 1
@@ -212,7 +209,7 @@ def test_a_column_stopped_and_resumed_from_its_checkpoint_is_the_same_column(tmp
     """--checkpoint-dir: a column stopped in its settling phase (after t_stop, so the
     deposit at t_stop and the history are in the saved measurements) and run again goes
     on from its checkpoint and gives the uninterrupted column bit for bit."""
-    import granular_column_axisymmetric as column
+    from verification import granular_column_axisymmetric as column
     from pfem_skfem.drivers import pfem_loop          # the steps of its ResumableRun
     case = dict(nr=4, steps=24, phi=30.0, settle=2.0, t_stop=1.5, history=True,
                 volume_correction=True, alpha_advected=3.0)

@@ -1,15 +1,10 @@
 """benchmarks/pfem_step.py: its options (--solvers, --settings) and one tiny run."""
 import pytest
 
-from benchmarks import pfem_step
+from benchmarks import pfem_step as bench
 
 
-@pytest.fixture(scope="module")
-def bench():
-    return pfem_step
-
-
-def test_configurations(bench):
+def test_configurations():
     # a solver with a direct engine (Clarabel, QOCO) on each backend, the settings variants
     # on the direct one only (QOCO: the forms); another solver once, on the cvxpy statement
     assert bench.configurations(["clarabel", "cvxpy"], ["clarabel", "qoco"], ["after"]) == [
@@ -29,14 +24,14 @@ def test_configurations(bench):
             "clarabel", "clarabel-dual", "qoco-dual", "cvxpy", "cvxpy-qoco", "cvxpy-scs", "mosek"]
 
 
-def test_options_refused(bench):
+def test_options_refused():
     with pytest.raises(SystemExit):
         bench.main(["--solver", "before"])                  # renamed --settings
     with pytest.raises(SystemExit):
         bench.main(["--backends", "cvxpy", "--settings", "dual"])
 
 
-def test_tiny_run_by_solver(bench, tmp_path, capsys):
+def test_tiny_run_by_solver(tmp_path, capsys):
     pytest.importorskip("qoco")
     out = tmp_path / "rows.json"
     bench.main(["--nx", "5", "--steps", "1", "--solvers", "clarabel", "qoco", "--json",

@@ -9,14 +9,13 @@ Both skip, saying why, where there is no Chromium (Debian: ``apt-get install chr
 or no MathJax copy / no built book.
 """
 from pathlib import Path
-import sys
 
 import pytest
 
+from book import browser_check
+
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
-sys.path.insert(0, str(BOOK))
-import browser_check  # noqa: E402
 
 MATHJAX = BOOK / "_static" / "mathjax" / "tex-chtml.js"
 needs_chromium = pytest.mark.skipif(

@@ -5,16 +5,16 @@ import pytest
 
 from pfem_skfem.materials import MuIRheology, MuIRheologyAxisymmetric, ZeroDilationDruckerPrager
 from pfem_skfem.materials.axisymmetric import mean_stress
-from pfem_skfem.harness.report import run_script
-from verification import granular_column_mu_i as column_mu_i
 
-# every test of this file on one xdist worker: its module fixture is computed once
-pytestmark = pytest.mark.xdist_group("test_column_mu_i")
+# every test of this file on one xdist worker, with the columns' case of test_verification:
+# they read one quick run (tests/conftest.py)
+pytestmark = pytest.mark.xdist_group("granular_column_mu_i")
 
 
 @pytest.fixture(scope="module")
-def quick():
-    return run_script(column_mu_i, "--quick", "--no-figures", "--quiet", "--workers", "1")
+def quick(quick_run):
+    report, _ = quick_run("granular_column_mu_i", "--workers", "1")
+    return report
 
 
 def _row(report, geometry, law):

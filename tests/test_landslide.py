@@ -11,14 +11,15 @@ from pfem_skfem.harness.report import run_script
 from pfem_skfem.scene import polygon_area
 from verification import landslide_yangbaodi as slide
 
-# every test of this file on one xdist worker: its module fixture is computed once
-pytestmark = pytest.mark.xdist_group("test_landslide")
+# every test of this file on one xdist worker, with the landslide's case of
+# test_verification: they read one quick run (tests/conftest.py)
+pytestmark = pytest.mark.xdist_group("landslide_yangbaodi")
 
 
 @pytest.fixture(scope="module")
-def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("landslide")
-    return run_script(slide, "--quick", "--no-figures", "--outdir", str(out)).data
+def quick(quick_run):
+    report, _ = quick_run("landslide_yangbaodi", "--workers", "1")
+    return report.data
 
 
 def test_the_reconstructed_profile_has_what_the_thesis_states():

@@ -10,8 +10,6 @@ and cvxpy statements agreeing; through the PFEM engine, mu_2 = mu_s is the
 zero-dilation Drucker-Prager twin sqrt(J2) <= mu_s p, and mu_2 = mu_s (1 + 1e-6) to
 solver tolerance; rho and rho_s doubled together leave a column bit-identical.
 """
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,8 +22,7 @@ from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.step_terms import step_terms, viscous_stress_map
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
-from granular_column_axisymmetric import granular_column_axisymmetric  # noqa: E402
+from verification.granular_column_axisymmetric import granular_column_axisymmetric
 
 MU_S, MU_2, I_0 = 0.38, 0.64, 0.279
 P0, RHO_S, RHO = 1.0e3, 2450.0, 1470.0         # frozen pressure [Pa], grain and bulk density

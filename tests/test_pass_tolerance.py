@@ -1,7 +1,5 @@
 """The pass tolerance of the fixed-point passes (PFEMConfig.pass_tolerance, lagged_step)."""
 from dataclasses import replace
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,25 +10,20 @@ from pfem_skfem.materials import MuIRheology
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
 from pfem_skfem.problems.nonassociated import least_passes
 from pfem_skfem.scene import Region, Scene
-
-_spec = importlib.util.spec_from_file_location(
-    "granular_column_plane",
-    Path(__file__).resolve().parents[1] / "verification" / "granular_column_plane.py")
-_column = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(_column)
+from verification.granular_column_plane import granular_column
 
 G = 9.8
 DT = 0.05 * np.sqrt(1.0 / G)
 
 
 def column(steps, **kw):
-    state, scene = _column.granular_column(1.0, 8, dt=DT, **kw)
+    state, scene = granular_column(1.0, 8, dt=DT, **kw)
     return run(state, scene, steps)[0]
 
 
 def test_two_passes_are_one_pass_started_from_the_first_pass_mean_stress():
     # the fixed point's definition: pass 2 is pass 1 of the lagged mean stress pass 1 gave
-    state, scene = _column.granular_column(1.0, 8, dt=DT, passes=2, pass_tolerance=0.0)
+    state, scene = granular_column(1.0, 8, dt=DT, passes=2, pass_tolerance=0.0)
     state = run(state, scene, 3)[0]
     two, rec, _ = pfem_step(state, scene)
     one_scene = replace(scene, config=replace(scene.config, passes=1))

@@ -10,8 +10,9 @@ from pytest import approx
 from pfem_skfem.harness.report import run_script
 from verification import silo_discharge as silo
 
-# every test of this file on one xdist worker: its module fixture is computed once
-pytestmark = pytest.mark.xdist_group("test_silo")
+# every test of this file on one xdist worker, with the silo's case of test_verification:
+# they read one quick run (tests/conftest.py)
+pytestmark = pytest.mark.xdist_group("silo_discharge")
 
 # Stated for the coarse quick silo (2 particles across the outlet, dt = 0.04 s): the
 # rate fluctuates as the outlet's particles leave a few at a time, so the linear fit
@@ -20,9 +21,8 @@ R2_COARSE = 0.9
 
 
 @pytest.fixture(scope="module")
-def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("silo")
-    report = run_script(silo, "--quick", "--no-figures", "--outdir", str(out), "--workers", "1")
+def quick(quick_run):
+    report, _ = quick_run("silo_discharge", "--workers", "1")
     return {r["walls"]: r for r in report.data["runs"]}
 
 

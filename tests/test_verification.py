@@ -3,7 +3,8 @@
 Each case runs ``run(build_parser().parse_args(["--quick", *extra]))`` once, then its
 ``figures``, each figure checked before it is saved
 (:func:`pfem_skfem.harness.figures.inspect_figures`: a title, axis labels, readable ticks, a
-reasonable size). All of the report's checks must pass, and the physically meaningful quantities,
+reasonable size); the fixture ``quick_run`` of ``tests/conftest.py`` makes that run once per
+test session, for this file and the script's own test file. All of the report's checks must pass, and the physically meaningful quantities,
 named here, must lie where the literature or a closed form stated *here* puts them
 (not the script's own reference), so that a renamed, missing or mis-referenced
 quantity fails. A few cases check more physics on the run's results.
@@ -20,7 +21,6 @@ import numpy as np
 import pytest
 from pytest import approx
 
-from pfem_skfem.harness.figures import inspect_figures
 from pfem_skfem.harness.report import HARNESS_OPTIONS, Report
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -290,10 +290,15 @@ def quick_args(name, *extra):
     return script(name).build_parser().parse_args(["--quick", "--no-figures", *extra])
 
 
-@pytest.mark.parametrize("name, extra, expected, physics", CASES, ids=[c[0] for c in CASES])
-def test_quick_case_meets_its_references(name, extra, expected, physics, tmp_path):
-    # the run, then its figures, each checked before it is saved (figure_problems)
-    report, drawn = inspect_figures(script(name), ["--quick", *extra], tmp_path)
+# each case in the xdist_group of its script, with the other tests of its quick run
+@pytest.mark.parametrize("name, extra, expected, physics",
+                         [pytest.param(*c, id=c[0], marks=pytest.mark.xdist_group(c[0]))
+                          for c in CASES])
+def test_quick_case_meets_its_references(name, extra, expected, physics, quick_run):
+    # the run, then its figures, each checked before it is saved (figure_problems); the
+    # run is computed once per session (tests/conftest.py) and shared with the script's
+    # own test file
+    report, drawn = quick_run(name, *extra)
     assert drawn, f"{name}: no figure written"
     unreadable = {Path(f).name: p for f, p in drawn.items() if p}
     assert not unreadable, f"{name}: figures hard to read: {unreadable}"

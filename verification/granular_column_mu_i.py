@@ -70,7 +70,8 @@ from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # run as a file: the root
+if __package__ in (None, ""):                     # run as a file: the repository's root
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from verification import granular_column_axisymmetric as axi  # noqa: E402
 from verification import granular_column_plane as plane  # noqa: E402
 

@@ -43,7 +43,7 @@ def smoothed_mean_stress(disc, sigma, mean=None):
     vertex, weighted by element area (a rigid zone's stresses are not unique, their mean is).
 
     ``mean`` : callable(sigma (n, 4)) -> (n,), the mean stress a material lags instead
-    (e.g. I1/3, :func:`~pfem_skfem.materials_axisymmetric.mean_stress`); None: (sx + sy)/2.
+    (e.g. I1/3, :func:`~pfem_skfem.materials.axisymmetric.mean_stress`); None: (sx + sy)/2.
     """
     sm = 0.5 * (sigma[:, 0] + sigma[:, 1]) if mean is None else mean(sigma)
     e = disc.point_element
@@ -57,7 +57,8 @@ def smoothed_mean_stress(disc, sigma, mean=None):
 
 
 def collapsed(p, t):
-    """Triangles of zero area relative to their size (as :func:`~pfem_skfem.operators.check_mesh`)."""
+    """Triangles of zero area relative to their size (as
+    :func:`~pfem_skfem.discretisation.static.check_mesh`)."""
     v = p[t]
     e = v[:, [1, 2, 0]] - v
     twice_area = np.abs(e[:, 0, 0] * e[:, 2, 1] - e[:, 0, 1] * e[:, 2, 0])

@@ -4,12 +4,13 @@ Ordering. Displacement dofs are scikit-fem's (``basis_u``). The stress vector is
 ordered point-major as in (3.28): entry ``4 p + k`` is component k in
 (sx, sy, sz, sxy) at stress point p, so a stress field reshapes to (n_points, 4).
 
-Geometry. A :class:`Discretisation` carries a :class:`~pfem_skfem.geometry.Geometry`:
-plane strain (the default) or axisymmetry (thesis (7.24)-(7.28)), where x is the
-radius r, y the axis z, the out-of-plane stress the hoop stress s_tt, the strain
-gains eps_tt = u_r / r and every integral the weight 2 pi r, with the quadrature
-raised by one order (see :mod:`pfem_skfem.geometry`). The plane-strain forms are
-the same code as before the geometry existed.
+Geometry. A :class:`Discretisation` carries a
+:class:`~pfem_skfem.discretisation.geometry.Geometry`: plane strain (the default) or
+axisymmetry (thesis (7.24)-(7.28)), where x is the radius r, y the axis z, the
+out-of-plane stress the hoop stress s_tt, the strain gains eps_tt = u_r / r and every
+integral the weight 2 pi r, with the quadrature raised by one order (see
+:mod:`pfem_skfem.discretisation.geometry`). The plane-strain forms are the same code as
+before the geometry existed.
 """
 from dataclasses import dataclass
 
@@ -87,8 +88,8 @@ def discretise(mesh, geometry=PLANE_STRAIN):
     Parameters
     ----------
     mesh : skfem.MeshTri (straight-sided) or skfem.MeshTri2 (curved, P2 geometry).
-    geometry : :data:`~pfem_skfem.geometry.PLANE_STRAIN` (default) or
-        :data:`~pfem_skfem.geometry.AXISYMMETRIC` (or their names 'plane',
+    geometry : :data:`~pfem_skfem.discretisation.geometry.PLANE_STRAIN` (default) or
+        :data:`~pfem_skfem.discretisation.geometry.AXISYMMETRIC` (or their names 'plane',
         'axisymmetric'); in axisymmetry x is the radius and the mesh must lie in
         x >= 0 without crossing the axis (ValueError otherwise).
     """

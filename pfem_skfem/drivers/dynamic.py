@@ -63,7 +63,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=((), N
 
     Parameters
     ----------
-    ops : :class:`~pfem_skfem.problems.dynamic.DynamicOperators`.
+    ops : :class:`~pfem_skfem.discretisation.dynamic.DynamicOperators`.
     load : callable t -> (n_u,) external force vector (3.42) at time t (gravity,
         time-dependent tractions).
     n_steps : number of time steps (>= 1).
@@ -73,7 +73,7 @@ def integrate(ops, load, n_steps, *, criterion=None, fixed=(), prescribed=((), N
     initial : the initial state, a mapping with any of t (0 by default), u, v, sigma (zero
         by default).
     monitor : callable (u, v, sigma) -> array of values recorded every step.
-    scaling : :class:`~pfem_skfem.problems.dynamic.DynamicScales` of the first step
+    scaling : :class:`~pfem_skfem.problems.step_scaling.DynamicScales` of the first step
         (estimated by default); each later step is scaled by its predecessor's solution.
     progress : False, or a progress bar (tqdm) on stderr: steps, time, solver iterations,
         time left; a string labels it.

@@ -1,7 +1,7 @@
 """Yield criteria for axisymmetry (thesis Ch 7) as second-order cones.
 
-In axisymmetry the stored stress (sx, sy, sz, sxy) is (s_rr, s_zz, s_tt, s_rz)
-(see :mod:`pfem_skfem.geometry`): the hoop stress s_tt sits where plane strain
+In axisymmetry the stored stress (sx, sy, sz, sxy) is (s_rr, s_zz, s_tt, s_rz) (see
+:mod:`pfem_skfem.discretisation.geometry`): the hoop stress s_tt sits where plane strain
 keeps s_z, so the plane-strain cones of :mod:`pfem_skfem.materials.criteria` that read s_z
 (Drucker-Prager, elasticity) serve unchanged. s_tt is a principal stress
 (s_rt = s_zt = 0); the other two are s +- R with s = (s_rr + s_zz)/2,
@@ -16,7 +16,7 @@ import cvxpy as cp
 import numpy as np
 
 from .checks import check_cohesion
-from .criteria import DruckerPrager, MohrCoulomb, YieldCriterion, _radii
+from .criteria import DruckerPrager, MohrCoulomb, YieldCriterion, _CohesionFriction, _radii
 
 
 #: the Drucker-Prager matches to Mohr-Coulomb of :func:`drucker_prager_match`
@@ -83,7 +83,7 @@ class _ThreeCones(YieldCriterion):
 
 
 @dataclass(frozen=True)
-class MohrCoulombAxisymmetric(_ThreeCones):
+class MohrCoulombAxisymmetric(_CohesionFriction, _ThreeCones):
     """Exact Mohr-Coulomb in axisymmetry: three second-order cones per stress point.
 
     With s = (s_rr + s_zz)/2, R = ||((s_rr - s_zz)/2, s_rz)|| (the in-plane
@@ -108,13 +108,7 @@ class MohrCoulombAxisymmetric(_ThreeCones):
     c : cohesion (>= 0), phi : friction angle in degrees, in [0, 90).
     """
 
-    c: float
-    phi: float = 0.0
-
     name = "Mohr-Coulomb (axisymmetric, 3 cones)"
-
-    def __post_init__(self):
-        MohrCoulomb(self.c, self.phi)           # validates c and phi
 
     def cone_vector(self, sx, sy, sz, sxy):
         sn, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
@@ -123,9 +117,6 @@ class MohrCoulombAxisymmetric(_ThreeCones):
                     2 * self.c * co - (1 + sn) * s + (1 - sn) * sz,         # (ii)
                     2 * self.c * co - (1 + sn) * sz + (1 - sn) * s])        # (iii)
         return t, [_stack([2 * X[k], (1 + sn) * X[k], (1 - sn) * X[k]]) for k in range(2)]
-
-    def strength_scale(self):
-        return self.c if self.c > 0 else 1.0
 
     def scaled(self, stress):
         return MohrCoulombAxisymmetric(c=self.c / stress, phi=self.phi)

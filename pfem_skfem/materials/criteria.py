@@ -61,7 +61,27 @@ class YieldCriterion:
 
 
 @dataclass(frozen=True)
-class MohrCoulomb(YieldCriterion):
+class _CohesionFriction:
+    """What the Mohr-Coulomb criteria share, plane (:class:`MohrCoulomb`) and axisymmetric
+    (:class:`~pfem_skfem.materials.axisymmetric.MohrCoulombAxisymmetric`): the cohesion c
+    (>= 0) and friction angle phi (degrees, in [0, 90)), not both zero, and c as the
+    strength scale."""
+
+    c: float
+    phi: float = 0.0
+
+    def __post_init__(self):
+        check_cohesion(self.c)
+        _check_angle("phi (friction angle)", self.phi)
+        if self.c == 0 and self.phi == 0:
+            raise ValueError("c and phi are both zero: the yield set has no interior")
+
+    def strength_scale(self):
+        return self.c if self.c > 0 else 1.0
+
+
+@dataclass(frozen=True)
+class MohrCoulomb(_CohesionFriction, YieldCriterion):
     """Plane-strain Mohr-Coulomb (A.9)-(A.12), tension positive.
 
     .. math::
@@ -75,23 +95,11 @@ class MohrCoulomb(YieldCriterion):
     c : cohesion (>= 0), phi : friction angle in degrees, in [0, 90).
     """
 
-    c: float
-    phi: float = 0.0
-
     name = "Mohr-Coulomb"
-
-    def __post_init__(self):
-        check_cohesion(self.c)
-        _check_angle("phi (friction angle)", self.phi)
-        if self.c == 0 and self.phi == 0:
-            raise ValueError("c and phi are both zero: the yield set has no interior")
 
     def cone_vector(self, sx, sy, sz, sxy):
         s, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
         return 2 * self.c * co - (sx + sy) * s, [sx - sy, 2 * sxy]
-
-    def strength_scale(self):
-        return self.c if self.c > 0 else 1.0
 
     def scaled(self, stress):
         return MohrCoulomb(c=self.c / stress, phi=self.phi)

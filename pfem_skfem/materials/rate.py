@@ -221,7 +221,7 @@ class MuIRheologyAxisymmetric(MuIRheology):
     (a, -a, 0, b) + c (1, 1, -2, 0) / sqrt3 (sqrt(J2) = ||(a, b, c)||, ``hoop`` of
     :class:`ViscousStress`), whose conjugate rate has the norm
     gamma_dot above (the hoop strain counted,
-    :func:`~pfem_skfem.fields.plastic_strain_increment` with ``hoop``): at a flowing
+    :func:`~pfem_skfem.discretisation.fields.plastic_strain_increment` with ``hoop``): at a flowing
     point sigma_p and sigma_v share the direction of D', so
     sqrt(J2) = mu_s p + eta gamma_dot = mu(I) p at the fixed point (lag 'viscosity') or
     within the step (lag 'implicit'). ``lag="friction"`` puts mu(I) of the full rate in

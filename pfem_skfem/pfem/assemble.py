@@ -13,7 +13,7 @@ from ..discretisation.static import body_force_vector
 from ..discretisation.dynamic import gravity_vector
 from ..problems.contact import boundary_nodes, potential_contacts
 from ..discretisation.dynamic import dynamic_operators
-from ..problems.dynamic import DynamicScales
+from ..problems.step_scaling import DynamicScales
 
 
 def element_regions(state, pm):
@@ -89,7 +89,7 @@ def step_scales(previous, scene, dt):
     """The scales of the step: the previous step's magnitudes, but not below those of a
     free-fall step. As a body comes to rest the displacement scale would otherwise shrink
     step by step, the scaled gaps g0 / u_ref of (5.12) grow as much, and Clarabel reports
-    'unbounded' (measured: phi = 35, a = 0.5, step 189 of 200). None before the first step."""
+    'unbounded' (book/dynamics.md, "Scaling"). None before the first step."""
     if previous is None:
         return None
     return DynamicScales(previous.stress, max(previous.displacement, scene.g * dt ** 2),

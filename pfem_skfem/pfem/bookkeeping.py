@@ -29,9 +29,8 @@ def hand_on_mass(state, keep, stay=None):
 
     Why the centre of mass: handing a removed particle's mass to its neighbour where the
     neighbour stands moves that mass; where particles crowd against a floor the kept
-    neighbour stands above, and the mass climbs (measured on the clay block into the
-    tank at the quick size, from t = 3 to 9 s: the particles' energy climbed 350 J/m
-    with that hand-off, 110 J/m with the merge)."""
+    neighbour stands above, and the mass climbs (the clay block into the tank,
+    book/water_and_mud.md)."""
     from scipy.spatial import cKDTree
     into = np.arange(state.n)
     for region in np.unique(state.region[~keep]):
@@ -65,9 +64,8 @@ def spread_mass(state, pm, axisymmetric=False):
     the mesh's lumped masses (the step weighs its elements by density and area, not by the
     particles' masses). Why: thinning merges masses into kept particles and the particles
     made of midside nodes start massless, so over a long run the masses pile up on a few
-    particles (measured on the clay block into the tank at the quick size: the water's
-    particles with mass fell from 167 at t = 1 s to 19 at 30 s) and the particles' energy no
-    longer measures the material's.
+    particles and the particles' energy no longer measures the material's (the clay block
+    into the tank, book/water_and_mud.md).
     """
     p, t = pm.mesh.p.T, pm.mesh.t.T
     lumped = np.zeros(state.n)

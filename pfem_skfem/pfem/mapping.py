@@ -249,7 +249,7 @@ def recover_nodal(old, sigma, *, bounded=False):
     unused[t.ravel()] = False
     A[unused] = np.eye(3)                                # vertices in no element: value 0
     # a patch whose stress points are (nearly) collinear or coincide (a vertex of slivers
-    # only, measured once in a clay block entering water) has no plane fit: there the
+    # only, met once in a clay block entering water) has no plane fit: there the
     # nodal value is the patch's mean (a constant fit), the others are left as they were
     count = A[:, 0, 0].copy()                           # the number of points
     flat_patch = ~unused & (np.abs(np.linalg.det(A)) <= FLAT_PATCH * count ** 3)
@@ -381,8 +381,8 @@ def project_nodal(old_basis, values, new_basis, *, vertex_values=None, intorder=
 
     The projection keeps the field's mean (momentum, for velocities) and cannot increase
     its L2 norm (kinetic energy) where the old field is known, unlike nodal interpolation
-    (:func:`map_nodal`), which on every remeshing of a sheared P2 field adds energy
-    (measured in the granular column: a third of the peak kinetic energy over a run).
+    (:func:`map_nodal`), which on every remeshing of a sheared P2 field adds energy (the
+    granular column, book/pfem_large_deformation.md).
     Quadrature points of the new mesh outside the old one take, instead of an
     extrapolation, the linear interpolation of ``vertex_values`` (n_vertices, dim) of
     the new mesh (the particles' values) when given.

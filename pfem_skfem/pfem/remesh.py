@@ -193,17 +193,15 @@ class AlphaMesh:
         particle of its region, :func:`~pfem_skfem.pfem.bookkeeping.hand_on_mass`); 0 (the
         default): none. Why: the midside nodes of stretched surface edges become
         particles, and a splash piles them up where it meets a wall; their slivers carry
-        no mass, so the step may give their vertices any speed (measured on the clay block
-        into the tank at the quick size: 24 m/s, a displacement of 9 h in one step, and
-        volume projections refused; with ``thin=0.4``, none in 300 steps to 9 s).
+        no mass, so the step may give their vertices any speed (the clay block into the
+        tank, book/water_and_mud.md).
     keep_surface : thin the free surface without moving it: of a close pair, a particle
         on the free surface (the previous mesh's boundary) is kept over one inside, and a
         kept surface particle takes the merged mass where it stands
         (:func:`~pfem_skfem.pfem.bookkeeping.hand_on_mass`'s ``stay``). Why: merged at
-        their centre of mass, the surface's pairs pull the boundary in at each remeshing
-        (measured on the clay block into the tank at the quick size: the remeshings take
-        a quarter of the domain's area off in 30 s, which ``keep_area`` grows back by
-        lifting the water; with it, an eighth of that). Off by default.
+        their centre of mass, the surface's pairs pull the boundary in at each remeshing,
+        and ``keep_area`` grows the area back by lifting the water (the clay block into
+        the tank, book/water_and_mud.md). Off by default.
     """
 
     thin: float = 0.0

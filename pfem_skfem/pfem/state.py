@@ -15,7 +15,7 @@ import secrets
 
 import numpy as np
 
-from ..problems.dynamic import DynamicScales
+from ..problems.step_scaling import DynamicScales
 from .particles import Particles, check_positions
 
 
@@ -41,7 +41,7 @@ class PFEMState(Particles):
     mesh_p, mesh_t : the current mesh (vertices moved to t_n); mesh_particle : particle
         of each vertex (-1: a particle dropped since).
     v_dofs : (n_u,) P2 velocities on it.  sigma : (n_points, 4) stresses at its stress points.
-    scales : the previous step's :class:`~pfem_skfem.problems.dynamic.DynamicScales`
+    scales : the previous step's :class:`~pfem_skfem.problems.step_scaling.DynamicScales`
         (None before the first step).
     area0 : area of the initial domain.  alpha : the current alpha.
     discharged : {outlet name: [mass, particle count]} that left through each outlet.

@@ -128,8 +128,8 @@ def map_state(state, pm, disc, source, stress_mapping="uem_bounded", velocity=L2
     v = map_nodal(old.basis_u, v_old, disc.basis_u)
     v[vd] = state.v[pm.particle]
     # a midside node outside the old mesh would take the old quadratic extrapolated, which
-    # can be far off near the free surface (measured: a splashing element thrown at 15 m/s);
-    # there the velocity is the mean of the edge's two particles
+    # can be far off near the free surface (book/pfem_large_deformation.md); there the
+    # velocity is the mean of the edge's two particles
     ends = disc.mesh.facets
     _, inside, _ = locate(old.mesh, disc.mesh.p[:, ends].mean(axis=1).T)
     out = ~inside

@@ -93,8 +93,8 @@ def area_growth(constraint, volume):
 
     Why. Each remeshing's alpha shape closes the gaps of a broken free surface narrower than
     alpha h (air a splash or a breaking wave traps): the domain gains area that no particle
-    carries, an incompressible step keeps it, and it adds up over a run (measured: a block
-    of water sliding into a tank gained 21 % in 60 remeshings). With every material
+    carries, an incompressible step keeps it, and it adds up over a run (a fifth of the
+    domain in a block sliding into a tank, book/water_and_mud.md). With every material
     isochoric the domain's true area is its first one (times the fraction of the mass
     still in the scene); asking every patch for the same relative growth gives the gain
     back at the next step, spread as the least shift of the vertices
@@ -237,10 +237,9 @@ def bounded_shift(constraint, x, motion):
 
     Why. The shift corrects the second-order rest of the motion, O(|d|^2 / l): far below
     the motion itself. A larger one means the linearisation has failed (triangles the step
-    inverted or flattened: measured on the clay block sliding into the tank at spacing
-    0.04, step 214, a vertex in a pile of particles crowded into the floor's corner was
-    sent 18.6 m up the wall, then fell back through the water); the step then keeps its
-    unshifted positions (``keep_area`` gives the area back at the next step).
+    inverted or flattened, as in a pile of particles crowded into a corner: the clay
+    block into the tank, book/water_and_mud.md); the step then keeps its unshifted
+    positions (``keep_area`` gives the area back at the next step).
 
     Returns (shift (n_vertices, 2), zero when refused; its largest vertex shift; refused).
     """

@@ -42,43 +42,11 @@ of :mod:`~pfem_skfem.problems.step_terms` (the compliance, contacts, a rate stre
 work of prescribed increments); a backend of :mod:`~pfem_skfem.problems.backends` states
 and solves it (the cvxpy statement, the reference, or the direct assembly).
 """
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from .backends import step_solver
-from .conic import SolveInfo
-from .step_scaling import DynamicScales, scale_step
+from .step_scaling import scale_step
 from .step_terms import Compliance, PrescribedWork
-
-
-@dataclass
-class DynamicIncrement:
-    """Solution of one step of (4.23).
-
-    sigma : (n_points, 4) stresses at t_{n+1};  du : (n_u,) displacement increments;
-    v : (n_u,) velocities at t_{n+1} (4.7);  r : (n_r,) dynamic forces r' = r - rho~ v_n/dt;
-    reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
-    plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
-    info : solver report;  scales : the solution's own magnitudes, a good
-        ``scaling`` for the next step;
-    p, q : (nc,) normal and tangential contact forces of the step (empty without
-        contacts), the forces of the momentum balance, i.e. theta1 times the
-        multipliers of the theta1-weighted equilibrium;
-    parts : what other terms of the step return, by name (``spring_forces``, ...).
-    """
-
-    sigma: np.ndarray
-    du: np.ndarray
-    v: np.ndarray
-    r: np.ndarray
-    reactions: np.ndarray
-    plastic_multiplier: np.ndarray
-    info: SolveInfo
-    scales: DynamicScales = None
-    p: np.ndarray = None
-    q: np.ndarray = None
-    parts: dict = field(default_factory=dict)
 
 
 def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(),
@@ -122,7 +90,7 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
 
     Returns
     -------
-    DynamicIncrement
+    :class:`~pfem_skfem.problems.step_scaling.DynamicIncrement`
     """
     if ops.C is None and criterion is None:
         raise ValueError("a rigid-plastic material (C = None) needs a yield criterion")

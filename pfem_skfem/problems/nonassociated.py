@@ -28,7 +28,7 @@ class LaggedStep:
 
     Attributes
     ----------
-    increment : its :class:`~pfem_skfem.problems.dynamic.DynamicIncrement`.
+    increment : its :class:`~pfem_skfem.problems.step_scaling.DynamicIncrement`.
     sigma_m : (n_vertices,) smoothed mean stress of its solution (for the next step).
     contacts : the contact set it was solved with (None without contacts).
     iterations, compile_time, solve_time : summed over the passes.

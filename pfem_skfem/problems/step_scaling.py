@@ -1,5 +1,5 @@
 """The scaling of the dynamic step (4.23) as one named pair: ``scaled, inverse = scale_step(...)``
-and ``inverse.invert(solution)``.
+and ``inverse.invert(solution)``, and the step's answer, :class:`DynamicIncrement`.
 
 Clarabel's tolerances are absolute, so the step is stated in scaled variables whose data
 are near order one (the module docstring of :mod:`~pfem_skfem.problems.dynamic` says why
@@ -13,7 +13,7 @@ r = rho~ v_n / dt + r'):
 :func:`scale_step` makes a :class:`ScaledStep` (what every statement of the step reads:
 the scaled operators, loads, state, supports and weights) and a :class:`StepInverse`
 (what maps a :class:`ScaledSolution` back to a physical
-:class:`~pfem_skfem.problems.dynamic.DynamicIncrement`). Nothing in either is an absolute
+:class:`~pfem_skfem.problems.step_scaling.DynamicIncrement`). Nothing in either is an absolute
 constant: a c = 0 run is density-invariant bit for bit.
 """
 from dataclasses import dataclass, field
@@ -79,6 +79,35 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
     r_stress = stress * np.median(np.abs(ops.B.data)) / np.median(np.abs(ops.A.data))
     r = max(r, r_stress) if ops.C is None else max(r, 1e-6 * r_stress)
     return DynamicScales(stress=stress, displacement=u, dynamic_force=r)
+
+
+@dataclass
+class DynamicIncrement:
+    """Solution of one step of (4.23).
+
+    sigma : (n_points, 4) stresses at t_{n+1};  du : (n_u,) displacement increments;
+    v : (n_u,) velocities at t_{n+1} (4.7);  r : (n_r,) dynamic forces r' = r - rho~ v_n/dt;
+    reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
+    plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
+    info : solver report;  scales : the solution's own magnitudes, a good
+        ``scaling`` for the next step;
+    p, q : (nc,) normal and tangential contact forces of the step (empty without
+        contacts), the forces of the momentum balance, i.e. theta1 times the
+        multipliers of the theta1-weighted equilibrium;
+    parts : what other terms of the step return, by name (``spring_forces``, ...).
+    """
+
+    sigma: np.ndarray
+    du: np.ndarray
+    v: np.ndarray
+    r: np.ndarray
+    reactions: np.ndarray
+    plastic_multiplier: np.ndarray
+    info: SolveInfo
+    scales: DynamicScales = None
+    p: np.ndarray = None
+    q: np.ndarray = None
+    parts: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -179,12 +208,10 @@ class StepInverse:
     terms: tuple = ()
 
     def invert(self, solution):
-        """The :class:`~pfem_skfem.problems.dynamic.DynamicIncrement` of ``solution``: the
+        """The :class:`~pfem_skfem.problems.step_scaling.DynamicIncrement` of ``solution``: the
         stresses, r', du (-dual x u_ref on the free dofs, the prescribed values on P), the
         reactions B^T sigma + A^T r' - f' on the supported dofs (each term's forces taken
         off), the plastic multipliers and the scales for the next step."""
-        from .dynamic import DynamicIncrement
-
         st, ops = self.step, self.step.ops
         n, n_u = st.n, st.n_u
         sigma = solution.s.reshape(n, 4) * st.stress

@@ -54,19 +54,21 @@ class PFEMConfig:
     solver : who states and solves every step, one name of
         :data:`~pfem_skfem.problems.backends.STEP_SOLVERS`: 'clarabel' (the default: the
         step assembled directly, primal form, Clarabel), 'clarabel-dual' (its dual, the
-        displacement form), 'qoco', 'qoco-dual', 'cvxpy' (the reference statement,
-        Clarabel), 'cvxpy-qoco', 'mosek', 'scs'. (Scene files written before one name
-        held the choice say it with ``backend``, ``solver`` and ``form``: they are read
-        into this name, :func:`legacy_solver`.)
+        displacement form), 'qoco', 'qoco-dual', 'scs', 'scs-dual', 'cvxpy' (the
+        reference statement, Clarabel), 'cvxpy-qoco', 'cvxpy-scs', 'mosek'. QOCO on the
+        dual form is faster but does not keep every family's figures (the dam break's at
+        rest): an option, not the default (book/performance.md, "The default by the
+        rule"). (Scene files written before one name held the choice say it with
+        ``backend``, ``solver`` and ``form``: they are read into this name,
+        :func:`legacy_solver`.)
     bulge : place the boundary particles so that the straight-sided boundary keeps the
         area of the curved P2 one (:func:`~pfem_skfem.pfem.surface.bulge_correction`).
     refine_surface : a boundary edge stretched longer than this many h gets its P2
         midside node as a new particle (0: never).
     refine_interior : the same for an interior edge (0, the default: never): the
         remesher's thinning merges particles that come closer than a fraction of h and
-        nothing else adds any inside, so over a long run the cloud thins out (the clay block into the tank
-        at the quick size: the water's particles fall from 188 to 76 in 30 s; 131 with
-        ``refine_interior=2``).
+        nothing else adds any inside, so over a long run the cloud thins out (the clay
+        block into the tank, book/water_and_mud.md).
     volume_correction : shift the moved particles so that every vertex patch keeps the
         volume their linearised motion states (one linear solve a step;
         :mod:`~pfem_skfem.pfem.volume_projection`); off by default.
@@ -82,11 +84,9 @@ class PFEMConfig:
         to grow or shrink by (0, the default: all at once); a larger change is given back
         over several steps. Why: a remeshing that closes or opens a splash's gaps changes
         the area by 1-2 % at once, and the shift that gives it back in one step is
-        larger than the step's motion, so the projection is refused (measured on the
-        clay block into the tank at the full size to 30 s: 231 of its 293 refused
-        projections, in the splash's first 6 s; with 0.002 none is refused, but the
-        particles' largest energy gain rises from 0.32 to 0.61 of their peak kinetic
-        energy: book, Water and mud).
+        larger than the step's motion, so the projection is refused. A limit trades
+        those refusals for a larger energy gain of the particles (the clay block into
+        the tank, book/water_and_mud.md, "The refused projections").
     spread_mass : at each remeshing, spread each region's mass over its particles on the mesh
         in proportion to their lumped areas
         (:func:`~pfem_skfem.pfem.bookkeeping.spread_mass`): the particles' masses then

@@ -1,8 +1,0 @@
-"""Backwards compatibility (issue 37): import from pfem_skfem.discretisation.meshes.
-
-This name is the same module object as the new one, so attributes and patches agree."""
-import sys
-
-from .discretisation import meshes as _module
-
-sys.modules[__name__] = _module
