@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from pfem_skfem.drivers.resumable import ResumableRun
+from pfem_skfem.drivers.resumable import Bar, Frames, ResumableRun
 from pfem_skfem.materials import NewtonianFluid
 from pfem_skfem.scene import Geostatic, column_scene
 
@@ -43,11 +43,11 @@ def test_a_measured_run(tmp_path):
     state, scene = water_column(passes=1)
     seen = []
     run = ResumableRun.open(scene, state, on_step=lambda s, record, result: seen.append(s.step),
-                            total=2)
+                            bar=Bar(total=2))
     run.advance(lambda run: run.state.step >= 2)
     assert seen == [1, 2] and run.state.step == 2 and run.series is None
     assert run.checkpoint is None and run.record["step"] == 2
-    run = ResumableRun.open(scene, state, vtu_dir=tmp_path, vtu_name="w", save_every=1)
+    run = ResumableRun.open(scene, state, frames=Frames(directory=tmp_path, name="w", every=1))
     run.advance(lambda run: run.state.step >= 2)
     assert run.series.pvd_path == tmp_path / "w.pvd" and run.series.pvd_path.is_file()
     assert len(run.series.entries) == 3                  # t = 0 and the two steps

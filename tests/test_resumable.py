@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.resumable import ResumableRun, load_run
+from pfem_skfem.drivers.resumable import Checkpoints, load_run, ResumableRun
 from pfem_skfem.harness.store import checkpoint_path
 from verification.granular_column_plane import granular_column
 
@@ -25,8 +25,9 @@ def _run(directory, stop=STEPS, keys=KEYS, every=2):
         run.kept["speed"].append(float(np.max(np.linalg.norm(run.state.v, axis=1))))
         run.kept["snaps"].update({k: v["x"] for k, v in more.items()})
 
-    run = ResumableRun.open(scene, state, {"speed": [], "snaps": {}}, directory=directory,
-                            label="column", keys=keys, every=every)
+    run = ResumableRun.open(
+        scene, state, {"speed": [], "snaps": {}},
+        checkpoints=Checkpoints(directory=directory, label="column", keys=keys, every=every))
     return run.advance(lambda run: run.state.step >= stop, observe, snapshots={2, 5})
 
 
@@ -136,12 +137,18 @@ def test_one_writer_per_checkpoint(tmp_path):
     the same run in this process is refused (another process waits for it)."""
     from pfem_skfem.drivers.stopping import RunFolderError
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
-    first = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    first = ResumableRun.open(
+        scene, state, {},
+        checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS))
     with pytest.raises(RunFolderError, match="in use by another run"):
-        ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+        ResumableRun.open(
+            scene, state, {},
+            checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS))
     first.advance(lambda run: run.state.step >= 1)
     assert not list(tmp_path.glob("*.lock"))
-    again = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    again = ResumableRun.open(
+        scene, state, {},
+        checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS))
     assert again.resumed and again.state.step == 1
     again.advance(lambda run: True)
 
@@ -151,10 +158,13 @@ def test_another_solver_s_run_has_its_own_checkpoint(tmp_path):
     # solver joins the name, and Clarabel's names stay those of the runs kept in runs/
     from dataclasses import replace
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
-    clarabel = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column",
-                                 keys=KEYS)
+    clarabel = ResumableRun.open(
+        scene, state, {},
+        checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS))
     qoco = replace(scene, config=replace(scene.config, solver="qoco"))
-    other = ResumableRun.open(qoco, state, {}, directory=tmp_path, label="column", keys=KEYS)
+    other = ResumableRun.open(
+        qoco, state, {},
+        checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS))
     assert clarabel.checkpoint == checkpoint_path(tmp_path, "column", KEYS)
     assert other.checkpoint == checkpoint_path(tmp_path, "column", {**KEYS, "solver": "qoco"})
     assert other.checkpoint != clarabel.checkpoint
@@ -242,8 +252,9 @@ def test_a_sigterm_swallowed_inside_a_step_still_stops_the_run(tmp_path):
             Finaliser()                   # made and collected: its TERM is swallowed
 
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
-    run = ResumableRun.open(scene, state, {}, directory=tmp_path, label="column", keys=KEYS,
-                            every=100)
+    run = ResumableRun.open(
+        scene, state, {},
+        checkpoints=Checkpoints(directory=tmp_path, label="column", keys=KEYS, every=100))
     try:
         with pytest.raises(Terminated):
             run.advance(lambda run: run.state.step >= STEPS, observe)
@@ -260,8 +271,10 @@ def _adaptive(directory, stop, every=0):
     state, scene = granular_column(KEYS["a"], KEYS["nx"])
     dt0 = scene.config.dt
     policy = AdaptiveTimeStep(dt0, 16 * dt0, move=0.5, spacing=float(np.median(state.h)))
-    run = ResumableRun.open(scene, state, {"dt": []}, directory=directory, label="adaptive",
-                            keys=KEYS, every=every, time_step=policy)
+    run = ResumableRun.open(
+        scene, state, {"dt": []},
+        checkpoints=Checkpoints(directory=directory, label="adaptive", keys=KEYS, every=every),
+        time_step=policy)
     return run.advance(lambda run: run.state.step >= stop,
                        lambda run, more: run.kept["dt"].append(run.step_scene.config.dt))
 

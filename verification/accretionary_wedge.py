@@ -74,7 +74,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_angle, positive_float, positive_int,
                                         solver_keyword, sweep_options, time_options)
-from pfem_skfem.drivers.resumable import ResumableRun
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
@@ -301,11 +301,14 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
     state = scene.initial_state()
     snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
     run = ResumableRun.open(
-        scene, state, {"snaps": {}}, directory=checkpoint_dir, label="wedge",
-        keys={k: v for k, v in options.items() if k != "solver"}, every=checkpoint_every,
-        vtu_dir=None if outdir is None else Path(outdir) / f"h{options['h']:g}_n{steps}",
-        vtu_name="wedge", save_every=save_every, total=steps, desc=f"wedge ({steps} steps)",
-        verbose=verbose)
+        scene, state, {"snaps": {}},
+        checkpoints=Checkpoints(directory=checkpoint_dir, label="wedge",
+                                keys={k: v for k, v in options.items() if k != "solver"},
+                                every=checkpoint_every),
+        frames=Frames(directory=None if outdir is None
+                      else Path(outdir) / f"h{options['h']:g}_n{steps}",
+                      name="wedge", every=save_every),
+        bar=Bar(total=steps, desc=f"wedge ({steps} steps)", verbose=verbose))
     t0 = time.perf_counter()
     run.advance(lambda run: run.state.step >= steps or run.state.n == 0,
                 lambda run, more: run.kept["snaps"].update(more), snapshots=set(snap),

@@ -223,7 +223,7 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
 
     With --checkpoint-dir the slump (its state, time step and front so far) is saved there
     every --checkpoint-every steps and at the end, and goes on from its checkpoint."""
-    from pfem_skfem.drivers.resumable import ResumableRun
+    from pfem_skfem.drivers.resumable import Checkpoints, Frames, ResumableRun
     from pfem_skfem.drivers.time_step import AdaptiveTimeStep
     from pfem_skfem.pfem.measure import front, surface_height
 
@@ -244,11 +244,13 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
     keys = dict(k=k, material=material, n_h=n_h, cfl=cfl, mu=mu, quasi_static=quasi_static,
                 L0=L0, H0=H0, rho=args.rho, g=g, mu_f=args.mu_f, dt0=args.dt0,
                 dt_max=args.dt_max, fall_max=args.fall_max, alpha_advected=args.alpha_advected)
-    run = ResumableRun.open(scene0, state, {"T": [0.0], "X": [L0], "rest_measure": np.inf},
-                            directory=args.checkpoint_dir, label=f"slump_{label}", keys=keys,
-                            every=args.checkpoint_every, time_step=time_step,
-                            vtu_dir=Path(args.outdir) / "bingham_slump" / label,
-                            vtu_name="slump", save_every=save_every)
+    run = ResumableRun.open(
+        scene0, state, {"T": [0.0], "X": [L0], "rest_measure": np.inf},
+        checkpoints=Checkpoints(directory=args.checkpoint_dir, label=f"slump_{label}", keys=keys,
+                                every=args.checkpoint_every),
+        frames=Frames(directory=Path(args.outdir) / "bingham_slump" / label, name="slump",
+                      every=save_every),
+        time_step=time_step)
     kept, rest = run.kept, args.rest_a if quasi_static else args.rest
     t0 = time.perf_counter()
 

@@ -78,7 +78,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, solver_keyword, sweep_options,
                                         time_options)
-from pfem_skfem.drivers.resumable import ResumableRun
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, PiecewiseLinear, Region, Scene
@@ -183,12 +183,14 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", chec
     snap_steps = {k: v for k, v in snap_steps.items() if k <= n_v + n_h}
     x0 = state.x.copy()
     run = ResumableRun.open(
-        scene, state, {"snaps": {}}, directory=checkpoint_dir, label="cylinder",
-        keys={k: v for k, v in options.items() if k != "solver"}, every=checkpoint_every,
-        vtu_dir=(None if outdir is None else
-                 Path(outdir) / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"),
-        vtu_name="cylinder", save_every=save_every, total=n_v + n_h,
-        desc=f"cylinder ({label})", verbose=verbose)
+        scene, state, {"snaps": {}},
+        checkpoints=Checkpoints(directory=checkpoint_dir, label="cylinder",
+                                keys={k: v for k, v in options.items() if k != "solver"},
+                                every=checkpoint_every),
+        frames=Frames(directory=(None if outdir is None else Path(outdir)
+                                 / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"),
+                      name="cylinder", every=save_every),
+        bar=Bar(total=n_v + n_h, desc=f"cylinder ({label})", verbose=verbose))
     t0 = time.perf_counter()
 
     def postfix(run):

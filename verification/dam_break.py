@@ -92,18 +92,20 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
     ``checkpoint_every`` steps and at the end
     (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of the run's
     parameters; a run finds its own checkpoint and goes on from it, bit for bit."""
-    from pfem_skfem.drivers.resumable import ResumableRun
+    from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
     t_unit = np.sqrt(a / (2 * g))                       # T = t / t_unit
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
                                    solver=solver)
     spacing = a / (nx - 1)
     keys = dict(a=a, n2=n2, nx=nx, steps=steps, T_end=T_end, rho=rho, mu=mu, g=g)
-    run = ResumableRun.open(scene, state, {"T": [0.0], "Z": [1.0], "H": [1.0]},
-                            directory=checkpoint_dir, label="dam_break", keys=keys,
-                            every=checkpoint_every, total=steps, desc=f"dam break {label}",
-                            verbose=progress, save_every=save_every, vtu_name="dam_break",
-                            vtu_dir=None if outdir is None else Path(outdir) / label)
+    run = ResumableRun.open(
+        scene, state, {"T": [0.0], "Z": [1.0], "H": [1.0]},
+        checkpoints=Checkpoints(directory=checkpoint_dir, label="dam_break", keys=keys,
+                                every=checkpoint_every),
+        frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="dam_break",
+                      every=save_every),
+        bar=Bar(total=steps, desc=f"dam break {label}", verbose=progress))
 
     def observe(run, more):
         state, kept = run.state, run.kept

@@ -62,7 +62,7 @@ from pfem_skfem.materials import ZeroDilationDruckerPrager, ZeroDilationMohrCoul
 from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
-from pfem_skfem.drivers.resumable import ResumableRun, sitting
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         friction_angle, in_range, material_options, opt,
@@ -233,12 +233,14 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
                 adaptive_alpha=adaptive_alpha, alpha_advected=alpha_advected)
     t0 = time.perf_counter()
     run = ResumableRun.open(
-        scene, state, loop, directory=checkpoint_dir, label=f"column_a{a:g}", keys=keys,
-        every=checkpoint_every, save_every=save_every, vtu_name="column",
-        vtu_dir=(None if outdir is None else
-                 Path(outdir) / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"),
-        total=n_stop + n_settle, desc=f"column of revolution ({label or f'a = {a:g}'})",
-        verbose=verbose)
+        scene, state, loop,
+        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"column_a{a:g}", keys=keys,
+                                every=checkpoint_every),
+        frames=Frames(directory=(None if outdir is None else Path(outdir)
+                                 / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"),
+                      name="column", every=save_every),
+        bar=Bar(total=n_stop + n_settle, desc=f"column of revolution ({label or f'a = {a:g}'})",
+                verbose=verbose))
     loop = run.kept
     track, snaps = loop["track"], loop["snaps"]
     rest = [False]

@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from pfem_skfem.drivers.pfem_loop import config_summary
-from pfem_skfem.drivers.resumable import ResumableRun
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.pfem.measure import deposit_extent, wall_height
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
@@ -182,12 +182,14 @@ def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", pas
                 E=E, nu=nu, settle=settle, refine_surface=refine_surface, bulge=bulge,
                 soil=None if soil is None else repr(soil))
     run = ResumableRun.open(
-        scene, state, {"snaps": {}, "at_t4": None}, keys=keys,
-        directory=Path(checkpoint_dir or ".") if checkpoint_every else None,
-        label=f"column_a{a:g}", every=checkpoint_every, save_every=save_every,
-        vtu_dir=None if outdir is None else Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}",
-        vtu_name="column", total=steps + rest_steps, verbose=verbose,
-        desc=f"column a = {a:g}, phi = {phi:g}, {nx} across")
+        scene, state, {"snaps": {}, "at_t4": None},
+        checkpoints=Checkpoints(directory=Path(checkpoint_dir or ".") if checkpoint_every else None,
+                                label=f"column_a{a:g}", keys=keys, every=checkpoint_every),
+        frames=Frames(directory=None if outdir is None
+                      else Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}",
+                      name="column", every=save_every),
+        bar=Bar(total=steps + rest_steps, desc=f"column a = {a:g}, phi = {phi:g}, {nx} across",
+                verbose=verbose))
     kept = run.kept
     t0 = time.perf_counter()
 

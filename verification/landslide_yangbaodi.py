@@ -81,7 +81,7 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb                      # 
 from pfem_skfem.pfem.measure import centre_of_mass, front                      # noqa: E402
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
-from pfem_skfem.drivers.resumable import ResumableRun  # noqa: E402
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun  # noqa: E402
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options,
                                         nonnegative_float, opt, pfem_options, positive_angle,
@@ -305,12 +305,13 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                 profile=[profile.x.tolist(), profile.z_slip.tolist(),
                          profile.z_surface.tolist()])
     t0 = time.perf_counter()
-    run = ResumableRun.open(scene, state, loop, directory=checkpoint_dir,
-                            label=f"landslide_{label}", keys=keys, every=checkpoint_every,
-                            vtu_dir=None if outdir is None else Path(outdir) / label,
-                            vtu_name="landslide", save_every=save_every,
-                            total=n_hold + n_after, desc=f"landslide ({label})",
-                            verbose=verbose)
+    run = ResumableRun.open(
+        scene, state, loop,
+        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"landslide_{label}", keys=keys,
+                                every=checkpoint_every),
+        frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="landslide",
+                      every=save_every),
+        bar=Bar(total=n_hold + n_after, desc=f"landslide ({label})", verbose=verbose))
     loop = run.kept
     rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
 

@@ -72,7 +72,7 @@ from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.problems.contact import RigidPolyline, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
-from pfem_skfem.drivers.resumable import ResumableRun
+from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, fraction, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
@@ -185,11 +185,13 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     first = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
-    run = ResumableRun.open(scene, state, {"snaps": first}, directory=checkpoint_dir,
-                            label=f"silo_{label}", keys=scene_keys, every=checkpoint_every,
-                            vtu_dir=None if outdir is None else Path(outdir) / label,
-                            vtu_name="silo", save_every=save_every, total=steps,
-                            desc=f"silo ({label})", verbose=verbose, state_alone=True)
+    run = ResumableRun.open(
+        scene, state, {"snaps": first},
+        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"silo_{label}", keys=scene_keys,
+                                every=checkpoint_every, state_alone=True),
+        frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="silo",
+                      every=save_every),
+        bar=Bar(total=steps, desc=f"silo ({label})", verbose=verbose))
     snaps = run.kept["snaps"] = {**first, **run.kept["snaps"]}
     snap_steps = {int(round(s / dt)) for s in snapshot_times if s > 0}
 

@@ -198,7 +198,7 @@ def mesh_energy(state, scene, record, result):
 def run_tank(args, out):
     """The block into the tank to --t-end: the series at each step and the books
     (checkpointed in --checkpoint-dir, and resumed from there)."""
-    from pfem_skfem.drivers.resumable import ResumableRun
+    from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
     state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
                                     mu_floor=args.mu_floor, d=args.d, L=args.L,
@@ -223,11 +223,13 @@ def run_tank(args, out):
         "beta", "mu_slope", "mu_floor", "d", "L", "block", "c", "rho_w", "rho_c", "g", "h",
         "t_end", "steps", "keep_area", "thin", "spread_mass", "alpha_advected",
         "refine_interior", "keep_surface", "keep_area_step")}
-    run = ResumableRun.open(scene, state0, first, directory=args.checkpoint_dir,
-                            label="block_into_tank", keys=keys, every=args.checkpoint_every,
-                            total=args.steps, desc="block_into_tank", verbose=args.progress,
-                            vtu_dir=out / "block_into_tank", vtu_name="block_into_tank",
-                            save_every=args.save_every)
+    run = ResumableRun.open(
+        scene, state0, first,
+        checkpoints=Checkpoints(directory=args.checkpoint_dir, label="block_into_tank", keys=keys,
+                                every=args.checkpoint_every),
+        frames=Frames(directory=out / "block_into_tank", name="block_into_tank",
+                      every=args.save_every),
+        bar=Bar(total=args.steps, desc="block_into_tank", verbose=args.progress))
 
     def measure(run, more):
         state, record, result, series = run.state, run.record, run.result, run.kept
@@ -357,7 +359,7 @@ def build_parser():
 def run_twins(args, out):
     """The water column and its granular twin to T = 4: fronts, books, final particles
     (each checkpointed in --checkpoint-dir, and resumed from there)."""
-    from pfem_skfem.drivers.resumable import ResumableRun
+    from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
     from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
     t_unit = np.sqrt(args.a / (2 * args.g))
@@ -371,11 +373,12 @@ def run_twins(args, out):
         label = f"twin_{name}"
         keys = dict(rho=args.rho, a=args.a, nx=args.nx, phi=args.phi, g=args.g,
                     twin_steps=args.twin_steps)
-        run = ResumableRun.open(sc, s0, {"T": [0.0], "Z": [1.0], "speed": [0.0]},
-                                directory=args.checkpoint_dir, label=label, keys=keys,
-                                every=args.checkpoint_every, total=args.twin_steps, desc=label,
-                                verbose=args.progress, vtu_dir=out / label, vtu_name=label,
-                                save_every=args.save_every)
+        run = ResumableRun.open(
+            sc, s0, {"T": [0.0], "Z": [1.0], "speed": [0.0]},
+            checkpoints=Checkpoints(directory=args.checkpoint_dir, label=label, keys=keys,
+                                    every=args.checkpoint_every),
+            frames=Frames(directory=out / label, name=label, every=args.save_every),
+            bar=Bar(total=args.twin_steps, desc=label, verbose=args.progress))
 
         def measure_twin(run, more):
             fronts, state = run.kept, run.state

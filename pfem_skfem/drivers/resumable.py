@@ -13,6 +13,7 @@ solver failure or a full disk the last completed step saved before the stop goes
 state, and ``kept`` beside it); :func:`sitting` names the machine a kept result was made
 in.
 """
+from dataclasses import dataclass
 import hashlib
 import os
 from pathlib import Path
@@ -116,6 +117,50 @@ def _wait_for_lock(checkpoint, poll=5.0):
             time.sleep(poll)
 
 
+@dataclass(frozen=True)
+class Checkpoints:
+    """Where a run keeps its checkpoint and how often.
+
+    directory : where it is kept (``--checkpoint-dir``; None: not kept).
+    label, keys : its name: ``label`` and a digest of ``keys`` (and of the scene's solver
+        when it is not Clarabel, so no run resumes another solver's), the parameters that
+        define the run (a dict of JSON values; :func:`~pfem_skfem.harness.store.checkpoint_path`).
+        A checkpoint of another scene has another name, so a run never goes on from another
+        run's state.
+    every : steps between checkpoints (``--checkpoint-every``).
+    state_alone : also go on from a checkpoint of the state without the kept measurements
+        (written before they were kept, or by a stop between the two files); they are then
+        the ones given.
+    """
+
+    directory: object = None
+    label: str = None
+    keys: dict = None
+    every: int = 20
+    state_alone: bool = False
+
+
+@dataclass(frozen=True)
+class Frames:
+    """A VTU series ``name`` in ``directory`` written every ``every`` steps (none when either
+    is unset), with its frame at t = 0; a resumed run keeps the frames up to its
+    checkpoint."""
+
+    directory: object = None
+    name: str = "scene"
+    every: int = 0
+
+
+@dataclass(frozen=True)
+class Bar:
+    """A run's progress bar: ``total`` steps (None: no bar), its ``desc``, shown when
+    ``verbose``."""
+
+    total: int = None
+    desc: str = None
+    verbose: bool = False
+
+
 class ResumableRun:
     """A PFEM run that can stop and go on: the scene, its state, and what the caller
     measures as it goes (``kept``, a dict of plain values and arrays), saved together
@@ -126,8 +171,8 @@ class ResumableRun:
     ``run.kept`` are the results. :meth:`step` is one step, the same call of
     :func:`pfem_skfem.drivers.pfem_loop.run` as a hand-written loop makes, so that the
     numbers do not depend on whether a run was stopped. Without a checkpoint
-    (``directory=None``) it is a plain measured run: ``ResumableRun.open(scene, state,
-    on_step=measure, total=steps).advance(lambda run: run.state.step >= steps)``.
+    it is a plain measured run: ``ResumableRun.open(scene, state, on_step=measure,
+    bar=Bar(steps)).advance(lambda run: run.state.step >= steps)``.
 
     After each step ``run.record`` and ``run.result`` are that step's record and
     :class:`~pfem_skfem.drivers.pfem_loop.StepResult` (None for a step without a mesh),
@@ -178,31 +223,16 @@ class ResumableRun:
         self._lock = None             # the checkpoint's lock, held from open to advance's end
 
     @classmethod
-    def open(cls, scene, state, kept=None, *, directory=None, label=None, keys=None,
-             every=20, vtu_dir=None, vtu_name="scene", save_every=0, total=None, desc=None,
-             verbose=False, state_alone=False, on_step=None, time_step=None):
-        """A run of ``scene`` from ``state``, or from its checkpoint if ``directory`` holds
-        one.
-
-        Parameters
-        ----------
-        directory : path, optional
-            Where the checkpoint is kept (``--checkpoint-dir``; None: not kept).
-        label, keys : the checkpoint's name: ``label`` and a digest of ``keys`` (and of the
-            scene's solver when it is not Clarabel, so no run resumes another solver's), the
-            parameters that define the run (a dict of JSON values;
-            :func:`~pfem_skfem.harness.store.checkpoint_path`). A checkpoint of another
-            scene has another name, so a run never goes on from another run's state.
-        every : steps between checkpoints (``--checkpoint-every``).
-        vtu_dir, vtu_name, save_every : a VTU series ``vtu_name`` in ``vtu_dir`` written
-            every ``save_every`` steps (none when either is unset), with its frame at
-            t = 0; a resumed run keeps the frames up to its checkpoint.
-        total, desc, verbose : the progress bar (steps; shown when ``verbose``).
-        state_alone : also go on from a checkpoint of the state without ``kept`` (written
-            before the measurements were kept, or by a stop between the two files);
-            ``kept`` is then the one given.
-        on_step, time_step : as the class takes them.
+    def open(cls, scene, state, kept=None, *, checkpoints=None, frames=None, bar=None,
+             on_step=None, time_step=None):
+        """A run of ``scene`` from ``state``, or from its checkpoint if the
+        :class:`Checkpoints`' directory holds one; its VTU :class:`Frames` and its progress
+        :class:`Bar` (each None: none); ``on_step``, ``time_step`` as the class takes them.
         """
+        checkpoints, frames, bar_of = checkpoints or Checkpoints(), frames or Frames(), bar
+        directory, label, keys = checkpoints.directory, checkpoints.label, checkpoints.keys
+        every, state_alone = checkpoints.every, checkpoints.state_alone
+        vtu_dir, vtu_name, save_every = frames.directory, frames.name, frames.every
         solver = getattr(getattr(scene, "config", None), "solver", "clarabel")
         if keys is not None and solver != "clarabel":
             keys = {**keys, "solver": solver}   # another solver's run is another run
@@ -230,9 +260,9 @@ class ResumableRun:
                               initial=None if resumed else (state, scene))
                   if vtu_dir is not None and save_every else None)
         bar = None
-        if total is not None:
-            bar = progress_bar(total=total, initial=min(state.step, total),
-                               disable=not verbose, unit="step", desc=desc)
+        if bar_of is not None and bar_of.total is not None:
+            bar = progress_bar(total=bar_of.total, initial=min(state.step, bar_of.total),
+                               disable=not bar_of.verbose, unit="step", desc=bar_of.desc)
         run = cls(scene, state, kept, checkpoint=checkpoint, every=every, series=series,
                   save_every=save_every, bar=bar, on_step=on_step, time_step=time_step)
         run.resumed, run._lock = resumed, lock
