@@ -98,8 +98,8 @@ def test_yield_caps_the_bar_stress_and_gives_the_plastic_limit():
     bars = np.array([[0, 3], [1, 3], [2, 3]])
     area = np.array([1.5, 2.0, 1.5])
     res = truss_displacement_control(x, bars, area, E, fixed=[0, 1, 2, 3, 4, 5],
-                                     prescribed=[7], displacement=[-0.03], n_increments=6,
-                                     sigma_s=sigma_s, update_geometry=False)
+                                     prescribed=([7], [-0.03]), n_increments=6,
+                                     sigma_s=sigma_s, geometry="initial")
     assert np.all(np.abs(res.sigma) <= sigma_s * (1 + 1e-7))
     # first increment (strain 0.005 in the middle bar) is already beyond first yield
     assert res.sigma[1, 1] == pytest.approx(sigma_s, rel=1e-6)
@@ -126,9 +126,10 @@ def test_rotation_error_follows_one_over_N():
     eps = []
     for n in steps:
         hist = truss_displacement_control(
-            np.array([[0, 0], [1, 0]], float), [[0, 1]], 1.0, E, fixed=[0, 1], prescribed=[2, 3],
-            n_increments=int(n),
-            path=lambda k, n=n: np.array([np.cos(theta * k / n) - 1, np.sin(theta * k / n)]))
+            np.array([[0, 0], [1, 0]], float), [[0, 1]], 1.0, E, fixed=[0, 1],
+            prescribed=([2, 3], lambda k, n=n: np.array([np.cos(theta * k / n) - 1,
+                                                         np.sin(theta * k / n)])),
+            n_increments=int(n))
         eps.append(hist.sigma[-1, 0] / E)
         np.testing.assert_allclose(np.linalg.norm(hist.x[-1, 1]), 1.0, rtol=1e-12)
     eps = np.array(eps)
@@ -140,14 +141,15 @@ def test_rotation_error_follows_one_over_N():
 
 def test_incompressible_area_and_small_deformation_switch():
     x = np.array([[0, 0], [1, 0]], float)
-    hist = truss_displacement_control(x, [[0, 1]], 2.0, E, fixed=[0, 1, 3], prescribed=[2],
-                                      displacement=[1.0], n_increments=10, incompressible=True)
+    hist = truss_displacement_control(x, [[0, 1]], 2.0, E, fixed=[0, 1, 3],
+                                      prescribed=([2], [1.0]), n_increments=10,
+                                      geometry="incompressible")
     np.testing.assert_allclose(hist.area[-1] * 2.0, 2.0 * 1.0)          # V = A l = A0 L0
     # stretching along the axis: the sum of dl / l_n tends to ln(l / L) from above
     assert np.log(2.0) < hist.sigma[-1, 0] / E < sum(0.1 / (1 + 0.1 * k) for k in range(10)) + 1e-9
-    fixed_geom = truss_displacement_control(x, [[0, 1]], 2.0, E, fixed=[0, 1, 3], prescribed=[2],
-                                            displacement=[1.0], n_increments=10,
-                                            update_geometry=False)
+    fixed_geom = truss_displacement_control(x, [[0, 1]], 2.0, E, fixed=[0, 1, 3],
+                                            prescribed=([2], [1.0]), n_increments=10,
+                                            geometry="initial")
     assert fixed_geom.sigma[-1, 0] == pytest.approx(E * 1.0, rel=1e-7)   # small strain
 
 
@@ -175,11 +177,14 @@ def test_bad_input_errors(kwargs, match):
 def test_driver_bad_input():
     x = np.array([[0, 0], [1, 0]], float)
     with pytest.raises(ValueError, match="n_increments"):
-        truss_displacement_control(x, [[0, 1]], 1.0, E, fixed=[0, 1], prescribed=[2],
-                                   displacement=[1.0], n_increments=0)
-    with pytest.raises(ValueError, match="exactly one"):
+        truss_displacement_control(x, [[0, 1]], 1.0, E, fixed=[0, 1], prescribed=([2], [1.0]),
+                                   n_increments=0)
+    with pytest.raises(ValueError, match="dofs, motion"):
         truss_displacement_control(x, [[0, 1]], 1.0, E, fixed=[0, 1], prescribed=[2],
                                    n_increments=2)
+    with pytest.raises(ValueError, match="geometry"):
+        truss_displacement_control(x, [[0, 1]], 1.0, E, fixed=[0, 1], prescribed=([2], [1.0]),
+                                   n_increments=2, geometry="lagrangian")
 
 
 def test_internal_forces_balance():
@@ -199,9 +204,9 @@ def test_without_geometry_update_the_rod_is_wrong():
     x0 = np.array([[0.0, 0.0], [D, H]])
     errors = {}
     for update in (True, False):
-        hist = truss_displacement_control(x0, [[0, 1]], V / L, E, fixed=[0, 1, 2], prescribed=[3],
-                                          n_increments=50, displacement=[-5 * L],
-                                          incompressible=True, update_geometry=update)
+        hist = truss_displacement_control(x0, [[0, 1]], V / L, E, fixed=[0, 1, 2],
+                                          prescribed=([3], [-5 * L]), n_increments=50,
+                                          geometry="incompressible" if update else "initial")
         u, F = np.linspace(0, 5 * L, 51), -hist.reactions_updated[:, 3]
         Fex = inclined_rod.exact_force(u, D, H, E, V)
         errors[update] = np.abs(F - Fex).max() / np.abs(Fex).max()

@@ -83,10 +83,10 @@ def push_rod(n_increments, D, H, E, V, u_total, progress_label=None, solver="cla
     """Incremental SOCP run; returns u, F at the end of each increment, F as solved, history."""
     L = np.hypot(D, H)
     x0 = np.array([[0.0, 0.0], [D, H]])
-    hist = truss_displacement_control(x0, [[0, 1]], V / L, E, fixed=[0, 1, 2], prescribed=[3],
-                                      n_increments=n_increments, displacement=[-u_total],
-                                      incompressible=True, progress=bool(progress_label),
-                                      label=progress_label or "", solver=solver)
+    hist = truss_displacement_control(x0, [[0, 1]], V / L, E, fixed=[0, 1, 2],
+                                      prescribed=([3], [-u_total]), n_increments=n_increments,
+                                      geometry="incompressible",
+                                      progress=progress_label or False, solver=solver)
     u = -hist.u[:, 1, 1]
     return u, -hist.reactions_updated[:, 3], -hist.reactions[:, 3], hist
 

@@ -57,8 +57,8 @@ def rotated_strain(n_increments, theta, L0=1.0, E=210e3, A=1.0, solver="clarabel
         a = theta * k / n_increments
         return np.array([L0 * np.cos(a) - L0, L0 * np.sin(a)])
 
-    hist = truss_displacement_control(x0, [[0, 1]], A, E, fixed=[0, 1], prescribed=[2, 3],
-                                      n_increments=n_increments, path=path,
+    hist = truss_displacement_control(x0, [[0, 1]], A, E, fixed=[0, 1],
+                                      prescribed=([2, 3], path), n_increments=n_increments,
                                       solver=solver)
     return hist.sigma[-1, 0] / E, hist.x
 

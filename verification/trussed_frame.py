@@ -286,10 +286,10 @@ def run(args):
     path = lambda k: np.array([-args.uV * k / args.steps])  # noqa: E731
 
     t0 = time.perf_counter()
-    hist = truss_displacement_control(x0, bars, args.A, args.E, fixed=fixed, prescribed=prescribed,
-                                      n_increments=args.steps, path=path, sigma_s=args.sigma_s,
-                                      incompressible=True, progress=args.progress, label="SOCP",
-                                      solver=args.solver)
+    hist = truss_displacement_control(x0, bars, args.A, args.E, fixed=fixed,
+                                      prescribed=(prescribed, path), n_increments=args.steps,
+                                      sigma_s=args.sigma_s, geometry="incompressible",
+                                      progress=args.progress and "SOCP", solver=args.solver)
     t_socp = time.perf_counter() - t0
     u = -hist.u[:, frame["load"], 1]
     F = -hist.reactions_updated[:, prescribed[0]]

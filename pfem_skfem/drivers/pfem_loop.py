@@ -32,8 +32,8 @@ from ..pfem import adaptive_alpha, alpha_shape, thin_cloud
 from ..pfem.alpha_shape import measure
 from ..pfem.assemble import (assemble_operators, contact_set, element_regions, held_dofs,
                              step_material, step_scales)
-from ..pfem.bookkeeping import (discharge, free_flight_record, hand_on_mass, spread_mass,
-                               step_record)
+from ..pfem.bookkeeping import (StepFacts, discharge, free_flight_record, hand_on_mass,
+                               spread_mass, step_record)
 from ..pfem.remesh import ParticleMesh
 from ..pfem.state import PFEMState, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
@@ -219,11 +219,11 @@ def pfem_step(state, scene):
         surface = moved.n - state.n                  # midside nodes of stretched edges
         new, out_now = discharge(new, scene.outlets)
     result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m)
-    record = step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
-                         t_start, area=area, area0=area0, alpha=alpha, projected=projected,
-                         added=added, surface=surface, thinned=thinned, phase=phase,
-                         held=len(fixed), shift=shift,
-                         discharged_now=out_now, v_start=v_dofs)
+    facts = StepFacts(result=result, ops=ops, solved=solved, contact_bodies=contact_bodies,
+                      regions=regions, v_start=v_dofs, area=area, area0=area0, alpha=alpha,
+                      phase=phase, projected=projected, added=added, surface=surface,
+                      thinned=thinned, held=len(fixed), discharged_now=out_now, shift=shift)
+    record = step_record(scene, new, facts, timer, t_start)
     return new, record, result
 
 

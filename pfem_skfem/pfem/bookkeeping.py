@@ -10,7 +10,7 @@ area of the mesh is reported beside it.
 import time as _time
 
 import numpy as np
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from ..discretisation.fields import vertex_dofs
 from .alpha_shape import measure, triangle_areas
@@ -148,24 +148,55 @@ def books(scene, new, timer, t_start, *, phase, alpha, discharged_now):
             **{f"t_{k}": v for k, v in timer.seconds.items()}}
 
 
-def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer, t_start, *,
-                area, area0, alpha, projected, added, surface, thinned, phase, held,
-                discharged_now, shift, v_start):
-    """The step's record for the history: geometry, mass bookkeeping, forces on the
-    bodies, energy, solver iterations and status, stage times.
+@dataclass
+class StepFacts:
+    """What a meshed PFEM step knows of itself beside its moved state, for its record.
 
-    ``v_start`` : the velocities the step starts from on its mesh (mapped at a remeshing):
-    their kinetic energy, ``start_kinetic_energy``, less the previous step's
-    ``kinetic_energy`` is what the remeshing's map added.
+    result : its :class:`~pfem_skfem.drivers.pfem_loop.StepResult`;  ops : its
+    DynamicOperators;  solved : its LaggedStep;  contact_bodies, regions : the bodies of its
+    contacts and the regions of its particles;  v_start : the velocities the step starts
+    from on its mesh (mapped at a remeshing: their kinetic energy, ``start_kinetic_energy``,
+    less the previous step's ``kinetic_energy`` is what the remeshing's map added);
+    area, area0 : its domain's area and the first step's;  alpha : its alpha;  phase : its
+    phase;  projected, added, surface, thinned, held : the particles put back out of
+    bodies, added, on the surface, thinned, and the held dofs;  discharged_now : the mass
+    its outlets took;  shift : the volume projection's record.
+    """
+
+    result: object
+    ops: object
+    solved: object
+    contact_bodies: object
+    regions: object
+    v_start: np.ndarray
+    area: float
+    area0: float
+    alpha: float
+    phase: object
+    projected: int
+    added: int
+    surface: int
+    thinned: int
+    held: int
+    discharged_now: object
+    shift: dict
+
+
+def step_record(scene, new, facts, timer, t_start):
+    """The step's record for the history: geometry, mass bookkeeping, forces on the
+    bodies, energy, solver iterations and status, stage times (``facts``: a
+    :class:`StepFacts`).
 
     In axisymmetry every 'area' of the record (area, mesh_area, moved_area, area_change,
     area_regions) is a volume, the integral of 2 pi r dA, and the forces are ring forces
     (the z-component the whole body's; the r-component has no resultant).
     """
+    f = facts
+    result, ops, solved, area, area0 = f.result, f.ops, f.solved, f.area, f.area0
     disc, inc = result.disc, result.increment
     h_median = float(np.median(new.h)) if new.n else np.nan    # nan: all discharged
-    area_regions = region_areas(scene, disc, regions)
-    forces, moments = body_loads(scene, result.contacts, contact_bodies, inc,
+    area_regions = region_areas(scene, disc, f.regions)
+    forces, moments = body_loads(scene, result.contacts, f.contact_bodies, inc,
                                  new.time - scene.config.dt)
     speed = np.linalg.norm(inc.v[vertex_dofs(disc)], axis=1)   # of the step's mesh
     du_max = np.linalg.norm(inc.du[vertex_dofs(disc)], axis=1).max()
@@ -182,22 +213,22 @@ def step_record(scene, new, result, ops, solved, contact_bodies, regions, timer,
             "passes": solved.passes, "pass_changes": list(solved.changes),
             "status": inc.info.status, "elements": int(disc.mesh.nelements),
             "free_particles": int(new.n - np.sum(new.mesh_particle >= 0)),
-            "added": added, "surface_particles": surface, "thinned": thinned,
-            "held_dofs": held, "projected": projected,
+            "added": f.added, "surface_particles": f.surface, "thinned": f.thinned,
+            "held_dofs": f.held, "projected": f.projected,
             # the volume projection's largest vertex shift / h, and whether it was refused
-            "volume_shift_over_h": float(shift["volume_shift"] / h_median),
-            "volume_shift_refused": bool(shift["volume_shift_refused"]),
+            "volume_shift_over_h": float(f.shift["volume_shift"] / h_median),
+            "volume_shift_refused": bool(f.shift["volume_shift_refused"]),
             "max_speed": float(speed.max()),
             # a step that moves material by many spacings is a collapse within one step
             # (dt too long for the mechanism), however 'optimal' its solve
             "max_displacement_over_h": float(du_max / h_median),
             "kinetic_energy": float(0.5 * inc.v @ (ops.M @ inc.v)),
-            "start_kinetic_energy": float(0.5 * v_start @ (ops.M @ v_start)),
+            "start_kinetic_energy": float(0.5 * f.v_start @ (ops.M @ f.v_start)),
             "max_plastic_strain_increment": float(result.plastic_strain.max()),
             "t_compile": solved.compile_time,        # inside t_solve: building the problem
             "t_conic": solved.solve_time,            # inside t_solve: Clarabel itself
-            **books(scene, new, timer, t_start, phase=phase, alpha=alpha,
-                    discharged_now=discharged_now)}
+            **books(scene, new, timer, t_start, phase=f.phase, alpha=f.alpha,
+                    discharged_now=f.discharged_now)}
 
 
 def particle_kinetic_energy(state):

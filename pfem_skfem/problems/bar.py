@@ -270,10 +270,12 @@ class TrussHistory:
         return self.x - self.x[0]
 
 
+#: how the truss's geometry follows an increment (:func:`truss_displacement_control`)
+GEOMETRIES = ("updated", "incompressible", "initial")
+
+
 def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_increments,
-                               displacement=None, path=None, sigma_s=None,
-                               incompressible=False, update_geometry=True, f=None,
-                               progress=False, label="", solver="clarabel",
+                               sigma_s=None, geometry="updated", f=None, progress=False,
                                **solver_settings):
     """Large deformation by a sequence of small-deformation increments (B.12).
 
@@ -287,14 +289,19 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     ----------
     x0 : (n_nodes, 2) initial nodes.  bars : (n_bars, 2).  area0 : initial areas.
     E : Young's modulus.  fixed : dofs with zero displacement.
-    prescribed : dofs with a prescribed displacement.  n_increments : number of increments.
-    displacement : (n_P,) total prescribed displacement, imposed in equal increments; or
-    path : callable ``path(k) -> (n_P,)`` total prescribed displacement after increment k
-        (``path(0)`` is zero), for non-proportional motions such as a rigid rotation.
-    sigma_s : yield stress or None (elastic).  incompressible : update A = V / l.
-    update_geometry : False keeps the initial configuration (pure small deformation).
-    f : constant external nodal forces.  progress : a progress bar (tqdm) on stderr.
-    solver : the conic solver of every increment (:func:`truss_increment`).
+    prescribed : (dofs, motion): the dofs with a prescribed displacement and either their
+        (n_P,) total displacement, imposed in equal increments, or a callable
+        ``path(k) -> (n_P,)``, the total displacement after increment k (``path(0)`` is
+        zero), for non-proportional motions such as a rigid rotation.
+    n_increments : number of increments.
+    sigma_s : yield stress or None (elastic).
+    geometry : 'updated' (the nodes move with each increment), 'incompressible' (and the
+        areas follow A = V / l) or 'initial' (the initial configuration kept: pure small
+        deformation).
+    f : constant external nodal forces.
+    progress : False, or a progress bar (tqdm) on stderr; a string labels it.
+    solver_settings : ``solver``, the conic solver of every increment, and its settings
+        (:func:`truss_increment`).
 
     Returns
     -------
@@ -303,10 +310,14 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     if int(n_increments) != n_increments or n_increments < 1:
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
     n_increments = int(n_increments)
-    if (displacement is None) == (path is None):
-        raise ValueError("give exactly one of displacement and path")
-    if path is None:
-        total = np.asarray(displacement, dtype=float).ravel()
+    if geometry not in GEOMETRIES:
+        raise ValueError(f"geometry must be one of {GEOMETRIES}, got {geometry!r}")
+    if not (isinstance(prescribed, tuple) and len(prescribed) == 2):
+        raise ValueError("prescribed must be (dofs, motion): the motion their total "
+                         "displacement or a path(k)")
+    prescribed, path = prescribed
+    if not callable(path):
+        total = np.asarray(path, dtype=float).ravel()
         path = lambda k: total * k / n_increments  # noqa: E731
     x, bars = _check_truss(x0, bars)
     x = x.copy()
@@ -320,17 +331,18 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
     reactions, updated = [np.zeros(n_dof)], [np.zeros(n_dof)]
     iterations, times = [], []
     previous = np.asarray(path(0), dtype=float).ravel()
+    label = progress if isinstance(progress, str) else None
     bar = tqdm(total=n_increments, desc=label or None, unit="increment", file=sys.stderr,
                disable=not progress, dynamic_ncols=True)
     for k in range(1, n_increments + 1):
         target = np.asarray(path(k), dtype=float).ravel()
         res = truss_increment(x, bars, area, E, sigma, fixed=fixed, prescribed=prescribed,
                               du_prescribed=target - previous, f=f, sigma_s=sigma_s,
-                              solver=solver, **solver_settings)
+                              **solver_settings)
         previous, sigma = target, res.sigma
-        if update_geometry:
+        if geometry != "initial":
             x = x + res.du.reshape(-1, 2)
-            if incompressible:
+            if geometry == "incompressible":
                 area = volume / bar_geometry(x, bars)[0]
         r_upd = internal_forces(x, bars, sigma * area) - (0 if f is None else f)
         r_upd[free] = 0.0
