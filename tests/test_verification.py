@@ -237,6 +237,16 @@ CASES = [
       "bingham_k0.02_at_rest": Between(0, 1e-6),              # every speed < 1e-6 sqrt(g H0)
       "tresca_k0.02_at_rest": Between(0, 1e-4),               # a step from rest: a < 1e-4 g
       "tresca_k0.02_mass_error": Between(0, 1e-12)}, None),
+    # a rigid block on a rough incline in the PFEM (LaggedFriction): backward Euler of the
+    # constant force g (sin b - mu cos b), 5 steps of 0.02 s at b = 30 deg, mu = 0.3
+    ("block_on_incline", [],
+     {"travel": approx(9.81 * (np.sin(np.radians(30)) - 0.3 * np.cos(np.radians(30)))
+                       * 0.02 ** 2 * 5 * 6 / 2, rel=1e-6),
+      "normal_force": approx(2000 * 0.5 * 9.81 * np.cos(np.radians(30)), rel=1e-6),
+      "friction_force": approx(0.3 * 2000 * 0.5 * 9.81 * np.cos(np.radians(30)), rel=1e-6),
+      "sticking_speed": Between(0, 1e-6),
+      "sticking_friction": approx(2000 * 0.5 * 9.81 * np.sin(np.radians(10)), rel=1e-6)},
+     None),
     ("sliding_box", [], {"travel_distance": approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-3),
                          "dilation_order": Between(0.4, np.inf)}, None),
     ("buried_pipe", [], {"Nc": Between(9.14, 9.40), "Nc_vs_thesis": approx(9.29, rel=0.03)},
