@@ -5,7 +5,8 @@ Usage: python scripts/compare_quick.py BASELINE_DIR NEW_DIR [case ...]
 moving code, NEW_DIR the same way after; CONTRIBUTING.md, "Refactoring").
 Every value, reference, tolerance, pass flag, param and extra entry must be equal; keys
 that hold timings (named seconds*, wall_time*, *_time, t_compile, t_conic, t_solve, ...)
-and the landslide's 'profile' path are ignored. Exit 1 on any difference.
+and the landslide's 'profile' path are ignored. The top-level 'tables' key is skipped too:
+tables (Report.add_table) print what the quantities and extra hold. Exit 1 on any difference.
 """
 import json
 import sys
@@ -51,6 +52,7 @@ def main(base, new, cases):
             print(f"{f.name}: missing in {new}"); bad += 1; continue
         out = []
         a, b = json.loads(f.read_text()), json.loads(g.read_text())
+        a.pop("tables", None), b.pop("tables", None)      # what quantities and extra hold
         qa = {q["name"]: q for q in a.get("quantities", [])}
         qb = {q["name"]: q for q in b.get("quantities", [])}
         a["quantities"], b["quantities"] = qa, qb

@@ -400,14 +400,15 @@ def add_stability(report, args, rows):
             report.add_interval(f"{tag}_plastic_max", r["plastic_max"], DEFORMS, np.inf,
                                 f"outside the stable field {low:.2f}-{high:.2f} deg: deforms "
                                 f"(> {DEFORMS:g} du/H)")
-    print(f"\ncritical taper (phi = {args.phi:g}, phi_b = {args.base_friction:g}): "
-          f"{low:.3f} - {high:.3f} deg")
-    print(f"{'taper':>6s} {'stable?':>8s} {'particles':>9s} {'max dep/(du/H)':>15s} "
-          f"{'mean':>9s} {'F/(mu_b W)':>10s} {'s':>6s}")
-    for r in rows:
-        print(f"{r['taper']:6g} {str(low < r['taper'] < high):>8s} {r['particles']:9d} "
-              f"{r['plastic_max']:15.3g} {r['plastic_mean']:9.3g} "
-              f"{r['wall_force_over_mu_b_W']:10.4f} {r['seconds']:6.1f}")
+    report.add_table(
+        "stability", ["taper", "stable?", "particles", "max dep/(du/H)", "mean", "F/(mu_b W)",
+                      "s"],
+        [[r["taper"], bool(low < r["taper"] < high), r["particles"], r["plastic_max"],
+          r["plastic_mean"], r["wall_force_over_mu_b_W"], r["seconds"]] for r in rows],
+        formats={"taper": "g", "max dep/(du/H)": ".3g", "mean": ".3g", "F/(mu_b W)": ".4f",
+                 "s": ".1f"},
+        title=f"\ncritical taper (phi = {args.phi:g}, phi_b = {args.base_friction:g}): "
+              f"{low:.3f} - {high:.3f} deg")
 
 
 def late_wall_force(r):
@@ -505,17 +506,20 @@ def run(args):
     for k, r in enumerate(runs):
         layer_checks(report, args, r, "" if k == 0 else f"n{r['steps']}_")
     increment_checks(report, args, runs)
-    print(f"\n{'steps':>6s} {'du [cm]':>7s} {'particles':>9s} {'elems':>6s} {'slope':>6s} "
-          f"{'L_w':>6s} {'L_mass':>6s} {'A_up':>6s} {'|dA|max':>8s} {'F_late':>8s} {'pop-up':>6s} "
-          f"{'s/step':>6s} {'total s':>7s}")
+    table = []
     for r in runs:
         geo = r["geometry"]
-        print(f"{r['steps']:6d} {r['du'] * 100:7.3g} {r['particles']:9d} {r['elements']:6d} "
-              f"{geo['slope_deg']:6.2f} {geo['length'] * 100:6.1f} "
-              f"{wedge_length(geo['area_up'], max(geo['slope_deg'], 0.5)) * 100:6.1f} "
-              f"{geo['area_up'] * 1e4:6.1f} {np.abs(r['area_change']).max():8.2%} "
-              f"{late_wall_force(r):8.4f} {str(r['popup']['is_popup']):>6s} "
-              f"{r['seconds_per_step']:6.2f} {r['seconds']:7.0f}")
+        table.append([r["steps"], r["du"] * 100, r["particles"], r["elements"], geo["slope_deg"],
+                     geo["length"] * 100,
+                     wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5)) * 100,
+                     geo["area_up"] * 1e4, np.abs(r["area_change"]).max(), late_wall_force(r),
+                     bool(r["popup"]["is_popup"]), r["seconds_per_step"], r["seconds"]])
+    report.add_table(
+        "layers", ["steps", "du [cm]", "particles", "elems", "slope", "L_w", "L_mass", "A_up",
+                   "|dA|max", "F_late", "pop-up", "s/step", "total s"], table,
+        formats={"du [cm]": ".3g", "slope": ".2f", "L_w": ".1f", "L_mass": ".1f",
+                 "A_up": ".1f", "|dA|max": ".2%", "F_late": ".4f", "s/step": ".2f",
+                 "total s": ".0f"}, title="\nlayers")
     print("(slope [deg] away from the wall, L_w wedge length [cm] and L_mass from mass balance at "
           "that slope, A_up uplift [cm2], F_late mean wall force over the last quarter [kN/m])")
     r = runs[0]

@@ -101,11 +101,10 @@ def run(args):
         progress(f"{len(points)} particles, {len(alphas)} values of alpha")
     by_alpha = {r["alpha"]: r for r in rows}
 
-    print(f"{'alpha':>7s} {'bodies':>7s} {'holes':>6s} {'area':>10s} {'free':>5s}")
-    for r in rows:
-        print(f"{r['alpha']:7.2f} {r['bodies']:7d} {r['holes']:6d} {r['area']:10.4f} {r['free']:5d}")
-
     report = Report("alpha_shape (Fig 2.4)", args, n_particles=len(points))
+    columns = ["alpha", "bodies", "holes", "area", "free"]
+    report.add_table("sweep", columns, [[r[c] for c in columns] for r in rows],
+                     formats={"alpha": ".2f", "area": ".4f"})
     # the reasonable boundaries: two bodies, no void, enclosing exactly the two polygons
     reasonable = [r for r in rows if r["bodies"] == 2 and r["holes"] == 0
                   and abs(r["area"] - exact) <= 1e-9 * exact]

@@ -483,24 +483,26 @@ def run(args):
                     "studies": {k: {**{kk: r[kk] for kk in keys}, "alpha": r["alpha"]}
                                 for k, r in studies.items()},
                     "nye": {f"{k:g}": b for k, b in nye.items()}}
-    print(f"{'run':16s} {'k':>5s} {'n_h':>4s} {'mu':>5s} {'eps':>6s} {'h/L':>6s} "
-          f"{'excess':>7s} {'rms':>6s} {'x_f/Nye':>7s} {'hh`/kH0':>7s} {'rest':>5s} "
-          f"{'T_rest':>8s} {'steps':>5s} {'s':>5s}")
-    for label, r in {**runs, **studies}.items():
-        print(f"{label:16s} {r['k']:5.3f} {r['n_h']:4.1f} {r['mu']:5.1f} {r['eps']:6.3f} "
-              f"{r['h_over_L']:6.3f} {r['excess']:+7.3f} {r['rms']:6.3f} "
-              f"{r['x_f'] / r['x_nye']:7.3f} {r['basal_stress_ratio']:7.3f} "
-              f"{'yes' if r['at_rest'] else 'no':>5s} {r['T_rest']:8.1f} {r['steps']:5d} "
-              f"{r['seconds']:5.0f}")
-    print(f"{'gravity carried':16s} {'eps':>6s} {'alpha_L':>8s} {'alpha_U':>8s} "
-          f"{'elements':>8s} {'s':>5s} solvers")
-    for label, b in [*((f"Nye k{k:g}", b) for k, b in nye.items()),
-                     *((f"Nye k{k:g} x {b['stretch']:.3f}", {**b["stretched"], "eps": b["eps"]})
-                       for k, b in nye.items()),
-                     *((label, {**r["alpha"], "eps": r["eps"]})
-                       for label, r in {**runs, **studies}.items())]:
-        print(f"{label:16s} {b['eps']:6.3f} {b['lower']:8.4f} {b['upper']:8.4f} "
-              f"{b['elements']:8d} {b['seconds']:5.0f} {'+'.join(b['solvers'])} {b['status']}")
+    report.add_table(
+        "runs", ["run", "k", "n_h", "mu", "eps", "h/L", "excess", "rms", "x_f/Nye", "hh`/kH0",
+                 "rest", "T_rest", "steps", "s"],
+        [[label, r["k"], r["n_h"], r["mu"], r["eps"], r["h_over_L"], r["excess"], r["rms"],
+          r["x_f"] / r["x_nye"], r["basal_stress_ratio"], "yes" if r["at_rest"] else "no",
+          r["T_rest"], r["steps"], r["seconds"]] for label, r in {**runs, **studies}.items()],
+        formats={"k": ".3f", "n_h": ".1f", "mu": ".1f", "eps": ".3f", "h/L": ".3f",
+                 "excess": "+.3f", "rms": ".3f", "x_f/Nye": ".3f", "hh`/kH0": ".3f",
+                 "T_rest": ".1f", "s": ".0f"})
+    carried = [*((f"Nye k{k:g}", b) for k, b in nye.items()),
+               *((f"Nye k{k:g} x {b['stretch']:.3f}", {**b["stretched"], "eps": b["eps"]})
+                 for k, b in nye.items()),
+               *((label, {**r["alpha"], "eps": r["eps"]})
+                 for label, r in {**runs, **studies}.items())]
+    report.add_table(
+        "gravity carried", ["gravity carried", "eps", "alpha_L", "alpha_U", "elements", "s",
+                            "solvers", "status"],
+        [[label, b["eps"], b["lower"], b["upper"], b["elements"], b["seconds"],
+          "+".join(b["solvers"]), b["status"]] for label, b in carried],
+        formats={"eps": ".3f", "alpha_L": ".4f", "alpha_U": ".4f", "s": ".0f"})
     report.data = dict(runs=runs, studies=studies, nye=nye)
     return report
 

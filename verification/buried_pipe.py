@@ -139,9 +139,9 @@ def run(args):
         rows.append((model["n_elements"], nc_raw, nc_raw - buoyancy, time.perf_counter() - t0))
         bar.set_postfix_str(f"F/(r Su) = {nc_raw:.4f}, net of buoyancy {nc_raw - buoyancy:.4f}")
         last = (model, res, contacts)
-    print(f"{'elements':>8s} {'F/(r Su)':>10s} {'Nc (net)':>10s} {'vs 9.20':>8s}")
-    for n_el, raw, net, _ in rows:
-        print(f"{n_el:8d} {raw:10.4f} {net:10.4f} {net / UPPER - 1:+8.2%}")
+    report.add_table("convergence", ["elements", "F/(r Su)", "Nc (net)", "vs 9.20"],
+                     [[n_el, raw, net, net / UPPER - 1] for n_el, raw, net, _ in rows],
+                     formats={"F/(r Su)": ".4f", "Nc (net)": ".4f", "vs 9.20": "+.2%"})
     nc = rows[-1][2]
     if args.mu == 0:
         report.add_interval("Nc", nc, LOWER_RH, 9.40,

@@ -399,16 +399,16 @@ def run(args):
     mesh_runs = [r] + [s for s in studies if s["label"].startswith("h ")]
     convergence_checks(report, dt_runs, lambda x: x["options"]["dt"], "dt", "dt")
     convergence_checks(report, mesh_runs, lambda x: x["options"]["h_fine"], "h", "h_fine")
-    print(f"\n{'run':>12s} {'h_fine':>6s} {'du':>5s} {'dt':>5s} {'particles':>9s} {'elems':>6s} "
-          f"{'F_V(0.8)':>9s} {'F_H ss':>7s} {'F_V ss':>7s} {'dF_H':>6s} {'dF_V':>6s} "
-          f"{'|dA|max':>8s} {'s/step':>7s} {'total s':>8s}")
-    for label, st, pn, rr in rows:
-        o = rr["options"]
-        print(f"{label:>12s} {o['h_fine']:6.3g} {o['du']:5.3g} {o['dt']:5.3g} {rr['particles']:9d} "
-              f"{rr['elements']:6d} {pn['F_V_end']:9.2f} {st['F_H']:7.2f} {st['F_V']:7.2f} "
-              f"{st['F_H_change']:6.1%} {st['F_V_change']:6.1%} "
-              f"{np.abs(rr['area_change']).max():8.2%} {rr['seconds_per_step']:7.2f} "
-              f"{rr['seconds']:8.0f}")
+    report.add_table(
+        "runs", ["run", "h_fine", "du", "dt", "particles", "elems", "F_V(0.8)", "F_H ss",
+                 "F_V ss", "dF_H", "dF_V", "|dA|max", "s/step", "total s"],
+        [[label, rr["options"]["h_fine"], rr["options"]["du"], rr["options"]["dt"],
+          rr["particles"], rr["elements"], pn["F_V_end"], st["F_H"], st["F_V"],
+          st["F_H_change"], st["F_V_change"], np.abs(rr["area_change"]).max(),
+          rr["seconds_per_step"], rr["seconds"]] for label, st, pn, rr in rows],
+        formats={"h_fine": ".3g", "du": ".3g", "dt": ".3g", "F_V(0.8)": ".2f", "F_H ss": ".2f",
+                 "F_V ss": ".2f", "dF_H": ".1%", "dF_V": ".1%", "|dA|max": ".2%",
+                 "s/step": ".2f", "total s": ".0f"})
     every = max(1, len(r["F_V"]) // 140)
     report.extra = {"runs": [{"label": label, "steady": st, "penetration": pn,
                               "particles": rr["particles"], "elements": rr["elements"],

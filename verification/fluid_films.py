@@ -167,9 +167,9 @@ def run(args):
                                                      "u": films[ny[0]]["u"]},
                                  **{f"bingham_ny{n}": {"z": r["z"], "u": r["u"]}
                                     for n, r in mud.items()}}}
-    print(f"{'ny':>4s} {'Bingham L2 error':>17s} {'iterations/step':>16s}")
-    for n, e in zip(ny, errors):
-        print(f"{n:4d} {e:17.3e} {mud[n]['iterations'].mean():16.1f}")
+    report.add_table("bingham", ["ny", "Bingham L2 error", "iterations/step"],
+                     [[n, e, mud[n]["iterations"].mean()] for n, e in zip(ny, errors)],
+                     formats={"Bingham L2 error": ".3e", "iterations/step": ".1f"})
     print(f"observed order {order:.2f}")
     report.data = dict(films=films, mud=mud, ny=ny, errors=errors, order=order)
     return report

@@ -419,11 +419,7 @@ def run(args):
                         if (args.phi_s or args.phi) in args.base_study and a in by_a]
 
     report = Report("granular_column_axisymmetric", args)
-    print("final deposit (at rest) against Lube et al. 2004 (7.31)-(7.32) and Lajeunesse et al. "
-          "2004 (7.34); then the deposit at t/sqrt(h0/g) = 4, where the thesis stops")
-    print(f"{'a':>5s} {'(r-r0)/r0':>9s} {'(7.31)':>7s} {'dev':>7s} {'h/r0':>6s} {'(7.32)':>7s} "
-          f"{'dev':>7s} {'(7.34)':>6s} {'t_rest':>6s} | {'run4':>6s} {'h4/r0':>6s} | "
-          f"{'|dV|max':>8s} {'parts':>6s} {'s/step':>6s}")
+    table = []
     for r in sweep:
         r_ref, h_ref, in_range = (v.item() for v in lube_2004(r["a"]))
         _, h_laj = (float(v) for v in lajeunesse_2004(r["a"]))
@@ -433,11 +429,10 @@ def run(args):
                           "h_lube": _dev(r["h_inf_over_r0"], h_ref),
                           "h_lajeunesse": _dev(r["h_inf_over_r0"], h_laj)}
         d = r["deviation"]
-        mark = "" if in_range else "*"
-        print(f"{r['a']:5.2g} {r['runout_over_r0']:9.3f} {r_ref:7.3f} {d['runout_lube']:+7.1%} "
-              f"{r['h_inf_over_r0']:6.3f} {h_ref:7.3f}{mark:1s}{d['h_lube']:+7.1%} {h_laj:6.3f} "
-              f"{r['t_rest']:6.2f} | {r['runout_t4_over_r0']:6.3f} {r['h_t4_over_r0']:6.3f} | "
-              f"{r['volume_change_max']:8.2%} {r['particles']:6d} {r['seconds_per_step']:6.2f}")
+        table.append([r["a"], r["runout_over_r0"], r_ref, d["runout_lube"], r["h_inf_over_r0"],
+                      h_ref, "" if in_range else "*", d["h_lube"], h_laj, r["t_rest"],
+                      r["runout_t4_over_r0"], r["h_t4_over_r0"], r["volume_change_max"],
+                      r["particles"], r["seconds_per_step"]])
         tag = f"a{r['a']:g}"
         if r["a"] <= 0.5:           # every source: a short column keeps its top
             report.add_interval(f"{tag}_h_inf_over_h0", r["h_inf_over_r0"] / r["a"], 1.0, 1.0,
@@ -462,6 +457,15 @@ def run(args):
                             "particle masses sum to rho V (passed on, never made)")
         report.add_interval(f"{tag}_axis_particles_kept", r["axis_particles_kept"], 1, 1,
                             "particles on the axis at t = 0 are on it at the end (u_r = 0)")
+    report.add_table(
+        "deposits", ["a", "(r-r0)/r0", "(7.31)", "dev", "h/r0", "(7.32)", "*", "dev'", "(7.34)",
+                     "t_rest", "run4", "h4/r0", "|dV|max", "parts", "s/step"], table,
+        formats={"a": ".2g", "(r-r0)/r0": ".3f", "(7.31)": ".3f", "dev": "+.1%", "h/r0": ".3f",
+                 "(7.32)": ".3f", "dev'": "+.1%", "(7.34)": ".3f", "t_rest": ".2f",
+                 "run4": ".3f", "h4/r0": ".3f", "|dV|max": ".2%", "s/step": ".2f"},
+        title="final deposit (at rest) against Lube et al. 2004 (7.31)-(7.32) and Lajeunesse "
+              "et al. 2004 (7.34) (*: a beyond the range of (7.32)'s fit); then the deposit at "
+              "t/sqrt(h0/g) = 4 (run4, h4), where the thesis stops")
     tall = [r for r in sweep if r["a"] > 6]
     if tall:
         print("a > 6, the thesis: heights below (7.32): " + ", ".join(
@@ -498,16 +502,16 @@ def _studies(report, res, args):
                        f"c = 0: the deposit of rho = {s['rho']:g} (every force scales with rho)",
                        0.01)
     effect = {}                                       # of the base friction, by a
-    for title, key, rows in (("friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
-                             ("base-friction study (Fig 7.11)", "phi_s", res["base"])):
+    for name, title, key, rows in (
+            ("friction study", "friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
+            ("base-friction study", "base-friction study (Fig 7.11)", "phi_s", res["base"])):
         if not rows:
             continue
-        print(f"\n{title}:  a  {key:>5s} {'(r-r0)/r0':>9s} {'h/r0':>6s} {'t_rest':>6s}")
+        table, changes = [], []
         for a in sorted({r["a"] for r in rows}):
             rs = sorted((r for r in rows if r["a"] == a), key=lambda r: r[key])
-            for r in rs:
-                print(f"{'':{len(title) + 2}s}{a:3g} {r[key]:5g} {r['runout_over_r0']:9.3f} "
-                      f"{r['h_inf_over_r0']:6.3f} {r['t_rest']:6.2f}")
+            table += [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
+                      for r in rs]
             if len(rs) < 2:
                 continue
             lo, hi = rs[0], rs[-1]
@@ -515,8 +519,7 @@ def _studies(report, res, args):
             dh = hi["h_inf_over_r0"] - lo["h_inf_over_r0"]
             dr = hi["runout_over_r0"] - lo["runout_over_r0"]
             change = abs(dr) / max(abs(lo["runout_over_r0"]), 1e-12)
-            print(f"{'':{len(title) + 2}s}{key} {lo[key]:g} -> {hi[key]:g}: h {dh:+.3f}, "
-                  f"run-out {dr:+.3f} ({change:+.1%})")
+            changes.append([a, lo[key], hi[key], dh, dr, change])
             if key == "phi":
                 report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
                                     "Fig 7.10: a larger phi_g gives a shorter deposit")
@@ -526,8 +529,7 @@ def _studies(report, res, args):
             else:
                 moved = _mass_moved(lo, hi)
                 effect[a] = {"runout_relative_change": change, "mass_moved": moved}
-                print(f"{'':{len(title) + 2}s}the mass the base moves across a radius: "
-                      f"{moved:.2%}")
+                changes[-1].append(moved)
                 if a <= 0.5:       # the profile, not the end of its thin tail (book)
                     report.add_interval(f"{tag}_mass_moved", moved, 0.0, 0.05,
                                         "Fig 7.11: little effect of phi_s on the deposit at "
@@ -537,25 +539,41 @@ def _studies(report, res, args):
                                         "Fig 7.11: a rougher base gives a shorter deposit")
                     report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
                                         "Fig 7.11: a rougher base gives a higher deposit")
+        report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"], table,
+                         formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
+                                  "t_rest": ".2f"}, title="\n" + title)
+        if changes:
+            report.add_table(f"{name}, changes",
+                             ["a", f"{key} from", "to", "dh/r0", "d(r-r0)/r0", "relative"]
+                             + (["mass moved"] if key == "phi_s" else []), changes,
+                             formats={"a": "g", f"{key} from": "g", "to": "g", "dh/r0": "+.3f",
+                                      "d(r-r0)/r0": "+.3f", "relative": "+.1%",
+                                      "mass moved": ".2%"},
+                             title=f"{title}: from the least {key} to the largest"
+                                   + (" (mass moved: the mass the base moves across a radius)"
+                                      if key == "phi_s" else ""))
     grows = [effect[a]["mass_moved"] for a in sorted(effect)]
     if len(grows) > 1:
         report.add_interval("base_mass_moved_increase_min", np.min(np.diff(grows)), 0.0,
                             np.inf, "Fig 7.11: the effect of phi_s grows with a")
     report.extra["base_friction_effect"] = [{"a": a, **v} for a, v in sorted(effect.items())]
     if res["mesh"]:
-        print(f"\nmesh study, a = 2:  nr {'parts':>6s} {'(r-r0)/r0':>9s} {'h/r0':>6s} "
-              f"{'t_rest':>6s} {'|dV|max':>8s} {'s/step':>6s}")
-        for r in sorted(res["mesh"], key=lambda r: r["nr"]):
-            print(f"{'':20s}{r['nr']:4d} {r['particles']:6d} {r['runout_over_r0']:9.3f} "
-                  f"{r['h_inf_over_r0']:6.3f} {r['t_rest']:6.2f} {r['volume_change_max']:8.2%} "
-                  f"{r['seconds_per_step']:6.2f}")
-    for r in res["history"]:
+        report.add_table(
+            "mesh study", ["nr", "parts", "(r-r0)/r0", "h/r0", "t_rest", "|dV|max", "s/step"],
+            [[r["nr"], r["particles"], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"],
+              r["volume_change_max"], r["seconds_per_step"]]
+             for r in sorted(res["mesh"], key=lambda r: r["nr"])],
+            formats={"(r-r0)/r0": ".3f", "h/r0": ".3f", "t_rest": ".2f", "|dV|max": ".2%",
+                     "s/step": ".2f"}, title="\nmesh study, a = 2")
+    for k, r in enumerate(res["history"]):
         tr = r["track"]
-        print("\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg:")
-        print("  t/sqrt(h0/g)  h/r0  (r-r0)/r0")
-        for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0):
-            i = int(np.argmin(np.abs(np.asarray(tr["t_bar"]) - t)))
-            print(f"  {tr['t_bar'][i]:12.2f} {tr['h_over_r0'][i]:5.3f} {tr['r_over_r0'][i] - 1:9.3f}")
+        shown = [int(np.argmin(np.abs(np.asarray(tr["t_bar"]) - t)))
+                 for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)]
+        report.add_table(
+            "time history" + (f" {k}" if k else ""), ["t/sqrt(h0/g)", "h/r0", "(r-r0)/r0"],
+            [[tr["t_bar"][i], tr["h_over_r0"][i], tr["r_over_r0"][i] - 1] for i in shown],
+            formats={"t/sqrt(h0/g)": ".2f", "h/r0": ".3f", "(r-r0)/r0": ".3f"},
+            title="\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
         print(f"  at rest: (r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31) at a = 3.6: "
               f"{float(lube_2004(3.6)[0]):.3f}); the thesis: the experiment lags the "
               f"simulation, whose final radius is slightly larger")

@@ -296,7 +296,7 @@ def run(args):
                           "height_lube": _dev(r["height"], r["reference"]["height_lube"])}
         # NaN is over the bound (NaN > bound is False)
         r["volume_change_over_bound"] = not r["volume_change_max"] <= volume_bound(r["geometry"])
-    _print_table(rows)
+    _tables(report, rows)
     for r in rows:
         tag = f"{r['geometry']}_{r['law']}_a{r['a']:g}"
         report.add_interval(f"{tag}_h_inf_over_h0", r["height"] / r["a"], 0.0, 1.0,
@@ -321,29 +321,36 @@ def run(args):
     return report
 
 
-def _print_table(rows):
-    """One table: run-out and height of each law beside Lube et al.'s fits."""
-    print("final deposits (at rest): run-out (d-d0)/d0 or (r-r0)/r0, height h/d0 or h/r0 "
-          "(at the wall / on the axis), against Lube et al.'s fits as the column scripts "
-          "print them")
-    print(f"{'geometry':12s} {'a':>5s} {'law':7s} {'run-out':>8s} {'Lube':>7s} {'dev':>7s} "
-          f"{'height':>7s} {'Lube':>6s} {'dev':>7s} {'t_rest':>6s} {'|dV|max':>8s} {'s/step':>6s}")
-    for r in rows:
-        ref, dev = r["reference"], r["deviation"]
-        over = "*" if r["volume_change_max"] > volume_bound(r["geometry"]) else " "
-        print(f"{r['geometry']:12s} {r['a']:5.3g} {r['law']:7s} {r['runout']:8.3f} "
-              f"{ref['runout_lube']:7.3f} {dev['runout_lube']:+7.1%} {r['height']:7.3f} "
-              f"{ref['height_lube']:6.3f} {dev['height_lube']:+7.1%} {r['t_rest']:6.2f} "
-              f"{r['volume_change_max']:8.2%}{over} {r['seconds_per_step']:6.2f}")
-    print(f"(*: above the column script's bound on the volume change, plane "
-          f"{volume_bound('plane'):.0%}, axisymmetric {volume_bound('axisymmetric'):.0%})")
+def _tables(report, rows):
+    """Run-out and height of each law beside Lube et al.'s fits; the laws' order of run-out."""
+    report.add_table(
+        "deposits", ["geometry", "a", "law", "run-out", "Lube", "dev", "height", "Lube'", "dev'",
+                     "t_rest", "|dV|max", "*", "s/step"],
+        [[r["geometry"], r["a"], r["law"], r["runout"], r["reference"]["runout_lube"],
+          r["deviation"]["runout_lube"], r["height"], r["reference"]["height_lube"],
+          r["deviation"]["height_lube"], r["t_rest"], r["volume_change_max"],
+          "*" if r["volume_change_max"] > volume_bound(r["geometry"]) else "",
+          r["seconds_per_step"]] for r in rows],
+        formats={"a": ".3g", "run-out": ".3f", "Lube": ".3f", "dev": "+.1%", "height": ".3f",
+                 "Lube'": ".3f", "dev'": "+.1%", "t_rest": ".2f", "|dV|max": ".2%",
+                 "s/step": ".2f"},
+        title="final deposits (at rest): run-out (d-d0)/d0 or (r-r0)/r0, height h/d0 or h/r0 "
+              "(at the wall / on the axis), against Lube et al.'s fits as the column scripts "
+              f"print them (*: above the column script's bound on the volume change, plane "
+              f"{volume_bound('plane'):.0%}, axisymmetric {volume_bound('axisymmetric'):.0%})")
+    order = []
     for geometry in ("plane", "axisymmetric"):
         for a in sorted({r["a"] for r in rows if r["geometry"] == geometry}):
             by = {r["law"]: r for r in rows if r["geometry"] == geometry and r["a"] == a}
             if {"mu(I)", "mu_s", "mu_2"} <= set(by):
                 lo, mid, hi = by["mu_2"]["runout"], by["mu(I)"]["runout"], by["mu_s"]["runout"]
-                print(f"{geometry} a = {a:g}: run-out mu_2 {lo:.3f} <= mu(I) {mid:.3f} <= "
-                      f"mu_s {hi:.3f}: {'holds' if lo <= mid <= hi else 'does not hold'}")
+                order.append([geometry, a, lo, mid, hi, "holds" if lo <= mid <= hi
+                              else "does not hold"])
+    if order:
+        report.add_table("order", ["geometry", "a", "mu_2", "mu(I)", "mu_s",
+                                   "mu_2 <= mu(I) <= mu_s"], order,
+                         formats={"a": "g", "mu_2": ".3f", "mu(I)": ".3f", "mu_s": ".3f"},
+                         title="run-out")
 
 
 def main(argv=None):

@@ -368,12 +368,7 @@ def run(args):
     mesh_study = results[len(cases) + len(study):]
 
     report = Report("granular_column_plane", args)
-    print("final deposit (at rest), against the fits of Lube et al.; then the deposit at "
-          "t/sqrt(h0/g) = 4, where the thesis stops")
-    print(f"{'a':>5s} {'phi':>4s} {'h/d0':>7s} {'thesis':>7s} {'dev':>7s} "
-          f"{'(d-d0)/d0':>9s} {'thesis':>7s} {'dev':>7s} {'Lagree':>7s} {'dev':>7s} "
-          f"{'t_rest':>6s} {'top/h0':>6s} | {'h4/d0':>6s} {'run4':>6s} {'KE4/max':>8s} | "
-          f"{'|dA|max':>8s} {'elems':>6s} {'s/step':>7s}")
+    table = []
     for r in sweep:
         h_ref, r_ref = (float(v) for v in lube_thesis(r["a"]))
         r_lag = float(lube_lagree(r["a"]))
@@ -384,12 +379,11 @@ def run(args):
                           "runout_thesis": dev(r["runout_over_d0"], r_ref),
                           "runout_lagree": dev(r["runout_over_d0"], r_lag)}
         d = r["deviation"]
-        print(f"{r['a']:5.2g} {r['phi']:4.0f} {r['h_inf_over_d0']:7.3f} {h_ref:7.3f} "
-              f"{d['h_thesis']:+7.1%} {r['runout_over_d0']:9.3f} {r_ref:7.3f} "
-              f"{d['runout_thesis']:+7.1%} {r_lag:7.3f} {d['runout_lagree']:+7.1%} "
-              f"{r['t_rest']:6.2f} {r['top_over_h0']:6.4f} | {r['h_t4_over_d0']:6.3f} {r['runout_t4_over_d0']:6.3f} "
-              f"{r['kinetic_energy_t4_over_peak']:8.2e} | "
-              f"{r['volume_change_max']:8.2%} {r['elements']:6d} {r['seconds_per_step']:7.2f}")
+        table.append([r["a"], r["phi"], r["h_inf_over_d0"], h_ref, d["h_thesis"],
+                      r["runout_over_d0"], r_ref, d["runout_thesis"], r_lag, d["runout_lagree"],
+                      r["t_rest"], r["top_over_h0"], r["h_t4_over_d0"], r["runout_t4_over_d0"],
+                      r["kinetic_energy_t4_over_peak"], r["volume_change_max"], r["elements"],
+                      r["seconds_per_step"]])
         tag = f"a{r['a']:g}_phi{r['phi']:g}"
         if r["a"] > 1.15:      # Lube et al.: a taller column always comes down
             report.add_interval(f"{tag}_h_inf_over_h0", r["h_inf_over_d0"] / r["a"], 0.0,
@@ -410,22 +404,36 @@ def run(args):
                                 0.0, REST_BOUND, "deposit at rest at t/sqrt(h0/g) = 4")
         report.add_interval(f"{tag}_volume_change_max", r["volume_change_max"], 0.0,
                             VOLUME_BOUND, f"stated bound {VOLUME_BOUND:.0%} (thesis 2-6 %)")
+    report.add_table(
+        "deposits", ["a", "phi", "h/d0", "thesis", "dev", "(d-d0)/d0", "thesis'", "dev'",
+                     "Lagree", "dev''", "t_rest", "top/h0", "h4/d0", "run4", "KE4/max",
+                     "|dA|max", "elems", "s/step"], table,
+        formats={"a": ".2g", "phi": ".0f", "h/d0": ".3f", "thesis": ".3f", "dev": "+.1%",
+                 "(d-d0)/d0": ".3f", "thesis'": ".3f", "dev'": "+.1%", "Lagree": ".3f",
+                 "dev''": "+.1%", "t_rest": ".2f", "top/h0": ".4f", "h4/d0": ".3f",
+                 "run4": ".3f", "KE4/max": ".2e", "|dA|max": ".2%", "s/step": ".2f"},
+        title="final deposit (at rest), against the fits of Lube et al. (' the run-out's, '' "
+              "Lagree's); then the deposit at t/sqrt(h0/g) = 4 (h4, run4, KE4), where the "
+              "thesis stops")
     for phi in args.phi:
         rs = sorted((r for r in sweep if r["phi"] == phi), key=lambda r: r["a"])
         if len(rs) > 1:
             grows = np.diff([r["runout_over_d0"] for r in rs])
             report.add_interval(f"phi{phi:g}_runout_increment_min", grows.min(), 0.0, np.inf,
                                 "run-out grows with a (Lube et al. 2005)")
-    for title, key, rows in (("time-step study, a = 1", "steps", dt_study),
-                             ("mesh study, a = 1", "nx", mesh_study)):
+    for name, title, key, rows in (("time-step study", "time-step study, a = 1", "steps",
+                                    dt_study),
+                                   ("mesh study", "mesh study, a = 1", "nx", mesh_study)):
         if rows:
-            print(f"\n{title}: {key:>6s} {'elems':>6s} {'h/d0':>7s} {'(d-d0)/d0':>9s} "
-                  f"{'t_rest':>6s} {'h4/d0':>6s} {'run4':>6s} {'KE4/max':>8s} {'|dA|max':>8s}")
-            for r in rows:
-                print(f"{'':{len(title) + 2}s}{r[key]:6d} {r['elements']:6d} "
-                      f"{r['h_inf_over_d0']:7.3f} {r['runout_over_d0']:9.3f} {r['t_rest']:6.2f} "
-                      f"{r['h_t4_over_d0']:6.3f} {r['runout_t4_over_d0']:6.3f} "
-                      f"{r['kinetic_energy_t4_over_peak']:8.2e} {r['volume_change_max']:8.2%}")
+            report.add_table(
+                name, [key, "elems", "h/d0", "(d-d0)/d0", "t_rest", "h4/d0", "run4", "KE4/max",
+                       "|dA|max"],
+                [[r[key], r["elements"], r["h_inf_over_d0"], r["runout_over_d0"], r["t_rest"],
+                  r["h_t4_over_d0"], r["runout_t4_over_d0"], r["kinetic_energy_t4_over_peak"],
+                  r["volume_change_max"]] for r in rows],
+                formats={"h/d0": ".3f", "(d-d0)/d0": ".3f", "t_rest": ".2f", "h4/d0": ".3f",
+                         "run4": ".3f", "KE4/max": ".2e", "|dA|max": ".2%"},
+                title="\n" + title)
     report.extra = {"cases": [_summary(r) for r in sweep],
                     "time_step_study": [_summary(r) for r in dt_study],
                     "mesh_study": [_summary(r) for r in mesh_study]}

@@ -212,11 +212,14 @@ def run(args):
     order = np.nan                  # of the error against the drawn block, above round-off
     if len(runs) >= 2 and np.all(nominal > 1e-8):
         order = float(np.polyfit(np.log(hs), np.log(nominal), 1)[0])
-    print(f"{'n':>3s} {'h':>8s} {'V / b h_b':>10s} {'effective/(rs-rw)gV - 1':>24s} "
-          f"{'against b h_b':>14s} {'under/weight':>12s} {'majority V / b h_b':>18s}")
-    for r, e in zip(runs, nominal):
-        print(f"{r['n']:3d} {r['h']:8.4f} {r['V'] / r['V_drawn']:10.4f} {r['effective']:24.2e} "
-              f"{e:14.2e} {r['under_over_weight']:12.4f} {r['V_majority'] / r['V_drawn']:18.4f}")
+    report.add_table("buoyancy", ["n", "h", "V / b h_b", "effective/(rs-rw)gV - 1",
+                                  "against b h_b", "under/weight", "majority V / b h_b"],
+                     [[r["n"], r["h"], r["V"] / r["V_drawn"], r["effective"], e,
+                       r["under_over_weight"], r["V_majority"] / r["V_drawn"]]
+                      for r, e in zip(runs, nominal)],
+                     formats={"h": ".4f", "V / b h_b": ".4f", "effective/(rs-rw)gV - 1": ".2e",
+                              "against b h_b": ".2e", "under/weight": ".4f",
+                              "majority V / b h_b": ".4f"})
     if np.isfinite(order):
         print(f"error against b h_b: order {order:.2f} in h")
     keys = ("n", "h", "V", "V_drawn", "V_record", "V_majority", "effective", "effective_force",

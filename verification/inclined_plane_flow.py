@@ -195,15 +195,17 @@ def run(args):
                              for k, r in runs.items()},
                     "u_surface_bagnold": u_ref, "stop_time": t_stop,
                     "acceleration_bound": a_min, "late_acceleration": a_late}
-    print(f"{'run':8s} {'theta':>6s} {'h [mm]':>7s} {'u_s [m/s]':>10s} {'Bagnold':>9s} "
-          f"{'iterations/step':>16s}")
+    rows = []
     for key, theta, hh in (("theta", args.theta, h), ("2h", args.theta, 2 * h),
                            ("theta_2", args.theta_2, h), ("stop", args.theta_stop, h),
                            ("fast", args.theta_fast, h)):
         r = runs[key]
         ref = surface(theta, hh) if key in ("theta", "2h", "theta_2") else np.nan
-        print(f"{key:8s} {theta:6.2f} {hh * 1e3:7.2f} {r['u'][-1]:10.4f} {ref:9.4f} "
-              f"{r['iterations'].mean():16.1f}")
+        rows.append([key, theta, hh * 1e3, r["u"][-1], ref, r["iterations"].mean()])
+    report.add_table("runs", ["run", "theta", "h [mm]", "u_s [m/s]", "Bagnold",
+                              "iterations/step"], rows,
+                     formats={"theta": ".2f", "h [mm]": ".2f", "u_s [m/s]": ".4f",
+                              "Bagnold": ".4f", "iterations/step": ".1f"})
     report.data = dict(runs=runs, law=law, h=h)
     return report
 

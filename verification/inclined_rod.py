@@ -135,7 +135,6 @@ def run(args):
     steps = np.array(sorted(set(args.steps)))
     report = Report("inclined_rod", args)
     runs, err, err_solved, err_far = {}, [], [], []
-    print(f"{'N':>6s} {'max|dF|/max|F|':>15s} {'(as solved)':>12s} {'pointwise, |F|>=F_max/2':>24s}")
     for n in steps:
         u, F, F_solved, hist = push_rod(int(n), D, H, E, V, args.u * L,
                                         f"N = {n}" if args.progress else None, args.solver)
@@ -147,7 +146,10 @@ def run(args):
         err.append(np.abs(F - Fex).max() / scale)
         err_solved.append(np.abs(F_solved - Fex).max() / scale)
         err_far.append((np.abs(F - Fex)[far] / np.abs(Fex[far])).max())
-        print(f"{n:6d} {err[-1]:15.4e} {err_solved[-1]:12.4e} {err_far[-1]:24.4e}")
+    report.add_table("error", ["N", "max|dF|/max|F|", "(as solved)", "pointwise, |F|>=F_max/2"],
+                     zip(steps.tolist(), err, err_solved, err_far),
+                     formats=dict.fromkeys(["max|dF|/max|F|", "(as solved)",
+                                            "pointwise, |F|>=F_max/2"], ".4e"))
     err, err_solved = np.array(err), np.array(err_solved)
     tol = args.tol if args.tol is not None else (0.04 if args.quick else 0.01)
     n_max = int(steps[-1])

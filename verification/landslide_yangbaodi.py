@@ -516,15 +516,15 @@ def run(args):
 
     report = Report("landslide_yangbaodi", args, particles=base["particles0"],
                     elements=base["elements0"])
-    print(f"{'case':>20s} {'mu':>6s} {'rho':>5s} {'alpha':>6s} {'n0':>5s} {'elem':>5s} "
-          f"{'front max':>9s} {'at t':>6s} {'t rest':>6s} {'mass chg':>8s} "
-          f"{'travel':>6s} {'ratio':>6s} {'steps':>5s} {'s/step':>6s}")
-    for r in results:
-        print(f"{r['label']:>20s} {r['mu']:6.4f} {r['rho']:5.2f} "
-              f"{'adapt' if r['adaptive_alpha'] else 'fixed':>6s} {r['particles0']:5d} "
-              f"{r['elements0']:5d} {r['front_max']:9.1f} {r['t_front_max']:6.2f} "
-              f"{r['t_rest']:6.2f} {r['mass_change_max']:8.2%} {r['travel_angle_deg']:6.2f} "
-              f"{r['energy_ratio']:6.3f} {r['steps_after_release']:5d} {r['seconds_per_step']:6.2f}")
+    report.add_table(
+        "cases", ["case", "mu", "rho", "alpha", "n0", "elem", "front max", "at t", "t rest",
+                  "mass chg", "travel", "ratio", "steps", "s/step"],
+        [[r["label"], r["mu"], r["rho"], "adapt" if r["adaptive_alpha"] else "fixed",
+          r["particles0"], r["elements0"], r["front_max"], r["t_front_max"], r["t_rest"],
+          r["mass_change_max"], r["travel_angle_deg"], r["energy_ratio"],
+          r["steps_after_release"], r["seconds_per_step"]] for r in results],
+        formats={"mu": ".4f", "rho": ".2f", "front max": ".1f", "at t": ".2f", "t rest": ".2f",
+                 "mass chg": ".2%", "travel": ".2f", "ratio": ".3f", "s/step": ".2f"})
     print(f"warning: {WARNING}")
     report.add_interval("hold_max_displacement_over_h", base["hold_max_displacement_over_h"],
                         0.0, HOLD_STILL, "the held phase keeps every particle still")

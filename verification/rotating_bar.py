@@ -96,16 +96,17 @@ def run(args):
     theta = np.radians(args.theta)
     steps = np.array(sorted(set(args.steps)))
     report = Report("rotating_bar", args)
-    strains = []
-    print(f"{'N':>6s} {'eps (SOCP)':>14s} {'N(cos(t/N)-1)':>14s} {'-t^2/(2N)':>14s} "
-          f"{'N*eps':>10s}")
+    strains, rows = [], []
     for n in steps:
         eps, _ = rotated_strain(int(n), theta, args.L0, args.E, args.A, args.solver)
         strains.append(eps)
         scheme, leading = n * (np.cos(theta / n) - 1), -theta ** 2 / (2 * n)
-        print(f"{n:6d} {eps:14.6e} {scheme:14.6e} {leading:14.6e} {n * eps:10.5f}")
+        rows.append([int(n), eps, scheme, leading, n * eps])
         if args.progress:
             progress(f"N = {n}: strain {eps:.6e}")
+    report.add_table("strain", ["N", "eps (SOCP)", "N(cos(t/N)-1)", "-t^2/(2N)", "N*eps"], rows,
+                     formats={"eps (SOCP)": ".6e", "N(cos(t/N)-1)": ".6e", "-t^2/(2N)": ".6e",
+                              "N*eps": ".5f"})
     strains = np.array(strains)
     n_max = int(steps[-1])
     leading = -theta ** 2 / (2 * n_max)

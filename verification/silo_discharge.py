@@ -350,14 +350,15 @@ def run(args):
     outlet_runs = results[len(main) + len(dts):]
 
     report = Report("silo_discharge", args)
-    print(f"{'case':>16s} {'walls':>6s} {'B [cm]':>6s} {'H [cm]':>6s} {'dt':>6s} {'n0':>5s} "
-          f"{'V0 [cm2]':>8s} {'Q [cm2/s]':>9s} {'R^2':>6s} {'C_eff':>6s} {'t_empty':>7s} "
-          f"{'mass err':>8s} {'steps':>5s} {'s/step':>6s} {'reduced':>7s}")
-    for r in results:
-        print(f"{r['label']:>16s} {r['walls']:>6s} {100 * r['B']:6.1f} {100 * r['H']:6.1f} "
-              f"{r['dt']:6.3f} {r['particles0']:5d} {1e4 * r['V0']:8.0f} {1e4 * r['Q']:9.1f} "
-              f"{r['r2']:6.3f} {r['C_eff']:6.2f} {r['t_empty']:7.2f} {r['mass_error']:8.1e} "
-              f"{r['steps']:5d} {r['seconds_per_step']:6.2f} {r['inaccurate_passes']:7d}")
+    report.add_table(
+        "discharges", ["case", "walls", "B [cm]", "H [cm]", "dt", "n0", "V0 [cm2]", "Q [cm2/s]",
+                       "R^2", "C_eff", "t_empty", "mass err", "steps", "s/step", "reduced"],
+        [[r["label"], r["walls"], 100 * r["B"], 100 * r["H"], r["dt"], r["particles0"],
+          1e4 * r["V0"], 1e4 * r["Q"], r["r2"], r["C_eff"], r["t_empty"], r["mass_error"],
+          r["steps"], r["seconds_per_step"], r["inaccurate_passes"]] for r in results],
+        formats={"B [cm]": ".1f", "H [cm]": ".1f", "dt": ".3f", "V0 [cm2]": ".0f",
+                 "Q [cm2/s]": ".1f", "R^2": ".3f", "C_eff": ".2f", "t_empty": ".2f",
+                 "mass err": ".1e", "s/step": ".2f"})
     print("reduced: solver passes that ended 'AlmostSolved' (Clarabel's reduced accuracy, "
           "accepted by the engine and counted)")
     for r in results:                     # exact: mass and particles accounted for

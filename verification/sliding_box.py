@@ -136,9 +136,7 @@ def run(args):
     total = args.time or args.v0 / (args.mu * args.g)
     travel_ref = args.v0 ** 2 / (2 * args.mu * args.g)
     report = Report("sliding_box", args)
-    runs = {}
-    print(f"{'steps':>6s} {'dt [s]':>8s} {'travel [m]':>11s} {'error':>9s} "
-          f"{'max lift [m]':>13s} {'final lift [m]':>15s}")
+    runs, rows = {}, []
     for n in sorted(args.steps):
         if args.body == "particle":
             path, vel = slide(args.v0, args.mu, args.g, n, total, args.theta,
@@ -148,8 +146,12 @@ def run(args):
                                  contact=args.contact, solver=args.solver)
         runs[n] = (path, vel)
         travel = path[-1, 0]
-        print(f"{n:6d} {total / n:8.4f} {travel:11.5f} {travel / travel_ref - 1:+9.2%} "
-              f"{path[:, 1].max():13.3e} {path[-1, 1]:15.3e}")
+        rows.append([n, total / n, travel, travel / travel_ref - 1, path[:, 1].max(),
+                     path[-1, 1]])
+    report.add_table("travel", ["steps", "dt [s]", "travel [m]", "error", "max lift [m]",
+                                "final lift [m]"], rows,
+                     formats={"dt [s]": ".4f", "travel [m]": ".5f", "error": "+.2%",
+                              "max lift [m]": ".3e", "final lift [m]": ".3e"})
     finest = max(args.steps)
     report.add("travel_distance", runs[finest][0][-1, 0], travel_ref,
                "Newton: v0^2 / (2 mu g)", 0.01)

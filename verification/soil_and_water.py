@@ -89,6 +89,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.pfem.measure import height_at, mesh_energy, particle_energy, surface_level
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
 CLAY = 0                # the tank scene's regions: (clay, water)
@@ -151,48 +152,10 @@ def tank_level(area, L, beta):
     return (-L + np.sqrt(L * L + 4 * k * area)) / (2 * k)
 
 
-def surface_level(x, water, h, x_from, x_to):
-    """The mean over columns h wide between x_from and x_to of the highest water particle."""
-    edges = np.arange(x_from, x_to + 1e-12, h)
-    tops = [x[water & (x[:, 0] >= a) & (x[:, 0] < b), 1] for a, b in zip(edges, edges[1:])]
-    return float(np.mean([t.max() for t in tops if t.size])) if any(t.size for t in tops) \
-        else np.nan
-
-
-def particle_energy(state, gravity):
-    """(kinetic, potential) energy the particles carry [J/m]: sum m |v|^2 / 2 and
-    -sum m g . x (the added midside particles carry no mass)."""
-    kinetic = 0.5 * float(state.mass @ np.sum(state.v ** 2, axis=1))
-    return [kinetic, -float(state.mass @ (state.x @ np.asarray(gravity, dtype=float)))]
-
-
 def largest_gain(energy):
     """The largest rise of a series between two instants: max over t of E(t) - min_{s<=t} E(s)."""
     energy = np.asarray(energy, dtype=float)
     return float(np.max(energy - np.minimum.accumulate(energy)))
-
-
-def mesh_energy(state, scene, record, result):
-    """(kinetic at t_n+1, potential at t_n, potential at t_n+1, kinetic at t_n) energy of
-    the step's own masses [J/m]: the record's kinetic energies (its mass matrix: element
-    densities x areas; at t_n of the velocities mapped onto its mesh) and
-    -sum rho_e A_e g . centroid_e over the step's mesh as remeshed at t_n and as moved,
-    each element of the region the step gave it. The energies at t_n less the previous
-    step's at t_n+1 are what the remeshing added."""
-    from pfem_skfem.pfem.alpha_shape import triangle_areas
-    from pfem_skfem.pfem.assemble import element_regions
-
-    rho = np.array([r.rho for r in scene.regions], dtype=float)[element_regions(state,
-                                                                                result.pm)]
-    gravity = np.asarray(scene.gravity, dtype=float)
-
-    def potential(points, triangles):
-        mass = rho * np.abs(triangle_areas(points, triangles))
-        return -float(mass @ (points[triangles].mean(axis=1) @ gravity))
-
-    return [float(record["kinetic_energy"]),
-            potential(result.disc.mesh.p.T, result.disc.mesh.t[:3].T),
-            potential(state.mesh_p, state.mesh_t), float(record["start_kinetic_energy"])]
 
 
 def run_tank(args, out):
@@ -241,11 +204,7 @@ def run_tank(args, out):
         series["block_x"].append(float(state.x[clay, 0].mean()))
         series["block_speed"].append(float(np.linalg.norm(
             state.mass[clay] @ state.v[clay] / state.mass[clay].sum())))
-        heights = []
-        for xg in gauges:
-            near = water & (np.abs(state.x[:, 0] - xg) <= state.h)
-            heights.append(float(state.x[near, 1].max()) if near.any() else np.nan)
-        series["gauges"].append(heights)
+        series["gauges"].append([height_at(state, xg, water, default=np.nan) for xg in gauges])
         series["level"].append(surface_level(state.x, water, args.h, *span))
         series["energy"].append(particle_energy(state, scene.gravity))
         series["mesh_energy"].append(mesh_energy(state, scene, record, result))

@@ -306,10 +306,11 @@ def run(args):
     diff = np.abs(F - F_ref).max() / scale
     diff_solved = np.abs(F_solved - F_ref).max() / scale
     yielded = np.abs(hist.sigma[-1]) >= args.sigma_s * (1 - 1e-6)
-    print(f"{'u_V (mm)':>9s} {'F SOCP (N)':>12s} {'F exact (N)':>12s} {'diff':>9s}")
-    for q in np.linspace(0, args.uV, 14):
-        i = int(np.argmin(np.abs(u - q)))
-        print(f"{u[i]:9.2f} {F[i]:12.3f} {F_ref[i]:12.3f} {(F[i] - F_ref[i]) / scale:9.2e}")
+    shown = [int(np.argmin(np.abs(u - q))) for q in np.linspace(0, args.uV, 14)]
+    report.add_table("force", ["u_V (mm)", "F SOCP (N)", "F exact (N)", "diff"],
+                     [[u[i], F[i], F_ref[i], (F[i] - F_ref[i]) / scale] for i in shown],
+                     formats={"u_V (mm)": ".2f", "F SOCP (N)": ".3f", "F exact (N)": ".3f",
+                              "diff": ".2e"})
     print(f"bars at yield at the end: {yielded.sum()} of {len(bars)}; "
           f"max |sigma| / sigma_s = {np.abs(hist.sigma).max() / args.sigma_s:.6f}")
     report.add("max_rel_diff_force", diff, 0.0,

@@ -1,16 +1,20 @@
-"""What is measured on a particle cloud: the deposit, its height at a wall, its centre of
-mass, its front, its surface's height profile, its radial mass distribution.
+"""What is measured on a particle cloud: the deposit, its height at a wall or a gauge, its
+centre of mass, its front, its surface's height profile and level, its radial mass
+distribution, its energy and the energy of a step's mesh.
 
 The verification scripts measure their runs with these (granular columns, plane and of
-revolution; the landslide); each takes a :class:`~pfem_skfem.pfem.state.PFEMState` or plain
-arrays and returns numbers, so a script states what it measures, not how.
+revolution; the landslide; the dam break; the block into the tank); each takes a
+:class:`~pfem_skfem.pfem.state.PFEMState` or plain arrays and returns numbers, so a script
+states what it measures, not how.
 """
 import numpy as np
 
-from .alpha_shape import alpha_shape
+from .alpha_shape import alpha_shape, triangle_areas
+from .assemble import element_regions
 
-__all__ = ["deposit_extent", "wall_height", "centre_of_mass", "front", "surface_height",
-           "mass_within", "mass_moved"]
+__all__ = ["deposit_extent", "height_at", "wall_height", "centre_of_mass", "front",
+           "surface_height", "surface_level", "mass_within", "mass_moved", "particle_energy",
+           "mesh_energy"]
 
 
 def deposit_extent(state, alpha, alpha_advected=0.0):
@@ -34,15 +38,28 @@ def deposit_extent(state, alpha, alpha_advected=0.0):
     return float(state.x[idx, 1].max()), float(state.x[idx, 0].max()), idx
 
 
+def height_at(state, x0, particles=None, *, within=None, default=None):
+    """The height of the cloud at the abscissa ``x0``: the highest of ``particles`` (indices
+    or a mask; default all) within ``within`` of the vertical x = x0 (default: each
+    particle's own spacing h), as a wave gauge reads a surface. ``default`` where no
+    particle lies that near (None: ValueError)."""
+    idx = np.arange(state.n) if particles is None else np.asarray(particles)
+    if idx.dtype == bool:
+        idx = np.flatnonzero(idx)
+    near = idx[np.abs(state.x[idx, 0] - x0) <= (state.h[idx] if within is None else within)]
+    if near.size == 0:
+        if default is None:
+            raise ValueError(f"no particle lies within "
+                             f"{'one spacing' if within is None else within} of x = {x0}")
+        return default
+    return float(state.x[near, 1].max())
+
+
 def wall_height(state, particles, wall_x=0.0):
     """Height of the deposit at the wall x = ``wall_x``: the highest of ``particles`` within
-    one spacing h of it (Lube et al. 2005 and Lagree et al. 2011 measure the final height
-    there, where the deposit is thickest)."""
-    idx = np.asarray(particles)
-    near = idx[np.abs(state.x[idx, 0] - wall_x) <= state.h[idx]]
-    if near.size == 0:
-        raise ValueError(f"no particle of the deposit lies within one spacing of x = {wall_x}")
-    return float(state.x[near, 1].max())
+    one spacing h of it (:func:`height_at`; Lube et al. 2005 and Lagree et al. 2011 measure
+    the final height there, where the deposit is thickest)."""
+    return height_at(state, wall_x, particles)
 
 
 def centre_of_mass(state):
@@ -50,8 +67,12 @@ def centre_of_mass(state):
     return state.mass @ state.x / state.mass.sum()
 
 
-def front(state):
-    """The front: the largest x of the mesh's vertices (of the mass, not a flying particle)."""
+def front(state, mesh=True):
+    """The front: the largest x of the mesh's vertices (of the mass, not a flying particle);
+    with ``mesh=False`` of every particle, a drop flying ahead included (the tip of a surge
+    as a photograph shows it: Martin & Moyce's front of the dam break)."""
+    if not mesh:
+        return float(state.x[:, 0].max())
     return float(np.max(state.mesh_p[:, 0]))
 
 
@@ -68,6 +89,16 @@ def surface_height(state, x):
     w = (x - x1) / np.where(vertical, 1.0, x2 - x1)
     crossed = (x >= np.minimum(x1, x2)) & (x <= np.maximum(x1, x2)) & ~vertical
     return np.where(crossed, y1 + w * (y2 - y1), -np.inf).max(axis=1)
+
+
+def surface_level(x, particles, width, x_from, x_to):
+    """The level of a surface: the mean, over the columns ``width`` wide from ``x_from`` to
+    ``x_to``, of the highest of ``particles`` (a mask of the points ``x``) in each column
+    (the columns holding none left out; nan if none holds one)."""
+    edges = np.arange(x_from, x_to + 1e-12, width)
+    tops = [x[particles & (x[:, 0] >= a) & (x[:, 0] < b), 1] for a, b in zip(edges, edges[1:])]
+    return float(np.mean([t.max() for t in tops if t.size])) if any(t.size for t in tops) \
+        else np.nan
 
 
 def mass_within(r, m):
@@ -91,3 +122,34 @@ def mass_moved(r_a, m_a, r_b, m_b):
         radii, share = mass_within(r, m)
         return np.concatenate([[0.0], share])[np.searchsorted(radii, grid, side="right")]
     return float(np.max(np.abs(share_at_grid(r_a, m_a) - share_at_grid(r_b, m_b))))
+
+
+def particle_energy(state, gravity):
+    """[kinetic, potential] energy the particles carry: sum m |v|^2 / 2 and -sum m g . x
+    (per unit thickness in plane strain; particles without mass, the midside ones added by
+    a remeshing, carry none). The kinetic energy is that of the step record's
+    ``kinetic_energy`` (:func:`~pfem_skfem.pfem.bookkeeping.particle_kinetic_energy`) summed
+    in another order: equal to the last bits."""
+    kinetic = 0.5 * float(state.mass @ np.sum(state.v ** 2, axis=1))
+    return [kinetic, -float(state.mass @ (state.x @ np.asarray(gravity, dtype=float)))]
+
+
+def mesh_energy(state, scene, record, result):
+    """[kinetic at t_n+1, potential at t_n, potential at t_n+1, kinetic at t_n] energy of a
+    step's own masses (each element's density x area, its region the one the step gave it,
+    :func:`~pfem_skfem.pfem.assemble.element_regions`): the kinetic energies of the step's
+    ``record`` (its mass matrix; at t_n of the velocities mapped onto its mesh) and
+    -sum rho_e A_e g . centroid_e over the step's mesh as remeshed at t_n
+    (``result.disc.mesh``) and as moved to t_n+1 (``state.mesh_p``, ``state.mesh_t``). A
+    step's energies at t_n less the previous step's at t_n+1 are what the remeshing added."""
+    rho = np.array([r.rho for r in scene.regions], dtype=float)[element_regions(state,
+                                                                                result.pm)]
+    gravity = np.asarray(scene.gravity, dtype=float)
+
+    def potential(points, triangles):
+        mass = rho * np.abs(triangle_areas(points, triangles))
+        return -float(mass @ (points[triangles].mean(axis=1) @ gravity))
+
+    return [float(record["kinetic_energy"]),
+            potential(result.disc.mesh.p.T, result.disc.mesh.t[:3].T),
+            potential(state.mesh_p, state.mesh_t), float(record["start_kinetic_energy"])]

@@ -1,0 +1,64 @@
+"""What is measured on a particle cloud (pfem.measure): each measure on a cloud whose answer
+is known by hand."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from pfem_skfem.pfem.measure import (front, height_at, mesh_energy, particle_energy,
+                                     surface_level)
+
+
+def lattice(nx, ny, h):
+    """A cloud of nx x ny particles, h apart, its bottom-left particle at the origin."""
+    X, Y = np.meshgrid(np.arange(nx) * h, np.arange(ny) * h)
+    x = np.column_stack([X.ravel(), Y.ravel()])
+    return SimpleNamespace(x=x, h=np.full(len(x), h), n=len(x))
+
+
+def test_the_height_at_a_wall_of_a_lattice_is_its_top_row():
+    cloud = lattice(4, 3, 0.5)                      # x in 0..1.5, y in 0..1
+    assert height_at(cloud, 0.0) == 1.0
+    assert height_at(cloud, 0.0, cloud.x[:, 1] < 0.7) == 0.5       # a mask: the lower rows
+    assert height_at(cloud, 2.1, within=0.7) == 1.0               # a wider reach: x = 1.5
+    assert np.isnan(height_at(cloud, 2.1, default=np.nan))        # none near: the default
+    with pytest.raises(ValueError, match="within one spacing of x = 2.1"):
+        height_at(cloud, 2.1)                       # 0.6 from the last column: beyond h
+
+
+def test_the_front_of_the_particles_takes_a_drop_the_mesh_leaves_out():
+    mesh_p = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    cloud = SimpleNamespace(x=np.vstack([mesh_p, [[2.5, 0.3]]]), mesh_p=mesh_p)
+    assert front(cloud) == 1.0
+    assert front(cloud, mesh=False) == 2.5
+
+
+def test_the_surface_level_of_a_lattice_is_its_top_row():
+    cloud = lattice(11, 6, 0.1)                     # x in 0..1, top row at y = 0.5
+    water = ~np.isclose(cloud.x[:, 0], 0.3)         # a gap: that column holds no water
+    x = np.vstack([cloud.x, [[0.55, 9.0]]])         # a particle of another region, higher
+    water = np.append(water, False)
+    assert surface_level(x, water, 0.1, 0.0, 1.0) == pytest.approx(0.5, abs=1e-15)
+    assert np.isnan(surface_level(x, water, 0.1, 2.0, 3.0))        # no column holds one
+
+
+def test_the_energy_of_two_particles():
+    cloud = SimpleNamespace(mass=np.array([2.0, 3.0]), v=np.array([[1.0, 0.0], [0.0, 2.0]]),
+                            x=np.array([[5.0, 1.0], [-4.0, 2.0]]))
+    kinetic, potential = particle_energy(cloud, (0.0, -10.0))
+    assert kinetic == 0.5 * (2 * 1 + 3 * 4)
+    assert potential == 2 * 10 * 1 + 3 * 10 * 2
+
+
+def test_the_energy_of_a_step_on_one_triangle_lifted_by_one():
+    p = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    t = np.array([[0, 1, 2]])
+    state = SimpleNamespace(region=np.zeros(3, dtype=int), mesh_p=p + [0.0, 1.0], mesh_t=t)
+    scene = SimpleNamespace(regions=[SimpleNamespace(rho=1000.0)], gravity=(0.0, -10.0))
+    mesh = SimpleNamespace(p=p.T, t=t.T)
+    result = SimpleNamespace(pm=SimpleNamespace(particle=np.arange(3), mesh=mesh),
+                             disc=SimpleNamespace(mesh=mesh))
+    record = {"kinetic_energy": 3.0, "start_kinetic_energy": 2.0}
+    weight = 1000.0 * 0.5 * 10.0                     # rho A g, its centroid at y = 1/3
+    np.testing.assert_allclose(mesh_energy(state, scene, record, result),
+                               [3.0, weight / 3, weight * 4 / 3, 2.0], rtol=1e-15)
