@@ -4,8 +4,8 @@
 each kind (a MathJax error, an equation wider than the column, a missing image, a raw
 ``$``, a bare object repr, a code cell wider than its box, a docutils error rendered as a
 red ``.problematic`` span or a ``.system-message`` box) and a clean page, so that a
-check that cannot fail fails here. ``test_build_counts_rendered_docutils_errors`` is
-``book/build.py``'s check of the same spans in the HTML, without a browser. ``test_every_page_of_the_built_book_reads_well`` opens every page of
+check that cannot fail fails here (tests/test_book_build.py: ``book/build.py``'s count of
+the same spans in the HTML, without a browser). ``test_every_page_of_the_built_book_reads_well`` opens every page of
 ``book/_build/html`` (``python book/build.py`` writes it, and runs the same check).
 Both skip, saying why, where there is no Chromium (Debian: ``apt-get install chromium``)
 or no MathJax copy / no built book.
@@ -77,25 +77,6 @@ def test_the_checker_finds_every_kind_of_defect(tmp_path):
     for kind in DEFECTS:
         assert any(kind in line for line in problems), f"{kind!r} not found in {problems}"
     assert any("\\tag not allowed in split environment" in line for line in problems)
-
-
-def test_build_counts_rendered_docutils_errors(tmp_path):
-    """book/build.py counts the red spans of a page in its HTML (no browser needed), one
-    line per page, and a clean page has none."""
-    import sys
-    sys.path.insert(0, str(BOOK))
-    try:
-        import build
-    finally:
-        sys.path.remove(str(BOOK))
-    clean, bad = tmp_path / "clean.html", tmp_path / "api.html"
-    clean.write_text(PAGE.format(mathjax="", defects=""))
-    bad.write_text(PAGE.format(mathjax="", defects=DEFECTS["a docutils error rendered "
-                                                            "(problematic)"] * 2
-                               + DEFECTS["a docutils error rendered (system-message)"]))
-    assert build.docutils_errors([clean]) == []
-    assert build.docutils_errors([clean, bad]) == [
-        "api.html renders 3 docutils error(s) (problematic, system-message)"]
 
 
 @needs_chromium
