@@ -16,7 +16,10 @@ offline; a script added to a copy of the page waits for MathJax and then reports
 * a raw ``$`` or ``\\(`` left in the text (maths that MyST or MathJax did not take),
 * a cell output that is a bare object repr (``<matplotlib.legend.Legend at 0x...>``),
 * a code cell wider than its box (its longest line cut or scrolled; ``_static/code.css``
-  wraps long lines, so this finds a cell that escapes it).
+  wraps long lines, so this finds a cell that escapes it),
+* a docutils error rendered in the page: a red ``.problematic`` span (markup docutils
+  could not read, e.g. ``|x|`` in a docstring taken for an undefined substitution) or a
+  ``.system-message`` box.
 
 The browser is the Debian package ``chromium`` (``apt-get install chromium``);
 :func:`find_chromium` returns None where there is none.
@@ -138,6 +141,12 @@ CHECK_JS = r"""
         problems.push("a code cell wider than its box (" + code.scrollWidth + " px of " +
                       code.clientWidth + ") in " + where(code) + ": '" + longest.trim().slice(0, 80) + "'");
       }
+    });
+    // what docutils renders for markup it could not read: a red span, a message box
+    column.querySelectorAll(".problematic, .system-message").forEach(function (el) {
+      problems.push("a docutils error rendered (" + (el.classList.contains("problematic") ?
+                    "problematic" : "system-message") + "): '" + text(el).slice(0, 80) +
+                    "' in " + where(el));
     });
     var pre = document.createElement("pre");
     pre.id = MARK;

@@ -3,8 +3,8 @@
 Usage (from the repository root, in an environment with the ``book`` extras)::
 
     python book/build.py            # full build into book/_build/html
-    python book/build.py --strict   # also fail on any Sphinx warning
     python book/build.py --pages silo --figures warn   # one chapter; list figure problems
+    python book/build.py --allow-warnings   # list Sphinx warnings without failing on them
 
 Steps:
 
@@ -15,7 +15,11 @@ Steps:
    a copy, ``book/_build/_toc.yml``, without the pages whose file does not exist
    yet, and says which it left out.
 3. ``jupyter-book build`` with every page executed (``execute_notebooks: force``);
-   an error in a cell fails the build. The repository root is put first on
+   an error in a cell fails the build, and so does any Sphinx warning (``-W
+   --keep-going``: an ERROR in a docstring, ``|x|`` read as an RST substitution, shows
+   as a red span in the page; ``--allow-warnings`` lists them without failing). A
+   ``--pages`` build does not fail on the links to the pages it left out. The
+   repository root is put first on
    ``PYTHONPATH`` so that the pages run this checkout's package. Every figure a
    page shows is checked as the scripts' figures are, at the page's width
    (``book/_ext/figure_check.py``, which the kernel runs first): a figure with
@@ -28,7 +32,8 @@ Steps:
    ``python book/browser_check.py`` runs this step alone on a built book): no MathJax
    error, no display equation wider than the content column, every image loaded, no
    raw ``$`` in the text, no bare object repr in an output, no code cell wider than
-   its box. Without Chromium (Debian
+   its box, no docutils error rendered in the page (``.problematic``,
+   ``.system-message``; step 4 counts these in the HTML too). Without Chromium (Debian
    package ``chromium``) this step is skipped with a warning (``--no-browser`` skips it).
 
 ``bash scripts/book.sh`` (its arguments passed on) makes ``.venv``, installs the
@@ -71,6 +76,10 @@ CDN = re.compile(r"\b(?:cdn[\w.-]*\.[a-z]+|unpkg\.com|jsdelivr\.net|cdnjs\.cloud
 EXECUTED = re.compile(r"(\S+): Executed notebook in ([\d.]+) seconds")
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 MATHJAX_SCRIPT = re.compile(r"<script\b[^>]*\bsrc=[\"'][^\"']*mathjax/", re.IGNORECASE)
+# what docutils renders for markup it could not read (an undefined |substitution|, ...)
+DOCUTILS_ERROR = re.compile(
+    r"""<\w+\b[^>]*\bclass=["'](?:[^"']*\s)?(problematic|system-message)(?=["'\s])""")
+XREF_MISSING = re.compile(r"Unknown source document '([^']+)' \[myst\.xref_missing\]")
 
 
 def log(msg):
@@ -146,7 +155,15 @@ def write_toc(only=None):
     toc = yaml.safe_load((BOOK / "_toc.yml").read_text())
     if only:
         keep = {Path(p).stem for p in only}
-        toc["chapters"] = [c for c in toc.get("chapters", []) if Path(c["file"]).stem in keep]
+        if "chapters" in toc:
+            toc["chapters"] = [c for c in toc["chapters"] if Path(c["file"]).stem in keep]
+        for part in toc.get("parts", []):          # the chapters of a toc in parts
+            part["chapters"] = [c for c in part.get("chapters", [])
+                                if Path(c["file"]).stem in keep]
+        if "parts" in toc:
+            toc["parts"] = [p for p in toc["parts"] if p["chapters"]]
+            if not toc["parts"]:
+                del toc["parts"]
     if not _page_exists(toc["root"]):
         raise SystemExit(f"[book] error: the root page {toc['root']!r} does not exist")
     missing = []
@@ -196,14 +213,17 @@ def pin_kernel():
 
 
 def run_jupyter_book(toc_path, strict, incremental, figures="fail"):
-    """Run jupyter-book build; return (exit code, warning lines)."""
+    """Run jupyter-book build; return (exit code, warning lines).
+
+    ``strict``: Sphinx's ``-W --keep-going`` (every warning reported, then the build fails).
+    """
     cmd = [sys.executable, "-c",
            "import sys; from jupyter_book.cli.main import main; sys.exit(main())",
            "build", str(BOOK), "--toc", str(toc_path)]
     if not incremental:
         cmd.append("--all")
     if strict:
-        cmd += ["-W", "--keep-going", "-n"]
+        cmd += ["-W", "--keep-going"]
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
     env["JUPYTER_PATH"] = os.pathsep.join(filter(None, [pin_kernel(),
@@ -255,7 +275,29 @@ def check_html(toc):
         for host in sorted(set(CDN.findall(text))):
             problems.append(f"{name} refers to the CDN {host}")
     log(f"{n_math} page(s) load the local MathJax")
+    built = [HTML / (str(Path(page).with_suffix("")) + ".html") for page in _pages(toc)]
+    problems += docutils_errors([html for html in built if html.is_file()])
     return problems
+
+
+def docutils_errors(pages):
+    """A line for each of the HTML ``pages`` that renders docutils errors (the red
+    ``problematic`` spans and ``system-message`` boxes of markup docutils could not read,
+    such as ``|x|`` taken for an undefined substitution)."""
+    found = []
+    for html in pages:
+        kinds = DOCUTILS_ERROR.findall(Path(html).read_text(errors="replace"))
+        if kinds:
+            found.append(f"{Path(html).name} renders {len(kinds)} docutils error(s) "
+                         f"({', '.join(sorted(set(kinds)))})")
+    return found
+
+
+def left_out_warnings(warnings, left_out):
+    """The warnings without those of links to the pages a ``--pages`` build left out."""
+    gone = {Path(p).stem for p in left_out}
+    return [w for w in warnings
+            if not ((m := XREF_MISSING.search(w)) and Path(m[1]).stem in gone)]
 
 
 def figure_reports(toc):
@@ -277,7 +319,9 @@ def figure_reports(toc):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--strict", action="store_true",
-                   help="fail on any Sphinx warning (-W --keep-going -n)")
+                   help="fail on any Sphinx warning (the default; -W --keep-going)")
+    p.add_argument("--allow-warnings", action="store_true",
+                   help="list the Sphinx warnings without failing on them")
     p.add_argument("--incremental", action="store_true",
                    help="rebuild only changed pages (default: all pages, all executed)")
     p.add_argument("--no-browser", action="store_true",
@@ -291,19 +335,28 @@ def main(argv=None):
     t0 = time.perf_counter()
     ensure_mathjax()
     toc_path, toc = write_toc(args.pages)
-    code, warnings = run_jupyter_book(toc_path, args.strict, args.incremental, args.figures)
+    strict = args.strict or not args.allow_warnings
+    # a --pages build links to the pages it left out: those warnings are not counted
+    code, warnings = run_jupyter_book(toc_path, strict and not args.pages, args.incremental,
+                                      args.figures)
+    if args.pages:
+        every_page = set(_pages(yaml.safe_load((BOOK / "_toc.yml").read_text())))
+        warnings = left_out_warnings(warnings, every_page - set(_pages(toc)))
+    log(f"{len(warnings)} warning(s) from the build" + (":" if warnings else ""))
+    for line in warnings:
+        log(f"  {line}")
     if code != 0:
         log(f"error: jupyter-book build failed (exit code {code})")
         return code
     problems = check_html(toc)
+    if strict and warnings:
+        problems.append(f"{len(warnings)} Sphinx warning(s) (above; --allow-warnings lists "
+                        "them without failing)")
     for page, text in figure_reports(toc):      # --figures warn: the cells did not fail
         log(f"figures of {page}: {text}")
         problems.append(f"{page}: figures hard to read (above)")
     for line in problems:
         log(f"error: {line}")
-    log(f"{len(warnings)} warning(s) from the build" + (":" if warnings else ""))
-    for line in warnings:
-        log(f"  {line}")
     if not args.no_browser:
         sys.path.insert(0, str(BOOK))
         from browser_check import check_pages

@@ -2,8 +2,10 @@
 
 ``test_the_checker_finds_every_kind_of_defect`` opens a small page with one defect of
 each kind (a MathJax error, an equation wider than the column, a missing image, a raw
-``$``, a bare object repr, a code cell wider than its box) and a clean page, so that a
-check that cannot fail fails here. ``test_every_page_of_the_built_book_reads_well`` opens every page of
+``$``, a bare object repr, a code cell wider than its box, a docutils error rendered as a
+red ``.problematic`` span or a ``.system-message`` box) and a clean page, so that a
+check that cannot fail fails here (tests/test_book_build.py: ``book/build.py``'s count of
+the same spans in the HTML, without a browser). ``test_every_page_of_the_built_book_reads_well`` opens every page of
 ``book/_build/html`` (``python book/build.py`` writes it, and runs the same check).
 Both skip, saying why, where there is no Chromium (Debian: ``apt-get install chromium``)
 or no MathJax copy / no built book.
@@ -45,6 +47,12 @@ DEFECTS = {
     "a code cell wider than its box": ('<div class="highlight"><pre>total = '
                                        + " + ".join(f"term_{i}" for i in range(40))
                                        + "</pre></div>"),
+    # what Sphinx renders for ``|q_j| <= mu p`` in a docstring (an undefined substitution)
+    "a docutils error rendered (problematic)": '<p>the cone <a class="problematic" '
+                                               'href="#id1" id="id2">|q_j|</a> &lt;= mu p</p>',
+    "a docutils error rendered (system-message)": '<div class="system-message"><p class='
+                                                  '"system-message-title">System Message: '
+                                                  'ERROR/3</p></div>',
 }
 
 

@@ -152,6 +152,39 @@ def test_dynamic_block_at_rest_on_a_floor_stays_at_rest_and_carries_its_weight()
     assert np.abs(u).max() < 1e-6 * g_dt2 and np.abs(v).max() < 1e-6 * 9.8 * 0.05
 
 
+@pytest.mark.parametrize("solver", ["cvxpy", "clarabel"])
+@pytest.mark.parametrize("floor_travel", [0.004, 0.05])
+def test_a_floor_moving_under_a_block_at_rest_drags_it_its_way(solver, floor_travel):
+    """A rigid block at rest on a rough floor that moves by d = (floor_travel, 0) in the step
+    (potential_contacts(motions=...): the slip n^ . (du - d) is relative to the floor).
+    Friction can give the block (mass m, weight W) at most mu W: below m d / dt^2 it sticks
+    and moves with the floor, du = d; above, it slides, dragged forwards less than the
+    floor, and its friction on the floor holds the floor back. A slip of the wrong sign
+    would drag it backwards."""
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.step_terms import Contact
+    rho, g, dt, mu = 2.0, 9.8, 0.05, 0.5
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
+    floor = RigidSegment((-1.0, 0.0), (2.0, 0.0), mu=mu)
+    ops = dynamic_operators(disc, rho, ThetaMethod(dt, 1.0, 1.0), elastic=None)
+    f = body_force_vector(disc, (0.0, -rho * g))
+    contacts = potential_contacts(disc, [floor], 0.05, motions=[(floor_travel, 0.0)])
+    res = dynamic_increment(ops, f, f, np.zeros((disc.n_points, 4)), np.zeros(disc.n_u),
+                            Tresca(1e3), terms=[Contact(contacts)], solver=solver)
+    du_x = res.du[0::2]
+    R = resultants(contacts, res.p, res.q)[0]
+    m, W = rho * 0.5, rho * g * 0.5
+    if m * floor_travel / dt ** 2 < mu * W:                    # sticks: moves with the floor
+        assert du_x == pytest.approx(floor_travel, rel=1e-6)
+        assert R[0] == pytest.approx(-m * floor_travel / dt ** 2, rel=1e-5)
+    else:                                                       # slides, dragged forwards
+        assert 0.5 * mu * g * dt ** 2 < du_x.min() and du_x.max() < 0.5 * floor_travel
+        assert R[0] < -0.5 * mu * W
+    # the floor's normal is (0, 1), its tangent n^ = (-1, 0): its own slip n^ . d = -d_x
+    assert np.allclose(contacts.slip, -floor_travel, rtol=1e-15)
+
+
 def test_fe_block_slides_like_the_rigid_particle():
     """(5.12) on a rigid-plastic block reproduces (5.9) for the rigid particle."""
     fe, _ = sliding_box.slide_fe(0.98, 0.1, 9.8, 10, 1.0, 0.5)

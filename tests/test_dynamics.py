@@ -88,6 +88,26 @@ def test_free_fall(block, material, theta1, theta2):
     assert np.abs(hist.u[0::2]).max() <= 1e-6 * G * dt ** 2
 
 
+@pytest.mark.parametrize("theta1, theta2", [(1.0, 0.5), (0.5, 1.0), (0.75, 0.5)])
+def test_free_fall_under_a_growing_load(block, theta1, theta2):
+    """A free elastic body under a load growing in time, f(t) = m g (1 + c t): the step's load
+    is f at t_n + theta1 dt (ThetaMethod.load), so v_N = g dt (N + c dt (N (N - 1)/2 + N theta1))
+    and each step moves dt v_n + theta2 dt^2 a_theta. With theta1 != theta2 a load weighted by
+    theta2 (or by 1) misses both."""
+    dt, n, rho, c = 0.1, 3, 2.0, 4.0
+    th = ThetaMethod(dt, theta1, theta2)
+    assert np.allclose(th.load(1.0, 3.0), 1.0 + 2.0 * theta1)
+    ops = dynamic_operators(block, rho, th, Elastic(1e4, 0.3))
+    weight = gravity_vector(block, rho, G)
+    hist = integrate(ops, lambda t: weight * (1 + c * t), n)
+    a = [-G * (1 + c * (i + theta1) * dt) for i in range(n)]      # a at t_i + theta1 dt
+    v_exact = dt * np.sum(a)
+    u_exact = sum(dt * dt * np.sum(a[:i]) + theta2 * dt ** 2 * a[i] for i in range(n))
+    assert np.allclose(hist.v[1::2], v_exact, rtol=1e-6, atol=0)
+    assert np.allclose(hist.u[1::2], u_exact, rtol=1e-6, atol=0)
+    assert np.abs(hist.v[0::2]).max() <= 1e-6 * G * dt
+
+
 def test_kkt_conditions(block):
     """(4.25) with the signs of (4.22): dt^2 D r = A du and B^T sigma + M~ du/dt^2 = f~."""
     elastic = Elastic(1e3, 0.3)

@@ -102,6 +102,34 @@ def test_an_outlet_removes_exactly_the_particles_that_crossed_it():
     assert 0 < state.discharged["floor"][1] < n0                 # it did cross, partly
 
 
+def test_a_particle_in_two_overlapping_outlets_leaves_once():
+    """discharge with two outlets whose zones overlap (a corner in both): the first outlet
+    takes the corner, the second only what the first left, so every particle is
+    discharged once and the material inside plus the material discharged is the
+    initial mass, particle by particle."""
+    from dataclasses import replace
+    from pfem_skfem.pfem.bookkeeping import discharge
+    from pfem_skfem.scene import PolygonZone
+    bottom = Outlet("bottom", HalfPlane((0.0, 0.15), (0.0, -1.0)))           # y < 0.15
+    left = Outlet("left", PolygonZone(((-1.0, -1.0), (0.25, -1.0), (0.25, 2.0), (-1.0, 2.0))))
+    state = Scene(regions=(block(),), config=PFEMConfig(theta=ThetaMethod(0.05))).initial_state()
+    state = replace(state, mass=1.0 + np.arange(state.n) / state.n)       # unequal masses
+    x, m0, n0 = state.x, state.total_mass, state.n
+    in_bottom, in_left = bottom.zone.contains(x), left.zone.contains(x)
+    assert (in_bottom & in_left).sum() > 0                        # the corner is in both
+    after, now = discharge(state, (bottom, left))
+    assert now["bottom"] == [pytest.approx(state.mass[in_bottom].sum(), rel=1e-15),
+                             int(in_bottom.sum())]
+    only_left = in_left & ~in_bottom
+    assert now["left"] == [pytest.approx(state.mass[only_left].sum(), rel=1e-15),
+                           int(only_left.sum())]
+    assert after.n == n0 - int((in_bottom | in_left).sum())
+    assert now["bottom"][1] + now["left"][1] + after.n == n0
+    assert after.total_mass + now["bottom"][0] + now["left"][0] == pytest.approx(m0, rel=1e-14)
+    assert after.discharged == now
+    np.testing.assert_array_equal(after.x, x[~(in_bottom | in_left)])
+
+
 def test_a_run_ends_cleanly_when_every_particle_has_left():
     """The falling block of the test above, run on: its last row forms no element and flies
     free (still y_N = y_0 - g dt^2 N (N + 1) / 2), then the last particles leave; the run

@@ -513,6 +513,31 @@ def test_uem_exact_for_linear_fields_between_random_remeshes(seed, n, alpha):
     np.testing.assert_allclose(mapped, _linear_stress(new.points), rtol=1e-9, atol=1e-9)
 
 
+def test_velocity_projection_onto_a_larger_mesh_keeps_a_linear_field():
+    """project_nodal onto a mesh reaching past the old one: the quadrature points outside
+    the old mesh take the linear interpolation of the new vertices' values
+    (``vertex_values``, the particles' velocities), so a linear velocity field given
+    on both is mapped exactly, inside and outside (a swapped area coordinate of the
+    outside points moved the dam break's front by 0.2 a)."""
+    from skfem import MeshTri
+    from pfem_skfem.pfem.mapping import project_nodal
+
+    def linear(x, y):                            # (2, n) velocity of a linear field
+        return np.array([0.3 + 1.7 * x - 0.9 * y, -0.4 + 0.6 * x + 2.1 * y])
+
+    old = discretise(MeshTri.init_tensor(np.linspace(0, 1, 6), np.linspace(0, 1, 5)))
+    new = discretise(triangulate_polygon([(-0.3, -0.2), (1.4, -0.25), (1.3, 1.35),
+                                          (-0.2, 1.2)], 0.25))
+    assert (new.mesh.p.min(axis=1) < 0).all() and (new.mesh.p.max(axis=1) > 1).all()
+    x = old.basis_u.doflocs
+    v_old = np.where(np.arange(old.n_u) % 2 == 0, *linear(*x))
+    y = new.basis_u.doflocs
+    exact = np.where(np.arange(new.n_u) % 2 == 0, *linear(*y))
+    vertex_values = linear(*new.mesh.p).T              # (n_vertices, 2)
+    v = project_nodal(old.basis_u, v_old, new.basis_u, vertex_values=vertex_values)
+    assert np.abs(v - exact).max() <= 1e-10
+
+
 def test_velocity_projection_is_exact_on_p2_fields_and_adds_no_energy():
     """project_nodal: M_new v = int N^T v_old reproduces a quadratic field (so its momentum),
     and does not raise the kinetic energy of a rough field (up to the quadrature of the

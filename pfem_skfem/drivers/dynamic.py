@@ -2,7 +2,7 @@
 
 Energy book-keeping. Multiplying the discrete momentum balance
 M (v_{n+1} - v_n)/dt = f_theta - B^T sigma_theta + R_theta by
-du = dt (theta2 v_{n+1} + (1 - theta2) v_n) gives
+du = dt (theta2 v_{n+1} + (1 - theta2) v_n) gives::
 
     dK + dW_el = dW_ext - dD_p - (theta2 - 1/2) |dv|_M^2 - (theta1 - 1/2) |dsigma|_C^2
 

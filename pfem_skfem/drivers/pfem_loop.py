@@ -270,6 +270,8 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     snapshots : step numbers whose particles and fields are kept in the returned dict.
     progress : callable(step, steps, record) after each step (e.g. a progress bar).
 
+    Notes
+    -----
     The input state is not changed (the returned one has its own history), and it must be
     a state of ``scene`` (:func:`check_run`).
     The run ends early when every particle has been discharged (the state is then empty).

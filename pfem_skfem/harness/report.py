@@ -193,7 +193,7 @@ class Report:
                      reference=None):
         """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative).
 
-        The excess outside the interval is relative to max(|lower|, |upper|) when both
+        The excess outside the interval is relative to ``max(|lower|, |upper|)`` when both
         ends are finite; to the finite end's magnitude for a one-sided interval (absolute
         where that end is 0): an infinite scale would let any finite value pass. A NaN or
         infinite value fails (its ``rel_error`` NaN or inf).

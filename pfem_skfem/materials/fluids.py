@@ -147,7 +147,7 @@ class BinghamFluidAxisymmetric(_Axisymmetric, BinghamFluid):
     """:class:`BinghamFluid` in axisymmetry: sqrt(J2) <= tau_y
     (:class:`~pfem_skfem.materials.VonMisesField`, the hoop stress read), the viscous
     deviator with its hoop component, gamma_dot = sqrt(2 D':D') the hoop rate counted;
-    in simple shear sqrt(J2) = |tau| as in the plane."""
+    in simple shear sqrt(J2) = ``|tau|`` as in the plane."""
 
     name = "Bingham fluid, axisymmetric"
     geometries = ("axisymmetric",)

@@ -11,7 +11,7 @@ with the shear rate gamma_dot = sqrt((e_x - e_y)^2 + g_xy^2) (rates; Jop's
 sqrt(2 D:D) for an isochoric plane flow) and the pressure p = -(sx + sy)/2. In plane
 strain with zero dilation the yield set is the circle R <= mu(I) p, R the radius of the
 in-plane Mohr circle, which is the zero-dilation Mohr-Coulomb cone of [80] with
-sin(phi) replaced by mu(I) at each stress point (so mu is Jop's |tau| / p).
+sin(phi) replaced by mu(I) at each stress point (so mu is Jop's ``|tau| / p``).
 """
 from dataclasses import dataclass
 
@@ -215,7 +215,7 @@ class MuIRheologyAxisymmetric(MuIRheology):
 
     (J2 of (7.11) reading the hoop stress,
     :class:`~pfem_skfem.materials.axisymmetric.VonMisesField`; in simple shear
-    sqrt(J2) = |tau| and gamma_dot is the shear rate, so mu is Jop's |tau| / p), the
+    sqrt(J2) = ``|tau|`` and gamma_dot is the shear rate, so mu is Jop's ``|tau| / p``), the
     pressure lagged as I1/3 as the axisymmetric cones. The rate part is that of
     :class:`MuIRheology` on the whole deviator of axisymmetry,
     (a, -a, 0, b) + c (1, 1, -2, 0) / sqrt3 (sqrt(J2) = ||(a, b, c)||, ``hoop`` of

@@ -448,7 +448,7 @@ class Scaling:
     """Reference magnitudes that make a problem's data order one.
 
     stress : a stress of the problem (the material strength, say);
-    length : a length of the problem (typical |B| entry: an element size);
+    length : a length of the problem (typical ``|B|`` entry: an element size);
     compliance : a compliance of the problem (typical C diagonal entry:
         integration weight / E).
     """
@@ -465,7 +465,7 @@ class Scaling:
 
     @classmethod
     def from_operators(cls, B, C, stress):
-        """Take length and compliance as medians of |B| and of diag(C)."""
+        """Take length and compliance as medians of ``|B|`` and of diag(C)."""
         length = float(np.median(np.abs(B.data[B.data != 0])))
         compliance = 1.0 if C is None else float(np.median(np.abs(C.diagonal())))
         return cls(stress=float(stress), length=length, compliance=compliance)

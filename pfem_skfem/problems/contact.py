@@ -3,7 +3,7 @@
 Each boundary node of the mesh near a rigid body is a *potential contact*: a
 weightless particle with the gap g0 to the body at t_n, the body's unit normal n
 there (pointing from the body towards the deformable solid) and the tangent
-n^ = (-n2, n1). Its contact force on the solid is ``n p + n^ q`` with
+n^ = (-n2, n1). Its contact force on the solid is ``n p + n^ q`` with::
 
     |q| <= mu p                                  (Coulomb cone; p >= 0 when mu = 0)
 
@@ -12,10 +12,10 @@ KKT conditions then give (5.11): the gap at t_{n+1}, g0 + n . du, equals
 mu * lambda >= 0 (no penetration; the associated sliding rule dilates by
 mu * lambda), and the slip n^ . du opposes q.
 
-Zero dilation. The associated rule lifts a sliding node off the body by mu |slip|
+Zero dilation. The associated rule lifts a sliding node off the body by mu ``|slip|``
 per step. The contact counterpart of the psi = 0 scheme of [80] removes it: with a
 known normal force p~_j (lagged, e.g. from a first pass of the step), the cone
-|q_j| <= mu_j p_j becomes the bound |q_j| <= mu_j p~_j (Tresca-type friction).
+``|q_j| <= mu_j p_j`` becomes the bound ``|q_j| <= mu_j p~_j`` (Tresca-type friction).
 The KKT conditions then give g0 + n . du >= 0 with complementarity to p_j (no
 opening while in contact) and a slip opposing q_j, at the friction force mu p~_j
 (:func:`with_friction_bound`). At a fixed point p = p~ it is Coulomb's law
@@ -119,8 +119,8 @@ class ContactSet:
     normal : (nc, 2) n;  mu : (nc,) friction;  body : (nc,) index of the rigid body;
     slip : (nc,) n^ . d, the body's own tangential motion d over the step (the slip of
         the node relative to the body is n^ . (du - d)); None: zero;
-    friction_bound : None (Coulomb, |q_j| <= mu_j p_j) or (nc,) known friction forces
-        mu_j p~_j (zero dilation, |q_j| <= mu_j p~_j; see :func:`with_friction_bound`).
+    friction_bound : None (Coulomb, ``|q_j| <= mu_j p_j``) or (nc,) known friction forces
+        mu_j p~_j (zero dilation, ``|q_j| <= mu_j p~_j``; see :func:`with_friction_bound`).
     """
 
     dofs: np.ndarray
@@ -210,7 +210,7 @@ def without_nodes(contacts, dofs):
 
 
 def with_friction_bound(contacts, normal_force):
-    """The same contacts with zero dilation: |q_j| <= mu_j p~_j for a known normal force p~.
+    """The same contacts with zero dilation: ``|q_j| <= mu_j p~_j`` for a known normal force p~.
 
     ``normal_force`` : (nc,) p~_j >= 0, typically the p of a first, associated pass of
     the same step (in the units of the problem's forces, as returned in ``p``).
@@ -226,8 +226,8 @@ def with_friction_bound(contacts, normal_force):
 
 @dataclass(frozen=True)
 class CoulombCones:
-    """Contact rule: the associated Coulomb cones |q_j| <= mu_j p_j of (5.12), as in the
-    thesis (a sliding node lifts off by mu |slip| per step, which vanishes as dt -> 0)."""
+    """Contact rule: the associated Coulomb cones ``|q_j| <= mu_j p_j`` of (5.12), as in the
+    thesis (a sliding node lifts off by mu ``|slip|`` per step, which vanishes as dt -> 0)."""
 
     passes_needed = 1
 
@@ -244,7 +244,7 @@ class CoulombCones:
 class LaggedFriction:
     """Contact rule without dilation: the first pass of a step is smooth, each later one
     bounds the friction by mu times the previous pass's normal force,
-    |q_j| <= mu_j p~_j (:func:`with_friction_bound`; needs two passes or more)."""
+    ``|q_j| <= mu_j p~_j`` (:func:`with_friction_bound`; needs two passes or more)."""
 
     passes_needed = 2
 

@@ -54,9 +54,9 @@ def dynamic_increment(ops, f_n, f_next, sigma_n, v_n, criterion=None, *, fixed=(
     """Solve one time step of the dynamic problem (4.23).
 
     .. math::
-        \\max_{\\sigma, r'}\\; -\\tfrac12 \\Delta t^2 r'^T D r' - \\Delta t\\, v_n^T A^T r'
-          + \\text{terms}
-        \\quad\\text{s.t.}\\quad B_F^T\\sigma + A_F^T r' + \\text{terms' forces} = f'_F,
+        &\\max_{\\sigma, r'}\\; -\\tfrac12 \\Delta t^2 r'^T D r' - \\Delta t\\, v_n^T A^T r'
+          + \\text{terms} \\\\
+        &\\text{s.t.}\\quad B_F^T\\sigma + A_F^T r' + \\text{terms' forces} = f'_F,
         \\quad F(\\sigma_j) \\le 0
 
     which is (4.23) with r = rho~ v_n/dt + r' (see the module docstring), F the free dofs,

@@ -3,12 +3,12 @@
 The teaching form of the contact scheme: a rigid body without rotation (mass m,
 velocity v) meets rigid boundaries at contact points j with gaps g0_j, normals n_j
 (from the boundary towards the body) and friction mu_j. The theta-method (5.2)
-gives m_bar du / dt^2 = f_bar + sum_j (n_j p_j + n^_j q_j) with
+gives m_bar du / dt^2 = f_bar + sum_j (n_j p_j + n^_j q_j) with::
 
     m_bar = m / theta,   f_bar = f_ext + m_bar v_n / dt                (5.4)
 
 and the step is the cone program (5.9), re-derived from (5.6)-(5.8) (the printed
-(5.9) is garbled; see shared/thesis/MAP.md):
+(5.9) is garbled; see shared/thesis/MAP.md)::
 
     maximise   - dt^2 / 2  r^T m_bar^-1 r - sum_j g0_j p_j
     subject to r = f_bar + sum_j (n_j p_j + n^_j q_j)
@@ -16,7 +16,7 @@ and the step is the cone program (5.9), re-derived from (5.6)-(5.8) (the printed
 
 with the dynamic force r = m_bar du / dt^2 (5.8). Its KKT conditions are (5.5):
 no penetration (g0_j + n_j . du >= 0), p_j >= 0, complementarity, and the
-associated sliding rule, whose dilation mu * |slip| vanishes as dt -> 0.
+associated sliding rule, whose dilation mu * ``|slip|`` vanishes as dt -> 0.
 """
 from dataclasses import dataclass
 

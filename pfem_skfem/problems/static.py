@@ -60,7 +60,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
 
     With ``contacts`` (a :class:`~pfem_skfem.problems.contact.ContactSet`) the
     rigid frictional boundaries of (5.12) join: equilibrium gains the contact
-    forces G (p, q), the objective the term - sum g0_j p_j, and |q_j| <= mu_j p_j.
+    forces G (p, q), the objective the term - sum g0_j p_j, and ``|q_j| <= mu_j p_j``.
 
     Parameters
     ----------

@@ -29,7 +29,7 @@ from .static import point_multipliers
 class DynamicScales:
     """Reference stress, displacement increment and dynamic force r' of one step of (4.23).
 
-    Forces are measured in stress x length (length = median |B| entry), the
+    Forces are measured in stress x length (length = median ``|B|`` entry), the
     objective in force x displacement, so the scaled dual of equilibrium is
     du / displacement; r' is measured in ``dynamic_force``.
     """
@@ -53,7 +53,7 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
     and takes its magnitudes: displacement |du|, stress the strength (or the
     larger of the predicted |sigma| and |f'| / length), dynamic force
     |D^-1 A (du - dt v_n)| / dt^2, for a rigid-plastic body at least the force
-    density stress x |B| / |A| that balances stress gradients.
+    density stress x ``|B| / |A|`` that balances stress gradients.
     """
     from scipy.sparse.linalg import splu
 
@@ -85,15 +85,19 @@ def estimate_scales(ops, f, v_n, sigma_n, free, criterion, du_prescribed=()):
 class DynamicIncrement:
     """Solution of one step of (4.23).
 
-    sigma : (n_points, 4) stresses at t_{n+1};  du : (n_u,) displacement increments;
-    v : (n_u,) velocities at t_{n+1} (4.7);  r : (n_r,) dynamic forces r' = r - rho~ v_n/dt;
-    reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs);
-    plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic);
-    info : solver report;  scales : the solution's own magnitudes, a good
-        ``scaling`` for the next step;
+    Attributes
+    ----------
+    sigma : (n_points, 4) stresses at t_{n+1}.
+    du : (n_u,) displacement increments.
+    v : (n_u,) velocities at t_{n+1} (4.7).
+    r : (n_r,) dynamic forces r' = r - rho~ v_n/dt.
+    reactions : (n_u,) B^T sigma + A^T r' - f' on supported dofs (zero on free dofs).
+    plastic_multiplier : (n_points,) integrated plastic multipliers (zero if elastic).
+    info : solver report.
+    scales : the solution's own magnitudes, a good ``scaling`` for the next step.
     p, q : (nc,) normal and tangential contact forces of the step (empty without
         contacts), the forces of the momentum balance, i.e. theta1 times the
-        multipliers of the theta1-weighted equilibrium;
+        multipliers of the theta1-weighted equilibrium.
     parts : what other terms of the step return, by name (``spring_forces``, ...).
     """
 

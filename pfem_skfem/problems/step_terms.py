@@ -16,16 +16,16 @@ dolfinx_optim. A term knows its two statements:
 and :meth:`StepTerm.read` / :meth:`StepTerm.invert` read its part of the answer. The
 terms of this module, in the order a step adds them (:func:`step_terms`):
 
-========================  ===================================================  ========
-term                      in (4.23)                                            cones
-========================  ===================================================  ========
-:class:`Compliance`       - 1/2 (sigma - sigma_n)^T C (sigma - sigma_n)        (none)
-:class:`Contact`          (5.12): - sum g0_j p_j, |q_j| <= mu_j p_j, G (p, q)  nonneg
-:class:`BinghamStress`    - sum_j dt w_j tau_j^2 / (2 eta_j), sigma += E (a, b)  (none)
-:class:`MuIRate`          - sum_j dt w_j c_j (-s_j - ln(1 - s_j)), tau <= tau_max s  soc, exp
-:class:`ElasticSupport`   - sum_i g_i^2 / (2 k_i), + g_i on dof i (springs)     (none)
-:class:`PrescribedWork`   + du_P^T (B_P^T sigma + A_P^T r' - f'_P)             (none)
-========================  ===================================================  ========
+=======================  =============================================================  ========
+term                     in (4.23)                                                      cones
+=======================  =============================================================  ========
+:class:`Compliance`      ``- 1/2 (sigma - sigma_n)^T C (sigma - sigma_n)``              (none)
+:class:`Contact`         (5.12): ``- sum g0_j p_j``, ``|q_j| <= mu_j p_j``, G (p, q)    nonneg
+:class:`BinghamStress`   ``- sum_j dt w_j tau_j^2 / (2 eta_j)``, sigma += E (a, b)      (none)
+:class:`MuIRate`         ``- sum_j dt w_j c_j (-s_j - ln(1 - s_j))``, tau <= tau_max s  soc, exp
+:class:`ElasticSupport`  ``- sum_i g_i^2 / (2 k_i)``, + g_i on dof i (springs)          (none)
+:class:`PrescribedWork`  ``+ du_P^T (B_P^T sigma + A_P^T r' - f'_P)``                   (none)
+=======================  =============================================================  ========
 
 A new term is a subclass with these methods and a line in :func:`step_terms`; the step
 knows nothing of its kind (CONTRIBUTING.md, "A new term of the step").
@@ -107,8 +107,8 @@ class Compliance(StepTerm):
 class Contact(StepTerm):
     """Rigid frictional boundaries (5.10)-(5.12): the contact forces (p, q) of the nodes of a
     :class:`~pfem_skfem.problems.contact.ContactSet` join equilibrium (- G (p, q)), - sum g0_j
-    p_j (+ sum (n^_j . d) q_j for a moving body) the objective, p_j >= 0 and |q_j| <= mu_j p_j
-    (or |q_j| <= k_j, a friction bound) the constraints. A friction bound is a force of the
+    p_j (+ sum (n^_j . d) q_j for a moving body) the objective, p_j >= 0 and ``|q_j| <= mu_j p_j``
+    (or ``|q_j| <= k_j``, a friction bound) the constraints. A friction bound is a force of the
     momentum balance: theta1 x the variable, hence its scale force x theta1."""
 
     name = "contact"
@@ -227,7 +227,7 @@ class BinghamStress(_RateStress):
     """A viscous stress beside the yield cone, ``ViscousStress`` (eta_j, w_j): the term
     - sum_j dt w_j tau_j^2 / (2 eta_j) of the objective (a Bingham dissipation, as Zhang et
     al. 2017 add to (4.23)), so that at a flowing point R(sigma) = R(sigma_p) + eta_j
-    gamma_dot_j. In the scaled variables - 1/2 sum_j kv_j |(a_j, b_j)|^2."""
+    gamma_dot_j. In the scaled variables ``- 1/2 sum_j kv_j |(a_j, b_j)|^2``."""
 
     name = "bingham"
 

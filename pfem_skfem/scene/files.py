@@ -463,7 +463,7 @@ def scene_to_toml(scene, header=None):
     Parameters
     ----------
     scene : Scene.
-    header : optional comment put at the top (each line gets a ``# ``).
+    header : optional comment put at the top (each line gets a ``#`` and a space).
 
     Raises
     ------
