@@ -13,7 +13,6 @@ checkpoint into an output folder kept safe by :mod:`pfem_skfem.runfolder`;
 ``pfem-skfem run --example NAME [PATH]`` writes a commented example.
 """
 import argparse
-from concurrent.futures import ThreadPoolExecutor
 import json
 import os
 from pathlib import Path
@@ -21,6 +20,8 @@ import subprocess
 import sys
 import time
 
+# light imports only: `pfem-skfem --help` and `list` import no science (numpy, scipy, cvxpy,
+# scene); `verify` and `run` import what they use when they run (tests/test_cli.py)
 from .harness.options import (nonnegative_int, positive_int, SOLVER_NAMES, STEP_SOLVER_NAMES,
                               workers)
 from .drivers.stopping import DEFAULT_CHECKPOINT_EVERY, RunFolderError
@@ -34,6 +35,15 @@ def verification_dir():
         if d.is_dir():
             return d
     raise SystemExit("cannot find the verification/ folder: run from a clone of pfem_skfem")
+
+
+def default_jobs():
+    """The cores this process may use (its CPU affinity, else ``os.cpu_count()``): the
+    default ``--jobs`` of ``pfem-skfem verify``."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):        # no affinity on this platform (macOS, Windows)
+        return os.cpu_count() or 1
 
 
 def available_cases():
@@ -93,12 +103,28 @@ def summary_table(rows):
     return "\n".join(lines)
 
 
+def unknown_cases(cases):
+    """A usage message for the names in ``cases`` that are no verification case (each with
+    its nearest case, difflib), or None when all are cases."""
+    import difflib
+    known = available_cases()
+    unknown = [c for c in cases if c not in known]
+    if not unknown:
+        return None
+    parts = []
+    for case in unknown:
+        near = difflib.get_close_matches(case, known, n=1)
+        parts.append(f"unknown case {case!r}" + (f"; did you mean {near[0]!r}?" if near else ""))
+    return "; ".join(parts) + " ('pfem-skfem list' names the cases)"
+
+
 def cmd_verify(args):
+    from concurrent.futures import ThreadPoolExecutor
     cases = args.cases or available_cases()
-    unknown = sorted(set(cases) - set(available_cases()))
-    if unknown:
-        raise SystemExit(f"unknown case(s): {', '.join(unknown)}; "
-                         f"available: {', '.join(available_cases())}")
+    message = unknown_cases(cases)
+    if message:                              # a usage error (2), not a failed check (1)
+        print(f"pfem-skfem verify: error: {message}", file=sys.stderr)
+        return 2
     Path(args.json_dir).mkdir(parents=True, exist_ok=True)
     print(f"running {len(cases)} verification case(s){' (quick)' if args.quick else ''} "
           f"on {args.jobs} process(es)", flush=True)
@@ -157,8 +183,9 @@ def cmd_verify(args):
             failed.append(case)
     print()
     print(summary_table(rows))
+    figures = Path(args.outdir) / "quick" if args.quick else Path(args.outdir)
     print(f"\n{len(cases) - len(failed)}/{len(cases)} case(s) passed in "
-          f"{time.perf_counter() - t0:.0f} s; JSON in {args.json_dir}/, figures in {args.outdir}/")
+          f"{time.perf_counter() - t0:.0f} s; JSON in {args.json_dir}/, figures in {figures}/")
     if failed:
         print("failed: " + ", ".join(failed))
     return 1 if failed else 0
@@ -297,22 +324,44 @@ it by its path, e.g. .venv/bin/pfem-skfem.
 """
 
 
+#: each case's --quick run in CPU seconds (user + system), measured one case at a time with
+#: ``/usr/bin/time python verification/CASE.py --quick --quiet`` (figures on, as
+#: ``scripts/verify.sh`` runs them) on the 2-core development machine in December 2026;
+#: ``pfem-skfem list`` shows them, and the README's total of ``scripts/verify.sh`` is their
+#: sum over the cores. A new case adds its own (tests/test_cli.py requires one per case).
+QUICK_SECONDS = {
+    "bingham_slump": 72, "granular_column_mu_i": 38, "landslide_yangbaodi": 49,
+    "silo_discharge": 22, "limit_bounds": 24, "soil_and_water": 28,
+    "granular_column_axisymmetric": 15, "granular_column_plane": 22, "cylinder_soil": 15,
+    "accretionary_wedge": 11, "dam_break": 5, "hydrostatics": 3, "inclined_plane_flow": 7,
+    "inclined_rod": 3, "block_on_incline": 2, "alpha_shape": 2, "buried_pipe": 3,
+    "cantilever": 6, "circular_footing": 10, "fluid_films": 3, "plastic_vibration": 3,
+    "rotating_bar": 2, "sliding_box": 2, "strip_footing": 10, "thick_cylinder": 3,
+    "trussed_frame": 8,
+}
+
+
 def case_summary(case):
-    """One line on a verification case: the first line of its script's docstring and,
-    where the script's usage states it, how long its --quick run takes."""
+    """One line on a verification case: the first line of its script's docstring and the
+    CPU time of its --quick run (:data:`QUICK_SECONDS`)."""
     import ast
     doc = ast.get_docstring(ast.parse((verification_dir() / f"{case}.py").read_text())) or ""
     lines = doc.strip().splitlines()
-    quick = [ln.split("#", 1)[1].strip() for ln in lines if "--quick" in ln and "#" in ln]
-    return (lines[0] if lines else "") + (f" (--quick: {quick[0]})" if quick else "")
+    seconds = QUICK_SECONDS.get(case)
+    return (lines[0] if lines else "") + (f" (--quick: {seconds} s CPU)" if seconds else "")
 
 
 def cmd_list(args):
-    """``pfem-skfem list``: each case with its one-line summary."""
+    """``pfem-skfem list``: each case with its one-line summary and its --quick time."""
     cases = available_cases()
     width = max(map(len, cases))
     for case in cases:
         print(f"{case:{width}s}  {case_summary(case)}")
+    total = sum(QUICK_SECONDS.get(c, 0) for c in cases)
+    jobs = default_jobs()
+    print(f"\nall at --quick: {total} s CPU (as measured on a 2-core machine), about "
+          f"{total / jobs / 60:.0f} min over the {jobs} process(es) of "
+          f"'pfem-skfem verify --quick' (its default --jobs here)")
     return 0
 
 
@@ -323,6 +372,29 @@ def _examples_help():
         first = example_text(name).splitlines()[0].lstrip("# ").rstrip(".")
         lines.append(f"{name} ({first})")
     return "; ".join(lines)
+
+
+RUN_DESCRIPTION = ("Run a PFEM scene written as a TOML file: a progress bar on stderr; the "
+                   "VTU/PVD series, history.json, scene.toml and checkpoint.npz in the output "
+                   "folder (beside the scene file unless --out is given). A folder holding "
+                   "another run is never replaced silently: --resume continues it, "
+                   "--overwrite replaces it.")
+
+
+class _RunParser(argparse.ArgumentParser):
+    """The parser of ``run``: its help names the examples, read from
+    :mod:`pfem_skfem.scene.files` (which imports the science) only when the help is shown,
+    so that ``pfem-skfem --help`` and ``list`` stay light."""
+
+    def format_help(self):
+        from .scene.files import EXAMPLES
+        if self.description == RUN_DESCRIPTION:
+            self.description += " Examples: " + _examples_help() + "."
+        for action in self._actions:
+            if action.dest == "example" and "(" not in action.help:
+                action.help = action.help.replace(
+                    "NAME ", f"NAME ({', '.join(EXAMPLES)}) ", 1)
+        return super().format_help()
 
 
 def build_parser():
@@ -336,12 +408,16 @@ def build_parser():
     v = sub.add_parser("verify", help="run verification cases and print a summary table")
     v.add_argument("cases", nargs="*", help="cases to run (default: all)")
     v.add_argument("--quick", action="store_true", help="small sizes (seconds to a minute "
-                   "each); the JSON is then <case>.quick.json, so that it never replaces "
-                   "a full-size <case>.json")
+                   "each: 'pfem-skfem list' gives each one's time); the JSON is then "
+                   "<case>.quick.json and the figures go to <outdir>/quick/<case>/, so that "
+                   "they never replace a full-size run's")
     v.add_argument("--json-dir", default="results", help="where to write <case>.json")
-    v.add_argument("--outdir", default="results", help="where to write figures")
+    v.add_argument("--outdir", default="results", help="where to write figures and VTU: "
+                   "<outdir>/<case>/, a --quick run's in <outdir>/quick/<case>/")
     v.add_argument("--no-figures", action="store_true")
-    v.add_argument("--jobs", type=workers, default=1, help="cases run at once")
+    v.add_argument("--jobs", type=workers, default=default_jobs(),
+                   help="cases run at once (default: the cores, %(default)s here; 1 shows "
+                   "each case's own progress bars)")
     v.add_argument("--quiet", action="store_true",
                    help="no progress (the cases' own bars with --jobs 1; one bar otherwise)")
     v.add_argument("--verbose", action="store_true", help="show each script's output")
@@ -351,18 +427,14 @@ def build_parser():
     v.add_argument("--extra", nargs=argparse.REMAINDER,
                    help="further options passed to every script")
     v.set_defaults(func=cmd_verify)
+    sub._parser_class = _RunParser           # its help names the examples when shown
     r = sub.add_parser("run", help="run a scene file (TOML); --example NAME writes one",
-                       description="Run a PFEM scene written as a TOML file: a progress bar "
-                       "on stderr; the VTU/PVD series, history.json, scene.toml and "
-                       "checkpoint.npz in the output folder (beside the scene file unless "
-                       "--out is given). A folder holding another run is never replaced "
-                       "silently: --resume continues it, --overwrite replaces it. Examples: "
-                       + _examples_help() + ".")
+                       description=RUN_DESCRIPTION)
+    sub._parser_class = argparse.ArgumentParser
     r.add_argument("scene", nargs="?", help="the scene file (with --example: where to write "
                    "it, default NAME.toml; '-' for stdout)")
-    from .scene.files import EXAMPLES
     r.add_argument("--example", metavar="NAME", help="write the commented example NAME "
-                   f"({', '.join(EXAMPLES)}) instead of running")
+                   "instead of running")
     r.add_argument("--steps", type=positive_int, help="run until step N (default: until t_end)")
     r.add_argument("--out", "--outdir", dest="out", help="output folder (default: the file's "
                    "output.directory, read from the scene file's folder)")

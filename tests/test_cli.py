@@ -33,10 +33,72 @@ def test_verify_exits_non_zero_when_a_check_fails(tmp_path, capsys):
     assert "failed: strip_footing" in capsys.readouterr().out
 
 
-def test_unknown_case_is_an_error(tmp_path):
-    import pytest
-    with pytest.raises(SystemExit, match="unknown case"):
-        cli.main(["verify", "no_such_case", "--json-dir", str(tmp_path)])
+def test_unknown_case_is_a_usage_error_with_a_suggestion(tmp_path, capsys):
+    """A misspelt case exits 2 (a usage error, not 1: a failed check) and names the case
+    meant (issue 56 item 5)."""
+    assert cli.main(["verify", "strip_footin", "--json-dir", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "unknown case 'strip_footin'" in err and "did you mean 'strip_footing'" in err
+    assert cli.main(["verify", "no_such_case", "--json-dir", str(tmp_path)]) == 2
+    assert "unknown case 'no_such_case'" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())                  # nothing run, nothing written
+
+
+def test_verify_uses_the_cores_by_default(monkeypatch):
+    """--jobs defaults to the cores the process may use (issue 56 item 2)."""
+    monkeypatch.setattr(cli.os, "sched_getaffinity", lambda pid: {0, 1, 2}, raising=False)
+    assert cli.default_jobs() == 3
+    assert cli.build_parser().parse_args(["verify"]).jobs == 3
+    assert cli.build_parser().parse_args(["verify", "--jobs", "1"]).jobs == 1
+
+
+def test_list_gives_every_case_its_quick_time(capsys):
+    """Every case of ``list`` shows its --quick CPU time, and the total is stated
+    (issue 56 item 2): a new case adds its time to cli.QUICK_SECONDS."""
+    assert set(cli.QUICK_SECONDS) == set(cli.available_cases())
+    assert cli.main(["list"]) == 0
+    out = capsys.readouterr().out
+    for case in cli.available_cases():
+        line = next(ln for ln in out.splitlines() if ln.startswith(case + " "))
+        assert f"(--quick: {cli.QUICK_SECONDS[case]} s CPU)" in line, line
+    assert f"all at --quick: {sum(cli.QUICK_SECONDS.values())} s CPU" in out
+
+
+def test_quick_figures_are_kept_apart_from_full_size_ones(tmp_path):
+    """A --quick run writes its figures under OUTDIR/quick/<case>/, never replacing the
+    full-size run's in OUTDIR/<case>/ (issue 56 item 5)."""
+    from pfem_skfem.harness.figures import figure_dir
+    from verification import alpha_shape
+    parser = alpha_shape.build_parser()
+    full = parser.parse_args(["--outdir", str(tmp_path)])
+    quick = parser.parse_args(["--quick", "--outdir", str(tmp_path)])
+    assert figure_dir(full, "alpha_shape") == tmp_path / "alpha_shape"
+    assert figure_dir(quick, "alpha_shape") == tmp_path / "quick" / "alpha_shape"
+    (tmp_path / "alpha_shape").rmdir()
+    (tmp_path / "quick" / "alpha_shape").rmdir()
+    case, code, _, _, log = cli.run_case("alpha_shape", quick=True, json_dir=tmp_path,
+                                         outdir=tmp_path, figures=True, extra=[])
+    assert code == 0, log
+    assert list((tmp_path / "quick" / "alpha_shape").glob("*.png"))
+    assert not (tmp_path / "alpha_shape").exists()
+
+
+def test_help_and_list_import_no_science():
+    """``pfem-skfem --help``, ``list`` and ``run --help``'s parser build import neither numpy
+    nor scipy, cvxpy or the scene (they cost ~1.4 s of CPU before; issue 56 item 8)."""
+    code = ("import sys, contextlib, io\n"
+            "from pfem_skfem import cli\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    cli.main(['list'])\n"
+            "    try:\n"
+            "        cli.main(['--help'])\n"
+            "    except SystemExit:\n"
+            "        pass\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('numpy', 'scipy', 'cvxpy', 'skfem') or m.startswith('pfem_skfem.scene')))\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert proc.stdout.strip() == "[]", proc.stdout
 
 
 def test_summary_shows_intervals_with_infinite_ends(tmp_path, capsys):
@@ -224,9 +286,9 @@ def test_top_level_help_is_plain_text_naming_every_command(capsys):
 def test_list_gives_each_case_a_description(capsys):
     assert cli.main(["list"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert len(lines) == len(cli.available_cases())
+    assert len(lines) == len(cli.available_cases()) + 2           # a blank line, the total
     footing = next(ln for ln in lines if ln.startswith("strip_footing "))
-    assert "footing" in footing.split(None, 1)[1] and "(--quick: seconds)" in footing
+    assert "footing" in footing.split(None, 1)[1] and "(--quick: 10 s CPU)" in footing
 
 
 def test_sigterm_checkpoints_as_ctrl_c_does(column, tmp_path):

@@ -17,7 +17,8 @@ def pyplot():
 
 
 def figure_dir(args, name):
-    """``args.outdir / name``, created."""
+    """``args.outdir / name``, created (``OUTDIR/quick/name`` for a ``--quick`` run: the
+    parser, :class:`.options.ScriptParser`, puts its ``outdir`` apart)."""
     out = Path(args.outdir) / name
     out.mkdir(parents=True, exist_ok=True)
     return out

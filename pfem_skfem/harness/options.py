@@ -64,6 +64,10 @@ def output_path_problem(path, kind="file"):
     return None
 
 
+QUICK_SUBDIR = "quick"
+"""The folder under ``--outdir`` of a ``--quick`` run's figures and VTU files."""
+
+
 class ScriptParser(argparse.ArgumentParser):
     """An argument parser whose ``parse_args`` applies ``--quick`` and the script's checks.
 
@@ -71,7 +75,8 @@ class ScriptParser(argparse.ArgumentParser):
     the user gave it (even at its default value); then ``check(args)`` may
     return a message, reported as a usage error (exit code 2), and ``cones(args)`` names
     the cones the problems need with these options: a ``--solver`` without one of them is
-    a usage error too.
+    a usage error too. A ``--quick`` run's ``outdir`` is ``OUTDIR/quick``
+    (:data:`QUICK_SUBDIR`), so that its figures and VTU never replace a full-size run's.
     """
 
     def __init__(self, description, quick=None, check=None, cones=None):
@@ -128,6 +133,10 @@ class ScriptParser(argparse.ArgumentParser):
             problem = output_path_problem(value, kind)
             if problem:
                 self.error(f"argument --{dest.replace('_', '-')}: {problem}")
+        if getattr(parsed, "quick", False) and getattr(parsed, "outdir", None) is not None:
+            # a quick run's figures and VTU apart from a full-size run's, as its JSON is
+            # (<case>.quick.json): <outdir>/quick/<case>/ beside <outdir>/<case>/
+            parsed.outdir = str(Path(parsed.outdir) / QUICK_SUBDIR)
         return parsed
 
 
@@ -162,7 +171,8 @@ def base_parser(description, quick=None, check=None, solver=True, cones=None):
                    help="a small size that runs in seconds to a minute (tests, CI)")
     p.add_argument("--json", metavar="PATH", help="write the results as JSON to PATH")
     p.add_argument("--outdir", default="results",
-                   help="directory for figures and VTU files")
+                   help="directory for figures and VTU files: OUTDIR/<case>/, with --quick "
+                        "OUTDIR/quick/<case>/ (never replacing a full-size run's)")
     p.add_argument("--no-figures", action="store_true", help="skip figures")
     p.add_argument("--quiet", action="store_true",
                    help="no progress bars on stderr (they are on by default)")

@@ -7,7 +7,6 @@ import io
 import sys
 import threading
 
-from .store import _plain
 
 def progress(message, file=None):
     """One line of progress on stderr (or ``file``), above any progress bar."""
@@ -102,6 +101,7 @@ def _forwarded_bar():
             super().__init__(iterable, file=io.StringIO(), **options)
 
         def display(self, msg=None, pos=None):
+            from .store import _plain         # numpy: imported when a bar is forwarded
             try:              # a count must never fail its case; events take no numpy scalars
                 self._worker.log_event(self._topic, {
                     "case": self._case, "n": _plain(self.n), "total": _plain(self.total),
