@@ -110,3 +110,13 @@ def test_readme_names_every_verification_script():
     scripts = sorted(p.name for p in (ROOT / "verification").glob("*.py") if p.name != "__init__.py")
     absent = [s for s in scripts if f"verification/{s}" not in text]
     assert not absent, f"scripts missing from README's table: {absent}"
+
+
+def test_readme_states_the_quick_suite_s_time_from_the_measured_times():
+    """The total of scripts/verify.sh is the cases' --quick CPU times (cli.QUICK_SECONDS,
+    what `pfem-skfem list` shows) over two cores (issue 56 item 2)."""
+    from pfem_skfem import cli
+    text = " ".join(_text().split())
+    total = sum(cli.QUICK_SECONDS.values())
+    assert f"about {round(total / 2 / 60)} minutes on two cores" in text
+    assert f"the {len(cli.QUICK_SECONDS)} quick cases' {total} s of CPU" in text
