@@ -64,8 +64,8 @@ def output_path_problem(path, kind="file"):
     return None
 
 
+#: the folder under ``--outdir`` of a ``--quick`` run's figures and VTU files
 QUICK_SUBDIR = "quick"
-"""The folder under ``--outdir`` of a ``--quick`` run's figures and VTU files."""
 
 
 class ScriptParser(argparse.ArgumentParser):
@@ -134,8 +134,7 @@ class ScriptParser(argparse.ArgumentParser):
             if problem:
                 self.error(f"argument --{dest.replace('_', '-')}: {problem}")
         if getattr(parsed, "quick", False) and getattr(parsed, "outdir", None) is not None:
-            # a quick run's figures and VTU apart from a full-size run's, as its JSON is
-            # (<case>.quick.json): <outdir>/quick/<case>/ beside <outdir>/<case>/
+            # apart from a full-size run's, as its <case>.quick.json is: OUTDIR/quick/<case>/
             parsed.outdir = str(Path(parsed.outdir) / QUICK_SUBDIR)
         return parsed
 
@@ -171,8 +170,7 @@ def base_parser(description, quick=None, check=None, solver=True, cones=None):
                    help="a small size that runs in seconds to a minute (tests, CI)")
     p.add_argument("--json", metavar="PATH", help="write the results as JSON to PATH")
     p.add_argument("--outdir", default="results",
-                   help="directory for figures and VTU files: OUTDIR/<case>/, with --quick "
-                        "OUTDIR/quick/<case>/ (never replacing a full-size run's)")
+                   help="figures and VTU: OUTDIR/<case>/, a --quick run's OUTDIR/quick/<case>/")
     p.add_argument("--no-figures", action="store_true", help="skip figures")
     p.add_argument("--quiet", action="store_true",
                    help="no progress bars on stderr (they are on by default)")
