@@ -273,14 +273,15 @@ def _run(args):
             raise RunError(f"{path}: {err}") from None
     else:
         raise RunError(f"{path}: the scene has no t_end: give --steps N")
-    return _advance(scene, out, last, args.resume, args.quiet, overwrite=args.overwrite)
+    return _advance(scene, out, last, args.resume, args.quiet, overwrite=args.overwrite,
+                    force=args.force)
 
 
-def _advance(scene, out, last, resume, quiet, overwrite=False):
+def _advance(scene, out, last, resume, quiet, overwrite=False, force=False):
     """Run ``scene`` to step ``last`` in folder ``out`` (see :func:`runfolder.run_in_folder`)."""
     from .runfolder import run_in_folder
     return run_in_folder(scene, out, last, resume=resume, overwrite=overwrite,
-                         progress=None if quiet else StepBar)
+                         progress=None if quiet else StepBar, force=force)
 
 
 DESCRIPTION = """\
@@ -378,6 +379,9 @@ def build_parser():
                    "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
+    r.add_argument("--force", action="store_true", help="exit 0 after the warning on steps "
+                   "too long for the method (a particle moving more than one spacing in a "
+                   "step, the area changing by more than 5 %%), not 4")
     r.add_argument("--solver", choices=STEP_SOLVER_NAMES, help="who states and solves every "
                    "step (default: the scene's config.solver, clarabel unless it says; "
                    "'clarabel-dual': the displacement form; 'cvxpy': the reference statement)")
