@@ -152,6 +152,7 @@ def figures(state, records):
     last = records[-1]
     top = max(records, key=lambda r: r["max_speed"])
     now = (f"{last['max_speed']:.3g} m/s at the end, " if last["particles"] else "")
-    return (f"{last['step']} steps, t = {last['time']:.6g} s, {last['particles']} particles, "
+    n = last["step"]
+    return (f"{n} step{'s' * (n != 1)}, t = {last['time']:.6g} s, {last['particles']} particles, "
             f"mass kept {100 * last['mass'] / _mass_before(records, 0):.6g} %, largest speed "
             f"{now}{top['max_speed']:.3g} m/s in the run (step {top['step']})")

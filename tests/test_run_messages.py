@@ -81,3 +81,22 @@ def test_an_area_lost_in_a_step_is_named_but_not_where_outlets_take_material():
     assert runreport.step_too_long(records, 2)[0] == "changed the area by"
     assert runreport.first_too_long(_records([0.0, -0.01, -0.2], outlets=True)) is None
     assert runreport.first_too_long(_records([0.0, -0.01, -0.05])) is None
+
+
+def test_a_solver_failure_says_its_status_and_the_figures_of_the_steps_made(tmp_path, capsys,
+                                                                             monkeypatch):
+    from pfem_skfem.drivers import pfem_loop
+    from pfem_skfem.problems.conic import SolverError
+    real = pfem_loop.run
+
+    def failing(state, scene, steps, **kw):
+        if state.step == 1:
+            raise SolverError("no optimal point", "PrimalInfeasible")
+        return real(state, scene, steps, **kw)
+
+    monkeypatch.setattr(pfem_loop, "run", failing)
+    assert _run(_scene(tmp_path, "column"), "--steps", 3) == 3
+    err = capsys.readouterr().err
+    assert "solver failed (no optimal point; status PrimalInfeasible) in step 2" in err
+    assert re.search(r"pfem-skfem run: 1 step, t = 0.00319438 s, 64 particles, "
+                     r"mass kept 100 %", err)
