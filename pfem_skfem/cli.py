@@ -357,8 +357,13 @@ def build_parser():
                        "on stderr; the VTU/PVD series, history.json, scene.toml and "
                        "checkpoint.npz in the output folder (beside the scene file unless "
                        "--out is given). A folder holding another run is never replaced "
-                       "silently: --resume continues it, --overwrite replaces it. Examples: "
-                       + _examples_help() + ".")
+                       "silently: --resume continues it, --overwrite replaces it. It says what the "
+                       "run is before its first step, what it will cost after it, and why it "
+                       "stopped at the end. Exit codes: 0 done; 2 it could not start; 3 a "
+                       "solver failure or a full disk (the last step checkpointed); 4 done, "
+                       "but a step moved particles more than 2 spacings or changed the area "
+                       "by more than 5 % (dt too long; --force: 0); 130, 143 Ctrl-C, "
+                       "SIGTERM. Examples: " + _examples_help() + ".")
     r.add_argument("scene", nargs="?", help="the scene file (with --example: where to write "
                    "it, default NAME.toml; '-' for stdout)")
     from .scene.files import EXAMPLES
@@ -380,8 +385,9 @@ def build_parser():
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
     r.add_argument("--force", action="store_true", help="exit 0 after the warning on steps "
-                   "too long for the method (a particle moving more than one spacing in a "
-                   "step, the area changing by more than 5 %%), not 4")
+                   "too long for the method (a particle moving more than 2 spacings in a "
+                   "step, the area changing by more than 5 %%; pfem_skfem/runreport.py "
+                   "says why), not 4")
     r.add_argument("--solver", choices=STEP_SOLVER_NAMES, help="who states and solves every "
                    "step (default: the scene's config.solver, clarabel unless it says; "
                    "'clarabel-dual': the displacement form; 'cvxpy': the reference statement)")
