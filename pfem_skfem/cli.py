@@ -300,14 +300,15 @@ def _run(args):
             raise RunError(f"{path}: {err}") from None
     else:
         raise RunError(f"{path}: the scene has no t_end: give --steps N")
-    return _advance(scene, out, last, args.resume, args.quiet, overwrite=args.overwrite)
+    return _advance(scene, out, last, args.resume, args.quiet, overwrite=args.overwrite,
+                    force=args.force)
 
 
-def _advance(scene, out, last, resume, quiet, overwrite=False):
+def _advance(scene, out, last, resume, quiet, overwrite=False, force=False):
     """Run ``scene`` to step ``last`` in folder ``out`` (see :func:`runfolder.run_in_folder`)."""
     from .runfolder import run_in_folder
     return run_in_folder(scene, out, last, resume=resume, overwrite=overwrite,
-                         progress=None if quiet else StepBar)
+                         progress=None if quiet else StepBar, force=force)
 
 
 DESCRIPTION = """\
@@ -378,7 +379,12 @@ RUN_DESCRIPTION = ("Run a PFEM scene written as a TOML file: a progress bar on s
                    "VTU/PVD series, history.json, scene.toml and checkpoint.npz in the output "
                    "folder (beside the scene file unless --out is given). A folder holding "
                    "another run is never replaced silently: --resume continues it, "
-                   "--overwrite replaces it.")
+                   "--overwrite replaces it. It says what the run is before its first step, "
+                   "what it will cost after it, and why it stopped at the end. Exit codes: 0 "
+                   "done; 2 it could not start; 3 a solver failure or a full disk (the last "
+                   "step checkpointed); 4 done, but a step moved particles more than 2 "
+                   "spacings or changed the area by more than 5 % (dt too long; --force: 0); "
+                   "130, 143 Ctrl-C, SIGTERM.")
 
 
 class _RunParser(argparse.ArgumentParser):
@@ -450,6 +456,10 @@ def build_parser():
                    "written at the end, on Ctrl-C and on SIGTERM)")
     r.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
                    help="no progress bar")
+    r.add_argument("--force", action="store_true", help="exit 0 after the warning on steps "
+                   "too long for the method (a particle moving more than 2 spacings in a "
+                   "step, the area changing by more than 5 %%; pfem_skfem/runreport.py "
+                   "says why), not 4")
     r.add_argument("--solver", choices=STEP_SOLVER_NAMES, help="who states and solves every "
                    "step (default: the scene's config.solver, clarabel unless it says; "
                    "'clarabel-dual': the displacement form; 'cvxpy': the reference statement)")

@@ -18,13 +18,16 @@ import json
 import os
 from pathlib import Path
 import sys
+import time
 
 from .discretisation.geometry import as_geometry
+from .harness.progress import progress
 from .drivers.resumable import ResumableRun
 from .drivers.stopping import DEFAULT_CHECKPOINT_EVERY, RunFolderError, RunLock, Terminated
 from .io import STEP_UNITS, TimeSeries, initial_fields, write_text_atomic
 from .pfem.state import CheckpointError, load_checkpoint, save_checkpoint
 from .problems.conic import SolverError
+from . import runreport
 from .scene import scene_digest
 from .scene.files import load_scene, scene_to_toml
 
@@ -103,7 +106,8 @@ def read_history(path):
 
 
 # -- a run in its folder ------------------------------------------------------------------
-def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=None):
+def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=None,
+                  force=False):
     """Run ``scene`` to step ``last`` in folder ``out``, under the folder's lock, every
     file written whole, the last completed step checkpointed on any stop.
 
@@ -117,11 +121,17 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
     overwrite : replace the run the folder holds (refused otherwise).
     progress : None, or a factory ``progress(first, last)`` of a callable
         (step, steps, record) with a ``close()`` (the CLI's progress bar).
+    force : a run whose steps broke a bound of :mod:`pfem_skfem.runreport` (a particle
+        moved more than a spacing, the area changed by more than 5 %) exits 0 after the
+        warning, not :data:`~pfem_skfem.runreport.EXIT_TOO_LONG_STEPS`.
 
     Returns
     -------
-    The exit code: 0 done, 130 Ctrl-C, 143 SIGTERM, 3 a solver failure or a full disk
-    (each with the last completed step checkpointed, and a line on stderr saying so).
+    The exit code: 0 done, 4 done but a step broke a bound of
+    :mod:`~pfem_skfem.runreport` (dt too long; 0 with ``force``), 130 Ctrl-C, 143 SIGTERM,
+    3 a solver failure or a full disk (each with the last completed step checkpointed, and
+    a line on stderr saying so). Before the first step a line says what the run is, after
+    it what it will cost, and at the end why it stopped and its main figures.
 
     Raises
     ------
@@ -133,7 +143,7 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
     created = not out.exists()
     try:
         with RunLock(out):
-            return _run_locked(scene, out, last, resume, progress, overwrite)
+            return _run_locked(scene, out, last, resume, progress, (overwrite, force))
     finally:
         if created and out.is_dir() and not any(out.iterdir()):
             out.rmdir()                              # refused before writing: leave no trace
@@ -182,7 +192,8 @@ def _resume_state(scene, out, digest):
     return replace(state, history=history_columns(records)), records
 
 
-def _run_locked(scene, out, last, resume, progress, overwrite):
+def _run_locked(scene, out, last, resume, progress, flags):
+    overwrite, force = flags
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     digest = scene_digest(scene)
     for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".*.tmp")):
@@ -213,7 +224,7 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
     if first >= last:
         print(f"{out}/ is already at step {first} (>= {last}): nothing to run")
         return 0
-    print(f"pfem-skfem run: steps {first + 1}-{last} into {out}/", file=sys.stderr)
+    say(runreport.start_line(scene, state, first, last, out))
     if series is not None and not resume:            # the frame at t = 0
         series.write(0.0, *initial_fields(state, scene.alpha,
                                           as_geometry(scene.geometry).axisymmetric))
@@ -230,8 +241,15 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
     bar = None if progress is None else progress(first, last)
     # the run's steps one at a time (the same steps as one call of pfem_loop.run: each
     # step's state owns its history), checkpointed every ``every`` and on any stop
+    started, warned = time.perf_counter(), len(records) > 0 and _warn_once(records, scene)
+
     def on_step(st, record, result):
+        nonlocal warned
         records.append(record)
+        if st.step == first + 1:
+            say(runreport.estimate_line(record, time.perf_counter() - started, last - first))
+        if not warned:
+            warned = _warn_once(records, scene, len(records) - 1)
         if bar is not None:
             bar(st.step - first, last - first, record)
 
@@ -255,9 +273,35 @@ def _run_locked(scene, out, last, resume, progress, overwrite):
         kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
         print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
               f"from step {n})", file=sys.stderr)
+        say(runreport.figures(run.state, records))
         return {KeyboardInterrupt: 130, Terminated: 143}.get(type(err), 3)
     state = run.state
+    if bar is not None:
+        bar.close()                                  # a run that ended early
     vtus = f"scene.pvd ({len(series.entries)} VTU), " if series is not None else ""
     print(f"steps {first + 1}-{state.step} (t = {state.time:.6g}) written to {out}/: {vtus}"
           "history.json, scene.toml, checkpoint.npz")
+    print(f"stopped: {runreport.why_stopped(scene, state, records, last)}")
+    print(runreport.figures(state, records))
+    if warned:
+        say(f"the steps were too long from step {warned}"
+            + ("; --force: exit 0" if force else f": exit {runreport.EXIT_TOO_LONG_STEPS} "
+               "(--force to accept them)"))
+        return 0 if force else runreport.EXIT_TOO_LONG_STEPS
     return 0
+
+
+def say(text):
+    """A line of ``pfem-skfem run`` on stderr, above the progress bar."""
+    progress(f"pfem-skfem run: {text}")
+
+
+def _warn_once(records, scene, i=None):
+    """Warn of the first record (from ``i``; None: any) whose step broke a bound of
+    :mod:`runreport`, naming dt; its step, or False when none did."""
+    found = runreport.first_too_long(records) if i is None else (
+        i if runreport.step_too_long(records, i) else None)
+    if found is None:
+        return False
+    say(runreport.too_long_message(records, found, scene.config.dt))
+    return records[found]["step"]
