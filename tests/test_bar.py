@@ -81,8 +81,8 @@ def test_elastic_socp_equals_direct_stiffness_displacement_control():
     """The dual sign (du = -dual) and the reaction: prescribed motion of a node."""
     x, bars, area, fixed = braced_panel()
     P, du_P = [9, 8], [-0.01, 0.004]
-    res = truss_increment(x, bars, area, E, np.zeros(len(bars)), fixed=fixed, prescribed=P,
-                          du_prescribed=du_P)
+    res = truss_increment(x, bars, area, E, np.zeros(len(bars)), fixed=fixed,
+                          prescribed=(P, du_P))
     u = direct_stiffness(x, bars, area, fixed, prescribed=P, du_P=du_P)
     np.testing.assert_allclose(res.du, u, rtol=1e-6, atol=1e-8)
     K = stiffness_matrix(x, bars, area, E)
@@ -112,8 +112,8 @@ def test_yield_caps_the_bar_stress_and_gives_the_plastic_limit():
 
 def test_plastic_strain_is_total_minus_elastic():
     x = np.array([[0, 0], [1, 0]], float)
-    res = truss_increment(x, [[0, 1]], 1.0, E, [0.0], fixed=[0, 1, 3], prescribed=[2],
-                          du_prescribed=[0.01], sigma_s=100.0)
+    res = truss_increment(x, [[0, 1]], 1.0, E, [0.0], fixed=[0, 1, 3], prescribed=([2], [0.01]),
+                          sigma_s=100.0)
     assert res.sigma[0] == pytest.approx(100.0, rel=1e-7)
     assert res.plastic_strain[0] == pytest.approx(0.01 - 100.0 / E, rel=1e-6)
 
@@ -160,8 +160,8 @@ def test_incompressible_area_and_small_deformation_switch():
     (dict(sigma_n=[0.0]), "sigma_n"),
     (dict(bars=[[0, 5]]), "node"),
     (dict(x=np.array([[0, 0], [0, 0], [1, 1]], float)), "zero length"),
-    (dict(fixed=[0, 1], prescribed=[1], du_prescribed=[0.1]), "both fixed and prescribed"),
-    (dict(prescribed=[4], du_prescribed=[0.1, 0.2]), "one value per prescribed"),
+    (dict(fixed=[0, 1], prescribed=([1], [0.1])), "both fixed and prescribed"),
+    (dict(prescribed=([4], [0.1, 0.2])), "one value per prescribed"),
     (dict(fixed=[0, 1, 99]), "out of range"),
     (dict(f=np.zeros(3)), "one entry per dof"),
 ])

@@ -147,7 +147,7 @@ def _per_bar(name, value, n, allow_none=False):
     return v
 
 
-def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_prescribed=(),
+def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=((), ()),
                     f=None, sigma_s=None, solver="clarabel", **solver_settings):
     """Solve one increment of the elastoplastic truss problem (B.12).
 
@@ -166,7 +166,8 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
     x : (n_nodes, 2) current node coordinates.  bars : (n_bars, 2) node pairs.
     area : current cross-sectional areas (scalar or (n_bars,)).  E : Young's modulus.
     sigma_n : (n_bars,) axial stresses at t_n (tension positive).
-    fixed : dofs with zero increment.  prescribed, du_prescribed : dofs and their increments.
+    fixed : dofs with zero increment.  prescribed : (dofs, increments): the dofs with a
+        prescribed increment and its values.
     f : (n_dof,) external nodal forces at t_{n+1} (default zero).
     sigma_s : yield stress (scalar or per bar), or None for elastic bars.
     solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
@@ -189,8 +190,8 @@ def truss_increment(x, bars, area, E, sigma_n, *, fixed, prescribed=(), du_presc
     f = np.zeros(n_dof) if f is None else np.asarray(f, dtype=float)
     if f.shape != (n_dof,):
         raise ValueError(f"f must have one entry per dof ({n_dof}), got {f.shape}")
-    free, P = split_dofs(n_dof, fixed, prescribed)
-    du_P = prescribed_values(P, np.ravel(du_prescribed))
+    free, P = split_dofs(n_dof, fixed, prescribed[0])
+    du_P = prescribed_values(P, np.ravel(prescribed[1]))
     if free.size == 0 and P.size == 0:
         raise ValueError("every dof is fixed: nothing to solve")
 
@@ -336,8 +337,8 @@ def truss_displacement_control(x0, bars, area0, E, *, fixed, prescribed, n_incre
                disable=not progress, dynamic_ncols=True)
     for k in range(1, n_increments + 1):
         target = np.asarray(path(k), dtype=float).ravel()
-        res = truss_increment(x, bars, area, E, sigma, fixed=fixed, prescribed=prescribed,
-                              du_prescribed=target - previous, f=f, sigma_s=sigma_s,
+        res = truss_increment(x, bars, area, E, sigma, fixed=fixed,
+                              prescribed=(prescribed, target - previous), f=f, sigma_s=sigma_s,
                               **solver_settings)
         previous, sigma = target, res.sigma
         if geometry != "initial":

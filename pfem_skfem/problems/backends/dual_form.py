@@ -116,7 +116,7 @@ def solve_dual(P, c, A, b, cones, settings, engine=None):
         cone raises ValueError, as does a singular block of P.
     settings : the engine's settings (Clarabel's: clarabel.DefaultSettings), used for the
         dual as given.
-    engine : the solver (:mod:`~pfem_skfem.problems.direct_engines`; Clarabel by default).
+    engine : the engine (:data:`~pfem_skfem.problems.backends.ENGINES`; Clarabel by default).
 
     Returns
     -------
