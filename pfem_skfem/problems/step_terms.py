@@ -14,7 +14,9 @@ dolfinx_optim. A term knows its two statements:
   assembly (:class:`~pfem_skfem.problems.backends.standard_form.StandardForm`);
 
 and :meth:`StepTerm.read` / :meth:`StepTerm.invert` read its part of the answer. The
-terms of this module, in the order a step adds them (:func:`step_terms`):
+terms of this module, in the order a step states them (the step adds the compliance first
+and the prescribed work last; a caller gives the others, :func:`step_terms` for the usual
+ones):
 
 =======================  =============================================================  ========
 term                     in (4.23)                                                      cones
@@ -27,8 +29,8 @@ term                     in (4.23)                                              
 :class:`PrescribedWork`  ``+ du_P^T (B_P^T sigma + A_P^T r' - f'_P)``                   (none)
 =======================  =============================================================  ========
 
-A new term is a subclass with these methods and a line in :func:`step_terms`; the step
-knows nothing of its kind (CONTRIBUTING.md, "A new term of the step").
+A new term is a subclass with these methods, handed to the step in ``terms=[...]``; the
+step knows nothing of its kind (CONTRIBUTING.md, "A new term of the step").
 """
 import cvxpy as cp
 import numpy as np
@@ -43,7 +45,7 @@ class StepTerm:
 
     Attributes
     ----------
-    name : a short name (messages, the backends' ``supports``).
+    name : a short name (in messages).
     cones : the cone kinds its statement needs (:data:`~pfem_skfem.problems.conic.CONE_KINDS`).
     self_dual : whether its cones are self-dual (the direct assembly's dual form needs it).
     """
