@@ -343,6 +343,7 @@ def test_quick_sizes_apply_only_where_the_user_kept_the_default():
 @pytest.mark.parametrize("name, argv, word", [
     ("sliding_box", ["--contact", "zero-dilation"], "--body fe"),
     ("sliding_box", ["--steps", "60"], "two different"),            # one dt: no shrink, no order
+    ("dam_break", ["--n2", "1"], "Table 1"),          # its data is not in the repository
     ("rotating_bar", ["--steps", "1", "2", "4"], "two values >= 4"),
     ("cantilever", ["--g", "-1"], "--g"),
 ])
