@@ -95,7 +95,7 @@ ONE_SIDED = [
     ("plastic_vibration", "max_energy_increase", -1.215e-6, -np.inf, 1e-7),
     ("plastic_vibration", "min_step_dissipation", 1.215e-6, -1e-9, np.inf),
     ("silo_discharge", "Q_smooth_over_rough", 3.274, 1.0, np.inf),
-    ("sliding_box", "dilation_order", 0.5802, 0.4, np.inf),
+    ("sliding_box", "dilation_order", 0.5802, 0.03, np.inf),
 ]
 
 

@@ -285,3 +285,31 @@ def test_the_elements_of_a_two_region_step_weigh_the_particles_masses(block_firs
 def test_the_tank_with_every_density_and_c_doubled_is_the_same_step_bit_for_bit():
     a, b = _tank(2000.0), _tank(4000.0, rho_w=2 * RHO, c=2.0e4)
     assert np.array_equal(2 * a["effective_nodes"], b["effective_nodes"])
+
+
+@pytest.mark.parametrize("n2", [1.0, 2.0, 4.0])
+def test_the_dam_break_time_unit_follows_n2(n2):
+    """Martin & Moyce's T = n t sqrt(g / a): Ritter's front z = a + 2 sqrt(g n^2 a) t runs at
+    dZ/dT = 2 for every n^2 (the unit sqrt(a / 2g) of old gave 2 sqrt(n^2 / 2): 1.41 at
+    n^2 = 1, which the bound 2 passed)."""
+    from verification.dam_break import time_unit
+    a, g = 0.05715, 9.81
+    t = np.linspace(0.0, 0.1, 5)
+    Z = (a + 2 * np.sqrt(g * n2 * a) * t) / a
+    T = t / time_unit(a, n2, g)
+    assert np.diff(Z) / np.diff(T) == pytest.approx(2.0, rel=1e-12)
+    assert time_unit(a, 2.0, g) == pytest.approx(np.sqrt(a / (2 * g)), rel=1e-15)
+
+
+def test_the_dam_break_refuses_a_column_it_has_no_data_for(capsys):
+    """n^2 = 1 is refused (exit 2) naming the missing Table 1; n^2 = 2 (the quick case of
+    tests/test_verification.py) is accepted, and the --T-end help holds for any n^2."""
+    from verification import dam_break
+    with pytest.raises(SystemExit) as exit_:
+        dam_break.main(["--quick", "--no-figures", "--n2", "1"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "--n2 1" in err and "Table 1" in err and "n^2 = 1" in err
+    args = dam_break.build_parser().parse_args(["--quick", "--n2", "2"])
+    assert args.n2 == 2.0
+    assert "sqrt(a / (n^2 g))" in " ".join(dam_break.build_parser().format_help().split())

@@ -89,3 +89,31 @@ def test_free_particle_falls_freely_and_lands_on_the_surface():
         x, v = free_particles_step(x, v, (0.0, -G), 0.1, 1.0, [plane])
     assert x[0, 1] == pytest.approx(0.0, abs=1e-12) and abs(v[0, 1]) < 1e-12
     assert v[0, 0] == pytest.approx(0.5)     # smooth: the tangential velocity is kept
+
+
+def _slide_report(*argv):
+    args = sliding_box.build_parser().parse_args(["--no-figures", *argv])
+    return sliding_box.run(args)
+
+
+def test_sliding_box_lift_that_does_not_shrink_fails(monkeypatch):
+    """"Shrinks" is strict: the same lift at every dt (ratio 1) fails the check."""
+    def same_at_every_dt(v0, mu, g, steps, total, theta, **kw):
+        path = np.zeros((steps + 1, 2))
+        path[:, 0] = np.linspace(0.0, v0 ** 2 / (2 * mu * g), steps + 1)
+        path[1:, 1] = 1e-3
+        return path, None
+    monkeypatch.setattr(sliding_box, "slide", same_at_every_dt)
+    report = _slide_report("--steps", "10", "20")
+    q = report.quantity("max_lift_finest_over_coarsest")
+    assert q.value == 1.0 and not q.passed
+    assert not report.quantity("dilation_order").passed
+
+
+def test_sliding_box_at_mu_0_3_shrinks_with_a_small_order():
+    """The issue's parameters (v0 = 2, mu = 0.3): the lift shrinks (0.80 over 10 -> 40 steps)
+    at an order near 0.15, not the 1/2 of mu = 0.1: the lift tends to a limit."""
+    report = _slide_report("--v0", "2.0", "--mu", "0.3", "--steps", "10", "20", "40")
+    assert report.passed
+    assert report.quantity("max_lift_finest_over_coarsest").value == pytest.approx(0.794, abs=0.01)
+    assert 0.1 < report.quantity("dilation_order").value < 0.25

@@ -19,6 +19,17 @@ column of a = 2.25 in, n^2 = 2.
 * Table 6: the residual height at the wall H = h / (n^2 a) against tau = t sqrt(g / a)
   (Ocellaris and LS-PINN martin_moyce_table6_y_n22.txt).
 
+Units (Martin & Moyce's, for any n^2): the front Z = z / a against T = n t sqrt(g / a)
+= t / sqrt(a / (n^2 g)) (:func:`time_unit`; t sqrt(2 g / a) for n^2 = 2), the height
+against tau = t sqrt(g / a) = T / n. In these units Ritter's (1892) shallow-water front,
+dz/dt = 2 sqrt(g n^2 a), is dZ/dT = 2 whatever n^2 is.
+
+Only n^2 = 2 is run (``--n2`` other than 2 is a usage error): the fronts of the other
+columns (their Table 1 for n^2 = 1, a square column) are not in this repository nor in
+``shared/research/``; the one public transcription of Table 1 found (an SPH project's
+test) is not usable (its T column holds Table 2's Z positions, its Z another
+normalisation, X / 2a). Comparing an n^2 = 1 run with Table 2 (n^2 = 2) is no check.
+
 Martin & Moyce could not time the release: they shifted each run's time so that T = 1.19
 at Z = 1.44. The same anchoring is applied to ours (the shift is reported), and the
 comparison is of the time at which the front (the top) reaches each tabulated position.
@@ -54,6 +65,8 @@ from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.pfem import measure
 
 QUICK = dict(nx=8, steps=40, T_end=3.0, studies=False)
+#: the column heights / widths n^2 whose data (the tables below) is in the repository
+TABULATED_N2 = (2.0,)
 
 #: Table 2 (a = 2.25 in, n^2 = 2): (T = t sqrt(2g/a), Z = z/a), printed means
 MM_FRONT = np.array([
@@ -69,6 +82,11 @@ MM_HEIGHT = np.array([
     (3.06, 0.28), (3.44, 0.22), (4.20, 0.17), (5.25, 0.11), (7.40, 0.06)])
 #: Martin & Moyce's anchor: every run's time shifted to T = 1.19 at Z = 1.44
 ANCHOR = (1.19, 1.44)
+
+
+def time_unit(a, n2, g):
+    """Martin & Moyce's time unit sqrt(a / (n^2 g)): T = t / time_unit = n t sqrt(g / a)."""
+    return float(np.sqrt(a / (n2 * g)))
 
 
 def dam_break_scene(a, n2, nx, *, rho, mu, g, dt, alpha=1.6, solver="clarabel", gate=False,
@@ -95,7 +113,7 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
     parameters; a run finds its own checkpoint and goes on from it, bit for bit."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
-    t_unit = np.sqrt(a / (2 * g))                       # T = t / t_unit
+    t_unit = time_unit(a, n2, g)                        # T = t / t_unit
     state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
                                    solver=solver)
     spacing = a / (nx - 1)
@@ -196,6 +214,10 @@ def front_spread(a, b):
 def check(args):
     if args.nx < 4:
         return "--nx must be at least 4 (particles across the column)"
+    if args.n2 not in TABULATED_N2:
+        return (f"--n2 {args.n2:g}: only n^2 = 2 can be checked; the measurements of other "
+                "columns (Martin & Moyce 1952, Table 1 for n^2 = 1) are not in the "
+                "repository (Table 2 and Table 6, n^2 = 2, are)")
     return None
 
 
@@ -204,7 +226,7 @@ def build_parser():
     p.add_argument("--a", type=positive_float, default=0.05715,
                    help="column width [m] (Martin & Moyce: 2.25 in)")
     p.add_argument("--n2", type=in_range(0, None, low_open=True, what="a height ratio > 0"),
-                   default=2.0, help="column height / width, n^2 (the tables: 2)")
+                   default=2.0, help="column height / width, n^2 (only 2: the tables transcribed are of n^2 = 2)")
     material_options(p, units="Pa", rho=1000.0, g=9.81)
     p.add_argument("--mu", type=nonnegative_float, default=1.0e-3,
                    help="viscosity [Pa s] (water at 20 C; 0: inviscid)")
@@ -212,7 +234,8 @@ def build_parser():
     time_options(p, steps=opt(80, "steps to T_end"),
                  save_every=opt(0, why="of the base run, and a PVD"))
     p.add_argument("--T-end", type=positive_float, default=4.0,
-                   help="end time in units of sqrt(a / (2 g)) (Martin & Moyce's T)")
+                   help="end time in Martin & Moyce's T = n t sqrt(g / a), i.e. in units of "
+                        "sqrt(a / (n^2 g))")
     p.add_argument("--tol-T", type=positive_float, default=0.2,
                    help="tolerance of the anchored front times, in units of T")
     p.add_argument("--studies", action=__import__("argparse").BooleanOptionalAction,
@@ -239,7 +262,7 @@ def run(args):
     shift, front, height = compare(base, n)
     report = Report("dam_break", args, elements=base["elements"], shift_T=shift,
                     seconds_per_step=base["seconds_per_step"])
-    dt = args.T_end * np.sqrt(args.a / (2 * args.g)) / args.steps
+    dt = args.T_end * time_unit(args.a, args.n2, args.g) / args.steps
     p_error, p_largest, gate, floor, still = hydrostatics(args.a, args.n2, args.nx, rho=args.rho,
                                                mu=args.mu, g=args.g, dt=dt, solver=args.solver)
     report.add_interval("hydrostatic_pressure_error", p_error, 0.0, 1e-6,
@@ -266,7 +289,8 @@ def run(args):
                             "heights; the offset, the table's own time origin, in the JSON)")
     speed = np.diff(base["Z"]) / np.diff(base["T"])
     report.add_interval("front_speed_over_ritter", speed.max() / 2.0, 0.0, 1.0,
-                        "Ritter (1892): dz/dt <= 2 sqrt(g n^2 a), i.e. dZ/dT <= 2")
+                        "Ritter (1892): dz/dt <= 2 sqrt(g n^2 a), i.e. dZ/dT <= 2 "
+                        "(T = n t sqrt(g/a))")
     report.add_interval("mass_error", base["mass_error"], 0.0, 1e-12,
                         "particles carry the water's mass")
     report.add_interval("area_change", base["area_change"], 0.0, 0.02,
@@ -311,7 +335,7 @@ def figures(args, runs, shift, n):
                label="Ritter, dZ/dT = 2")
     ax[0].set_xlim(0, runs["base"]["T"][-1] + shift + 0.2)
     ax[0].set_ylim(1, runs["base"]["Z"].max() + 0.5)
-    ax[0].set_xlabel("T = t sqrt(2g/a)")
+    ax[0].set_xlabel("T = n t sqrt(g/a)")
     ax[0].set_ylabel("surge front Z = z/a")
     ax[0].set_title("surge front")
     ax[0].legend(fontsize=7)
