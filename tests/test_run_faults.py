@@ -36,3 +36,20 @@ def test_a_density_that_overflows_the_data_stops_with_exit_3_and_the_initial_sta
     assert "non-finite" in err and "status NonFiniteData" in err and "in step 1;" in err
     assert "Traceback" not in err
     assert (path.with_suffix("") / "checkpoint.npz").is_file()   # step 0, resumable
+
+
+def test_every_particle_leaving_in_step_1_while_vtus_are_written_ends_cleanly(
+        tmp_path, capsys):
+    # R2: the base removed at t = 0, gravity -1e7 and an outlet 1 cm below: every particle
+    # leaves in step 1; the VTU of that step raised an IndexError (io.step_fields)
+    path = _scene(tmp_path, "column",
+                  ("gravity = [0.0, -9.8]", "gravity = [0.0, -1e7]"),
+                  ('name = "base" ', 'name = "base"\nremoved_at = 0.0\n#'),
+                  ("# -- the numerical choices",
+                   '[[outlets]]\nname = "drain"\n[outlets.zone]\ntype = "HalfPlane"\n'
+                   'point = [0.0, -0.01]\nnormal = [0.0, -1.0]\n\n# -- the numerical choices'))
+    assert _run(path, "--steps", 3, "--every", 1) == 0
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and "no material left" in out
+    run = path.with_suffix("")
+    assert (run / "scene_0001.vtu").is_file() and (run / "checkpoint.npz").is_file()
