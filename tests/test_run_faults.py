@@ -53,3 +53,70 @@ def test_every_particle_leaving_in_step_1_while_vtus_are_written_ends_cleanly(
     assert "Traceback" not in err and "no material left" in out
     run = path.with_suffix("")
     assert (run / "scene_0001.vtu").is_file() and (run / "checkpoint.npz").is_file()
+
+
+def test_a_disk_full_before_the_first_checkpoint_says_nothing_can_be_resumed_and_a_rerun_starts_again(
+        tmp_path, capsys, monkeypatch):
+    # R4/R5: every checkpoint fails (ENOSPC) and step 3's VTU too; the message claimed
+    # "--resume continues from step 2", and the folder was refused by --resume and by a
+    # plain rerun alike
+    from pfem_skfem import io, runfolder
+    path = _scene(tmp_path, "column")
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    write, calls = io.TimeSeries.write, []
+
+    def write_until_full(self, *args, **kwargs):
+        calls.append(1)                        # call 1: the t = 0 frame; k + 1: step k's
+        if len(calls) == 4:
+            full()
+        return write(self, *args, **kwargs)
+
+    with monkeypatch.context() as patch:
+        patch.setattr(runfolder, "save_checkpoint", full)
+        patch.setattr(io.TimeSeries, "write", write_until_full)
+        assert _run(path, "--steps", 5, "--every", 1) == 3
+    err = capsys.readouterr().err
+    assert "in step 3; steps 1-2 were computed but no checkpoint could be written" in err
+    assert "run the same command again (without --resume)" in err
+    assert "--resume continues" not in err
+    run = path.with_suffix("")
+    assert not (run / "checkpoint.npz").exists()
+    assert _run(path, "--steps", 2, "--every", 1, "--resume") == 2
+    assert "run without --resume to start the run again" in capsys.readouterr().err
+    other = _scene(tmp_path, "column", ("rho = 2.0 ", "rho = 3.0 "), file="other.toml")
+    assert _run(other, "--steps", 2, "--every", 1, out=run) == 2      # another scene: kept
+    assert "holds the results of another run" in capsys.readouterr().err
+    assert _run(path, "--steps", 2, "--every", 1) == 0                 # the same: started again
+    assert "holds no saved step of this scene" in capsys.readouterr().err
+    assert [r["step"] for r in json.loads((run / "history.json").read_text())] == [1, 2]
+    assert not (run / "scene_0003.vtu").exists()
+
+
+def test_a_stop_after_a_checkpoint_names_the_step_the_checkpoint_holds(tmp_path, capsys,
+                                                                      monkeypatch):
+    # the checkpoint of step 2 written, then every later one fails and step 4's VTU too:
+    # --resume continues from step 2, not from step 3
+    from pfem_skfem import io, runfolder
+    path = _scene(tmp_path, "column")
+    save, write, calls = runfolder.save_checkpoint, io.TimeSeries.write, []
+
+    def save_until_full(file, state, **kwargs):
+        if state.step > 2:
+            raise OSError(28, "No space left on device")
+        return save(file, state, **kwargs)
+
+    def write_until_full(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 5:
+            raise OSError(28, "No space left on device")
+        return write(self, *args, **kwargs)
+
+    monkeypatch.setattr(runfolder, "save_checkpoint", save_until_full)
+    monkeypatch.setattr(io.TimeSeries, "write", write_until_full)
+    assert _run(path, "--steps", 6, "--every", 1, "--checkpoint-every", 2) == 3
+    err = capsys.readouterr().err
+    assert ("in step 4; steps 1-2 are in " in err and "(step 3 was not saved) "
+            "(--resume continues from step 2)" in err), err
