@@ -120,3 +120,21 @@ def test_a_stop_after_a_checkpoint_names_the_step_the_checkpoint_holds(tmp_path,
     err = capsys.readouterr().err
     assert ("in step 4; steps 1-2 are in " in err and "(step 3 was not saved) "
             "(--resume continues from step 2)" in err), err
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_scene_file_named_scene_toml_run_into_its_own_folder_is_never_replaced(
+        tmp_path, capsys, monkeypatch, overwrite):
+    # R6: refused as "another run's results", and the suggested --overwrite replaced the
+    # user's commented file by the generated copy
+    path = _scene(tmp_path, "column", file="scene.toml")
+    path.write_text(path.read_text() + "# my notes\n")
+    before = path.read_text()
+    monkeypatch.chdir(tmp_path)
+    args = ["run", "scene.toml", "--out", ".", "--steps", 1, "--no-progress"]
+    assert cli.main(list(map(str, args + (["--overwrite"] if overwrite else [])))) == 2
+    err = capsys.readouterr().err
+    assert "scene.toml is the file where the run writes its copy of the scene" in err
+    assert "Rename the scene file" in err
+    assert path.read_text() == before and sorted(p.name for p in tmp_path.iterdir()) == \
+        ["scene.toml"]
