@@ -305,6 +305,11 @@ def _run(args):
     scene = replace(scene, output=Output(str(out), every, checkpoint_every))
     if args.solver is not None:                     # the scene's config.solver, overridden
         scene = replace(scene, config=replace(scene.config, solver=args.solver))
+    dt = scene.config.dt
+    if scene.t_end is not None and dt > scene.t_end * (1 + 1e-9):
+        raise RunError(f"{path}: the time step dt = {dt:g} s is longer than the run, t_end = "
+                       f"{scene.t_end:g} s: one step would go to t = {dt:g} s. Make dt a "
+                       "fraction of t_end (or t_end a multiple of dt); nothing run")
     if args.steps is not None:
         if args.steps < 1:
             raise RunError(f"--steps must be >= 1, got {args.steps}")

@@ -138,3 +138,14 @@ def test_a_scene_file_named_scene_toml_run_into_its_own_folder_is_never_replaced
     assert "Rename the scene file" in err
     assert path.read_text() == before and sorted(p.name for p in tmp_path.iterdir()) == \
         ["scene.toml"]
+
+
+@pytest.mark.parametrize("steps", [(), ("--steps", 3)])
+def test_a_time_step_longer_than_t_end_is_refused_before_any_work(tmp_path, capsys, steps):
+    # R13: dt = 100 with t_end = 0.02 ran one step to t = 100
+    path = _scene(tmp_path, "column", ("dt = 0.003194382824999699", "dt = 100.0"),
+                  ("t_end = 1.6 ", "t_end = 0.02 "))
+    assert _run(path, *steps) == 2
+    err = capsys.readouterr().err
+    assert "dt = 100 s is longer than the run, t_end = 0.02 s" in err
+    assert not path.with_suffix("").exists()
