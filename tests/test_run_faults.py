@@ -149,3 +149,31 @@ def test_a_time_step_longer_than_t_end_is_refused_before_any_work(tmp_path, caps
     err = capsys.readouterr().err
     assert "dt = 100 s is longer than the run, t_end = 0.02 s" in err
     assert not path.with_suffix("").exists()
+
+
+def _pushed_block(motion, **scene):
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.scene import Body, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+    block = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)),
+                   ZeroDilationMohrCoulomb(c=0.0, phi=30.0), rho=2.0, h=0.25)
+    bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),
+              Body("pusher", RigidSegment((1.05, -0.1), (1.05, 5.0), 0.3), motion=motion))
+    return Scene(regions=(block,), bodies=bodies,
+                 config=PFEMConfig(theta=ThetaMethod(dt=0.01)), **scene)
+
+
+@pytest.mark.parametrize("t_end", [None, 0.05])
+def test_a_motion_infinite_at_a_step_time_is_refused_naming_the_body(t_end):
+    # R12: finite at t = 0 and 1 (the times as_motion checks), infinite at t = 0.02: the
+    # run went on with RuntimeWarnings, every particle free at the end
+    def blow(t):
+        return (np.float64(1.0) / (np.float64(0.02) - np.float64(t)) - 50.0, 0.0)
+    with pytest.raises(ValueError, match=r"body 'pusher': motion\(t\) must return a finite "
+                                         r"\(dx, dy\) at every step time, .* at t = 0.02 "
+                                         r"\(step 2 of dt = 0.01\)"):
+        _pushed_block(blow, t_end=t_end)
+    scene = _pushed_block(lambda t: (-0.1 * t, 0.0), t_end=t_end)     # a finite one runs
+    assert scene.bodies[1].name == "pusher"
