@@ -245,6 +245,21 @@ def _output_dir(args, scene, path):
     return d if d.is_absolute() else path.parent / d
 
 
+def _check_not_a_run_file(path, out):
+    """Refuse a scene file that is one of the files the run writes into ``out`` (a
+    ``scene.toml`` run into its own folder): the run's copy of the scene, or --overwrite,
+    would replace the user's file."""
+    from .runfolder import RUN_FILES
+    for name in RUN_FILES:
+        target = Path(out) / name
+        if target.exists() and target.resolve() == path.resolve():
+            raise RunError(
+                f"{path} is the file where the run writes its copy of the scene ({target}): "
+                "running it into this folder would replace it (with --overwrite too). "
+                f"Rename the scene file (e.g. mv {path} my_scene.toml) or write elsewhere "
+                "with --out DIR; nothing written")
+
+
 def _run(args):
     from dataclasses import replace
     from .runfolder import check_output_dir
@@ -281,6 +296,7 @@ def _run(args):
         raise RunError(str(err)) from None
     out = _output_dir(args, scene, path)
     check_output_dir(out)                            # a file, below a file, read-only
+    _check_not_a_run_file(path, out)
     every = scene.output.every if args.every is None else args.every
     checkpoint_every = (scene.output.checkpoint_every if args.checkpoint_every is None
                         else args.checkpoint_every)
@@ -289,6 +305,11 @@ def _run(args):
     scene = replace(scene, output=Output(str(out), every, checkpoint_every))
     if args.solver is not None:                     # the scene's config.solver, overridden
         scene = replace(scene, config=replace(scene.config, solver=args.solver))
+    dt = scene.config.dt
+    if scene.t_end is not None and dt > scene.t_end * (1 + 1e-9):
+        raise RunError(f"{path}: the time step dt = {dt:g} s is longer than the run, t_end = "
+                       f"{scene.t_end:g} s: one step would go to t = {dt:g} s. Make dt a "
+                       "fraction of t_end (or t_end a multiple of dt); nothing run")
     if args.steps is not None:
         if args.steps < 1:
             raise RunError(f"--steps must be >= 1, got {args.steps}")

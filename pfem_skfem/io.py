@@ -306,11 +306,17 @@ def step_fields(state, result):
     disc, inc = result.disc, result.increment
     points = state.mesh_p
     mp = state.mesh_particle
+    kept = mp >= 0                     # none when every particle left in the step
     vel = np.zeros((len(points), 3))
     vel[:, :2] = inc.v[vertex_dofs(disc)]               # a discharged vertex: the solution's
-    vel[mp >= 0, :2] = state.v[mp[mp >= 0]]             # the particles' (put out of walls)
+    vel[kept, :2] = state.v[mp[kept]]                   # the particles' (put out of walls)
     sm = result.sigma_m
-    tag = lambda a: np.where(mp >= 0, a[np.maximum(mp, 0)], 0).astype(float)  # noqa: E731
+
+    def tag(a):                        # a particle's value at its vertex, 0 elsewhere
+        values = np.zeros(len(mp))
+        values[kept] = a[mp[kept]]
+        return values
+
     stress = element_mean(disc, inc.sigma)
     point_data = {"velocity": vel, "speed": np.linalg.norm(vel, axis=1),
                   "pressure": -sm, "mean_stress": sm,

@@ -139,7 +139,7 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
     """
     out = Path(out)
     if resume and not (out / "checkpoint.npz").is_file():
-        raise RunFolderError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
+        raise RunFolderError(_NOTHING_TO_RESUME.format(out=out))
     created = not out.exists()
     try:
         with RunLock(out):
@@ -149,11 +149,29 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
             out.rmdir()                              # refused before writing: leave no trace
 
 
+_NOTHING_TO_RESUME = ("nothing to resume in {out}/: it holds no checkpoint.npz (no step of a "
+                      "run was saved there); run without --resume to start the run again")
+
+
+def _same_scene_copy(copy, scene):
+    """Whether ``copy`` (a run folder's scene.toml) is ``scene`` as run (t_end and [output]
+    aside): a folder of a stopped run of this scene."""
+    try:
+        ran = load_scene(copy)
+    except (OSError, ValueError):
+        return False
+    return replace(ran, t_end=None, output=scene.output) == replace(scene, t_end=None)
+
+
 def _resume_state(scene, out, digest):
     """The checkpoint's state and step records; history.json is checked against them."""
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
-    if not checkpoint.is_file() or not copy.is_file():
-        raise RunFolderError(f"nothing to resume in {out}/ (no checkpoint.npz and scene.toml)")
+    if not checkpoint.is_file():
+        raise RunFolderError(_NOTHING_TO_RESUME.format(out=out))
+    if not copy.is_file():
+        raise RunFolderError(f"nothing to resume in {out}/: its scene.toml is missing (the "
+                             "scene the checkpoint was made of); restore it, or start again "
+                             "with --overwrite")
     try:
         ran = load_scene(copy)
     except ValueError as err:
@@ -199,6 +217,10 @@ def _run_locked(scene, out, last, resume, progress, flags):
     for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".*.tmp")):
         tmp.unlink(missing_ok=True)                  # left by a killed writer; we hold the lock
     held = run_files(out)
+    if held and not resume and not overwrite and _no_step_kept(out, scene):
+        say(f"{out}/ holds no saved step of this scene (a run stopped before its first "
+            "checkpoint): it is started again there")
+        overwrite = True
     if held and not resume:
         if not overwrite:
             names = ", ".join(p.name for p in held[:4]) + (", ..." if len(held) > 4 else "")
@@ -230,12 +252,15 @@ def _run_locked(scene, out, last, resume, progress, flags):
                                           as_geometry(scene.geometry).axisymmetric))
     every = scene.output.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
 
+    saved = [state.step if resume else None]       # the step of the folder's checkpoint
+
     def save(st, _):
         """The checkpoint with the records up to its step (one file: they agree), then
         history.json as a copy of those records (the run's ``kept`` is ``records``)."""
         kept = [r for r in records if r["step"] <= st.step]
         save_checkpoint(checkpoint, replace(st, history=history_columns(kept)),
                         meta={"scene_digest": digest, "records": kept})
+        saved[0] = st.step
         write_text_atomic(history, json.dumps(kept, indent=1) + "\n")
 
     bar = None if progress is None else progress(first, last)
@@ -270,9 +295,8 @@ def _run_locked(scene, out, last, resume, progress, flags):
         else:
             what = {KeyboardInterrupt: "interrupted", Terminated: "terminated (SIGTERM)"}.get(
                 type(err), f"stopped: {err}")
-        kept = f"steps 1-{n} are" if n > 1 else ("step 1 is" if n == 1 else "the initial state is")
-        print(f"pfem-skfem run: {what} in step {n + 1}; {kept} in {out}/ (--resume continues "
-              f"from step {n})", file=sys.stderr)
+        print(f"pfem-skfem run: {what} in step {n + 1}; "
+              f"{_kept_message(out, n, saved[0])}", file=sys.stderr)
         say(runreport.figures(run.state, records))
         return {KeyboardInterrupt: 130, Terminated: 143}.get(type(err), 3)
     state = run.state
@@ -289,6 +313,28 @@ def _run_locked(scene, out, last, resume, progress, flags):
                "(--force to accept them)"))
         return 0 if force else runreport.EXIT_TOO_LONG_STEPS
     return 0
+
+
+def _no_step_kept(out, scene):
+    """Whether ``out`` holds a run of ``scene`` stopped before its first checkpoint (no
+    checkpoint.npz, no history.json, its scene.toml the same scene): nothing in it can be
+    resumed and a new run writes the same files, so a plain rerun may take it."""
+    return (not (out / "checkpoint.npz").exists() and not (out / "history.json").exists()
+            and _same_scene_copy(out / "scene.toml", scene))
+
+
+def _kept_message(out, n, saved):
+    """What a stopped run at step ``n`` left in ``out``: its checkpoint of step ``saved``
+    (None: none was written), and how to go on."""
+    if saved is None:
+        done = f"steps 1-{n} were computed but" if n else "no step was computed and"
+        return (f"{done} no checkpoint could be written, so nothing in {out}/ can be "
+                "resumed: run the same command again (without --resume) to start afresh")
+    kept = (f"steps 1-{saved} are" if saved > 1 else
+            ("step 1 is" if saved == 1 else "the initial state is"))
+    lost = ("" if saved == n else f" (step {n} was not saved)" if n == saved + 1
+            else f" (steps {saved + 1}-{n} were not saved)")
+    return f"{kept} in {out}/{lost} (--resume continues from step {saved})"
 
 
 def say(text):

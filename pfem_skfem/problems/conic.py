@@ -57,6 +57,19 @@ class SolverError(RuntimeError):
         return (SolverError, (str(self), self.status))
 
 
+class NonFiniteDataError(SolverError, ValueError):
+    """The conic data hold NaN or infinity (status ``'NonFiniteData'``): refused before the
+    solve. A :class:`SolverError`, so that a run stops on it as on any failed solve (the
+    last completed step checkpointed), and a ValueError (the data are wrong, not the
+    solver)."""
+
+    def __init__(self, message, status="NonFiniteData"):
+        super().__init__(message, status)
+
+    def __reduce__(self):
+        return (NonFiniteDataError, (str(self), self.status))
+
+
 @dataclass
 class SolveInfo:
     """What the solver reported: status, iterations and the time split."""

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
-from .bodies import Body
+from .bodies import Body, check_motion_over
 from .config import PFEMConfig, check_passes, legacy_keys
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
@@ -145,6 +145,8 @@ class Scene:
             raise ValueError(f"alpha must be positive, got {self.alpha!r}")
         if self.t_end is not None and not (self.t_end > 0 and np.isfinite(self.t_end)):
             raise ValueError(f"t_end must be positive and finite, got {self.t_end!r}")
+        for b in self.bodies:          # a prescribed motion finite at every step time
+            check_motion_over(b, self.config.dt, self.t_end)
         if self.length is None:
             lo, hi = self._bounding_box()
             object.__setattr__(self, "length", float(hi[1] - lo[1]) or float(np.ptp([lo, hi])))

@@ -11,7 +11,7 @@ from types import SimpleNamespace
 import clarabel
 import numpy as np
 
-from ..conic import CLARABEL_DEFAULTS, clarabel_measures
+from ..conic import CLARABEL_DEFAULTS, NonFiniteDataError, clarabel_measures
 
 #: Clarabel settings of the direct assembly (over Clarabel's defaults; a caller's
 #: ``settings`` override them): the package's (qdldl). Iterative refinement, the
@@ -21,15 +21,19 @@ SETTINGS = dict(CLARABEL_DEFAULTS)
 
 
 def check_finite(P, c, A, b):
-    """Refuse conic data holding NaN or infinity (ValueError naming the block) before any
-    solve: Clarabel answers such data with a 'NumericalError' that names no cause (and
-    the step retries), QOCO in the test with no error at all."""
+    """Refuse conic data holding NaN or infinity before any solve
+    (:class:`~pfem_skfem.problems.conic.NonFiniteDataError`, a ValueError and a SolverError,
+    naming the block, so that a run stops on it as on a failed solve): Clarabel answers
+    such data with a 'NumericalError' that names no cause (and the step retries), QOCO in
+    the test with no error at all."""
     for name, values in (("P", P.data), ("c", c), ("A", A.data), ("b", b)):
         bad = ~np.isfinite(np.asarray(values, dtype=float))
         if bad.any():
-            raise ValueError(f"the conic problem's {name} holds {int(bad.sum())} non-finite "
-                             f"value(s): the step's data (positions, velocities, stresses) "
-                             f"went non-finite before the solve")
+            raise NonFiniteDataError(
+                f"the conic problem's {name} holds {int(bad.sum())} non-finite value(s): the "
+                "step's data (positions, velocities, stresses) went non-finite before the "
+                "solve, or a value of the scene is too large for floating point (a density "
+                "or load near 1e300 overflows the step's scaling)")
 
 
 class ClarabelEngine:

@@ -1,0 +1,179 @@
+"""Faults and bad input of ``pfem-skfem run`` (issue 56, item 9; ../shared/RELIABILITY.md
+R1-R6, R12, R13): each ends in a clean message and an exit code, never a traceback, and
+never costs the user a file or a folder."""
+import json
+
+import numpy as np
+import pytest
+
+from pfem_skfem import cli
+from pfem_skfem.scene.files import example_text
+
+
+def _scene(tmp_path, name, *edits, file=None):
+    """The example ``name`` with each (old, new) text replaced, written to tmp_path."""
+    text = example_text(name)
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / (file or f"{name}.toml")
+    path.write_text(text)
+    return path
+
+
+def _run(path, *args, out=None):
+    out = path.with_suffix("") if out is None else out
+    return cli.main(["run", str(path), "--out", str(out), "--no-progress", *map(str, args)])
+
+
+def test_a_density_that_overflows_the_data_stops_with_exit_3_and_the_initial_state_kept(
+        tmp_path, capsys):
+    # R1: rho = 1e300 made the step's data non-finite; the check's ValueError escaped the
+    # run loop as a traceback with no checkpoint (before the check: exit 3)
+    path = _scene(tmp_path, "column", ("rho = 2.0 ", "rho = 1e300 "))
+    assert _run(path, "--steps", 3, "--every", 0) == 3
+    err = capsys.readouterr().err
+    assert "non-finite" in err and "status NonFiniteData" in err and "in step 1;" in err
+    assert "Traceback" not in err
+    assert (path.with_suffix("") / "checkpoint.npz").is_file()   # step 0, resumable
+
+
+def test_every_particle_leaving_in_step_1_while_vtus_are_written_ends_cleanly(
+        tmp_path, capsys):
+    # R2: the base removed at t = 0, gravity -1e7 and an outlet 1 cm below: every particle
+    # leaves in step 1; the VTU of that step raised an IndexError (io.step_fields)
+    path = _scene(tmp_path, "column",
+                  ("gravity = [0.0, -9.8]", "gravity = [0.0, -1e7]"),
+                  ('name = "base" ', 'name = "base"\nremoved_at = 0.0\n#'),
+                  ("# -- the numerical choices",
+                   '[[outlets]]\nname = "drain"\n[outlets.zone]\ntype = "HalfPlane"\n'
+                   'point = [0.0, -0.01]\nnormal = [0.0, -1.0]\n\n# -- the numerical choices'))
+    assert _run(path, "--steps", 3, "--every", 1) == 0
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and "no material left" in out
+    run = path.with_suffix("")
+    assert (run / "scene_0001.vtu").is_file() and (run / "checkpoint.npz").is_file()
+
+
+def test_a_disk_full_before_the_first_checkpoint_says_nothing_can_be_resumed_and_a_rerun_starts_again(
+        tmp_path, capsys, monkeypatch):
+    # R4/R5: every checkpoint fails (ENOSPC) and step 3's VTU too; the message claimed
+    # "--resume continues from step 2", and the folder was refused by --resume and by a
+    # plain rerun alike
+    from pfem_skfem import io, runfolder
+    path = _scene(tmp_path, "column")
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    write, calls = io.TimeSeries.write, []
+
+    def write_until_full(self, *args, **kwargs):
+        calls.append(1)                        # call 1: the t = 0 frame; k + 1: step k's
+        if len(calls) == 4:
+            full()
+        return write(self, *args, **kwargs)
+
+    with monkeypatch.context() as patch:
+        patch.setattr(runfolder, "save_checkpoint", full)
+        patch.setattr(io.TimeSeries, "write", write_until_full)
+        assert _run(path, "--steps", 5, "--every", 1) == 3
+    err = capsys.readouterr().err
+    assert "in step 3; steps 1-2 were computed but no checkpoint could be written" in err
+    assert "run the same command again (without --resume)" in err
+    assert "--resume continues" not in err
+    run = path.with_suffix("")
+    assert not (run / "checkpoint.npz").exists()
+    assert _run(path, "--steps", 2, "--every", 1, "--resume") == 2
+    assert "run without --resume to start the run again" in capsys.readouterr().err
+    other = _scene(tmp_path, "column", ("rho = 2.0 ", "rho = 3.0 "), file="other.toml")
+    assert _run(other, "--steps", 2, "--every", 1, out=run) == 2      # another scene: kept
+    assert "holds the results of another run" in capsys.readouterr().err
+    assert _run(path, "--steps", 2, "--every", 1) == 0                 # the same: started again
+    assert "holds no saved step of this scene" in capsys.readouterr().err
+    assert [r["step"] for r in json.loads((run / "history.json").read_text())] == [1, 2]
+    assert not (run / "scene_0003.vtu").exists()
+
+
+def test_a_stop_after_a_checkpoint_names_the_step_the_checkpoint_holds(tmp_path, capsys,
+                                                                      monkeypatch):
+    # the checkpoint of step 2 written, then every later one fails and step 4's VTU too:
+    # --resume continues from step 2, not from step 3
+    from pfem_skfem import io, runfolder
+    path = _scene(tmp_path, "column")
+    save, write, calls = runfolder.save_checkpoint, io.TimeSeries.write, []
+
+    def save_until_full(file, state, **kwargs):
+        if state.step > 2:
+            raise OSError(28, "No space left on device")
+        return save(file, state, **kwargs)
+
+    def write_until_full(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 5:
+            raise OSError(28, "No space left on device")
+        return write(self, *args, **kwargs)
+
+    monkeypatch.setattr(runfolder, "save_checkpoint", save_until_full)
+    monkeypatch.setattr(io.TimeSeries, "write", write_until_full)
+    assert _run(path, "--steps", 6, "--every", 1, "--checkpoint-every", 2) == 3
+    err = capsys.readouterr().err
+    assert ("in step 4; steps 1-2 are in " in err and "(step 3 was not saved) "
+            "(--resume continues from step 2)" in err), err
+
+
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_a_scene_file_named_scene_toml_run_into_its_own_folder_is_never_replaced(
+        tmp_path, capsys, monkeypatch, overwrite):
+    # R6: refused as "another run's results", and the suggested --overwrite replaced the
+    # user's commented file by the generated copy
+    path = _scene(tmp_path, "column", file="scene.toml")
+    path.write_text(path.read_text() + "# my notes\n")
+    before = path.read_text()
+    monkeypatch.chdir(tmp_path)
+    args = ["run", "scene.toml", "--out", ".", "--steps", 1, "--no-progress"]
+    assert cli.main(list(map(str, args + (["--overwrite"] if overwrite else [])))) == 2
+    err = capsys.readouterr().err
+    assert "scene.toml is the file where the run writes its copy of the scene" in err
+    assert "Rename the scene file" in err
+    assert path.read_text() == before and sorted(p.name for p in tmp_path.iterdir()) == \
+        ["scene.toml"]
+
+
+@pytest.mark.parametrize("steps", [(), ("--steps", 3)])
+def test_a_time_step_longer_than_t_end_is_refused_before_any_work(tmp_path, capsys, steps):
+    # R13: dt = 100 with t_end = 0.02 ran one step to t = 100
+    path = _scene(tmp_path, "column", ("dt = 0.003194382824999699", "dt = 100.0"),
+                  ("t_end = 1.6 ", "t_end = 0.02 "))
+    assert _run(path, *steps) == 2
+    err = capsys.readouterr().err
+    assert "dt = 100 s is longer than the run, t_end = 0.02 s" in err
+    assert not path.with_suffix("").exists()
+
+
+def _pushed_block(motion, **scene):
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.scene import Body, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+    block = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)),
+                   ZeroDilationMohrCoulomb(c=0.0, phi=30.0), rho=2.0, h=0.25)
+    bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),
+              Body("pusher", RigidSegment((1.05, -0.1), (1.05, 5.0), 0.3), motion=motion))
+    return Scene(regions=(block,), bodies=bodies,
+                 config=PFEMConfig(theta=ThetaMethod(dt=0.01)), **scene)
+
+
+@pytest.mark.parametrize("t_end", [None, 0.05])
+def test_a_motion_infinite_at_a_step_time_is_refused_naming_the_body(t_end):
+    # R12: finite at t = 0 and 1 (the times as_motion checks), infinite at t = 0.02: the
+    # run went on with RuntimeWarnings, every particle free at the end
+    def blow(t):
+        return (np.float64(1.0) / (np.float64(0.02) - np.float64(t)) - 50.0, 0.0)
+    with pytest.raises(ValueError, match=r"body 'pusher': motion\(t\) must return a finite "
+                                         r"\(dx, dy\) at every step time, .* at t = 0.02 "
+                                         r"\(step 2 of dt = 0.01\)"):
+        _pushed_block(blow, t_end=t_end)
+    scene = _pushed_block(lambda t: (-0.1 * t, 0.0), t_end=t_end)     # a finite one runs
+    assert scene.bodies[1].name == "pusher"
