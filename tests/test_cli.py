@@ -102,12 +102,12 @@ def test_help_and_list_import_no_science():
 
 
 def test_summary_shows_intervals_with_infinite_ends(tmp_path, capsys):
-    """The sliding box checks the dilation order against [0.4, inf)."""
+    """The sliding box checks the dilation order against [0.03, inf)."""
     code = cli.main(["verify", "sliding_box", "--quick", "--no-figures",
                      "--json-dir", str(tmp_path), "--outdir", str(tmp_path)])
     out = capsys.readouterr().out
     assert code == 0
-    assert "[0.4,inf]" in out
+    assert "[0.03,inf]" in out
 
 
 def test_every_script_runs_as_a_file():
