@@ -143,7 +143,7 @@ def run_in_folder(scene, out, last, *, resume=False, overwrite=False, progress=N
     created = not out.exists()
     try:
         with RunLock(out):
-            return _run_locked(scene, out, last, resume, progress, (overwrite, force))
+            return _run_locked(scene, out, last, resume, progress, overwrite, force)
     finally:
         if created and out.is_dir() and not any(out.iterdir()):
             out.rmdir()                              # refused before writing: leave no trace
@@ -210,8 +210,7 @@ def _resume_state(scene, out, digest):
     return replace(state, history=history_columns(records)), records
 
 
-def _run_locked(scene, out, last, resume, progress, flags):
-    overwrite, force = flags
+def _run_locked(scene, out, last, resume, progress, overwrite, force):
     checkpoint, history, copy = out / "checkpoint.npz", out / "history.json", out / "scene.toml"
     digest = scene_digest(scene)
     for tmp in list(out.glob("checkpoint.*.tmp.npz")) + list(out.glob(".*.tmp")):

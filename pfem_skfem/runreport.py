@@ -51,7 +51,7 @@ def _mass_before(records, i):
 
 
 def step_too_long(records, i):
-    """Why the step of ``records[i]`` broke a bound, or None: (what, figure, bound).
+    """Why the step of ``records[i]`` broke a bound, or None: (what, figure, unit, bound).
 
     The area of a record is that of its step's mesh, made of the particles at the step's
     start: its change from the record before is the previous step's. It is not compared

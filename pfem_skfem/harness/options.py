@@ -359,16 +359,6 @@ def sweep_options(parser, default_workers=None, what="the cases of the sweep"):
     return parser
 
 
-def volume_correction_option(parser, default="off", why=""):
-    """Add ``--volume-correction {on,off}``, ``PFEMConfig.volume_correction`` (the move
-    stage's volume projection, :mod:`pfem_skfem.pfem.volume_projection`), to ``parser``;
-    the script reads it as ``args.volume_correction == "on"``. One option of
-    :func:`pfem_options`; ``why`` is appended to the help text."""
-    if default not in on_off:
-        raise ValueError(f"default must be 'on' or 'off', got {default!r}")
-    return pfem_options(parser, volume_correction=opt(default, why=why or None))
-
-
 def checkpoint_options(parser, what="run", every=20, directory=True):
     """Add ``--checkpoint-dir DIR`` and ``--checkpoint-every K`` to ``parser``: each
     ``what`` saves itself in DIR (every K steps and at the end, :func:`checkpoint_path`)
@@ -389,13 +379,6 @@ def checkpoint_options(parser, what="run", every=20, directory=True):
     parser.add_argument("--checkpoint-every", type=positive_int, default=every,
                         help=f"steps between a {what}'s checkpoints")
     return parser
-
-
-def alpha_advected_option(parser, default=0.0, why=""):
-    """Add ``--alpha-advected R``, ``PFEMConfig.alpha_advected`` (keep a triangle of the
-    previous step's moved mesh up to circumradius R h; 0: the plain alpha-shape). One
-    option of :func:`pfem_options`."""
-    return pfem_options(parser, alpha_advected=opt(default, why=why or None))
 
 
 # -- option groups: one declaration of each option several scripts share --------------------

@@ -76,14 +76,13 @@ def step_solver(name, criterion=None, terms=(), settings=None):
     if name not in STEP_SOLVERS:
         raise ValueError(f"solver must be one of {tuple(STEP_SOLVERS)}, got {name!r}")
     backend = STEP_SOLVERS[name]
-    needed = set().union(*(term.cones for term in terms)) if terms else set()
     for term in terms:
         missing = sorted(set(term.cones) - set(backend.cones))
         if missing:
             raise ValueError(f"solver {name!r} does not support the {', '.join(missing)} "
                              f"cone(s) of the step's {term.name} term; it supports "
                              f"{', '.join(sorted(backend.cones))} (use 'clarabel')")
-    solver_backend(conic_solver(name), cones=needed)     # installed, licensed
+    solver_backend(conic_solver(name))          # installed, licensed (its cones: above)
     why = backend.unsupported(criterion, terms, settings or {})
     if why is not None:
         raise ValueError(f"solver {name!r}: {why}")
