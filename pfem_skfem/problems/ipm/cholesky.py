@@ -1,0 +1,51 @@
+"""The sparse Cholesky factorisation of the reduced Newton matrix: CHOLMOD's supernodal
+LL^T (Chen, Davis, Hager & Rajamanickam, ACM TOMS 35, 2008) through the ``cvxopt`` wheel,
+which ships it (``pip install`` only; book, "How a step is solved", for the choice).
+
+The pattern is fixed for a problem: the ordering and the symbolic analysis (supernodes)
+are done once (:class:`Cholesky`), the numeric factorisation once an interior-point
+iteration (:meth:`Cholesky.factor`), and each solve reuses it.
+"""
+import numpy as np
+
+
+class CholeskyError(ArithmeticError):
+    """The matrix is not numerically positive definite."""
+
+
+class Cholesky:
+    """LL^T of a symmetric positive definite matrix (supernodal), or LDL^T of a
+    quasi-definite one (``quasi_definite``: simplicial, CHOLMOD's supernodal code is LL^T
+    only), of a fixed pattern given by its lower triangle's (rows, cols), n x n."""
+
+    def __init__(self, rows, cols, n, quasi_definite=False):
+        from cvxopt import cholmod, matrix, spmatrix
+        self._cholmod, self._matrix, self._spmatrix = cholmod, matrix, spmatrix
+        self.n = n
+        self._I = matrix(np.asarray(rows, dtype=np.int32).astype(int))
+        self._J = matrix(np.asarray(cols, dtype=int))
+        # the factor's kind is fixed by the options at the symbolic analysis
+        cholmod.options["supernodal"] = 0 if quasi_definite else 2
+        pattern = spmatrix(1.0, self._I, self._J, (n, n))
+        self._F = cholmod.symbolic(pattern, uplo="L")
+        cholmod.options["supernodal"] = 2
+        self.factorisations = 0
+
+    def factor(self, values):
+        """The numeric factorisation with the lower triangle's ``values`` (in the order of
+        the pattern's (rows, cols))."""
+        A = self._spmatrix(self._matrix(np.ascontiguousarray(values, dtype=float)),
+                           self._I, self._J, (self.n, self.n))
+        try:
+            self._cholmod.numeric(A, self._F)
+        except ArithmeticError as error:
+            raise CholeskyError(f"the reduced Newton matrix is not positive definite "
+                                f"(or quasi-definite) ({error})") from None
+        self.factorisations += 1
+
+    def solve(self, b):
+        """x with L L^T x = b (b a vector or an (n, k) array)."""
+        B = self._matrix(np.array(b, dtype=float, order="F").reshape(self.n, -1))
+        self._cholmod.solve(self._F, B)
+        out = np.array(B)
+        return out.ravel() if np.ndim(b) == 1 else out

@@ -1,0 +1,144 @@
+"""The cones of the interior point, vectorised: every operation on all cones of one
+dimension at once.
+
+A group is the cones of one dimension d, their vectors an array of shape (m, d): a
+second-order cone {(u0, u1): u0 >= ||u1||} for d >= 2, and the non-negative rows for
+d = 1 (the same formulas with u1 empty: a second-order cone of dimension one *is* the
+half line, so one code serves both). The notation is Vandenberghe's ("The CVXOPT linear
+and quadratic cone program solvers", 2010, sections 2-4): J = diag(1, -1, ..., -1), the
+Jordan product u o v = (u^T v, u0 v1 + v0 u1), its identity e = (1, 0, ..., 0), and the
+Nesterov-Todd scaling W = beta (2 v v^T - J), the symmetric matrix with W z = W^-1 s
+(= lambda, the scaled point where the primal s and the dual z meet).
+"""
+import numpy as np
+
+
+def jdot(u, v):
+    """u^T J v of each row: u0 v0 - u1 . v1."""
+    return u[:, 0] * v[:, 0] - np.einsum("ij,ij->i", u[:, 1:], v[:, 1:])
+
+
+def identity(m, d):
+    """e of m cones of dimension d."""
+    e = np.zeros((m, d))
+    e[:, 0] = 1.0
+    return e
+
+
+def product(u, v):
+    """The Jordan product u o v of each row."""
+    out = np.empty_like(u)
+    out[:, 0] = np.einsum("ij,ij->i", u, v)
+    out[:, 1:] = u[:, :1] * v[:, 1:] + v[:, :1] * u[:, 1:]
+    return out
+
+
+def divide(lam, v):
+    """u with lam o u = v, each row (lam in the cone's interior): the inverse of the arrow
+    matrix of lam applied to v, in closed form."""
+    det = jdot(lam, lam)[:, None]
+    l0, l1 = lam[:, :1], lam[:, 1:]
+    l1v1 = np.einsum("ij,ij->i", l1, v[:, 1:])[:, None]
+    out = np.empty_like(v)
+    out[:, :1] = (l0 * v[:, :1] - l1v1) / det
+    out[:, 1:] = v[:, 1:] / l0 + (l1v1 / l0 - v[:, :1]) * l1 / det
+    return out
+
+
+def shift_inside(u):
+    """u moved into the cones' interior along e where it is not (CVXOPT's start): u + (1 +
+    a) e with a = the largest eigenvalue of -u, per cone, where a >= 0."""
+    u = u.copy()
+    alpha = np.linalg.norm(u[:, 1:], axis=1) - u[:, 0]      # max eigenvalue of -u
+    out = alpha >= 0
+    u[out, 0] += 1.0 + alpha[out]
+    return u
+
+
+class Scaling:
+    """The Nesterov-Todd scaling of each cone of a group at the pair (s, z), both interior:
+    W = beta (2 v v^T - J) with beta = (s^T J s / z^T J z)^(1/4) and v built from the
+    normalised scaling point w = (s/|s|_J + J z/|z|_J) / (2 gamma) (Vandenberghe 2010, 4.2)."""
+
+    def __init__(self, s, z):
+        ns, nz = np.sqrt(jdot(s, s)), np.sqrt(jdot(z, z))
+        sb, zb = s / ns[:, None], z / nz[:, None]
+        gamma = np.sqrt(0.5 * (1.0 + np.einsum("ij,ij->i", sb, zb)))
+        w = sb.copy()
+        w[:, 0] += zb[:, 0]
+        w[:, 1:] -= zb[:, 1:]
+        w /= 2.0 * gamma[:, None]
+        v = w.copy()
+        v[:, 0] += 1.0
+        v /= np.sqrt(2.0 * (w[:, :1] + 1.0))
+        self.beta, self.v = np.sqrt(ns / nz), v
+        self.lam = self.apply(z)                  # W z = W^-1 s
+
+    def apply(self, u):
+        """W u of each row."""
+        v = self.v
+        out = 2.0 * v * np.einsum("ij,ij->i", v, u)[:, None]
+        out[:, 0] -= u[:, 0]
+        out[:, 1:] += u[:, 1:]
+        return self.beta[:, None] * out
+
+    def inverse(self, u):
+        """W^-1 u of each row: W^-1 = (2 J v v^T J - J) / beta."""
+        jv = self.v.copy()
+        jv[:, 1:] *= -1.0
+        out = 2.0 * jv * np.einsum("ij,ij->i", jv, u)[:, None]
+        out[:, 0] -= u[:, 0]
+        out[:, 1:] += u[:, 1:]
+        return out / self.beta[:, None]
+
+    def squared(self):
+        """W^2 of each cone, shape (m, d, d)."""
+        m, d = self.v.shape
+        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
+        W = self.beta[:, None, None] * (2.0 * self.v[:, :, None] * self.v[:, None, :] - J)
+        return W @ W
+
+    def inverse_matrix(self):
+        """W^-1 of each cone, shape (m, d, d)."""
+        m, d = self.v.shape
+        jv = self.v.copy()
+        jv[:, 1:] *= -1.0
+        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
+        return (2.0 * jv[:, :, None] * jv[:, None, :] - J) / self.beta[:, None, None]
+
+    def inverse_squared(self):
+        """W^-2 of each cone, shape (m, d, d): the cone's block of the Newton matrix."""
+        m, d = self.v.shape
+        jv = self.v.copy()
+        jv[:, 1:] *= -1.0
+        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
+        Winv = (2.0 * jv[:, :, None] * jv[:, None, :] - J) / self.beta[:, None, None]
+        return Winv @ Winv
+
+
+def max_step(u, du):
+    """The largest a >= 0 (inf where none binds) with u + a du in each cone, u interior:
+    the first positive root of q(a) = (u + a du)^T J (u + a du), a quadratic with q(0) > 0
+    (it cannot leave the cone without q crossing zero)."""
+    a = jdot(du, du)
+    b = 2.0 * jdot(u, du)
+    c = jdot(u, u)
+    step = np.full(len(u), np.inf)
+    disc = b * b - 4.0 * a * c
+    real = disc >= 0
+    root = np.sqrt(np.where(real, disc, 0.0))
+    # the stable pair of roots: q1 = -(b + sign(b) root) / 2, roots q1 / a and c / q1
+    q1 = -0.5 * (b + np.where(b >= 0, 1.0, -1.0) * root)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = np.where(a != 0, q1 / a, np.inf)
+        r2 = np.where(q1 != 0, c / q1, np.inf)
+    for r in (r1, r2):
+        hit = real & (r > 0) & np.isfinite(r)
+        step[hit] = np.minimum(step[hit], r[hit])
+    # a first coordinate that turns negative with q > 0 means u + a du passed through -K:
+    # impossible from the interior without q = 0 first, except for d = 1 (q = u0^2)
+    if u.shape[1] == 1:
+        neg = du[:, 0] < 0
+        step = np.full(len(u), np.inf)
+        step[neg] = -u[neg, 0] / du[neg, 0]
+    return step

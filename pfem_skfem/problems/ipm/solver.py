@@ -1,0 +1,248 @@
+"""A primal-dual interior point for the zero, non-negative and second-order cones, its
+Newton system reduced to the displacements (:mod:`.newton`).
+
+Mehrotra's predictor-corrector with the Nesterov-Todd scaling (Vandenberghe 2010, the
+CVXOPT cone QP algorithm; Mehrotra 1992), on min 1/2 x^T P x + c^T x, A x + s = b, s in
+K (the zero cone's rows E x = b_E, the others G x + s = h), infeasible start:
+
+1. residuals r_x = P x + c + A^T z, r_y = E x - b_E, r_z = G x + s - h and the gap
+   mu = s^T z / nu (nu the number of cones); stop when Clarabel's tests hold
+   (:func:`measures`, the tolerances :data:`DEFAULTS`, Clarabel's names and values);
+2. the scaling W at (s, z), lambda = W z = W^-1 s, the Newton system factorised once;
+3. the affine (predictor) direction: the linearised conditions with the complementarity
+   lambda o (W dz + W^-1 ds) = -lambda o lambda; its largest step a in the cones;
+4. the centring sigma = (1 - a)^3 and the combined (corrector) direction: the residuals
+   scaled by 1 - sigma, the complementarity -lambda o lambda - (W^-1 ds_a) o (W dz_a)
+   + sigma mu e, the same factorisation;
+5. the step: 0.99 of the largest in the cones, at most one.
+
+The start is CVXOPT's: the least-squares point of the Newton system with W = I, s and z
+shifted into the cones. Infeasibility is read off the iterates (no homogeneous
+embedding: the embedding of Clarabel and ECOS costs a second solve an iteration, and a
+step or an analysis is infeasible only when its load exceeds the collapse load): a dual
+iterate with ||A^T z|| <= tol_infeas_rel (-b^T z) certifies primal infeasibility
+('PrimalInfeasible'), a primal one with ||P x||, ||E x||, ||G x + s|| <= tol_infeas_rel
+(-c^T x) dual infeasibility ('DualInfeasible').
+
+The reduced Newton system is the normal equations of the cones: its condition number
+grows as the gap closes, and near a gap of 1e-8 (1e-9 to 1e-10 in mu) it can pass what
+double precision resolves. The solve watches the residual of each Newton solve
+(after refinement); once it exceeds :data:`TRUST` the direction is not taken, and the
+solve ends at its best iterate: 'Solved' when that meets the full tolerances,
+'AlmostSolved' (Clarabel's reduced tolerances) or 'NumericalError' otherwise. The same
+best iterate answers an iteration limit ('MaxIterations') or a stall
+('InsufficientProgress').
+"""
+from types import SimpleNamespace
+
+import numpy as np
+
+from . import cones as K
+from .cholesky import Cholesky, CholeskyError
+from .newton import Newton
+from .structure import Structure
+
+#: the tolerances (Clarabel's names and defaults: full, then reduced for 'AlmostSolved')
+DEFAULTS = dict(tol_gap_abs=1e-8, tol_gap_rel=1e-8, tol_feas=1e-8, tol_infeas_rel=1e-8,
+                reduced_tol_gap_abs=5e-5, reduced_tol_gap_rel=5e-5, reduced_tol_feas=1e-4,
+                max_iter=100, step_fraction=0.99, verbose=False)
+
+#: a Newton solve whose residual (relative to its right-hand side, after refinement) is
+#: above this is not trusted: its direction is not taken and the solve ends
+TRUST = 1e-6
+
+
+class _Identity:
+    """W = I for every cone of a group (the starting point's system)."""
+
+    def __init__(self, m, d):
+        self.m, self.d = m, d
+
+    def apply(self, u):
+        return u
+
+    inverse = apply
+
+    def inverse_matrix(self):
+        return np.broadcast_to(np.eye(self.d), (self.m, self.d, self.d)).copy()
+
+
+def _inf(v):
+    return float(np.abs(v).max()) if np.size(v) else 0.0
+
+
+class _Problem:
+    """The data, split by cone (:class:`~.structure.Structure`), and the iterate's
+    measures."""
+
+    def __init__(self, P, c, A, b, cones, opts):
+        self.st = st = Structure(P, A, cones)
+        self.A = st.A = A.tocsr()
+        self.AT = A.T.tocsr()
+        self.P, self.c, self.b = st.P, c, b
+        self.b_E = b[st.zero]
+        self.h = {d: b[rows] for d, rows in st.groups.items()}
+        self.nu = max(sum(rows.shape[0] for rows in st.groups.values()), 1)
+        self.opts = opts
+        self.norm_b, self.norm_c = _inf(b), _inf(c)
+
+    def split(self, v):
+        """A row-length vector as (its zero rows, {d: its cone groups (m, d)})."""
+        return v[self.st.zero], {d: v[rows] for d, rows in self.st.groups.items()}
+
+    def measures(self, x, z, s):
+        """Clarabel's measures of the iterate (x, z, s) (z, s of the row length) and the
+        residuals the Newton step reduces."""
+        Px = self.P @ x
+        Ax = self.A @ x
+        ATz = self.AT @ z
+        r_prim = Ax + s - self.b
+        rx = Px + self.c + ATz
+        xPx = float(x @ Px)
+        pobj = 0.5 * xPx + float(self.c @ x)
+        dobj = -0.5 * xPx - float(self.b @ z)
+        gap_abs = abs(pobj - dobj)
+        ry, rz = self.split(r_prim)
+        return dict(
+            pobj=pobj, dobj=dobj, gap_abs=gap_abs,
+            gap_rel=gap_abs / max(1.0, min(abs(pobj), abs(dobj))),
+            res_primal=_inf(r_prim) / max(1.0, self.norm_b + _inf(x) + _inf(s)),
+            res_dual=_inf(rx) / max(1.0, self.norm_c + _inf(x) + _inf(z)),
+            rx=rx, ry=ry, rz=rz, Px=Px, Ax=Ax, ATz=ATz, bz=float(self.b @ z),
+            cx=float(self.c @ x))
+
+    def done(self, m, reduced=False):
+        o, pre = self.opts, "reduced_" if reduced else ""
+        gap = m["gap_abs"] <= o[pre + "tol_gap_abs"] or m["gap_rel"] <= o[pre + "tol_gap_rel"]
+        return gap and max(m["res_primal"], m["res_dual"]) <= o[pre + "tol_feas"]
+
+    def merit(self, m):
+        """How far the iterate is from the full tolerances (below one: solved)."""
+        o = self.opts
+        return max(m["res_primal"] / o["tol_feas"], m["res_dual"] / o["tol_feas"],
+                   min(m["gap_abs"] / o["tol_gap_abs"], m["gap_rel"] / o["tol_gap_rel"]))
+
+    def infeasible(self, m, x, s):
+        """'PrimalInfeasible' / 'DualInfeasible' when the iterate certifies it, else None."""
+        tol = self.opts["tol_infeas_rel"]
+        if m["bz"] < 0 and _inf(m["ATz"]) <= tol * -m["bz"]:
+            return "PrimalInfeasible"
+        if m["cx"] < 0:
+            Ax_s = m["Ax"] + s
+            Ax_s[self.st.zero] = m["Ax"][self.st.zero]          # E x (s = 0 there)
+            if max(_inf(m["Px"]), _inf(Ax_s)) <= tol * -m["cx"]:
+                return "DualInfeasible"
+        return None
+
+
+def _step(lam, ds_t, dz_t):
+    """The largest step in every cone for the scaled directions."""
+    a = np.inf
+    for d in lam:
+        for u in (ds_t[d], dz_t[d]):
+            if u.size:
+                a = min(a, float(K.max_step(lam[d], u).min()))
+    return a
+
+
+def _direction(pb, newton, W, lam, m, scale, comp):
+    """The Newton direction for the residuals times ``scale`` and the complementarity
+    right-hand sides ``comp``: (dx, dz, ds) of the row length and the scaled (W^-1 ds,
+    W dz) per group. From lambda o (W dz + W^-1 ds) = comp: W^-1 ds = q - W dz with
+    q = lambda \\ comp, and G dx + ds = -scale r_z, scaled by W^-1, is the third row of
+    (N): W^-1 G dx - W dz = -scale W^-1 r_z - q."""
+    st = pb.st
+    q = {d: K.divide(lam[d], comp[d]) for d in lam}
+    bzt = {d: -scale * W[d].inverse(m["rz"][d]) - q[d] for d in lam}
+    dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt)
+    ds_t = {d: q[d] - dz_t[d] for d in lam}
+    dz, ds = np.zeros(pb.b.size), np.zeros(pb.b.size)
+    dz[st.zero] = dy
+    for d, rows in st.groups.items():
+        dz[rows] = W[d].inverse(dz_t[d])
+        ds[rows] = W[d].apply(ds_t[d])
+    return dx, dz, ds, ds_t, dz_t
+
+
+def solve(P, c, A, b, cones, settings=None):
+    """Solve min 1/2 x^T P x + c^T x, A x + s = b, s in K (Clarabel's data: P upper
+    triangular or full, the cone objects of ``clarabel``); answers in Clarabel's terms:
+    SimpleNamespace(x, z, s, status, iterations, obj_val, measures, factorisations)."""
+    opts = {**DEFAULTS, **(settings or {})}
+    pb = _Problem(P, np.asarray(c, dtype=float), A, np.asarray(b, dtype=float), cones, opts)
+    st = pb.st
+    n, rows = P.shape[0], A.shape[0]
+    if st.dead.size and np.any(pb.c[st.dead] != 0):   # a cost on a variable in nothing
+        return _answer(np.zeros(n), np.zeros(rows), np.zeros(rows), "DualInfeasible", 0,
+                       None, 0)
+    chol = Cholesky(st.K_rows, st.K_cols, st.n_reduced, quasi_definite=st.n_p > 0)
+    # the start: the least-squares point of (N) with W = I (z = G x - h), shifted inside
+    newton = Newton(st, {d: _Identity(*r.shape) for d, r in st.groups.items()}, chol)
+    x, y, zt = newton.solve(-pb.c, pb.b_E, pb.h)
+    z, s = np.zeros(rows), np.zeros(rows)
+    z[st.zero] = y
+    for d, r in st.groups.items():
+        z[r] = K.shift_inside(zt[d])
+        s[r] = K.shift_inside(-zt[d])
+    status, best, stall, it = None, None, 0, 0
+    for it in range(opts["max_iter"] + 1):
+        m = pb.measures(x, z, s)
+        if best is None or pb.merit(m) < best[0]:
+            best = (pb.merit(m), x, z, s, m, it)
+        if pb.done(m):
+            status = "Solved"
+            break
+        status = pb.infeasible(m, x, s)
+        if status is not None or it == opts["max_iter"]:
+            break
+        _, zg = pb.split(z)
+        _, sg = pb.split(s)
+        W = {d: K.Scaling(sg[d], zg[d]) for d in zg}
+        lam = {d: W[d].lam for d in zg}
+        try:
+            newton = Newton(st, W, chol)
+        except CholeskyError:
+            status = "NumericalError"
+            break
+        mu = sum(float(np.sum(sg[d] * zg[d])) for d in zg) / pb.nu
+        lam2 = {d: K.product(lam[d], lam[d]) for d in lam}
+        *_, ds_a, dz_a = _direction(pb, newton, W, lam, m, 1.0, {d: -lam2[d] for d in lam})
+        a_aff = min(1.0, _step(lam, ds_a, dz_a))
+        sigma = (1.0 - a_aff) ** 3
+        comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])
+                + sigma * mu * K.identity(*lam[d].shape) for d in lam}
+        dx, dz, ds, ds_t, dz_t = _direction(pb, newton, W, lam, m, 1.0 - sigma, comp)
+        if newton.residual > TRUST:                  # the reduced system ran out of digits
+            status = "NumericalError"
+            break
+        a = min(1.0, opts["step_fraction"] * _step(lam, ds_t, dz_t))
+        if opts["verbose"]:
+            print(f"{it:3d} pobj {m['pobj']:+.6e} dobj {m['dobj']:+.6e} pres "
+                  f"{m['res_primal']:.1e} dres {m['res_dual']:.1e} gap {m['gap_rel']:.1e} "
+                  f"mu {mu:.1e} a_aff {a_aff:.3f} a {a:.3f} kkt {newton.residual:.1e}")
+        if not a > 1e-10:
+            stall += 1
+            if stall >= 3:
+                status = "InsufficientProgress"
+                break
+        x, z, s = x + a * dx, z + a * dz, s + a * ds
+    if status not in ("Solved", "PrimalInfeasible", "DualInfeasible"):
+        _, x, z, s, m, it_best = best           # the best iterate answers
+        if pb.done(m):
+            status = "Solved"
+        elif pb.done(m, reduced=True):
+            status = "AlmostSolved"
+        elif status is None:
+            status = "MaxIterations"
+    return _answer(x, z, s, status, it, m, chol.factorisations)
+
+
+def _answer(x, z, s, status, iterations, m, factorisations):
+    """The answer in Clarabel's terms."""
+    measures = None if m is None else {
+        "solver": "ipm", "status": status,
+        **{k: float(m[k]) for k in ("res_primal", "res_dual", "gap_rel", "gap_abs")},
+        "ktratio": np.nan}
+    return SimpleNamespace(x=x, z=z, s=s, status=status, iterations=int(iterations),
+                           obj_val=np.nan if m is None else m["pobj"], measures=measures,
+                           factorisations=factorisations)

@@ -1,0 +1,246 @@
+"""The structure of a conic problem that the reduced Newton system (:mod:`.newton`) uses,
+found once per problem (a PFEM step's pattern does not change between its iterations).
+
+* the rows by cone: the zero cone's (E, the equilibrium) and each group of cones of one
+  dimension (G_d, the yield and contact cones; a non-negative row is a cone of dimension
+  one);
+* the variables by **block**: the connected sets of variables that the quadratic P or a
+  common cone joins (a stress point's stresses, a contact's two forces, an element's
+  r'), each small; a variable in no cone and without a quadratic but in an equality is a
+  block of its own (a fluid point's pressure), unless it is in many equalities (a load
+  factor's dense column: kept **free**); a variable in nothing is **dead** (zero);
+* each block's **null space**: the directions that neither P nor any cone sees (the mean
+  stress of a zero-dilation or Tresca point without compliance, a pressure). They cannot
+  be eliminated (H is singular there): they stay as unknowns beside the displacements,
+  one per direction, the "pressures" p of the augmented system;
+* the constant dense pieces (P's blocks and square roots, each cone's rows on its block,
+  E's rows on each block, E N on the null directions) and the scatter of the blocks'
+  contributions into the lower triangle of the reduced matrix
+  [[E H^-1 E^T, E N], [N^T E^T, -delta I]] (displacements first, then pressures).
+"""
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+#: a block's direction is null (no cone, no quadratic) when its eigenvalue of
+#: P_b^2 + G_b^T G_b is below this, relative to the block's largest
+NULL_TOL = 1e-12
+
+#: the largest block (variables) the batched inversion takes; a problem whose cones or
+#: quadratic join more variables is not of the step's structure (refused: NotStructured)
+MAX_BLOCK = 48
+
+#: a variable outside the blocks in more equalities than this is a dense column (free)
+DENSE_COLUMN = 64
+
+#: the most free variables kept beside the reduced matrix (each costs one solve a
+#: factorisation and a row of a dense Schur complement)
+MAX_FREE = 200
+
+
+class NotStructured(ValueError):
+    """The problem does not have the block structure the reduced Newton system needs."""
+
+
+def cone_rows(cones):
+    """(zero rows, {dim: (m, dim) rows of its cones}) of Clarabel cone objects (a
+    non-negative cone of n rows is n cones of dimension one)."""
+    zero, groups, start = [], {}, 0
+    for cone in cones:
+        kind, dim = type(cone).__name__, int(cone.dim)
+        rows = np.arange(start, start + dim)
+        if kind == "ZeroConeT":
+            zero.append(rows)
+        elif kind == "NonnegativeConeT":
+            groups.setdefault(1, []).append(rows[:, None])
+        elif kind == "SecondOrderConeT":
+            groups.setdefault(dim, []).append(rows[None, :])
+        else:
+            raise ValueError(f"the interior point takes zero, non-negative and second-order "
+                             f"cones, not {kind}")
+        start += dim
+    zero = np.concatenate(zero) if zero else np.zeros(0, dtype=int)
+    return zero, {d: np.concatenate(r) for d, r in sorted(groups.items())}
+
+
+def _membership(m, d):
+    """The (m, m d) matrix summing each cone's d rows."""
+    return sp.csr_matrix((np.ones(m * d), (np.repeat(np.arange(m), d), np.arange(m * d))),
+                         shape=(m, m * d))
+
+
+class Structure:
+    """What the Newton system of one problem needs, computed once (module docstring)."""
+
+    def __init__(self, P, A, cones):
+        n = A.shape[1]
+        A = sp.csr_matrix(A)
+        self.zero, self.groups = cone_rows(cones)
+        self.E = A[self.zero].tocsr()
+        self.G = {d: A[rows.ravel()].tocsr() for d, rows in self.groups.items()}
+        P = sp.csr_matrix(P)
+        self.P = (P + sp.triu(P, 1).T).tocsr() if sp.tril(P, -1).nnz == 0 else P
+        links, self._incidence = abs(self.P), {}
+        for d, rows in self.groups.items():               # variables in a common cone
+            inc = (_membership(rows.shape[0], d) @ abs(self.G[d])).tocsr()
+            inc.data[:] = 1.0
+            self._incidence[d] = inc
+            links = links + inc.T @ inc
+        in_h = np.asarray(abs(links).sum(axis=0)).ravel() != 0
+        rows_of = np.diff(self.E.tocsc().indptr)
+        dense = ~in_h & (rows_of > DENSE_COLUMN)
+        self.free = np.flatnonzero(dense)
+        self.dead = np.flatnonzero(~in_h & (rows_of == 0))
+        if self.free.size > MAX_FREE:
+            raise NotStructured(f"{self.free.size} variables are in no cone, have no "
+                                f"quadratic and each is in over {DENSE_COLUMN} equalities "
+                                f"(at most {MAX_FREE})")
+        _, label = connected_components(links.tocsr(), directed=False)
+        label = np.where(in_h | ((rows_of > 0) & ~dense), label, -1)
+        self._blocks(label, n)
+        self._pieces()
+        self._null_spaces()
+        self._pattern()
+
+    def _blocks(self, label, n):
+        """self.blocks {size: (m, size) variables}; self.where[j] = (size, block, local)."""
+        order = np.argsort(label, kind="stable")
+        order = order[label[order] >= 0]
+        starts = np.flatnonzero(np.r_[True, np.diff(label[order]) != 0]) if order.size \
+            else np.zeros(0, dtype=int)
+        sizes = np.diff(np.r_[starts, order.size])
+        if sizes.size and sizes.max() > MAX_BLOCK:
+            raise NotStructured(f"a block of {sizes.max()} variables joined by the "
+                                f"quadratic or a cone (at most {MAX_BLOCK})")
+        self.blocks = {}
+        self.where = np.full((n, 3), -1)
+        for size in np.unique(sizes):
+            first = starts[sizes == size]
+            vars_ = order[first[:, None] + np.arange(size)]
+            self.blocks[int(size)] = vars_
+            self.where[vars_.ravel()] = np.c_[np.full(vars_.size, size),
+                                              np.repeat(np.arange(len(first)), size),
+                                              np.tile(np.arange(size), len(first))]
+
+    def _pieces(self):
+        """P's blocks and their square roots L (P_b = L^T L); each cone's rows on its block
+        (per cone dimension and block size: cones, blocks, dense rows, and the rows'
+        place in the block's stacked M = [L; W^-1 G_b])."""
+        self.P_blocks, self.P_roots, count = {}, {}, {}
+        Pc = self.P.tocoo()
+        size_r = self.where[Pc.row, 0]
+        for size, vars_ in self.blocks.items():
+            pb = np.zeros((vars_.shape[0], size, size))
+            on = size_r == size
+            np.add.at(pb, (self.where[Pc.row[on], 1], self.where[Pc.row[on], 2],
+                           self.where[Pc.col[on], 2]), Pc.data[on])
+            lam, U = np.linalg.eigh(pb)
+            self.P_blocks[size] = pb
+            self.P_roots[size] = np.sqrt(np.clip(lam, 0, None))[:, :, None] * \
+                np.swapaxes(U, 1, 2)
+            count[size] = np.full(vars_.shape[0], size)
+        self.cone_parts = []
+        for d, rows in self.groups.items():
+            inc = self._incidence[d]
+            nonempty = np.diff(inc.indptr) > 0
+            first_var = np.zeros(rows.shape[0], dtype=int)
+            first_var[nonempty] = inc.indices[inc.indptr[:-1][nonempty]]
+            size_k = np.where(nonempty, self.where[first_var, 0], -1)
+            for size in self.blocks:
+                cones_k = np.flatnonzero(size_k == size)
+                if cones_k.size == 0:
+                    continue
+                blk = self.where[first_var[cones_k], 1]
+                sub = self.G[d][(cones_k[:, None] * d + np.arange(d)).ravel()].tocoo()
+                dense = np.zeros((cones_k.size, d, size))
+                np.add.at(dense, (sub.row // d, sub.row % d, self.where[sub.col, 2]),
+                          sub.data)
+                order = np.argsort(blk, kind="stable")       # the k-th cone of its block
+                sb = blk[order]
+                first = np.r_[True, sb[1:] != sb[:-1]]
+                rank = np.arange(sb.size) - np.maximum.accumulate(
+                    np.where(first, np.arange(sb.size), 0))
+                offset = np.empty(blk.size, dtype=int)
+                offset[order] = count[size][sb] + rank * d
+                np.add.at(count[size], blk, d)
+                self.cone_parts.append((d, cones_k, size, blk, dense, offset))
+        self.M_rows = {size: int(c.max()) for size, c in count.items()}
+
+    def _null_spaces(self):
+        """Each block's range and null directions (constant: W^-2 is positive definite),
+        from the eigenvectors of P_b^2 + G_b^T G_b; the pressures' numbers."""
+        gram = {size: np.einsum("mij,mjk->mik", p, p) for size, p in self.P_blocks.items()}
+        for d, cones_k, size, blk, dense, offset in self.cone_parts:
+            np.add.at(gram[size], blk, np.einsum("mri,mrj->mij", dense, dense))
+        self.range_, self.null, self.pressure = {}, {}, {}
+        n_p = 0
+        for size, g in gram.items():
+            lam, V = np.linalg.eigh(g)
+            null = lam <= NULL_TOL * np.maximum(lam[:, -1:], 1e-300)
+            null[lam[:, -1] <= 0] = True                  # nothing at all: all null
+            self.range_[size] = V * ~null[:, None, :]
+            self.null[size] = (V * null[:, None, :], null)
+            index = np.full(null.shape, -1)
+            index[null] = n_p + np.arange(int(null.sum()))
+            n_p += int(null.sum())
+            self.pressure[size] = index
+        self.n_p = n_p
+
+    def _dense_rows(self, size):
+        """E on each block of ``size``: dense (m, r, size) and its rows (m, r), -1 padded."""
+        vars_ = self.blocks[size]
+        m, nE = vars_.shape[0], self.E.shape[0]
+        Ec = self.E.tocsc()[:, vars_.ravel()].tocoo()
+        blk, local = np.divmod(Ec.col, size)
+        key = blk.astype(np.int64) * nE + Ec.row
+        uniq, slot = np.unique(key, return_inverse=True)
+        ublk = uniq // nE
+        first = np.searchsorted(ublk, np.arange(m))
+        r = max(int(np.bincount(ublk, minlength=m).max()) if uniq.size else 0, 1)
+        pos = np.arange(uniq.size) - first[ublk]
+        rows = np.full((m, r), -1)
+        rows[ublk, pos] = uniq % nE
+        dense = np.zeros((m, r, size))
+        np.add.at(dense, (blk, pos[slot], local), Ec.data)
+        return dense, rows
+
+    def _pattern(self):
+        """The lower triangle of the reduced matrix, the slots of each block's pieces in
+        it, and the constant E N (the pressures' columns)."""
+        nE = self.E.shape[0]
+        self.n_reduced = nE + self.n_p
+        N = self.n_reduced
+        self.E_parts, keys, self.S_mask = {}, [], {}
+        en_rows, en_cols, en_vals = [], [], []
+        for size in self.blocks:
+            dense, rows = self._dense_rows(size)
+            self.E_parts[size] = (dense, rows)
+            i, k = rows[:, :, None], rows[:, None, :]
+            ok = np.broadcast_to((i >= 0) & (k >= 0) & (i >= k),
+                                 (rows.shape[0], rows.shape[1], rows.shape[1]))
+            self.S_mask[size] = ok
+            keys.append(np.broadcast_to(i, ok.shape)[ok].astype(np.int64) * N
+                        + np.broadcast_to(k, ok.shape)[ok])
+            Vn, null = self.null[size]
+            if null.any():                          # E N: row nE + p, column the dof
+                EN = np.einsum("mri,mij->mrj", dense, Vn)
+                p = self.pressure[size]
+                ok_n = (rows[:, :, None] >= 0) & (p[:, None, :] >= 0)
+                en_rows.append(nE + np.broadcast_to(p[:, None, :], ok_n.shape)[ok_n])
+                en_cols.append(np.broadcast_to(rows[:, :, None], ok_n.shape)[ok_n])
+                en_vals.append(EN[ok_n])
+        en_rows = np.concatenate(en_rows) if en_rows else np.zeros(0, dtype=int)
+        en_cols = np.concatenate(en_cols) if en_cols else np.zeros(0, dtype=int)
+        en_vals = np.concatenate(en_vals) if en_vals else np.zeros(0)
+        diag = np.arange(N, dtype=np.int64) * (N + 1)
+        allkeys = np.concatenate(keys + [en_rows.astype(np.int64) * N + en_cols, diag])
+        uniq, inverse = np.unique(allkeys, return_inverse=True)
+        self.K_rows, self.K_cols, self.K_nnz = uniq // N, uniq % N, uniq.size
+        start = 0
+        self.S_slots = {}
+        for size, key in zip(self.blocks, keys):
+            self.S_slots[size] = inverse[start:start + key.size]
+            start += key.size
+        self.EN_values = np.bincount(inverse[start:start + en_rows.size], weights=en_vals.astype(float),
+                                     minlength=self.K_nnz).astype(float)
+        self.diag_slots = inverse[-N:]
