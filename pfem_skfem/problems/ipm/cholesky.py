@@ -14,21 +14,18 @@ class CholeskyError(ArithmeticError):
 
 
 class Cholesky:
-    """LL^T of a symmetric positive definite matrix (supernodal), or LDL^T of a
-    quasi-definite one (``quasi_definite``: simplicial, CHOLMOD's supernodal code is LL^T
-    only), of a fixed pattern given by its lower triangle's (rows, cols), n x n."""
+    """LL^T of a symmetric positive definite matrix of a fixed pattern given by its lower
+    triangle's (rows, cols), n x n (supernodal: CHOLMOD's choice, by the pattern)."""
 
-    def __init__(self, rows, cols, n, quasi_definite=False):
+    def __init__(self, rows, cols, n):
         from cvxopt import cholmod, matrix, spmatrix
         self._cholmod, self._matrix, self._spmatrix = cholmod, matrix, spmatrix
         self.n = n
         self._I = matrix(np.asarray(rows, dtype=np.int32).astype(int))
         self._J = matrix(np.asarray(cols, dtype=int))
-        # the factor's kind is fixed by the options at the symbolic analysis
-        cholmod.options["supernodal"] = 0 if quasi_definite else 2
+        cholmod.options["supernodal"] = 2            # CHOLMOD's default: automatic
         pattern = spmatrix(1.0, self._I, self._J, (n, n))
         self._F = cholmod.symbolic(pattern, uplo="L")
-        cholmod.options["supernodal"] = 2
         self.factorisations = 0
 
     def factor(self, values):
@@ -40,7 +37,7 @@ class Cholesky:
             self._cholmod.numeric(A, self._F)
         except ArithmeticError as error:
             raise CholeskyError(f"the reduced Newton matrix is not positive definite "
-                                f"(or quasi-definite) ({error})") from None
+                                f"({error})") from None
         self.factorisations += 1
 
     def solve(self, b):

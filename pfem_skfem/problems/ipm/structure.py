@@ -72,12 +72,15 @@ def _membership(m, d):
 class Structure:
     """What the Newton system of one problem needs, computed once (module docstring)."""
 
+
     def __init__(self, P, A, cones):
         n = A.shape[1]
         A = sp.csr_matrix(A)
         self.zero, self.groups = cone_rows(cones)
         self.E = A[self.zero].tocsr()
+        self.ET = self.E.T.tocsr()
         self.G = {d: A[rows.ravel()].tocsr() for d, rows in self.groups.items()}
+        self.GT = {d: G.T.tocsr() for d, G in self.G.items()}
         P = sp.csr_matrix(P)
         self.P = (P + sp.triu(P, 1).T).tocsr() if sp.tril(P, -1).nnz == 0 else P
         links, self._incidence = abs(self.P), {}
@@ -101,6 +104,7 @@ class Structure:
         self._pieces()
         self._null_spaces()
         self._pattern()
+        self._operators()
 
     def _blocks(self, label, n):
         """self.blocks {size: (m, size) variables}; self.where[j] = (size, block, local)."""
@@ -205,13 +209,14 @@ class Structure:
         return dense, rows
 
     def _pattern(self):
-        """The lower triangle of the reduced matrix, the slots of each block's pieces in
-        it, and the constant E N (the pressures' columns)."""
+        """The lower triangle of S, the slots of each block's E_b H_b^+ E_b^T in it, E_N
+        (E on the null directions: displacements x pressures) and S's constant part
+        (E_N E_N^T / delta, and the blocks that no cone touches: an element's r', a
+        pressure alone, whose H^+ is constant)."""
+        from .newton import DELTA
         nE = self.E.shape[0]
-        self.n_reduced = nE + self.n_p
-        N = self.n_reduced
         self.E_parts, keys, self.S_mask = {}, [], {}
-        en_rows, en_cols, en_vals = [], [], []
+        en = [], [], []
         for size in self.blocks:
             dense, rows = self._dense_rows(size)
             self.E_parts[size] = (dense, rows)
@@ -219,28 +224,87 @@ class Structure:
             ok = np.broadcast_to((i >= 0) & (k >= 0) & (i >= k),
                                  (rows.shape[0], rows.shape[1], rows.shape[1]))
             self.S_mask[size] = ok
-            keys.append(np.broadcast_to(i, ok.shape)[ok].astype(np.int64) * N
+            keys.append(np.broadcast_to(i, ok.shape)[ok].astype(np.int64) * nE
                         + np.broadcast_to(k, ok.shape)[ok])
             Vn, null = self.null[size]
-            if null.any():                          # E N: row nE + p, column the dof
-                EN = np.einsum("mri,mij->mrj", dense, Vn)
+            if null.any():
+                EN = dense @ Vn
                 p = self.pressure[size]
                 ok_n = (rows[:, :, None] >= 0) & (p[:, None, :] >= 0)
-                en_rows.append(nE + np.broadcast_to(p[:, None, :], ok_n.shape)[ok_n])
-                en_cols.append(np.broadcast_to(rows[:, :, None], ok_n.shape)[ok_n])
-                en_vals.append(EN[ok_n])
-        en_rows = np.concatenate(en_rows) if en_rows else np.zeros(0, dtype=int)
-        en_cols = np.concatenate(en_cols) if en_cols else np.zeros(0, dtype=int)
-        en_vals = np.concatenate(en_vals) if en_vals else np.zeros(0)
-        diag = np.arange(N, dtype=np.int64) * (N + 1)
-        allkeys = np.concatenate(keys + [en_rows.astype(np.int64) * N + en_cols, diag])
-        uniq, inverse = np.unique(allkeys, return_inverse=True)
-        self.K_rows, self.K_cols, self.K_nnz = uniq // N, uniq % N, uniq.size
-        start = 0
-        self.S_slots = {}
+                en[0].append(np.broadcast_to(rows[:, :, None], ok_n.shape)[ok_n])
+                en[1].append(np.broadcast_to(p[:, None, :], ok_n.shape)[ok_n])
+                en[2].append(EN[ok_n])
+        en_rows, en_cols = (np.concatenate(v) if v else np.zeros(0, int) for v in en[:2])
+        en_vals = np.concatenate(en[2]) if en[2] else np.zeros(0)
+        self.EN = sp.csr_matrix((en_vals, (en_rows, en_cols)), shape=(nE, self.n_p))
+        diag = np.arange(nE, dtype=np.int64) * (nE + 1)
+        uniq, inverse = np.unique(np.concatenate(keys + [diag]), return_inverse=True)
+        self.S_rows, self.S_cols, self.S_nnz = uniq // nE, uniq % nE, uniq.size
+        start, self.S_slots = 0, {}
         for size, key in zip(self.blocks, keys):
             self.S_slots[size] = inverse[start:start + key.size]
             start += key.size
-        self.EN_values = np.bincount(inverse[start:start + en_rows.size], weights=en_vals.astype(float),
-                                     minlength=self.K_nnz).astype(float)
-        self.diag_slots = inverse[-N:]
+        self.diag_slots = inverse[-nE:]
+        self.S_fixed = np.zeros(self.S_nnz)
+        if self.n_p:                     # the pressures eliminated: E_N E_N^T / delta
+            C = sp.tril(self.EN @ self.EN.T).tocoo()
+            key = C.row.astype(np.int64) * nE + C.col
+            slot = np.searchsorted(uniq, key)    # within the blocks' pattern: each
+            self.S_fixed[slot] += C.data / DELTA  # pressure's rows are its block's
+        self.coned = {size for _, _, size, _, _, _ in self.cone_parts}
+        self.Hinv_fixed = {}
+        for size, p in self.P_blocks.items():
+            if size in self.coned:
+                continue
+            lam, U = np.linalg.eigh(p)
+            keep = lam > NULL_TOL * np.maximum(lam[:, -1:], 1e-300)
+            inv = np.where(keep, 1.0 / np.where(keep, lam, 1.0), 0.0)
+            self.Hinv_fixed[size] = (U * inv[:, None, :]) @ np.swapaxes(U, 1, 2)
+            self.S_fixed += self.scatter(size, self.Hinv_fixed[size])
+
+    def _operators(self):
+        """N^T as a sparse matrix (pressures x variables), and the order that lays the
+        blocks' dense H^+ into one block-diagonal CSR matrix (one matvec an application)."""
+        rows_, cols_, vals_ = [], [], []
+        for size, vars_ in self.blocks.items():
+            Vn, null = self.null[size]
+            p = self.pressure[size]
+            b, j = np.nonzero(p >= 0)
+            rows_.append(np.repeat(p[b, j], size))
+            cols_.append(vars_[b].ravel())
+            vals_.append(Vn[b, :, j].ravel())
+        n = self.where.shape[0]
+        self.NT = sp.csr_matrix((np.concatenate(vals_) if vals_ else np.zeros(0),
+                                 (np.concatenate(rows_) if rows_ else np.zeros(0, int),
+                                  np.concatenate(cols_) if cols_ else np.zeros(0, int))),
+                                shape=(self.n_p, n))
+        self.N = self.NT.T.tocsr()
+        self.blocked = np.ones(n, bool)             # the variables of the blocks
+        self.blocked[self.free] = False
+        self.blocked[self.dead] = False
+        r_, c_, order, start = [], [], [], 0
+        for size, vars_ in self.blocks.items():
+            m = vars_.shape[0]
+            r_.append(np.repeat(vars_, size, axis=1).ravel())        # row var, each col
+            c_.append(np.tile(vars_, (1, size)).ravel())
+            order.append(start + np.arange(m * size * size))
+            start += m * size * size
+        r_ = np.concatenate(r_) if r_ else np.zeros(0, int)
+        c_ = np.concatenate(c_) if c_ else np.zeros(0, int)
+        perm = np.lexsort((c_, r_))                 # CSR order: by row, then column
+        self.H_perm = perm
+        self.H_indices = c_[perm].astype(np.int32)
+        self.H_indptr = np.r_[0, np.cumsum(np.bincount(r_, minlength=n))].astype(np.int32)
+
+
+    def scatter(self, size, Hinv):
+        """The blocks' E_b H_b^+ E_b^T of ``size`` in the reduced matrix's values."""
+        dense, rows = self.E_parts[size]
+        S_b = dense @ Hinv @ np.swapaxes(dense, 1, 2)
+        return np.bincount(self.S_slots[size], weights=S_b[self.S_mask[size]],
+                           minlength=self.S_nnz)
+    def block_matrix(self, mats):
+        """The block-diagonal sparse matrix of the blocks' dense ``mats`` {size: (m, s, s)}."""
+        data = np.concatenate([mats[size].ravel() for size in self.blocks])[self.H_perm]
+        n = self.where.shape[0]
+        return sp.csr_matrix((data, self.H_indices, self.H_indptr), shape=(n, n))
