@@ -183,11 +183,11 @@ def base_parser(description, quick=None, check=None, solver=True, cones=None):
 
 #: the names of :data:`pfem_skfem.problems.conic.SOLVERS` (the harness imports no science
 #: module; tests/test_solvers.py checks that the two agree)
-SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs")
+SOLVER_NAMES = ("clarabel", "qoco", "mosek", "scs", "ipm")
 #: the names of problems.backends.STEP_SOLVERS (who states and solves a PFEM step), a copy for
 #: the same reason (tests/test_solvers.py checks it)
 STEP_SOLVER_NAMES = ("clarabel", "clarabel-dual", "qoco", "qoco-dual", "scs", "scs-dual",
-                     "cvxpy", "cvxpy-qoco", "cvxpy-scs", "mosek")
+                     "ipm", "cvxpy", "cvxpy-qoco", "cvxpy-scs", "cvxpy-ipm", "mosek")
 
 
 def solver_option(parser, default="clarabel", why=""):
@@ -212,7 +212,8 @@ _ALL_CONES = frozenset({"zero", "nonneg", "soc", "exp", "psd", "power"})
 #: the cone kinds each solver supports (``SolverBackend.cones`` of
 #: :data:`pfem_skfem.problems.conic.SOLVERS`; tests/test_options.py checks that they agree)
 SOLVER_CONES = {"clarabel": _ALL_CONES, "qoco": frozenset({"zero", "nonneg", "soc"}),
-                "mosek": _ALL_CONES, "scs": _ALL_CONES}
+                "mosek": _ALL_CONES, "scs": _ALL_CONES,
+                "ipm": frozenset({"zero", "nonneg", "soc"})}
 
 
 class OptionError(ValueError):

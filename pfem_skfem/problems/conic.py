@@ -322,8 +322,37 @@ def _mosek_licence_problem():
 
 _MOSEK_LICENCE = False        # not asked yet
 
+
+class IPMBackend(SolverBackend):
+    """The package's interior point (:mod:`pfem_skfem.problems.ipm`) behind cvxpy's Clarabel
+    interface: zero, non-negative and second-order cones; a problem whose cones or
+    quadratic join large sets of variables is refused ('NotStructured'); its measures in
+    Clarabel's keys."""
+
+    name, label, module = "ipm", "the interior point", "cvxopt"
+    cones = frozenset({"zero", "nonneg", "soc"})
+
+    @property
+    def constant(self):
+        from .ipm.cvxpy_solver import IPMCvxpy
+        return IPMCvxpy()
+
+    def measures(self, problem):
+        sol = getattr(problem, "_solver_cache", {}).get("PFEM_IPM")
+        return None if sol is None else sol.measures
+
+    def settings(self, settings, accept_inaccurate):
+        return dict(settings)
+
+    def unavailable(self):
+        import importlib.util
+        if importlib.util.find_spec(self.module) is None:
+            return "the Python package 'cvxopt' (its CHOLMOD) is not installed"
+        return None
+
 #: the solvers a problem may be solved by, by name (``solver=``)
-SOLVERS = {b.name: b for b in (ClarabelBackend(), QOCOBackend(), MOSEKBackend(), SCSBackend())}
+SOLVERS = {b.name: b for b in (ClarabelBackend(), QOCOBackend(), MOSEKBackend(), SCSBackend(),
+                               IPMBackend())}
 
 
 def cone_kinds(problem):

@@ -15,9 +15,13 @@ supports: its ``cones`` (the kinds of :data:`~pfem_skfem.problems.conic.CONE_KIN
 'qoco'             the direct assembly, primal form, QOCO
 'qoco-dual'        the dual form, QOCO
 'scs', 'scs-dual'  the direct assembly, SCS (first order), primal or dual form
+'ipm'              the direct assembly, primal form, the package's interior point
+                   (its Newton system reduced to the displacements: book, "How a
+                   step is solved")
 'cvxpy'            the cvxpy statement (the reference), Clarabel
 'cvxpy-qoco'       the cvxpy statement, QOCO
 'cvxpy-scs'        the cvxpy statement, SCS
+'cvxpy-ipm'        the cvxpy statement, the package's interior point
 'mosek'            the cvxpy statement, MOSEK (licensed)
 =================  ===========================================================
 
@@ -29,11 +33,13 @@ from ..conic import solver_backend
 from .clarabel import ClarabelEngine
 from .cvxpy_step import CvxpyStep
 from .direct import DirectStep
+from .ipm import IPMEngine
 from .qoco import QOCOEngine
 from .scs import SCSEngine
 
 #: the engines of the direct assembly by name
-ENGINES = {engine.name: engine for engine in (ClarabelEngine(), QOCOEngine(), SCSEngine())}
+ENGINES = {engine.name: engine for engine in (ClarabelEngine(), QOCOEngine(), SCSEngine(),
+                                               IPMEngine())}
 
 #: the step's solvers by name (module docstring)
 STEP_SOLVERS = {
@@ -43,9 +49,11 @@ STEP_SOLVERS = {
     "qoco-dual": DirectStep(ENGINES["qoco"], "dual"),
     "scs": DirectStep(ENGINES["scs"], "primal"),
     "scs-dual": DirectStep(ENGINES["scs"], "dual"),
+    "ipm": DirectStep(ENGINES["ipm"], "primal"),
     "cvxpy": CvxpyStep("clarabel"),
     "cvxpy-qoco": CvxpyStep("qoco"),
     "cvxpy-scs": CvxpyStep("scs"),
+    "cvxpy-ipm": CvxpyStep("ipm"),
     "mosek": CvxpyStep("mosek"),
 }
 
@@ -63,7 +71,7 @@ def cvxpy_solver(conic):
     'cvxpy-scs', 'mosek'."""
     name = {"clarabel": "cvxpy", "mosek": "mosek"}.get(conic, f"cvxpy-{conic}")
     if name not in STEP_SOLVERS:
-        raise ValueError(f"solver must be one of {('clarabel', 'qoco', 'mosek', 'scs')}, "
+        raise ValueError(f"solver must be one of {('clarabel', 'qoco', 'mosek', 'scs', 'ipm')}, "
                          f"got {conic!r}")
     return name
 

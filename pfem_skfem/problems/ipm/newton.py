@@ -18,7 +18,8 @@ one size; M's singular values are resolved where H's eigenvalues, their squares,
 not). The null directions N of the blocks (which H does not see: the mean stress of a
 rigid-plastic zero-dilation or Tresca point, a fluid's pressure) carry the "pressures"
 p, multipliers of E_N^T dy = N^T rx (the incompressibility of the increment there);
-regularised by -delta I (:data:`DELTA`) and eliminated, they add the constant
+regularised by -delta I (1 / delta = :data:`PENALTY` times the largest diagonal entry of
+E H^+ E^T) and eliminated, they add the constant
 E_N E_N^T / delta. What is left is one symmetric positive definite matrix of the size of
 the free displacements with the stiffness matrix's pattern,
 
@@ -33,9 +34,9 @@ removes delta's error (it is the iterated penalty method for the pressures).
 """
 import numpy as np
 
-#: the regularisation delta of the pressures (1 / delta their penalty), removed by the
-#: refinement; the data are of order one (the step's scaling)
-DELTA = 1e-10
+#: the penalty 1 / delta of the pressures, relative to the largest diagonal entry of
+#: E H^+ E^T (the stiffest displacement); the refinement removes its error
+PENALTY = 1e10
 
 #: the regularisation of S's diagonal, relative to its largest entry (a displacement that
 #: no stress reaches)
@@ -74,7 +75,10 @@ class Newton:
             self.Hinv[size] = (U * inv2[:, None, :]) @ np.swapaxes(U, 1, 2)
             values += st.scatter(size, self.Hinv[size])
         self.Hmat = st.block_matrix(self.Hinv)
-        values[st.diag_slots] += DOF_REGULARISATION * values[st.diag_slots].max()
+        stiffest = max(values[st.diag_slots].max(), 1e-300)
+        self.gamma = PENALTY * stiffest                     # 1 / delta
+        values += self.gamma * st.S_pressures
+        values[st.diag_slots] += DOF_REGULARISATION * stiffest
         self.chol = cholesky
         cholesky.factor(values)
         if st.free.size:                 # the free variables' dense Schur complement
@@ -86,14 +90,14 @@ class Newton:
         """(dx, dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised."""
         st = self.st
         rN = st.NT @ rx
-        dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + st.EN @ rN / DELTA)
+        dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
         dx = np.zeros_like(rx)
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
             dx[st.free] = dxf
-        p = (rN - st.EN.T @ dy) / DELTA
+        p = self.gamma * (rN - st.EN.T @ dy)
         dxb = self.Hmat @ (rx - st.ET @ dy) + st.N @ p
         dx[st.blocked] = dxb[st.blocked]
         return dx, dy

@@ -213,7 +213,6 @@ class Structure:
         (E on the null directions: displacements x pressures) and S's constant part
         (E_N E_N^T / delta, and the blocks that no cone touches: an element's r', a
         pressure alone, whose H^+ is constant)."""
-        from .newton import DELTA
         nE = self.E.shape[0]
         self.E_parts, keys, self.S_mask = {}, [], {}
         en = [], [], []
@@ -245,12 +244,12 @@ class Structure:
             self.S_slots[size] = inverse[start:start + key.size]
             start += key.size
         self.diag_slots = inverse[-nE:]
-        self.S_fixed = np.zeros(self.S_nnz)
-        if self.n_p:                     # the pressures eliminated: E_N E_N^T / delta
+        self.S_fixed, self.S_pressures = np.zeros(self.S_nnz), np.zeros(self.S_nnz)
+        if self.n_p:                     # the pressures' E_N E_N^T (times 1 / delta)
             C = sp.tril(self.EN @ self.EN.T).tocoo()
             key = C.row.astype(np.int64) * nE + C.col
             slot = np.searchsorted(uniq, key)    # within the blocks' pattern: each
-            self.S_fixed[slot] += C.data / DELTA  # pressure's rows are its block's
+            np.add.at(self.S_pressures, slot, C.data)   # pressure's rows are its block's
         self.coned = {size for _, _, size, _, _, _ in self.cone_parts}
         self.Hinv_fixed = {}
         for size, p in self.P_blocks.items():
