@@ -21,16 +21,21 @@ class Cholesky:
         from cvxopt import cholmod, matrix, spmatrix
         self._cholmod, self._matrix, self._spmatrix = cholmod, matrix, spmatrix
         self.n = n
+        self.factorisations = 0
+        if n == 0:                                   # no equality: nothing to factorise
+            return
         self._I = matrix(np.asarray(rows, dtype=np.int32).astype(int))
         self._J = matrix(np.asarray(cols, dtype=int))
         cholmod.options["supernodal"] = 2            # CHOLMOD's default: automatic
         pattern = spmatrix(1.0, self._I, self._J, (n, n))
         self._F = cholmod.symbolic(pattern, uplo="L")
-        self.factorisations = 0
 
     def factor(self, values):
         """The numeric factorisation with the lower triangle's ``values`` (in the order of
         the pattern's (rows, cols))."""
+        self.factorisations += 1
+        if self.n == 0:
+            return
         A = self._spmatrix(self._matrix(np.ascontiguousarray(values, dtype=float)),
                            self._I, self._J, (self.n, self.n))
         try:
@@ -38,10 +43,11 @@ class Cholesky:
         except ArithmeticError as error:
             raise CholeskyError(f"the reduced Newton matrix is not positive definite "
                                 f"({error})") from None
-        self.factorisations += 1
 
     def solve(self, b):
         """x with L L^T x = b (b a vector or an (n, k) array)."""
+        if self.n == 0:
+            return np.zeros(np.shape(b))
         B = self._matrix(np.array(b, dtype=float, order="F").reshape(self.n, -1))
         self._cholmod.solve(self._F, B)
         out = np.array(B)

@@ -18,8 +18,7 @@ one size; M's singular values are resolved where H's eigenvalues, their squares,
 not). The null directions N of the blocks (which H does not see: the mean stress of a
 rigid-plastic zero-dilation or Tresca point, a fluid's pressure) carry the "pressures"
 p, multipliers of E_N^T dy = N^T rx (the incompressibility of the increment there);
-regularised by -delta I (1 / delta = :data:`PENALTY` times the largest diagonal entry of
-E H^+ E^T) and eliminated, they add the constant
+regularised by -delta I (1 / delta = :data:`PENALTY`) and eliminated, they add the constant
 E_N E_N^T / delta. What is left is one symmetric positive definite matrix of the size of
 the free displacements with the stiffness matrix's pattern,
 
@@ -34,8 +33,8 @@ removes delta's error (it is the iterated penalty method for the pressures).
 """
 import numpy as np
 
-#: the penalty 1 / delta of the pressures, relative to the largest diagonal entry of
-#: E H^+ E^T (the stiffest displacement); the refinement removes its error
+#: the penalty 1 / delta of the pressures (the data are of order one: the step's
+#: scaling, :class:`~pfem_skfem.problems.conic.Scaling`); the refinement removes its error
 PENALTY = 1e10
 
 #: the regularisation of S's diagonal, relative to its largest entry (a displacement that
@@ -75,8 +74,8 @@ class Newton:
             self.Hinv[size] = (U * inv2[:, None, :]) @ np.swapaxes(U, 1, 2)
             values += st.scatter(size, self.Hinv[size])
         self.Hmat = st.block_matrix(self.Hinv)
-        stiffest = max(values[st.diag_slots].max(), 1e-300)
-        self.gamma = PENALTY * stiffest                     # 1 / delta
+        stiffest = max(values[st.diag_slots].max(initial=0.0), 1e-300)
+        self.gamma = PENALTY                                # 1 / delta
         values += self.gamma * st.S_pressures
         values[st.diag_slots] += DOF_REGULARISATION * stiffest
         self.chol = cholesky

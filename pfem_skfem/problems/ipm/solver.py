@@ -40,6 +40,7 @@ import numpy as np
 from . import cones as K
 from .cholesky import Cholesky, CholeskyError
 from .newton import Newton
+from .presolve import Substitution
 from .structure import Structure
 
 #: the tolerances (Clarabel's names and defaults: full, then reduced for 'AlmostSolved')
@@ -174,7 +175,18 @@ def _direction(pb, newton, W, lam, m, scale, comp):
 def solve(P, c, A, b, cones, settings=None):
     """Solve min 1/2 x^T P x + c^T x, A x + s = b, s in K (Clarabel's data: P upper
     triangular or full, the cone objects of ``clarabel``); answers in Clarabel's terms:
-    SimpleNamespace(x, z, s, status, iterations, obj_val, measures, factorisations)."""
+    SimpleNamespace(x, z, s, status, iterations, obj_val, measures, factorisations).
+    A variable defined by one equality is substituted first (:mod:`.presolve`)."""
+    sub = Substitution(P, c, A, np.asarray(b, dtype=float), cones)
+    if not sub.any:
+        return _solve(P, c, A, b, cones, settings)
+    sol = _solve(*sub.problem, settings)
+    sol.x, sol.z, sol.s = sub.recover(sol.x, sol.z, sol.s)
+    return sol
+
+
+def _solve(P, c, A, b, cones, settings=None):
+    """:func:`solve` without the substitutions."""
     opts = {**DEFAULTS, **(settings or {})}
     pb = _Problem(P, np.asarray(c, dtype=float), A, np.asarray(b, dtype=float), cones, opts)
     st = pb.st

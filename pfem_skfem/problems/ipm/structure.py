@@ -47,17 +47,18 @@ def cone_rows(cones):
     non-negative cone of n rows is n cones of dimension one)."""
     zero, groups, start = [], {}, 0
     for cone in cones:
-        kind, dim = type(cone).__name__, int(cone.dim)
+        kind = type(cone).__name__
+        if kind not in ("ZeroConeT", "NonnegativeConeT", "SecondOrderConeT"):
+            raise ValueError(f"the interior point takes zero, non-negative and second-order "
+                             f"cones, not {kind}")
+        dim = int(cone.dim)
         rows = np.arange(start, start + dim)
         if kind == "ZeroConeT":
             zero.append(rows)
         elif kind == "NonnegativeConeT":
             groups.setdefault(1, []).append(rows[:, None])
-        elif kind == "SecondOrderConeT":
-            groups.setdefault(dim, []).append(rows[None, :])
         else:
-            raise ValueError(f"the interior point takes zero, non-negative and second-order "
-                             f"cones, not {kind}")
+            groups.setdefault(dim, []).append(rows[None, :])
         start += dim
     zero = np.concatenate(zero) if zero else np.zeros(0, dtype=int)
     return zero, {d: np.concatenate(r) for d, r in sorted(groups.items())}

@@ -1,0 +1,98 @@
+"""Substitutions before the interior point: a variable defined by one equality.
+
+cvxpy states a cone on an expression by a new variable t and an equality t = a x (one
+row of two entries, t in no other equality). Such a t joins the cone's block to x's block
+only through the equality, which the reduced Newton system (:mod:`.structure`) counts
+as equilibrium: the blocks lose their structure. Substituting t = (b_r - a_x x) / a_t
+everywhere (x = T x' + t0: P' = T^T P T, c' = T^T (c + P t0), A' = A T, b' = b - A t0, the
+row dropped) gives the same problem on fewer variables, and the answer is mapped back
+(:meth:`Substitution.recover`): t from x, the dropped row's multiplier from t's
+stationarity, (P x + c + A^T z)_t = 0.
+"""
+import numpy as np
+import scipy.sparse as sp
+
+
+class Substitution:
+    """The substitutions of one problem (none where no row qualifies)."""
+
+    def __init__(self, P, c, A, b, cones):
+        A = sp.csr_matrix(A)
+        n = A.shape[1]
+        zero = np.zeros(A.shape[0], bool)
+        start = 0
+        for cone in cones:
+            if type(cone).__name__ == "ZeroConeT":
+                zero[start:start + int(cone.dim)] = True
+            start += int(cone.dim)
+        E = A[zero]
+        in_zero = np.diff(E.tocsc().indptr)          # each variable's equalities
+        rows = np.flatnonzero(zero)
+        pairs = np.flatnonzero(np.diff(A.indptr)[rows] == 2)
+        used = np.zeros(n, bool)
+        drop, t_of, x_of, a_t, a_x = [], [], [], [], []
+        for r in rows[pairs]:
+            cols = A.indices[A.indptr[r]:A.indptr[r + 1]]
+            vals = A.data[A.indptr[r]:A.indptr[r + 1]]
+            for k in (0, 1):
+                t, x = cols[k], cols[1 - k]
+                if in_zero[t] == 1 and not used[t] and not used[x] and vals[k] != 0:
+                    used[t] = used[x] = True
+                    drop.append(r), t_of.append(t), x_of.append(x)
+                    a_t.append(vals[k]), a_x.append(vals[1 - k])
+                    break
+        self.any = bool(drop)
+        if not self.any:
+            return
+        self.t, self.rows = np.array(t_of), np.array(drop)
+        self.a_t = np.array(a_t)
+        keep = np.ones(n, bool)
+        keep[self.t] = False
+        self.keep = np.flatnonzero(keep)
+        new = np.full(n, -1)
+        new[self.keep] = np.arange(self.keep.size)
+        # T: identity on the kept variables, t = -a_x / a_t x (+ b_r / a_t in t0)
+        Ti = np.r_[self.keep, self.t]
+        Tj = np.r_[np.arange(self.keep.size), new[np.array(x_of)]]
+        Tv = np.r_[np.ones(self.keep.size), -np.array(a_x) / self.a_t]
+        self.T = sp.csr_matrix((Tv, (Ti, Tj)), shape=(n, self.keep.size))
+        self.t0 = np.zeros(n)
+        self.t0[self.t] = b[self.rows] / self.a_t
+        rows_kept = np.ones(A.shape[0], bool)
+        rows_kept[self.rows] = False
+        self.rows_kept = np.flatnonzero(rows_kept)
+        self.n_rows = A.shape[0]
+        Pf = sp.csr_matrix(P)
+        self.P_full = Pf + sp.triu(Pf, 1).T if sp.tril(Pf, -1).nnz == 0 else Pf
+        self.A, self.c = A, np.asarray(c, dtype=float)
+        self.problem = (sp.csc_matrix(self.T.T @ self.P_full @ self.T),
+                        self.T.T @ (self.c + self.P_full @ self.t0),
+                        sp.csc_matrix(A[self.rows_kept] @ self.T),
+                        b[self.rows_kept] - A[self.rows_kept] @ self.t0,
+                        _fewer_zero_rows(cones, self.rows))
+
+    def recover(self, x, z, s):
+        """(x, z, s) of the original problem from the substituted one's."""
+        x_full = self.T @ x + self.t0
+        z_full, s_full = np.zeros(self.n_rows), np.zeros(self.n_rows)
+        z_full[self.rows_kept], s_full[self.rows_kept] = z, s
+        grad = self.P_full @ x_full + self.c + self.A.T @ z_full      # row r's z still 0
+        z_full[self.rows] = -grad[self.t] / self.a_t
+        return x_full, z_full, s_full
+
+
+def _fewer_zero_rows(cones, dropped):
+    """The cone list with the dropped (zero-cone) rows taken out of their zero cones."""
+    import clarabel
+    out, start = [], 0
+    dropped = np.sort(dropped)
+    for cone in cones:
+        dim = int(cone.dim)
+        if type(cone).__name__ == "ZeroConeT":
+            gone = np.searchsorted(dropped, start + dim) - np.searchsorted(dropped, start)
+            if dim - gone:
+                out.append(clarabel.ZeroConeT(int(dim - gone)))
+        else:
+            out.append(cone)
+        start += dim
+    return out

@@ -1,0 +1,251 @@
+"""The package's interior point (issue 53): its cone algebra, its reduced Newton system,
+its statuses, and its answers against Clarabel on the problem families it solves.
+
+Tolerances: the agreement tests take QOCO's (tests/test_solvers.py). Measured against
+Clarabel when they were written: the elastoplastic dynamic step's du, sigma, r',
+reactions within 1.0e-8, 1.7e-8, 8.9e-10, 4.4e-9 of their largest (the direct assembly
+and the cvxpy statement alike), the footing's load factor 1.0e-9, the buried pipe's
+resistance 2.3e-9, the first PFEM step's velocities 6.6e-7 (plane) and 2.5e-7
+(axisymmetric) of their largest, positions 1.6e-10.
+"""
+import warnings
+
+import clarabel
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from skfem import MeshTri
+
+from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+from pfem_skfem.discretisation.dynamic import gravity_vector
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs,
+                                              discretise)
+from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
+from pfem_skfem.problems.backends import ENGINES, step_solver
+from pfem_skfem.problems.conic import SOLVERS, SolverError
+from pfem_skfem.problems.dynamic import dynamic_increment
+from pfem_skfem.problems.ipm import cones as K, solve
+from pfem_skfem.problems.ipm.cholesky import Cholesky
+from pfem_skfem.problems.ipm.newton import Newton
+from pfem_skfem.problems.ipm.structure import Structure
+from pfem_skfem.problems.static import limit_analysis, static_increment
+from verification import strip_footing
+
+needs_ipm = pytest.mark.skipif(SOLVERS["ipm"].unavailable() is not None,
+                               reason="cvxopt (CHOLMOD) is not installed")
+quiet = pytest.mark.filterwarnings("ignore::pfem_skfem.problems.conic.AlmostSolvedWarning")
+pytestmark = needs_ipm
+
+
+def rel(a, b):
+    return float(np.abs(np.asarray(a) - np.asarray(b)).max() / np.abs(np.asarray(b)).max())
+
+
+def interior(rng, m, d):
+    return K.shift_inside(rng.standard_normal((m, d)))
+
+
+# -- the cones ------------------------------------------------------------------------------
+@pytest.mark.parametrize("d", [1, 3, 4])
+def test_nesterov_todd_scaling_meets_s_and_z_at_lambda(d):
+    """W z = W^-1 s (= lambda), W^-1 is W's inverse and W^-2 its square's (Vandenberghe
+    2010, 4.2), to round-off."""
+    rng = np.random.default_rng(d)
+    s, z = interior(rng, 50, d), interior(rng, 50, d)
+    W = K.Scaling(s, z)
+    assert np.abs(W.apply(z) - W.inverse(s)).max() < 1e-12
+    u = rng.standard_normal((50, d))
+    assert np.abs(W.inverse(W.apply(u)) - u).max() < 1e-11
+    Winv = W.inverse_matrix()
+    assert np.abs(np.einsum("mij,mj->mi", Winv @ Winv, W.apply(W.apply(u))) - u).max() < 1e-9
+    assert np.all(W.lam[:, 0] >= np.linalg.norm(W.lam[:, 1:], axis=1))      # in the cone
+
+
+@pytest.mark.parametrize("d", [1, 3])
+def test_the_jordan_division_inverts_the_product_and_the_step_stops_on_the_boundary(d):
+    rng = np.random.default_rng(10 + d)
+    lam, v = interior(rng, 40, d), rng.standard_normal((40, d))
+    assert np.abs(K.product(lam, K.divide(lam, v)) - v).max() < 1e-10
+    du = 10 * rng.standard_normal((40, d))
+    a = K.max_step(lam, du)
+    hit = np.isfinite(a)
+    edge = lam[hit] + a[hit, None] * du[hit]
+    size = np.abs(lam[hit]).max() + np.abs(a[hit, None] * du[hit]).max()
+    assert np.abs(K.jdot(edge, edge)).max() < 1e-9 * size ** 2
+    assert np.all(edge[:, 0] >= -1e-12)
+    inside = lam + 0.99 * np.where(hit, a, 1.0)[:, None] * du
+    assert np.all(inside[:, 0] > np.linalg.norm(inside[:, 1:], axis=1))
+
+
+# -- the reduced Newton system ---------------------------------------------------------------
+def captured_step(solver="clarabel", **kw):
+    """The standard form the direct assembly hands the engine for an elastoplastic step of
+    a block (the dynamic step's data), and that step's arguments."""
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
+    theta = ThetaMethod(0.05, 1.0, 0.5)
+    ops = dynamic_operators(disc, 2.0, theta, Elastic(1e3, 0.3))
+    base = lambda x: x[1] < 1e-9                                    # noqa: E731
+    fixed, P = boundary_dofs(disc, base, 0), boundary_dofs(disc, base, 1)
+    rng = np.random.default_rng(3)
+    v_n = 0.1 * rng.standard_normal(disc.n_u)
+    v_n[fixed] = 0.0
+    sigma_n = rng.standard_normal((disc.n_points, 4))
+    f = gravity_vector(disc, 2.0, 9.8)
+    args = (ops, f, f, sigma_n, v_n, Tresca(6.0))
+    return args, dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+
+
+def standard_form(args, kw, monkeypatch):
+    data = []
+    engine = ENGINES["clarabel"]
+    real = type(engine).solve
+
+    def keep(self, P, c, A, b, cones, settings):
+        data.append((P, c, A, b, cones))
+        return real(self, P, c, A, b, cones, settings)
+    monkeypatch.setattr(type(engine), "solve", keep)
+    dynamic_increment(*args, solver="clarabel", **kw)
+    return data[0]
+
+
+def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
+    """(N) of the module docstring, at a random scaling of every cone: the reduction's
+    answer, refined, satisfies the unreduced system (scaled form) to 1e-10 of its data."""
+    P, c, A, b, cones = standard_form(*captured_step(), monkeypatch)
+    st = Structure(P, A, cones)
+    assert st.free.size == 0 and max(st.blocks) <= 6          # stress points, r' blocks
+    rng = np.random.default_rng(0)
+    W = {d: K.Scaling(interior(rng, *r.shape), interior(rng, *r.shape))
+         for d, r in st.groups.items()}
+    newton = Newton(st, W, Cholesky(st.S_rows, st.S_cols, st.E.shape[0]))
+    bx = rng.standard_normal(P.shape[0])
+    bx[st.dead] = 0.0
+    by = rng.standard_normal(st.E.shape[0])
+    bzt = {d: rng.standard_normal(r.shape) for d, r in st.groups.items()}
+    dx, dy, dzt = newton.solve(bx, by, bzt)
+    *_, norm = newton._residual(bx, by, bzt, dx, dy, dzt)
+    assert norm <= 1e-10 * max(1.0, np.abs(bx).max(), np.abs(by).max())
+    assert newton.residual <= 1e-10
+
+
+# -- statuses ---------------------------------------------------------------------------------
+def tiny(c, A, b, n_zero):
+    """min c^T x, A x + s = b, its first n_zero rows equalities, the others s >= 0."""
+    A = sp.csc_matrix(np.array(A, dtype=float))
+    cones = [clarabel.ZeroConeT(n_zero), clarabel.NonnegativeConeT(A.shape[0] - n_zero)]
+    return solve(sp.csc_matrix((A.shape[1],) * 2), np.array(c, float), A, np.array(b, float),
+                 cones)
+
+
+def test_infeasible_and_unbounded_problems_are_certified_as_such():
+    # x1 = x2, x1 >= 2, x2 <= 1: no x (a Farkas certificate)
+    res = tiny([1, 1], [[1, -1], [-1, 0], [0, 1]], [0, -2, 1], 1)
+    assert res.status == "PrimalInfeasible"
+    # min -x1 with x1 = x2 >= 0: unbounded (a ray)
+    res = tiny([-1, 0], [[1, -1], [-1, 0], [0, -1]], [0, 0, 0], 1)
+    assert res.status == "DualInfeasible"
+    # and a solvable one: min x1 + x2 with x1 = x2, x1 >= 1: x = (1, 1)
+    res = tiny([1, 1], [[1, -1], [-1, 0], [0, -1]], [0, -1, 0], 1)
+    assert res.status == "Solved" and np.allclose(res.x, 1.0, atol=1e-7)
+
+
+def test_the_interior_point_refuses_an_exponential_cone_and_unknown_settings():
+    from pfem_skfem.materials.rate import RateDissipation
+    from pfem_skfem.problems.step_terms import MuIRate
+    ones = np.ones(3)
+    with pytest.raises(ValueError, match=r"'ipm'.*exp.*mu\(I\)|'ipm'.*exp"):
+        step_solver("ipm", Tresca(1.0), [MuIRate(RateDissipation(c=ones, tau_max=ones,
+                                                                  weights=ones))])
+    with pytest.raises(ValueError, match="no setting"):
+        ENGINES["ipm"].settings({"tol_gapp": 1e-9})
+    with pytest.raises(ValueError, match="takes zero, non-negative and second-order"):
+        Structure(sp.csc_matrix((3, 3)), sp.csc_matrix(np.eye(3)), [clarabel.ExponentialConeT()])
+
+
+# -- agreement with Clarabel --------------------------------------------------------------------
+@pytest.mark.parametrize("solver", ["ipm", "cvxpy-ipm"])
+def test_the_dynamic_step_agrees_with_clarabel(solver):
+    args, kw = captured_step()
+    ref = dynamic_increment(*args, solver="clarabel", **kw)
+    res = dynamic_increment(*args, solver=solver, **kw)
+    for name in ("du", "sigma", "r", "reactions"):
+        assert rel(getattr(res, name), getattr(ref, name)) <= 1e-6, name
+
+
+@quiet
+def test_the_footing_limit_analysis_agrees_with_clarabel():
+    model = strip_footing.footing_model(200)
+    f = np.zeros(model["disc"].n_u)
+    f[model["footing"]] = -1.0
+    ref = limit_analysis(model["B"], f, Tresca(1.0), fixed=model["fixed"])
+    res = limit_analysis(model["B"], f, Tresca(1.0), fixed=model["fixed"], solver="ipm")
+    assert abs(res.load_factor / ref.load_factor - 1) <= 5e-5
+
+
+def test_elastoplastic_increments_agree_with_clarabel():
+    """Displacement control of a Mohr-Coulomb block into collapse (cvxpy's statement)."""
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)))
+    fixed = np.unique(np.concatenate([boundary_dofs(disc, lambda x: x[1] < 1e-9, 1),
+                                      boundary_dofs(disc, lambda x: x[0] < 1e-9, 0)]))
+    top = boundary_dofs(disc, lambda x: x[1] > 1 - 1e-9, 1)
+    B, C = assemble_B(disc), assemble_C(disc, Elastic(1000.0, 0.3))
+    runs = {}
+    for name in ("clarabel", "ipm"):
+        sigma, loads = np.zeros((disc.n_points, 4)), []
+        for _ in range(4):
+            res = static_increment(B, C, np.zeros(disc.n_u), sigma, MohrCoulomb(1.0, 20.0),
+                                   fixed=fixed, prescribed=(top, np.full(top.size, -1e-3)),
+                                   solver=name)
+            sigma = res.sigma
+            loads.append(-res.reactions[top].sum())
+        runs[name] = (np.array(loads), sigma, res.du)
+    (l0, s0, u0), (l1, s1, u1) = runs["clarabel"], runs["ipm"]
+    assert rel(l1, l0) <= 1e-6
+    assert rel(s1, s0) <= 1e-4 and rel(u1, u0) <= 1e-4
+
+
+@quiet
+def test_the_buried_pipe_with_contacts_agrees_with_clarabel():
+    from verification import buried_pipe
+    model = buried_pipe.pipe_model(300)
+    forces = [buried_pipe.pipe_resistance(model, su=50.0, rho=2.0, g=9.8, dt=None,
+                                          solver=solver)[0] for solver in ("clarabel", "ipm")]
+    assert abs(forces[1] / forces[0] - 1) <= 1e-6
+
+
+@quiet
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+def test_pfem_steps_agree_with_clarabel(geometry):
+    """The first PFEM step of a collapsing column (tests/test_solvers.py's QOCO test): the
+    particles' velocities within 1e-4 of their largest, positions within 1e-6."""
+    from pfem_skfem.drivers.pfem_loop import run
+    if geometry == "plane":
+        from verification.granular_column_plane import granular_column as column
+    else:
+        from verification.granular_column_axisymmetric import (
+            granular_column_axisymmetric as column)
+    states = []
+    for solver in ("clarabel", "ipm"):
+        state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1)
+        states.append(run(state, scene, 1)[0])
+    a, b = states
+    assert np.abs(a.v).max() > 0
+    assert rel(b.v, a.v) < 1e-4
+    assert np.abs(b.x - a.x).max() < 1e-6
+
+
+@quiet
+def test_a_c0_pfem_run_with_the_interior_point_is_density_invariant_bit_for_bit():
+    """c = 0: doubling rho scales every force exactly, the scaled problems are identical, and
+    the interior point (deterministic: one CHOLMOD ordering) answers them identically."""
+    from pfem_skfem.drivers.pfem_loop import run
+    from verification.granular_column_plane import granular_column
+
+    def column(rho):
+        state, scene = granular_column(1.0, 5, rho=rho, dt=0.05 * np.sqrt(1.0 / 9.8),
+                                       solver="ipm")
+        return run(state, scene, 3)[0]
+    a, b = column(2.0), column(4.0)
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(a.v, b.v)
+    assert np.abs(a.v).max() > 0
