@@ -8,21 +8,17 @@ and the cvxpy statement alike), the footing's load factor 1.0e-9, the buried pip
 resistance 2.3e-9, the first PFEM step's velocities 6.6e-7 (plane) and 2.5e-7
 (axisymmetric) of their largest, positions 1.6e-10.
 """
-import warnings
-
 import clarabel
 import numpy as np
 import pytest
 import scipy.sparse as sp
 from skfem import MeshTri
 
-from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-from pfem_skfem.discretisation.dynamic import gravity_vector
 from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs,
                                               discretise)
 from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
 from pfem_skfem.problems.backends import ENGINES, step_solver
-from pfem_skfem.problems.conic import SOLVERS, SolverError
+from pfem_skfem.problems.conic import SOLVERS
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.ipm import cones as K, solve
 from pfem_skfem.problems.ipm.cholesky import Cholesky
@@ -78,21 +74,10 @@ def test_the_jordan_division_inverts_the_product_and_the_step_stops_on_the_bound
 
 
 # -- the reduced Newton system ---------------------------------------------------------------
-def captured_step(solver="clarabel", **kw):
-    """The standard form the direct assembly hands the engine for an elastoplastic step of
-    a block (the dynamic step's data), and that step's arguments."""
-    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
-    theta = ThetaMethod(0.05, 1.0, 0.5)
-    ops = dynamic_operators(disc, 2.0, theta, Elastic(1e3, 0.3))
-    base = lambda x: x[1] < 1e-9                                    # noqa: E731
-    fixed, P = boundary_dofs(disc, base, 0), boundary_dofs(disc, base, 1)
-    rng = np.random.default_rng(3)
-    v_n = 0.1 * rng.standard_normal(disc.n_u)
-    v_n[fixed] = 0.0
-    sigma_n = rng.standard_normal((disc.n_points, 4))
-    f = gravity_vector(disc, 2.0, 9.8)
-    args = (ops, f, f, sigma_n, v_n, Tresca(6.0))
-    return args, dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+def captured_step():
+    """tests/test_solvers.py's elastoplastic dynamic step of a block (its arguments)."""
+    from tests.test_solvers import elastoplastic_step
+    return elastoplastic_step()
 
 
 def standard_form(args, kw, monkeypatch):

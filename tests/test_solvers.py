@@ -116,11 +116,9 @@ def test_bounds_of_the_cut_agree_with_clarabel(bound):
     assert abs(res.load / ref.load - 1) <= 1e-5
 
 
-@needs_qoco
-@pytest.mark.parametrize("solver", ["qoco", "qoco-dual", "cvxpy-qoco"])
-def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(solver):
-    """QOCO handed the direct assembly (primal or dual form) or the cvxpy statement: the
-    step of Clarabel's direct assembly, to 1e-6."""
+def elastoplastic_step():
+    """The arguments of an elastoplastic dynamic step of a block on a rough base (Tresca,
+    random start), and its supports and prescribed increment."""
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 0.5, 3)))
     theta = ThetaMethod(0.05, 1.0, 0.5)
     ops = dynamic_operators(disc, 2.0, theta, Elastic(1e3, 0.3))
@@ -132,7 +130,15 @@ def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(solver):
     sigma_n = rng.standard_normal((disc.n_points, 4))
     f = gravity_vector(disc, 2.0, 9.8)
     args = (ops, f, f, sigma_n, v_n, Tresca(6.0))
-    kw = dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+    return args, dict(fixed=fixed, prescribed=(P, np.full(P.size, 1e-3)))
+
+
+@needs_qoco
+@pytest.mark.parametrize("solver", ["qoco", "qoco-dual", "cvxpy-qoco"])
+def test_dynamic_step_with_qoco_agrees_with_the_direct_clarabel_step(solver):
+    """QOCO handed the direct assembly (primal or dual form) or the cvxpy statement: the
+    step of Clarabel's direct assembly, to 1e-6."""
+    args, kw = elastoplastic_step()
     ref = dynamic_increment(*args, solver="clarabel", **kw)
     res = dynamic_increment(*args, solver=solver, **kw)
     if solver == "cvxpy-qoco":
