@@ -237,6 +237,19 @@ CASES = [
       "bingham_k0.02_at_rest": Between(0, 1e-6),              # every speed < 1e-6 sqrt(g H0)
       "tresca_k0.02_at_rest": Between(0, 1e-4),               # a step from rest: a < 1e-4 g
       "tresca_k0.02_mass_error": Between(0, 1e-12)}, None),
+    # Terzaghi 1923 (research file 2.1, the series evaluated there): U(T_v) and p(base)/p0
+    # within 0.005; the undrained step p = q (oedometer, incompressible constituents), its
+    # drained-face artefact at most h / H (10 elements); incompressible elasticity (P2/P1) and
+    # the drained solve to solver tolerance
+    ("consolidation", [],
+     {**{f"U_Tv{t:g}": approx(u, abs=0.005) for t, u in
+         ((0.05, 0.2523), (0.1, 0.3568), (0.2, 0.5041), (0.5, 0.7640), (1, 0.9313))},
+      **{f"p_base_Tv{t:g}": approx(p, abs=0.005) for t, p in
+         ((0.05, 0.9969), (0.1, 0.9493), (0.2, 0.7723), (0.5, 0.3708), (1, 0.1080))},
+      "undrained_p_base": approx(1.0, abs=1e-6), "undrained_artefact": Between(0, 0.1),
+      "undrained_vs_incompressible_du": Between(0, 1e-5),
+      "undrained_vs_incompressible_p": Between(0, 1e-5),
+      "drained_limit_du": Between(0, 1e-6), "drained_limit_p": Between(0, 1e-6)}, None),
     # a rigid block on a rough incline in the PFEM (LaggedFriction): backward Euler of the
     # constant force g (sin b - mu cos b), 5 steps of 0.02 s at b = 30 deg, mu = 0.3
     ("block_on_incline", [],

@@ -1,0 +1,174 @@
+"""The consolidation step (C.1) of a saturated soil (issue 54): bad data refused, closed
+forms of the undrained, hydrostatic and axisymmetric columns, and the Terzaghi script's
+checks failing when the physics breaks (a wrong permeability, a missing storage term)."""
+import numpy as np
+import pytest
+from pytest import approx
+from skfem import MeshTri
+
+from pfem_skfem.discretisation.pressure import inflow_vector, pressure_field
+from pfem_skfem.discretisation.static import (assemble_B, assemble_C, axis_dofs, body_force_vector,
+                                              boundary_dofs, boundary_facets, discretise,
+                                              traction_vector)
+from pfem_skfem.materials import Elastic, Tresca
+from pfem_skfem.problems import consolidation
+from pfem_skfem.problems.consolidation import (Hydraulic, PoreState, SaturatedSoil,
+                                               consolidation_increment)
+
+ELASTIC = Elastic(1e4, 0.3)
+E_OED = ELASTIC.lame_lambda + 2 * ELASTIC.shear_modulus
+
+
+def confined_column(n=6, H=1.0, geometry="plane"):
+    """n square elements stacked, rollers on both sides, fixed base; the top's facets."""
+    h = H / n
+    mesh = MeshTri.init_tensor(np.array([0.0, h]), np.linspace(0.0, H, n + 1))
+    disc = discretise(mesh, geometry)
+    eps = 1e-9
+    fixed = np.union1d(boundary_dofs(disc, lambda x: x[1] < eps, 1),
+                       boundary_dofs(disc, lambda x: (x[0] < eps) | (x[0] > h - eps), 0))
+    fixed = np.union1d(fixed, axis_dofs(disc))
+    top = boundary_facets(disc, lambda x: x[1] > H - eps)
+    return disc, pressure_field(disc), fixed, top
+
+
+@pytest.mark.parametrize("data, words", [
+    (dict(k=-1.0), "k (hydraulic conductivity)"),
+    (dict(k=np.nan), "k (hydraulic conductivity)"),
+    (dict(k=1.0, M=0.0), "M (Biot's modulus)"),
+    (dict(k=1.0, M=-5.0), "M (Biot's modulus)"),
+    (dict(k=1.0, alpha=0.0), "alpha (Biot's coefficient)"),
+    (dict(k=1.0, alpha=1.5), "alpha (Biot's coefficient)"),
+    (dict(k=1.0, gamma_w=0.0), "gamma_w"),
+    (dict(k=1.0, water_weight=(0.0, -5.0)), "water_weight"),
+])
+def test_bad_soil_data_is_refused_by_name(data, words):
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        SaturatedSoil(None, **data)
+
+
+def test_a_drained_face_must_be_on_the_boundary():
+    disc, pressure, fixed, top = confined_column()
+    inner = np.setdiff1d(np.arange(disc.mesh.facets.shape[1]), disc.mesh.boundary_facets())
+    with pytest.raises(ValueError, match="not on the boundary"):
+        Hydraulic.drained_faces(pressure, inner[:2])
+    with pytest.raises(ValueError, match="not on the boundary"):
+        inflow_vector(pressure, inner[:1], 1.0)
+    # dofs given by hand: an interior vertex is refused before any work
+    block = discretise(MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3)))
+    field = pressure_field(block)
+    centre = int(np.argmin(np.hypot(*(block.mesh.p - 0.5))))
+    with pytest.raises(ValueError, match="drained dofs must be vertices on the boundary"):
+        consolidation_increment(assemble_B(block), assemble_C(block, ELASTIC),
+                                np.zeros(block.n_u), PoreState.zero(block, field),
+                                SaturatedSoil(None, k=1.0), field, 1.0,
+                                fixed=boundary_dofs(block, lambda x: x[1] < 1e-9, 1),
+                                hydraulic=Hydraulic(((centre,), (0.0,))))
+
+
+def test_a_negative_time_step_is_refused():
+    disc, pressure, fixed, top = confined_column()
+    with pytest.raises(ValueError, match="dt"):
+        consolidation_increment(assemble_B(disc), assemble_C(disc, ELASTIC), np.zeros(disc.n_u),
+                                PoreState.zero(disc, pressure), SaturatedSoil(None, k=1.0),
+                                pressure, -1.0, fixed=fixed)
+
+
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
+@pytest.mark.parametrize("skeleton", [None, Tresca(1e3)])
+def test_an_undrained_confined_column_carries_the_load_in_its_water(geometry, skeleton):
+    """Oedometer, incompressible constituents, every face impermeable: p = q everywhere, no
+    settlement, no effective stress (closed form; with or without an inactive cone)."""
+    disc, pressure, fixed, top = confined_column(geometry=geometry)
+    q = 100.0
+    f = traction_vector(disc, top, (0.0, -q))
+    res = consolidation_increment(assemble_B(disc), assemble_C(disc, ELASTIC), f,
+                                  PoreState.zero(disc, pressure), SaturatedSoil(skeleton, k=1e-8),
+                                  pressure, 0.0, fixed=fixed)
+    assert res.p == approx(q * np.ones(pressure.n_p), rel=1e-7)
+    assert np.abs(res.du).max() < 1e-7 * q / E_OED
+    assert np.abs(res.sigma).max() < 1e-6 * q
+
+
+def test_storage_shares_the_load_between_water_and_skeleton():
+    """1/M > 0: the undrained p = M q / (E_oed + M) (closed form, alpha = 1)."""
+    disc, pressure, fixed, top = confined_column()
+    q, M = 100.0, 0.5 * E_OED
+    f = traction_vector(disc, top, (0.0, -q))
+    res = consolidation_increment(assemble_B(disc), assemble_C(disc, ELASTIC), f,
+                                  PoreState.zero(disc, pressure),
+                                  SaturatedSoil(None, k=1e-8, M=M), pressure, 0.0, fixed=fixed)
+    assert res.p == approx(M * q / (E_OED + M) * np.ones(pressure.n_p), rel=1e-6)
+
+
+def test_gravity_keeps_hydrostatic_water_at_rest():
+    """A weightless skeleton under water: p = gamma_w (H - y) with the water's weight as the
+    body force stays, with no flow and no motion, whatever dt (V6)."""
+    disc, pressure, fixed, top = confined_column(H=2.0)
+    gw = 9.81
+    soil = SaturatedSoil(None, k=1e-6, gamma_w=gw, water_weight=(0.0, -gw))
+    p_n = gw * (2.0 - pressure.basis.doflocs[1])
+    f = body_force_vector(disc, (0.0, -gw))
+    for dt in (0.0, 1.0, 1e4):
+        res = consolidation_increment(assemble_B(disc), assemble_C(disc, ELASTIC), f,
+                                      PoreState(np.zeros((disc.n_points, 4)), p_n), soil,
+                                      pressure, dt, fixed=fixed,
+                                      hydraulic=Hydraulic.drained_faces(pressure, top))
+        assert res.p == approx(p_n, abs=1e-7 * gw)
+        assert np.abs(res.flux).max() < 1e-7 * soil.k
+        assert np.abs(res.du).max() < 1e-7 * gw / E_OED
+
+
+def test_inflow_is_the_mass_balance_of_the_step():
+    """Water let in through the base of a drained column in one step: with the skeleton at
+    rest (undrained loading absent) the mass balance says the outflow at the top equals the
+    inflow, and the steady p is linear, q_in gamma_w / k per unit height (Darcy)."""
+    disc, pressure, fixed, top = confined_column(H=1.0)
+    base = boundary_facets(disc, lambda x: x[1] < 1e-9)
+    k, gw, q_in = 1e-5, 9.81, 2e-6
+    soil = SaturatedSoil(None, k=k, gamma_w=gw)
+    res = consolidation_increment(assemble_B(disc), assemble_C(disc, ELASTIC), np.zeros(disc.n_u),
+                                  PoreState.zero(disc, pressure), soil, pressure, 1e9,
+                                  fixed=fixed, hydraulic=Hydraulic.drained_faces(
+                                      pressure, top, inflow=inflow_vector(pressure, base, q_in)))
+    y = pressure.basis.doflocs[1]
+    assert res.p == approx(q_in * gw / k * (1.0 - y), rel=1e-6, abs=1e-9 * q_in * gw / k)
+    assert res.flux[:, 1] == approx(q_in, rel=1e-6)
+
+
+@pytest.mark.xdist_group("consolidation")
+def test_the_quick_run_passes_and_reports_its_studies(quick_run):
+    report, _ = quick_run("consolidation")
+    assert report.passed
+    rows = report.tables["oscillation"]["rows"]
+    # below the limit dt ~ h^2 / (6 c_v) the early pressures overshoot p0 (Vermeer &
+    # Verruijt 1981); well above it they do not
+    assert rows[0][1] > 1.01 and rows[-1][1] < 1 + 1e-6
+
+
+def _terzaghi_errors(*extra):
+    """max |U - series| and max |p_base / p0 - series| of the script's quick column to T_v = 1."""
+    from verification import consolidation as script
+    args = script.build_parser().parse_args(["--quick", *extra])
+    result = script.consolidate(script.column(args.n, args.H), args, script.schedule(args.dTv, 1))
+    return script.report_errors(result, args)
+
+
+def test_a_wrong_permeability_moves_U_off_terzaghi(monkeypatch):
+    """Darcy's term with twice the permeability: U(T_v) leaves the script's band of 0.005."""
+    assert max(_terzaghi_errors()) <= 0.005
+    monkeypatch.setattr(SaturatedSoil, "k_over_gamma_w", property(lambda s: 2 * s.k / s.gamma_w))
+    assert _terzaghi_errors()[0] > 0.005
+
+
+def test_a_missing_storage_term_moves_U_off_terzaghi(monkeypatch):
+    """1/M = 1/E_oed: Terzaghi with c_v = (k / gamma_w) / (1/M + 1/E_oed) and p0 = q / 2 holds
+    to 0.005; with the storage term dropped from the step it does not."""
+    storage = ("--M-inv", f"{1 / E_OED!r}")
+    assert max(_terzaghi_errors(*storage)) <= 0.005
+    real = consolidation.SaturatedSoil.__init__
+
+    def no_storage(self, *a, **kw):
+        real(self, *a, **{**kw, "M": np.inf})
+    monkeypatch.setattr(consolidation.SaturatedSoil, "__init__", no_storage)
+    assert min(_terzaghi_errors(*storage)) > 0.005
