@@ -249,7 +249,16 @@ CASES = [
       "undrained_p_base": approx(1.0, abs=1e-6), "undrained_artefact": Between(0, 0.1),
       "undrained_vs_incompressible_du": Between(0, 1e-5),
       "undrained_vs_incompressible_p": Between(0, 1e-5),
-      "drained_limit_du": Between(0, 1e-6), "drained_limit_p": Between(0, 1e-6)}, None),
+      "drained_limit_du": Between(0, 1e-6), "drained_limit_p": Between(0, 1e-6),
+      # Mandel's slab, nu' = 0.2, incompressible constituents: p(0, t) / p0 of Cheng &
+      # Detournay 1988 (research file 2.2) and the Mandel-Cryer peak, within 0.005
+      **{f"mandel_p_centre_T{t:g}": approx(p, abs=0.005) for t, p in
+         ((0.01, 1.0438), (0.05, 1.0989), (0.1, 1.0954), (0.2, 0.9681), (0.5, 0.5928))},
+      "mandel_peak": approx(1.1069, abs=0.005), "mandel_undrained": Between(0, 0.1),
+      # Cryer's sphere, nu' = 0.2 (research file 2.3), in axisymmetry, within 0.01
+      **{f"cryer_p_centre_T{t:g}": approx(p, abs=0.01) for t, p in
+         ((0.01, 1.1758), (0.05, 1.3637), (0.1, 1.1941), (0.2, 0.6817))},
+      "cryer_peak": approx(1.3643, abs=0.01)}, None),
     # a rigid block on a rough incline in the PFEM (LaggedFriction): backward Euler of the
     # constant force g (sin b - mu cos b), 5 steps of 0.02 s at b = 30 deg, mu = 0.3
     ("block_on_incline", [],
