@@ -172,3 +172,69 @@ def test_a_missing_storage_term_moves_U_off_terzaghi(monkeypatch):
         real(self, *a, **{**kw, "M": np.inf})
     monkeypatch.setattr(consolidation.SaturatedSoil, "__init__", no_storage)
     assert min(_terzaghi_errors(*storage)) > 0.005
+
+
+# -- the pore pressure as a term of the dynamic step (4.23) ---------------------------------
+def _dynamic_column(dt, theta1=1.0):
+    from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
+    disc, pressure, fixed, top = confined_column()
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(dt, theta1, 1.0), ELASTIC)
+    return disc, pressure, fixed, top, ops
+
+
+@pytest.mark.parametrize("solver", ["cvxpy", "clarabel", "clarabel-dual"])
+def test_a_sudden_undrained_load_on_a_confined_column_moves_nothing(solver):
+    """k = 0, incompressible constituents, every face impermeable: whatever the inertia (a
+    step of 1e-4 s), the column cannot move; its water carries the load, p = q (closed form)."""
+    from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.pore_term import PorePressureTerm
+    disc, pressure, fixed, top, ops = _dynamic_column(1e-4)
+    q, criterion = 100.0, Tresca(1e4)
+    f = traction_vector(disc, top, (0.0, -q))
+    soil = SaturatedSoil(criterion, k=0.0)
+    inc = dynamic_increment(ops, f, f, np.zeros((disc.n_points, 4)), np.zeros(disc.n_u),
+                            criterion, fixed=fixed, solver=solver,
+                            terms=[PorePressureTerm(soil, pressure, np.zeros(pressure.n_p))])
+    assert inc.parts["pore_pressure"] == approx(q * np.ones(pressure.n_p), rel=1e-6)
+    assert np.abs(inc.du).max() < 1e-6 * q / E_OED
+
+
+@pytest.mark.parametrize("solver", ["cvxpy", "clarabel", "clarabel-dual"])
+def test_the_dynamic_step_at_consolidation_times_is_the_static_one(solver):
+    """Steps of T_v = 0.01 (dt about 730 s, inertia 1e-10 of the stiffness): the dynamic step
+    with the pore-pressure term gives the consolidation step (C.1), verified against
+    Terzaghi, to 1e-8 (p, du, sigma') over three steps."""
+    from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.pore_term import PorePressureTerm
+    criterion = Tresca(1e4)
+    soil = SaturatedSoil(criterion, k=1e-8)
+    dt = 0.01 / soil.consolidation_coefficient(ELASTIC)
+    disc, pressure, fixed, top, ops = _dynamic_column(dt)
+    q = 100.0
+    f = traction_vector(disc, top, (0.0, -q))
+    hydraulic = Hydraulic.drained_faces(pressure, top)
+    static = PoreState.zero(disc, pressure)
+    sigma, p, v = static.sigma, static.p, np.zeros(disc.n_u)
+    for _ in range(3):
+        inc = dynamic_increment(ops, f, f, sigma, v, criterion, fixed=fixed, solver=solver,
+                                terms=[PorePressureTerm(soil, pressure, p, hydraulic)])
+        static = consolidation_increment(ops.B, ops.C, f, static, soil, pressure, dt,
+                                         fixed=fixed, hydraulic=hydraulic)
+        sigma, p, v = inc.sigma, inc.parts["pore_pressure"], inc.v
+        assert p == approx(static.p, abs=1e-8 * q)
+        assert inc.du == approx(static.du, abs=1e-8 * np.abs(static.du).max())
+        assert sigma == approx(static.sigma, abs=1e-8 * q)
+    assert 0 < p.max() < q                          # it consolidates
+
+
+def test_the_pore_pressure_term_refuses_bad_data_before_any_work():
+    from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.pore_term import PorePressureTerm
+    disc, pressure, fixed, top, ops = _dynamic_column(1.0, theta1=0.5)
+    soil = SaturatedSoil(Tresca(1e4), k=1e-8)
+    with pytest.raises(ValueError, match="p_n"):
+        PorePressureTerm(soil, pressure, np.zeros(pressure.n_p + 1))
+    z = np.zeros(disc.n_u)
+    with pytest.raises(ValueError, match="theta1 = 1"):
+        dynamic_increment(ops, z, z, np.zeros((disc.n_points, 4)), z, Tresca(1e4), fixed=fixed,
+                          terms=[PorePressureTerm(soil, pressure, np.zeros(pressure.n_p))])

@@ -12,7 +12,7 @@ The operators the consolidation step needs (:mod:`pfem_skfem.problems.consolidat
   element, so ``B^T kron(to_points, m) p`` is int alpha p div(v) dV exactly (m = (1, 1, 1, 0)):
   the total stress sigma' - alpha p I enters equilibrium through the stress rows of B;
 * ``gradient`` and ``cell_volume``: grad p (constant on each triangle) and the element's
-  volume, so that the Darcy dissipation int k/gamma_w |grad p - rho_w g|^2 dV is a sum of
+  volume, so that the Darcy dissipation ``int k/gamma_w |grad p - rho_w g|^2 dV`` is a sum of
   squares, element by element, exactly;
 * ``storage``: the P1 mass int N_p^T N_p dV (the storage term (p - p_n)^2 / 2M);
 * :func:`inflow_vector`: int q N_p dS over the facets of a prescribed inflow;

@@ -19,12 +19,13 @@ total stress sigma = sigma' - alpha p I. For the step n -> n+1 of length dt:
 How it comes from Biot's principle. The kinematic form of the step minimises, over the
 displacement increment du and the water volume w = dt q that crosses each area during the
 step, the stored energy of the skeleton, the storage energy M/2 (dzeta - alpha div du)^2 of
-the water content zeta, the dissipation of Darcy's flow gamma_w |w|^2 / (2 k dt) less the work
+the water content zeta, the dissipation of Darcy's flow ``gamma_w |w|^2 / (2 k dt)`` less the work
 rho_w g . w of the water's weight, less the work of the loads, subject to the mass balance
 dzeta + div w = 0 (and w . n = - dt q_bar on Gamma_q). Its multiplier is p. Three Legendre
 transforms give (C.1): the skeleton's energy becomes the complementary energy of sigma' (the
 plastic part the indicator of the yield cone, as in (3.45)); min over w of
-gamma_w |w|^2 / (2 k dt) + w . (grad p - rho_w g) is - (dt/2) k/gamma_w |grad p - rho_w g|^2
+``gamma_w |w|^2 / (2 k dt) + w . (grad p - rho_w g)`` is
+``- (dt/2) k/gamma_w |grad p - rho_w g|^2``
 at w = - (k dt / gamma_w)(grad p - rho_w g), backward Euler of Darcy's law; the storage
 energy becomes (p - p_n)^2 / 2M. What is left of the kinematic variables is du, the
 multiplier of equilibrium of the total stress, as in (3.45).
@@ -201,7 +202,7 @@ def consolidation_increment(B, C, f, state, soil, pressure, dt, *, fixed, prescr
         raise ValueError(f"state.p must have shape ({pressure.n_p},) and f ({n_u},), got "
                          f"{p_n.shape} and {f.shape}")
     hydraulic = hydraulic or Hydraulic()
-    dofs, p_bar = _check_hydraulic(hydraulic, pressure)
+    dofs, p_bar = check_hydraulic(hydraulic, pressure)
     free, P = split_dofs(n_u, fixed, prescribed[0])
     du_P = prescribed_values(P, prescribed[1])
     # stresses (and p) in units of the stresses of the problem: those reached, the loads'
@@ -216,7 +217,7 @@ def consolidation_increment(B, C, f, state, soil, pressure, dt, *, fixed, prescr
                                     hydraulic.inflow, sc, dict(solver_settings, solver=solver))
 
 
-def _check_hydraulic(hydraulic, pressure):
+def check_hydraulic(hydraulic, pressure):
     """The drained dofs and values, refused unless on boundary vertices; the inflow's shape."""
     dofs = np.asarray(hydraulic.drained[0], dtype=int).ravel()
     values = np.asarray(hydraulic.drained[1], dtype=float).ravel()
