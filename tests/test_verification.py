@@ -250,9 +250,14 @@ CASES = [
       "undrained_vs_incompressible_du": Between(0, 1e-5),
       "undrained_vs_incompressible_p": Between(0, 1e-5),
       "drained_limit_du": Between(0, 1e-6), "drained_limit_p": Between(0, 1e-6),
-      # Mandel's slab, nu' = 0.2, incompressible constituents: p(0, t) / p0 of Cheng &
-      # Detournay 1988 (research file 2.2) and the Mandel-Cryer peak, within 0.005
-      **{f"mandel_p_centre_T{t:g}": approx(p, abs=0.005) for t, p in
+      # a flexible strip, undrained: q alpha / pi on the centreline (research file 2.4),
+      # 3 %; relative settlements undrained / drained 1 / (2 (1 - nu')), nu' = 0.2, 1 %
+      **{f"strip_p_z{z:g}b": approx(2 / np.pi * np.arctan(1 / z), rel=0.03) for z in (0.5, 1, 2)},
+      "strip_settlement_ratio": approx(0.5 / 0.8, rel=0.01)}, None),
+    # Mandel's slab, nu' = 0.2, incompressible constituents: p(0, t) / p0 of Cheng &
+    # Detournay 1988 (research file 2.2) and the Mandel-Cryer peak, within 0.005
+    ("mandel_cryer", [],
+     {**{f"mandel_p_centre_T{t:g}": approx(p, abs=0.005) for t, p in
          ((0.01, 1.0438), (0.05, 1.0989), (0.1, 1.0954), (0.2, 0.9681), (0.5, 0.5928))},
       "mandel_peak": approx(1.1069, abs=0.005), "mandel_undrained": Between(0, 0.1),
       # Cryer's sphere, nu' = 0.2 (research file 2.3), in axisymmetry, within 0.01

@@ -1,4 +1,4 @@
-"""Consolidation of a saturated soil: Terzaghi, Mandel, Cryer, the undrained and drained limits.
+"""Consolidation of a saturated soil: Terzaghi's column, the undrained and drained limits.
 
 Beyond the thesis (issue 54): the consolidation step (C.1) of
 :mod:`pfem_skfem.problems.consolidation`, Biot's principle after backward Euler as a cone
@@ -31,21 +31,12 @@ Checks:
   scipy, independent of the step) on the same mesh, to 1e-5 relative;
 * t -> infinity: after T_v = 1 the steps double to T_v = ``--Tv-end``: the settlements equal
   the drained elastic solve K u = f (scipy), to 1e-6 relative, and p vanishes;
-* Mandel's slab (Mandel 1953; the series of Cheng & Detournay 1988 as the GEOS validation
-  example writes it): a quarter of a slab 2a wide between rigid frictionless impermeable
-  plates pressed by the force q a (``--q`` the mean stress), drained at its sides x = +-a.
-  The plate is a rigid constraint (its vertical dofs tied to one, the force on it), not a
-  prescribed displacement, so that the Mandel-Cryer overshoot can appear: p(0, t) / p0 at
-  c t / a^2 = 0.01 / 0.05 / 0.1 / 0.2 / 0.5 (1.0438 / 1.0989 / 1.0954 / 0.9681 / 0.5928 at
-  nu' = 0.2, incompressible constituents) and its peak (1.1069 at 0.072) within 0.005 of the
-  series; the undrained start p0 = B (1 + nu_u) q / 3 (q / 2 for incompressible
-  constituents) within h / a (the drained side's O(h) artefact);
-* Cryer's sphere (Cryer 1963; the series in Verruijt's form, research file 2.3) in
-  axisymmetry: a hemisphere of radius a (the quarter of a straight-sided disc mesh, x = r)
-  under the surface pressure q, drained at its surface: p(0, t) / q at c t / a^2 = 0.01 /
-  0.05 / 0.1 / 0.2 (1.1758 / 1.3637 / 1.1941 / 0.6817 at nu' = 0.2) and its peak (1.3643 at
-  0.052) within 0.01 (a coarser mesh than the slab's, with a polygonal surface); its steps
-  are uniform (``--dT-cryer``), kept above the oscillation limit below;
+* a flexible strip load q of half-width b on a deep wide domain (``--L``), undrained: the
+  centreline pore pressure is (sigma_x + sigma_z) / 2 = q alpha / pi (alpha the angle the
+  strip subtends; 0.705 / 0.500 / 0.295 q at z = b/2, b, 2b), within 3 % (the finite
+  domain); relative surface settlements (centre against x = 2b) undrained over drained
+  (1 - nu_u) / (1 - nu') = 1 / (2 (1 - nu')) (Flamant: they scale with (1 - nu) / G),
+  within 1 %;
 * reported: the errors on meshes of n and 2n elements and at dTv and dTv / 2 (convergence in
   h and dt), and the pore pressures after one step of dt = r h^2 / (6 c_v) (the early-time
   oscillation limit of Vermeer & Verruijt 1981).
@@ -65,12 +56,10 @@ from pfem_skfem.harness.options import (base_parser, material_options, nonnegati
                                         positive_float, positive_int)
 from pfem_skfem.harness.report import Report, script_main
 
-QUICK = dict(n=10, dTv=0.001, nrefs=3, dT_cryer=0.0025)
+QUICK = dict(n=10, dTv=0.001, L=20.0, h_min=0.1, h_max=4.0)
 REPORT_TV = (0.05, 0.1, 0.2, 0.5, 1.0)
-#: Mandel's report times, T = c t / a^2
-MANDEL_T = (0.01, 0.05, 0.1, 0.2, 0.5)
-#: Cryer's report times, T = c t / a^2
-CRYER_T = (0.01, 0.05, 0.1, 0.2)
+#: depths / b of the strip load's centreline pressures
+STRIP_Z = (0.5, 1.0, 2.0)
 #: dt / (h^2 / 6 c_v) of the single steps that measure the early-time oscillation
 OSCILLATION_RATIOS = (0.1, 0.3, 1.0, 2.0, 3.0, 10.0)
 
@@ -252,200 +241,106 @@ def oscillation(model, args):
     return rows
 
 
-def mandel_constants(args):
-    """Mandel's slab (alpha = 1): Skempton's B, the undrained nu_u, p0 / sigma and c
-    (Cheng & Detournay 1988, as the GEOS validation example writes them)."""
-    nu, E = args.nu, args.E
-    G, K = E / (2 * (1 + nu)), E / (3 * (1 - 2 * nu))
-    B = 1 / (1 + K * args.M_inv)                            # M / (K + M)
-    inv_Ku = args.M_inv / (1 + K * args.M_inv)              # 1 / (K + M)
-    nu_u = (3 - 2 * G * inv_Ku) / (2 * (3 + G * inv_Ku))
-    kappa = args.k / args.gamma_w
-    c = 2 * kappa * B ** 2 * G * (1 - nu) * (1 + nu_u) ** 2 / (9 * (1 - nu_u) * (nu_u - nu))
-    return B, nu_u, B * (1 + nu_u) / 3, c
 
 
-def mandel_roots(nu, nu_u, terms=200):
-    """The roots of tan(x) = (1 - nu) / (nu_u - nu) x, one in each (i pi, i pi + pi/2)."""
-    from scipy.optimize import brentq
-    slope = (1 - nu) / (nu_u - nu)
-    roots = []
-    for i in range(terms):
-        lo, hi = i * np.pi + 1e-12, i * np.pi + np.pi / 2 - 1e-12
-        if (np.tan(lo) - slope * lo) * (np.tan(hi) - slope * hi) < 0:
-            roots.append(brentq(lambda x: np.tan(x) - slope * x, lo, hi))
-    return np.array(roots)
 
 
-def mandel_centre(T, roots):
-    """p(0, t) / p0 of Mandel's series at T = c t / a^2."""
-    a = roots
-    weight = np.sin(a) / (a - np.sin(a) * np.cos(a)) * (1 - np.cos(a))
-    return 2 * np.sum(weight * np.exp(-a ** 2 * T))
 
 
-def slab(n, a):
-    """A quarter of Mandel's slab: n elements across the half-width a, two up; the top's
-    vertical dofs tied to one (the rigid plate), the rollers on the symmetry lines (in the
-    tied numbering), the drained side x = a and the centre vertex."""
-    from skfem import MeshTri
 
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+def strip_load(args):
+    """A flexible strip load q of half-width b on a deep wide half-domain (L x L, graded
+    towards the strip's edge), undrained (dt = 0, every face impermeable): p / q on the
+    centreline at depths ``STRIP_Z`` b, and the surface settlements of the undrained step and
+    of the drained elastic solve (scipy) at the centre and at x = 2 b."""
+    from pfem_skfem.discretisation.meshes import graded_rectangle
     from pfem_skfem.discretisation.pressure import pressure_field
-    from pfem_skfem.discretisation.static import (assemble_B, boundary_dofs, boundary_facets,
-                                                  discretise)
-    h = a / n
-    mesh = MeshTri.init_tensor(np.linspace(0.0, a, n + 1), np.linspace(0.0, 2 * h, 3))
+    from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs,
+                                                  boundary_facets, discretise,
+                                                  stiffness_matrix, traction_vector)
+    from pfem_skfem.problems.consolidation import PoreState, consolidation_increment
+    b, L = args.b, args.L
+    mesh = graded_rectangle(L, L, (b, 0.0), h_min=args.h_min, h_max=args.h_max)
     disc = discretise(mesh)
-    eps = 1e-9 * a
-    plate = boundary_dofs(disc, lambda x: x[1] > 2 * h - eps, 1)
-    T, column = rigid_tie(disc.n_u, plate)
-    fixed = column[np.union1d(boundary_dofs(disc, lambda x: x[1] < eps, 1),
-                              boundary_dofs(disc, lambda x: x[0] < eps, 0))]
-    return dict(disc=disc, B=(assemble_B(disc) @ T).tocsr(), T=T, plate=column[plate[0]],
-                fixed=fixed, pressure=pressure_field(disc), h=h, a=a,
-                side=boundary_facets(disc, lambda x: x[0] > a - eps),
-                centre=int(np.argmin(np.hypot(mesh.p[0], mesh.p[1] - 2 * h))))
-
-
-def rigid_tie(n_u, dofs):
-    """u = T u_r with every dof of ``dofs`` moving as the first (a rigid frictionless plate):
-    T (n_u, n_r), and each dof's column (its tied dof's)."""
-    target = np.arange(n_u)
-    target[dofs] = dofs[0]
-    kept = np.setdiff1d(np.arange(n_u), dofs[1:])
-    column = np.full(n_u, -1)
-    column[kept] = np.arange(kept.size)
-    T = sp.csr_matrix((np.ones(n_u), (np.arange(n_u), column[target])), shape=(n_u, kept.size))
-    return T, column[target]
-
-
-def mandel(args, n, dT):
-    """The slab under a rigid plate pressed by the force q a (mean stress q): the undrained
-    step, then steps dT in T = c t / a^2 to 0.1 and 5 dT to 0.5; p at the centre / p0."""
-    from pfem_skfem.discretisation.static import assemble_C
-    from pfem_skfem.problems.consolidation import (Hydraulic, PoreState,
-                                                   consolidation_increment)
-    model = slab(n, 1.0)
-    disc, pressure = model["disc"], model["pressure"]
+    pressure = pressure_field(disc)
     elastic, soil = materials(args)
-    C = assemble_C(disc, elastic)
-    f = np.zeros(model["B"].shape[1])
-    f[model["plate"]] = -args.q * model["a"]                # the plate's force
-    hydraulic = Hydraulic.drained_faces(pressure, model["side"])
-    p0 = mandel_constants(args)[2] * args.q
-    c = mandel_constants(args)[3]
-    times = np.concatenate([[0.0], np.linspace(0, 0.1, int(round(0.1 / dT)) + 1)[1:],
-                            np.linspace(0.1, 0.5, int(round(0.4 / (5 * dT))) + 1)[1:]])
-    state, t, centre = PoreState.zero(disc, pressure), 0.0, []
-    for T in times:
-        state = consolidation_increment(model["B"], C, f, state, soil, pressure,
-                                        (T - t) * model["a"] ** 2 / c, fixed=model["fixed"],
-                                        hydraulic=hydraulic, solver=args.solver)
-        t = T
-        centre.append(state.p[model["centre"]] / p0)
-    return dict(T=times, p_centre=np.array(centre), h=model["h"])
+    eps = 1e-9 * L
+    base = lambda x: x[1] < -L + eps                        # noqa: E731
+    fixed = np.union1d(np.union1d(boundary_dofs(disc, base, 0), boundary_dofs(disc, base, 1)),
+                       boundary_dofs(disc, lambda x: (x[0] < eps) | (x[0] > L - eps), 0))
+    f = traction_vector(disc, boundary_facets(disc, lambda x: (x[1] > -eps) & (x[0] < b)),
+                        (0.0, -args.q))
+    res = consolidation_increment(assemble_B(disc), assemble_C(disc, elastic), f,
+                                  PoreState.zero(disc, pressure), soil, pressure, 0.0,
+                                  fixed=fixed, solver=args.solver)
+    z = np.asarray(STRIP_Z) * b
+    p = pressure.basis.probes(np.vstack([np.zeros_like(z), -z])) @ res.p / args.q
+    free = np.setdiff1d(np.arange(disc.n_u), fixed)
+    drained = np.zeros(disc.n_u)
+    drained[free] = spla.spsolve(stiffness_matrix(disc, elastic)[free][:, free].tocsc(),
+                                 f[free])
+    surface_y = [disc.basis_u.nodal_dofs[1][int(np.argmin(np.hypot(mesh.p[0] - x, mesh.p[1])))]
+                 for x in (0.0, 2 * b)]
+    return dict(p=p, z=z, elements=mesh.nelements,
+                relative_undrained=res.du[surface_y[0]] - res.du[surface_y[1]],
+                relative_drained=drained[surface_y[0]] - drained[surface_y[1]])
 
 
-def cryer_roots(eta, terms=300):
-    """The roots of (1 - eta x^2 / 2) tan(x) = x (as sin and cos, no poles), the first
-    ``terms`` pi's worth."""
-    from scipy.optimize import brentq
-
-    def g(x):
-        return (1 - eta * x ** 2 / 2) * np.sin(x) - x * np.cos(x)
-    xs = np.linspace(1e-6, terms * np.pi, terms * 200)
-    v = g(xs)
-    return np.array([brentq(g, xs[i], xs[i + 1]) for i in np.flatnonzero(v[:-1] * v[1:] < 0)])
-
-
-def cryer_centre(T, nu, roots):
-    """p(0, t) / p0 of Cryer's sphere at T = c t / a^2, incompressible constituents
-    (Verruijt's form, research file 2.3; eta = (1 - nu) / (1 - 2 nu))."""
-    eta, x = (1 - nu) / (1 - 2 * nu), roots
-    return np.sum(eta * (np.sin(x) - x) / ((eta - 1) * np.sin(x) + eta * x * np.cos(x) / 2)
-                  * np.exp(-x ** 2 * T))
-
-
-def sphere(nrefs):
-    """A quarter of the unit disc (x = r >= 0, y = z >= 0; scikit-fem's disc refined
-    ``nrefs`` times, straight-sided) in axisymmetry: a hemisphere on its plane of symmetry."""
-    from skfem import MeshTri
-
-    from pfem_skfem.discretisation.pressure import pressure_field
-    from pfem_skfem.discretisation.static import (assemble_B, axis_dofs, boundary_dofs,
-                                                  boundary_facets, discretise)
-    disc_mesh = MeshTri.init_circle(nrefs)
-    centroid = disc_mesh.p[:, disc_mesh.t].mean(axis=1)
-    mesh = MeshTri(disc_mesh.p, disc_mesh.t[:, (centroid[0] > 0) & (centroid[1] > 0)])
-    mesh = mesh.remove_unused_nodes()
-    disc = discretise(mesh, "axisymmetric")
-    eps = 1e-9
-    fixed = np.union1d(boundary_dofs(disc, lambda x: x[1] < eps, 1), axis_dofs(disc))
-    surface = boundary_facets(disc, lambda x: (x[0] > eps) & (x[1] > eps))
-    return dict(disc=disc, B=assemble_B(disc), fixed=fixed, surface=surface,
-                pressure=pressure_field(disc), centre=int(np.argmin(np.hypot(*mesh.p))))
-
-
-def cryer(args, nrefs, dT):
-    """The sphere under the surface pressure q (drained surface): the undrained step, then
-    steps dT in T = c t / a^2 to 0.3; p at the centre / q."""
-    from pfem_skfem.discretisation.static import assemble_C, traction_vector
-    from pfem_skfem.problems.consolidation import (Hydraulic, PoreState,
-                                                   consolidation_increment)
-    model = sphere(nrefs)
-    disc, pressure = model["disc"], model["pressure"]
-    elastic, soil = materials(args)
-    C = assemble_C(disc, elastic)
-    f = traction_vector(disc, model["surface"], lambda x: -args.q * x / np.hypot(x[0], x[1]))
-    hydraulic = Hydraulic.drained_faces(pressure, model["surface"])
-    c = soil.consolidation_coefficient(elastic)
-    times = np.concatenate([[0.0], np.linspace(0, 0.3, int(round(0.3 / dT)) + 1)[1:]])
-    state, t, centre = PoreState.zero(disc, pressure), 0.0, []
-    for T in times:
-        state = consolidation_increment(model["B"], C, f, state, soil, pressure, (T - t) / c,
-                                        fixed=model["fixed"], hydraulic=hydraulic,
-                                        solver=args.solver)
-        t = T
-        centre.append(state.p[model["centre"]] / args.q)
-    return dict(T=times, p_centre=np.array(centre), elements=disc.mesh.nelements)
-
-
-def cryer_checks(report, args):
-    """Cryer's sphere against the series: p(0, t) / p0 and its peak, within 0.01."""
-    roots = cryer_roots((1 - args.nu) / (1 - 2 * args.nu))
-    run = cryer(args, args.nrefs, args.dT_cryer)
+def strip_checks(report, args):
+    """The strip's undrained pore pressure, q alpha / pi on the centreline, within 3 %, and
+    the ratio of relative settlements (1 - nu_u) / (1 - nu') = 1 / (2 (1 - nu')), within 1 %
+    (incompressible constituents)."""
+    run = strip_load(args)
     rows = []
-    for T in CRYER_T:
-        i = int(np.argmin(abs(run["T"] - T)))
-        ref = cryer_centre(T, args.nu, roots)
-        report.add_interval(f"cryer_p_centre_T{T:g}", run["p_centre"][i], ref - 0.01,
-                            ref + 0.01, "Cryer's series (Verruijt), +-0.01", reference=ref)
-        rows.append([T, run["p_centre"][i], ref, run["p_centre"][i] - ref])
-    grid = np.linspace(1e-3, 0.3, 2991)
-    series = np.array([cryer_centre(T, args.nu, roots) for T in grid])
-    i, j = int(np.argmax(series)), int(np.argmax(run["p_centre"]))
-    report.add_interval("cryer_peak", run["p_centre"][j], series[i] - 0.01, series[i] + 0.01,
-                        "the Mandel-Cryer overshoot in axisymmetry: the series' peak +-0.01",
-                        reference=series[i])
-    rows.append(["peak", run["p_centre"][j], series[i], run["p_centre"][j] - series[i]])
-    report.add_table("cryer", ["c t / a^2", "p(0)/q", "series", "error"], rows,
-                     formats={"error": ".1e"})
-    report.extra["cryer"] = {"T": run["T"], "p_centre": run["p_centre"],
-                             "elements": run["elements"], "peak_T": float(run["T"][j]),
-                             "series_peak_T": float(grid[i])}
-    report.data["sphere"] = dict(run, series=series, grid=grid)
+    for zb, p in zip(STRIP_Z, run["p"]):
+        ref = 2 / np.pi * np.arctan(1 / zb)                 # alpha / pi on the centreline
+        report.add(f"strip_p_z{zb:g}b", p, ref, "elastic strip (Flamant integrated over it): "
+                   "(sigma_x + sigma_z) / 2 = q alpha / pi, nu_u = 1/2, 3 %", 0.03)
+        rows.append([zb, p, ref, p / ref - 1])
+    ratio = run["relative_undrained"] / run["relative_drained"]
+    report.add("strip_settlement_ratio", ratio, 0.5 / (1 - args.nu),
+               "Flamant: relative settlements scale with (1 - nu) / G, 1 %", 0.01)
+    rows.append(["s_u / s_d", ratio, 0.5 / (1 - args.nu), ratio * 2 * (1 - args.nu) - 1])
+    report.add_table("strip", ["z / b", "p / q", "q alpha / pi", "relative error"], rows,
+                     formats={"relative error": ".1e"})
+    report.extra["strip"] = {"elements": run["elements"], "p": run["p"], "ratio": ratio}
+
+
+def check(args):
+    if args.b >= args.L:
+        return f"--b {args.b:g}: the strip must lie inside the domain's top, below --L {args.L:g}"
+    if args.h_min > args.h_max:
+        return f"--h-min {args.h_min:g} must not exceed --h-max {args.h_max:g}"
+    return None
 
 
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--H", type=positive_float, default=1.0, help="column height H [m]")
-    p.add_argument("--n", type=positive_int, default=20,
-                   help="elements over the height (Mandel: across the half-width a)")
-    p.add_argument("--nrefs", type=positive_int, default=4,
-                   help="refinements of the disc whose quarter is Cryer's (hemi)sphere")
-    p.add_argument("--dT-cryer", type=positive_float, default=0.001,
-                   help="Cryer's time step in c t / a^2 (to 0.3); below about "
-                        "2 h^2 / (6 c) its first pressures overshoot")
+    p.add_argument("--n", type=positive_int, default=20, help="elements over the height")
+    p.add_argument("--b", type=positive_float, default=1.0,
+                   help="half-width b of the strip load [m]")
+    p.add_argument("--L", type=positive_float, default=40.0,
+                   help="width and depth L of the strip's half-domain [m]")
+    p.add_argument("--h-min", type=positive_float, default=0.05,
+                   help="element size at the strip's edge [m]")
+    p.add_argument("--h-max", type=positive_float, default=6.0,
+                   help="largest element size of the strip's domain [m]")
     p.add_argument("--q", type=positive_float, default=100.0, help="load q on the top [kPa]")
     p.add_argument("--k", type=positive_float, default=1e-8,
                    help="hydraulic conductivity k [m/s]")
@@ -455,8 +350,7 @@ def build_parser():
                    help="1/M, the storage (inverse Biot modulus) [1/kPa]; 0: incompressible "
                         "constituents")
     p.add_argument("--dTv", type=positive_float, default=0.0005,
-                   help="time step in T_v up to T_v = 0.1, 5 dTv after (Mandel: in c t / a^2, "
-                        "to 0.1 and 0.5)")
+                   help="time step in T_v up to T_v = 0.1 (5 dTv after)")
     p.add_argument("--Tv-end", type=positive_float, default=128.0,
                    help="the last T_v (doubling steps after T_v = 1): the drained limit")
     material_options(p, E=opt(1e4, "Young's modulus E of the skeleton [kPa]"),
@@ -505,8 +399,7 @@ def run(args):
                         f"drained elastic solve K u = f (scipy), at T_v = {Tv[-1]:g}")
     report.add_interval("drained_limit_p", float(np.abs(result["state"].p).max() / args.q), 0.0,
                         1e-6, "no excess pore pressure left")
-    mandel_checks(report, args)
-    cryer_checks(report, args)
+    strip_checks(report, args)
     study = convergence(args, result)
     report.add_table("convergence", ["n", "dTv", "max |U error|", "max |p_base error|"], study,
                      formats={"max |U error|": ".2e", "max |p_base error|": ".2e"})
@@ -516,38 +409,10 @@ def run(args):
     report.extra.update({"Tv": result["Tv"], "U": U,
                          "p_base": result["p_base"] / (p0 * args.q), "convergence": study,
                          "oscillation": osc, "c_v": cv})
-    report.data = dict(result=result, model=model, U=U, p0=p0, slab=report.data["slab"],
-                       sphere=report.data["sphere"])
+    report.data = dict(result=result, model=model, U=U, p0=p0)
     return report
 
 
-def mandel_checks(report, args):
-    """Mandel's slab against the series: p(0, t) / p0, its peak, the undrained start."""
-    roots = mandel_roots(args.nu, mandel_constants(args)[1])
-    run = mandel(args, args.n, args.dTv)
-    rows = []
-    for T in MANDEL_T:
-        i = int(np.argmin(abs(run["T"] - T)))
-        ref = mandel_centre(T, roots)
-        report.add_interval(f"mandel_p_centre_T{T:g}", run["p_centre"][i], ref - 0.005,
-                            ref + 0.005, "Mandel's series (Cheng & Detournay 1988), +-0.005",
-                            reference=ref)
-        rows.append([T, run["p_centre"][i], ref, run["p_centre"][i] - ref])
-    grid = np.linspace(1e-3, 0.5, 4991)
-    series = np.array([mandel_centre(T, roots) for T in grid])
-    i, j = int(np.argmax(series)), int(np.argmax(run["p_centre"]))
-    report.add_interval("mandel_peak", run["p_centre"][j], series[i] - 0.005,
-                        series[i] + 0.005, "the Mandel-Cryer overshoot: the series' peak "
-                        "+-0.005", reference=series[i])
-    rows.append(["peak", run["p_centre"][j], series[i], run["p_centre"][j] - series[i]])
-    report.add_interval("mandel_undrained", abs(run["p_centre"][0] - 1), 0.0, run["h"],
-                        "undrained p0 = B (1 + nu_u) q / 3; O(h) from the drained side: "
-                        "at most h / a")
-    report.add_table("mandel", ["c t / a^2", "p(0)/p0", "series", "error"], rows,
-                     formats={"error": ".1e"})
-    report.extra["mandel"] = {"T": run["T"], "p_centre": run["p_centre"],
-                              "peak_T": float(run["T"][j]), "series_peak_T": float(grid[i])}
-    report.data["slab"] = dict(run, series=series, grid=grid)
 
 
 def convergence(args, result):
@@ -559,8 +424,8 @@ def convergence(args, result):
     return rows
 
 
-def figures(args, result, model, U, p0, slab, sphere):
-    """U(T_v) and the pore-pressure isochrones against Terzaghi's series; Mandel's centre."""
+def figures(args, result, model, U, p0):
+    """U(T_v) and the pore-pressure isochrones against Terzaghi's series."""
     plt = pyplot()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4))
     T = np.geomspace(1e-3, 1.0, 200)
@@ -584,19 +449,6 @@ def figures(args, result, model, U, p0, slab, sphere):
     bx.set_title("isochrones (lines: series)")
     bx.legend(fontsize=8)
     save_figure(fig, figure_dir(args, "consolidation") / "terzaghi.png")
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for ax, run, name, what in ((axes[0], slab, "Mandel's slab (plane strain)",
-                                 f"{args.n} elements across a"),
-                                (axes[1], sphere, "Cryer's sphere (axisymmetry)",
-                                 f"{sphere['elements']} elements")):
-        ax.plot(run["grid"], run["series"], "-", color="0.4", label="series")
-        ax.plot(run["T"][1:], run["p_centre"][1:], ".", ms=3, label="conic step (C.1)")
-        ax.axhline(1.0, color="0.7", ls=":")
-        ax.set_xlabel("c t / a^2")
-        ax.set_ylabel("p(0, t) / p0")
-        ax.set_title(f"{name}, {what}", fontsize=10)
-        ax.legend()
-    save_figure(fig, figure_dir(args, "consolidation") / "mandel_cryer.png")
 
 
 def main(argv=None):
