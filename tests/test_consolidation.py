@@ -238,3 +238,41 @@ def test_the_pore_pressure_term_refuses_bad_data_before_any_work():
     with pytest.raises(ValueError, match="theta1 = 1"):
         dynamic_increment(ops, z, z, np.zeros((disc.n_points, 4)), z, Tresca(1e4), fixed=fixed,
                           terms=[PorePressureTerm(soil, pressure, np.zeros(pressure.n_p))])
+
+
+def _undrained_compression(criterion, increments=12, c=10.0):
+    """Plane-strain compression of an undrained unit block (k = 0, dt = 0, alpha = 1, 1/M = 0;
+    top shortened 2e-3 an increment, sides free): the top's load and the mean p after each."""
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3)))
+    pressure, eps = pressure_field(disc), 1e-9
+    fixed = np.union1d(boundary_dofs(disc, lambda x: x[1] < eps, 1),
+                       boundary_dofs(disc, lambda x: (x[1] < eps) & (x[0] < eps), 0))
+    top = boundary_dofs(disc, lambda x: x[1] > 1 - eps, 1)
+    B, C = assemble_B(disc), assemble_C(disc, ELASTIC)
+    state, load, p = PoreState.zero(disc, pressure), [], []
+    for _ in range(increments):
+        state = consolidation_increment(B, C, np.zeros(disc.n_u), state,
+                                        SaturatedSoil(criterion, k=0.0), pressure, 0.0,
+                                        fixed=fixed, prescribed=(top, -2e-3 * np.ones(top.size)))
+        load.append(-state.reactions[top].sum())
+        p.append(state.p.mean())
+    return np.array(load), np.array(p)
+
+
+def test_undrained_tresca_fails_at_twice_its_strength():
+    """Tresca in effective stress (c' = s_u): undrained plane-strain compression carries
+    2 s_u and no more (the closed form), increment after increment."""
+    load, _ = _undrained_compression(Tresca(10.0))
+    assert load == approx(20.0 * np.ones(load.size), rel=1e-6)
+
+
+def test_undrained_associated_mohr_coulomb_never_fails():
+    """The pitfall of an associated cone: Mohr-Coulomb phi' = 30 dilates as it yields; the
+    undrained block cannot, so its pore pressure falls (suction), its effective mean stress
+    rises and its load grows without bound: beyond four times its drained unconfined
+    strength 2 c cos(phi) / (1 - sin(phi)) after 12 increments, still rising."""
+    from pfem_skfem.materials import MohrCoulomb
+    load, p = _undrained_compression(MohrCoulomb(10.0, 30.0))
+    drained = 2 * 10.0 * np.cos(np.radians(30)) / (1 - np.sin(np.radians(30)))
+    assert load[-1] > 4 * drained and np.all(np.diff(load) > 0.1 * drained)
+    assert p[-1] < 0
