@@ -276,3 +276,13 @@ def test_undrained_associated_mohr_coulomb_never_fails():
     drained = 2 * 10.0 * np.cos(np.radians(30)) / (1 - np.sin(np.radians(30)))
     assert load[-1] > 4 * drained and np.all(np.diff(load) > 0.1 * drained)
     assert p[-1] < 0
+
+
+def test_an_undrained_elastic_block_is_incompressible_with_the_skeleton_s_shear_modulus():
+    """Elastic skeleton, undrained, plane strain, shortened by eps: the homogeneous answer
+    (in the element space, so exact) has no volume change, sigma_v = -4 G eps (the lateral
+    total stress zero) and p = 2 G eps (+ the skeleton's mean, nil): to 1e-6."""
+    load, p = _undrained_compression(None, increments=1)
+    G, eps = ELASTIC.shear_modulus, 2e-3
+    assert load[0] == approx(4 * G * eps, rel=1e-6)
+    assert p[0] == approx(2 * G * eps, rel=1e-6)

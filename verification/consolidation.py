@@ -401,8 +401,10 @@ def run(args):
                         1e-6, "no excess pore pressure left")
     strip_checks(report, args)
     study = convergence(args, result)
-    report.add_table("convergence", ["n", "dTv", "max |U error|", "max |p_base error|"], study,
-                     formats={"max |U error|": ".2e", "max |p_base error|": ".2e"})
+    report.add_table("convergence", ["n", "dTv", "max |U error|", "max |p_base error|",
+                                     "artefact"], study,
+                     formats={"max |U error|": ".2e", "max |p_base error|": ".2e",
+                              "artefact": ".2e"})
     osc = oscillation(model, args)
     report.add_table("oscillation", ["dt / (h^2 / 6 c_v)", "max p/p0", "min p/p0"], osc,
                      formats={"max p/p0": ".5f", "min p/p0": ".5f"})
@@ -416,11 +418,17 @@ def run(args):
 
 
 def convergence(args, result):
-    """The errors at (n, dTv), (2n, dTv) and (n, dTv / 2), to T_v = 1."""
-    rows = [[args.n, args.dTv, *report_errors(result, args)]]
+    """The errors at (n, dTv), (2n, dTv) and (n, dTv / 2), to T_v = 1, and the first step's
+    settlement beyond s0 (the drained face's artefact, an error of h) over s_inf."""
+    e_oed, p0, _ = oedometric(args)
+    s_inf = args.q * args.H / e_oed
+
+    def artefact(res):
+        return (res["settlement"][0] - s_inf * (1 - p0)) / s_inf
+    rows = [[args.n, args.dTv, *report_errors(result, args), artefact(result)]]
     for n, dTv in ((2 * args.n, args.dTv), (args.n, args.dTv / 2)):
         res = consolidate(column(n, args.H), args, schedule(dTv, 1.0))
-        rows.append([n, dTv, *report_errors(res, args)])
+        rows.append([n, dTv, *report_errors(res, args), artefact(res)])
     return rows
 
 

@@ -205,10 +205,12 @@ def consolidation_increment(B, C, f, state, soil, pressure, dt, *, fixed, prescr
     dofs, p_bar = check_hydraulic(hydraulic, pressure)
     free, P = split_dofs(n_u, fixed, prescribed[0])
     du_P = prescribed_values(P, prescribed[1])
-    # stresses (and p) in units of the stresses of the problem: those reached, the loads'
+    # stresses (and p) in units of the stresses of the problem: those reached, the loads',
+    # the drained faces', the elastic stress of the prescribed motion (u_P then order one)
     sc = Scaling.from_operators(B, C, 1.0)
     level = max(float(np.sqrt(np.mean(sigma_n ** 2))), float(np.abs(p_n).max(initial=0.0)),
-                float(np.abs(f).max()) / sc.length, float(np.abs(p_bar).max(initial=0.0)))
+                float(np.abs(f).max()) / sc.length, float(np.abs(p_bar).max(initial=0.0)),
+                float(np.abs(du_P).max(initial=0.0)) * sc.length / sc.compliance)
     if level == 0.0:
         level = soil.skeleton.strength_scale() if soil.skeleton is not None else 1.0
     sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
@@ -268,7 +270,7 @@ def _consolidation_increment(B, C, f, start, soil, pressure, dt, supports, inflo
     darcy = 0.5 * cp.sum_squares(D @ p - d) if dt * soil.k > 0 else 0
     stored = (0.5 * cp.quad_form(p - p_nh, cp.psd_wrap(storage))
               if np.isfinite(soil.M) else 0)
-    work_P = u_P_work(du_P / u_ref, B_P, total, f_h[P])
+    work_P = _prescribed_work(du_P / u_ref, B_P, total, f_h[P])
     objective = cp.Maximize(-complementary            # complementary energy of sigma'
                             - darcy                   # Darcy's dissipation over dt
                             - stored                  # storage (p - p_n)^2 / 2M
@@ -296,7 +298,7 @@ def _consolidation_increment(B, C, f, start, soil, pressure, dt, supports, inflo
     return ConsolidationIncrement(sigma, p_new, du, reactions, flux, info, multiplier)
 
 
-def u_P_work(u_P, B_P, total, f_P):
+def _prescribed_work(u_P, B_P, total, f_P):
     """The reactions' work on the prescribed motions, u_P^T (B_P^T sigma_total - f_P)."""
     return u_P @ (B_P.T @ total - f_P) if u_P.size else 0
 
