@@ -175,20 +175,21 @@ def test_a_missing_storage_term_moves_U_off_terzaghi(monkeypatch):
 
 
 # -- the pore pressure as a term of the dynamic step (4.23) ---------------------------------
-def _dynamic_column(dt, theta1=1.0):
+def _dynamic_column(dt, theta1=1.0, geometry="plane"):
     from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
-    disc, pressure, fixed, top = confined_column()
+    disc, pressure, fixed, top = confined_column(geometry=geometry)
     ops = dynamic_operators(disc, 2.0, ThetaMethod(dt, theta1, 1.0), ELASTIC)
     return disc, pressure, fixed, top, ops
 
 
+@pytest.mark.parametrize("geometry", ["plane", "axisymmetric"])
 @pytest.mark.parametrize("solver", ["cvxpy", "clarabel", "clarabel-dual"])
-def test_a_sudden_undrained_load_on_a_confined_column_moves_nothing(solver):
+def test_a_sudden_undrained_load_on_a_confined_column_moves_nothing(solver, geometry):
     """k = 0, incompressible constituents, every face impermeable: whatever the inertia (a
     step of 1e-4 s), the column cannot move; its water carries the load, p = q (closed form)."""
     from pfem_skfem.problems.dynamic import dynamic_increment
     from pfem_skfem.problems.pore_term import PorePressureTerm
-    disc, pressure, fixed, top, ops = _dynamic_column(1e-4)
+    disc, pressure, fixed, top, ops = _dynamic_column(1e-4, geometry=geometry)
     q, criterion = 100.0, Tresca(1e4)
     f = traction_vector(disc, top, (0.0, -q))
     soil = SaturatedSoil(criterion, k=0.0)
