@@ -287,3 +287,31 @@ def test_an_undrained_elastic_block_is_incompressible_with_the_skeleton_s_shear_
     G, eps = ELASTIC.shear_modulus, 2e-3
     assert load[0] == approx(4 * G * eps, rel=1e-6)
     assert p[0] == approx(2 * G * eps, rel=1e-6)
+
+
+@pytest.mark.parametrize("criterion", [Tresca(10.0), None], ids=["tresca", "elastic"])
+def test_a_drained_step_is_the_static_step(criterion):
+    """Every vertex drained (p = 0): (C.1) is the static elastoplastic step (3.45), its
+    stresses and reactions over three increments of plane-strain compression to 1e-6."""
+    from pfem_skfem.problems.static import static_increment
+    disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 2)))
+    pressure, eps = pressure_field(disc), 1e-9
+    assert np.isin(np.arange(pressure.n_p), disc.mesh.facets[:, disc.mesh.boundary_facets()]).all()
+    fixed = np.union1d(boundary_dofs(disc, lambda x: x[1] < eps, 1),
+                       boundary_dofs(disc, lambda x: (x[1] < eps) & (x[0] < eps), 0))
+    top = boundary_dofs(disc, lambda x: x[1] > 1 - eps, 1)
+    B, C = assemble_B(disc), assemble_C(disc, ELASTIC)
+    drained = Hydraulic.drained_faces(pressure, disc.mesh.boundary_facets())
+    state = PoreState.zero(disc, pressure)
+    sigma = state.sigma
+    for _ in range(3):
+        motion = (top, -1e-3 * np.ones(top.size))
+        state = consolidation_increment(B, C, np.zeros(disc.n_u), state,
+                                        SaturatedSoil(criterion, k=1e-8), pressure, 1.0,
+                                        fixed=fixed, prescribed=motion, hydraulic=drained)
+        ref = static_increment(B, C, np.zeros(disc.n_u), sigma, criterion or Tresca(1e6),
+                               fixed=fixed, prescribed=motion)
+        sigma = ref.sigma
+        assert state.sigma == approx(ref.sigma, abs=1e-6 * np.abs(ref.sigma).max())
+        assert state.reactions == approx(ref.reactions, abs=1e-6 * np.abs(ref.reactions).max())
+        assert np.abs(state.p).max() < 1e-9 * np.abs(ref.sigma).max()
