@@ -44,6 +44,7 @@ CHECKS = {
                            (["--h", "0.05"], "--h"), (["--passes", "2"], "--passes")],
     "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
     "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps")],
+    "consolidation": [(["--b", "50"], "--b"), (["--h-min", "10"], "--h-min")],
     "cylinder_soil": [(["--h-fine", "0.5", "--h-coarse", "0.3"], "--h-fine")],
     "granular_column_mu_i": [(["--mu-2", "0.1"], "--mu-2"), (["--rho-axi", "3"], "--rho-axi"),
                              (["--solver", "qoco", "--lag", "implicit"], "--solver")],

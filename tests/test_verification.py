@@ -237,6 +237,33 @@ CASES = [
       "bingham_k0.02_at_rest": Between(0, 1e-6),              # every speed < 1e-6 sqrt(g H0)
       "tresca_k0.02_at_rest": Between(0, 1e-4),               # a step from rest: a < 1e-4 g
       "tresca_k0.02_mass_error": Between(0, 1e-12)}, None),
+    # Terzaghi 1923 (research file 2.1, the series evaluated there): U(T_v) and p(base)/p0
+    # within 0.005; the undrained step p = q (oedometer, incompressible constituents), its
+    # drained-face artefact at most h / H (10 elements); incompressible elasticity (P2/P1) and
+    # the drained solve to solver tolerance
+    ("consolidation", [],
+     {**{f"U_Tv{t:g}": approx(u, abs=0.005) for t, u in
+         ((0.05, 0.2523), (0.1, 0.3568), (0.2, 0.5041), (0.5, 0.7640), (1, 0.9313))},
+      **{f"p_base_Tv{t:g}": approx(p, abs=0.005) for t, p in
+         ((0.05, 0.9969), (0.1, 0.9493), (0.2, 0.7723), (0.5, 0.3708), (1, 0.1080))},
+      "undrained_p_base": approx(1.0, abs=1e-6), "undrained_artefact": Between(0, 0.1),
+      "undrained_vs_incompressible_du": Between(0, 1e-5),
+      "undrained_vs_incompressible_p": Between(0, 1e-5),
+      "drained_limit_du": Between(0, 1e-6), "drained_limit_p": Between(0, 1e-6),
+      # a flexible strip, undrained: q alpha / pi on the centreline (research file 2.4),
+      # 3 %; relative settlements undrained / drained 1 / (2 (1 - nu')), nu' = 0.2, 1 %
+      **{f"strip_p_z{z:g}b": approx(2 / np.pi * np.arctan(1 / z), rel=0.03) for z in (0.5, 1, 2)},
+      "strip_settlement_ratio": approx(0.5 / 0.8, rel=0.01)}, None),
+    # Mandel's slab, nu' = 0.2, incompressible constituents: p(0, t) / p0 of Cheng &
+    # Detournay 1988 (research file 2.2) and the Mandel-Cryer peak, within 0.005
+    ("mandel_cryer", [],
+     {**{f"mandel_p_centre_T{t:g}": approx(p, abs=0.005) for t, p in
+         ((0.01, 1.0438), (0.05, 1.0989), (0.1, 1.0954), (0.2, 0.9681), (0.5, 0.5928))},
+      "mandel_peak": approx(1.1069, abs=0.005), "mandel_undrained": Between(0, 0.1),
+      # Cryer's sphere, nu' = 0.2 (research file 2.3), in axisymmetry, within 0.01
+      **{f"cryer_p_centre_T{t:g}": approx(p, abs=0.01) for t, p in
+         ((0.01, 1.1758), (0.05, 1.3637), (0.1, 1.1941), (0.2, 0.6817))},
+      "cryer_peak": approx(1.3643, abs=0.01)}, None),
     # a rigid block on a rough incline in the PFEM (LaggedFriction): backward Euler of the
     # constant force g (sin b - mu cos b), 5 steps of 0.02 s at b = 30 deg, mu = 0.3
     ("block_on_incline", [],

@@ -7,6 +7,7 @@
   :class:`DynamicOperators` and the block inverses;
 * :mod:`.theta` - :class:`ThetaMethod`, the time stepping (4.3)-(4.11);
 * :mod:`.fields` - vertex dofs, values at vertices and points, plastic strain;
+* :mod:`.pressure` - the P1 pore pressure of a saturated soil and its operators;
 * :mod:`.periodic`, :mod:`.meshes` - periodic ties and mesh generators.
 """
 from .dynamic import DynamicOperators, dynamic_operators

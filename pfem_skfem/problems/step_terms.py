@@ -30,7 +30,9 @@ term                     in (4.23)                                              
 =======================  =============================================================  ========
 
 A new term is a subclass with these methods, handed to the step in ``terms=[...]``; the
-step knows nothing of its kind (CONTRIBUTING.md, "A new term of the step").
+step knows nothing of its kind (CONTRIBUTING.md, "A new term of the step"). Beyond this
+module: :class:`~pfem_skfem.problems.pore_term.PorePressureTerm`, the pore pressure of a
+saturated soil (Darcy, storage, Biot's alpha p in equilibrium; zero cones).
 """
 import cvxpy as cp
 import numpy as np
