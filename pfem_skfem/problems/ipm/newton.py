@@ -13,9 +13,9 @@ scaled form (dzt = W dz; W applied once, never squared: W^2's condition number p
 
 Every cone sits on one block of variables (:mod:`.structure`), so eliminating dzt leaves
 the block-diagonal H = P + G^T W^-2 G = M^T M, M = [L_P; W^-1 G_b] stacked per block.
-H is inverted block by block on its range from the SVD of M (batched over the blocks of
-one size; M's singular values are resolved where H's eigenvalues, their squares, are
-not). The null directions N of the blocks (which H does not see: the mean stress of a
+H is inverted block by block on its range from the QR factorisation of M (batched over the
+blocks of one size: H = R^T R, and R is as well conditioned as M, the square root of H's
+condition number, which passes 1e16 as the gap closes). The null directions N of the blocks (which H does not see: the mean stress of a
 rigid-plastic zero-dilation or Tresca point, a fluid's pressure) carry the "pressures"
 p, multipliers of E_N^T dy = N^T rx (the incompressibility of the increment there);
 regularised by -delta I (1 / delta = :data:`PENALTY`) and eliminated, they add the constant
@@ -44,7 +44,7 @@ DOF_REGULARISATION = 1e-14
 #: the most refinement steps of a Newton solve, and the residual of (N), relative to its
 #: right-hand side, that stops them (as does a step that gains less than half)
 REFINE_STEPS = 10
-REFINE_TOL = 1e-10
+REFINE_TOL = 1e-8
 
 
 class Newton:
@@ -64,14 +64,15 @@ class Newton:
             M[size][blk[:, None], offset[:, None] + np.arange(d)] = rows
         self.Hinv, values = dict(st.Hinv_fixed), st.S_fixed.copy()
         for size, Mb in M.items():
-            Vr = st.range_[size]
-            null = st.null[size][1]
-            _, sig, Vt = np.linalg.svd(Mb @ Vr, full_matrices=False)
-            k = null.sum(axis=1)                  # the k smallest are the null columns'
-            drop = np.arange(size)[None, :] >= (size - k)[:, None]
-            inv2 = np.where(drop, 0.0, 1.0 / np.where(drop, 1.0, sig) ** 2)
-            U = Vr @ np.swapaxes(Vt, 1, 2)           # back from V's basis
-            self.Hinv[size] = (U * inv2[:, None, :]) @ np.swapaxes(U, 1, 2)
+            # the range's columns first (eigh sorted the null ones, the smallest, first):
+            # M V_r = Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
+            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1 (V_r's null columns are zero)
+            Vr = st.range_[size][:, :, ::-1]
+            null = st.null[size][1][:, ::-1]
+            R = np.linalg.qr(Mb @ Vr, mode="r")
+            R[:, np.arange(size), np.arange(size)] += null          # R_22 = I
+            U = Vr @ np.linalg.inv(R)
+            self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
             values += st.scatter(size, self.Hinv[size])
         self.Hmat = st.block_matrix(self.Hinv)
         stiffest = max(values[st.diag_slots].max(initial=0.0), 1e-300)

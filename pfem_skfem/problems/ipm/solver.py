@@ -33,9 +33,11 @@ solve ends at its best iterate: 'Solved' when that meets the full tolerances,
 best iterate answers an iteration limit ('MaxIterations') or a stall
 ('InsufficientProgress').
 """
+import hashlib
 from types import SimpleNamespace
 
 import numpy as np
+import scipy.sparse as sp
 
 from . import cones as K
 from .cholesky import Cholesky, CholeskyError
@@ -83,9 +85,8 @@ class _Problem:
     measures."""
 
     def __init__(self, P, c, A, b, cones, opts):
-        self.st = st = Structure(P, A, cones)
-        self.A = st.A = A.tocsr()
-        self.AT = A.T.tocsr()
+        self.st = st = _structure(P, A, cones)
+        self.A, self.AT = st.A, st.AT
         self.P, self.c, self.b = st.P, c, b
         self.b_E = b[st.zero]
         self.h = {d: b[rows] for d, rows in st.groups.items()}
@@ -143,6 +144,29 @@ class _Problem:
         return None
 
 
+_LAST = {}
+
+
+def _structure(P, A, cones):
+    """The problem's :class:`~.structure.Structure`, kept for the next solve of the same
+    matrices (the fixed-point passes of a PFEM step differ in b and c only): one entry,
+    keyed by a digest of P's and A's patterns and values and the cones."""
+    P, A = sp.csc_matrix(P), sp.csc_matrix(A)
+    digest = hashlib.blake2b(digest_size=16)
+    for M in (P, A):
+        for part in (M.indptr, M.indices, M.data):
+            digest.update(np.ascontiguousarray(part).view(np.uint8))
+    digest.update(repr([(type(k).__name__, getattr(k, "dim", None)) for k in cones]).encode())
+    key = digest.hexdigest()
+    if key not in _LAST:
+        _LAST.clear()
+        st = Structure(P, A, cones)
+        st.A, st.AT = A.tocsr(), A.T.tocsr()
+        st.cholesky = Cholesky(st.S_rows, st.S_cols, st.E.shape[0])   # its analysis
+        _LAST[key] = st
+    return _LAST[key]
+
+
 def _step(lam, ds_t, dz_t):
     """The largest step in every cone for the scaled directions."""
     a = np.inf
@@ -194,7 +218,8 @@ def _solve(P, c, A, b, cones, settings=None):
     if st.dead.size and np.any(pb.c[st.dead] != 0):   # a cost on a variable in nothing
         return _answer(np.zeros(n), np.zeros(rows), np.zeros(rows), "DualInfeasible", 0,
                        None, 0)
-    chol = Cholesky(st.S_rows, st.S_cols, st.E.shape[0])
+    chol = st.cholesky
+    counted = chol.factorisations
     # the start: the least-squares point of (N) with W = I (z = G x - h), shifted inside
     newton = Newton(st, {d: _Identity(*r.shape) for d, r in st.groups.items()}, chol)
     x, y, zt = newton.solve(-pb.c, pb.b_E, pb.h)
@@ -253,7 +278,7 @@ def _solve(P, c, A, b, cones, settings=None):
             status = "AlmostSolved"
         elif status is None:
             status = "MaxIterations"
-    return _answer(x, z, s, status, it, m, chol.factorisations)
+    return _answer(x, z, s, status, it, m, chol.factorisations - counted)
 
 
 def _answer(x, z, s, status, iterations, m, factorisations):
