@@ -247,6 +247,22 @@ CASES = [
       "sticking_speed": Between(0, 1e-6),
       "sticking_friction": approx(2000 * 0.5 * 9.81 * np.sin(np.radians(10)), rel=1e-6)},
      None),
+    # simple shear of a layer (L = 1 m, G = 2000 kPa) whose mid row (h = L / rows) starts 1 %
+    # down the linear law c_p = 20, c_r = 5, H = -20 kPa: c_w = 19.85; post-peak
+    # delta = tau L / G + h (c_w - tau) / |H| (research file 3.4, W1); with --ell 0.2 the band's
+    # slip is ell (c_w - c_r) / |H| on every mesh
+    ("softening_layer", [],
+     {"elastic_slope": approx(2000.0, rel=1e-6), "peak_tau": approx(19.85, rel=1e-6),
+      **{f"local_rows{n}_delta_r": approx(5 / 2000 + (1 / n) * 14.85 / 20, rel=0.02)
+         for n in (10, 20, 40)},
+      **{f"local_rows{n}_dissipation": approx((1 / n) * (19.85 ** 2 - 25) / 40, rel=0.02)
+         for n in (10, 20, 40)},
+      **{f"regularised_rows{n}_delta_r": approx(5 / 2000 + 0.2 * 14.85 / 20, rel=0.02)
+         for n in (10, 20, 40)},
+      "local_rows40_curve_error": Between(0, 0.02),
+      "local_slip_ratio": approx(10 / 40, rel=0.02),               # the band is one row
+      "regularised_delta_r_ratio": Between(0.95, 1.05),            # issue 55: within 5 %
+      "exponential_curve_error": Between(0, 0.02)}, None),
     # at the thesis' mu = 0.1 the lift's order is about 1/2 (0.58 quick); the script checks
     # only a positive order, for it falls with mu (0.06 at mu = 0.5: its docstring)
     ("sliding_box", [], {"travel_distance": approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-3),
