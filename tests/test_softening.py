@@ -10,8 +10,8 @@ from pfem_skfem.drivers.softening import point_sizes, softening_control
 from pfem_skfem.materials import Elastic
 from pfem_skfem.materials.softening import (ExponentialSoftening, FractureEnergy,
                                             LinearSoftening, SofteningMohrCoulomb,
-                                            SofteningTresca, plastic_strain_increment,
-                                            shear_invariant)
+                                            SofteningTresca, nonlocal_average,
+                                            plastic_strain_increment, shear_invariant)
 
 LINEAR = LinearSoftening(c_p=20.0, c_r=5.0, gamma_r=0.75)
 EXPONENTIAL = ExponentialSoftening(c_p=20.0, c_r=5.0, gamma_95=2.0)
@@ -128,3 +128,29 @@ def test_the_step_control_refuses_bad_settings(change, word):
     with pytest.raises(ValueError, match=word):
         softening_control(assemble_B(disc), assemble_C(disc, material.elastic), material,
                           **kwargs)
+
+
+def test_the_nonlocal_average_keeps_constants_and_interior_linear_fields():
+    x, y = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41))
+    points = np.c_[x.ravel(), y.ravel()]
+    A = nonlocal_average(points, np.ones(len(points)), 0.1)
+    assert A @ np.full(len(points), 3.0) == approx(3.0)
+    # a symmetric neighbourhood keeps a linear field (the average of a line is its centre)
+    field = 2 * points[:, 0] - points[:, 1]
+    inner = np.all((points > 0.1 + 1e-9) & (points < 0.9 - 1e-9), axis=1)
+    assert (A @ field)[inner] == approx(field[inner], abs=1e-12)
+    # a peak spreads over the length, its weighted sum kept on a uniform grid
+    peak = np.zeros(len(points))
+    peak[np.argmin(np.hypot(*(points - 0.5).T))] = 1.0
+    spread = A @ peak
+    assert spread.max() < 0.2 and spread.sum() == approx(1.0, rel=1e-9)
+    assert np.all(spread[np.hypot(*(points - 0.5).T) >= 0.1] == 0)
+
+
+def test_a_nonlocal_length_below_the_spacing_is_warned_and_averages_nothing():
+    points = np.c_[np.linspace(0, 1, 11), np.zeros(11)]
+    with pytest.warns(UserWarning, match="below the points' spacing"):
+        A = nonlocal_average(points, np.ones(11), 0.05)
+    assert A.toarray() == approx(np.eye(11))
+    with pytest.raises(ValueError, match="length"):
+        nonlocal_average(points, np.ones(11), 0.0)

@@ -19,6 +19,8 @@ slip, delta_r - c_r L / G, halves when h halves. With the fracture-energy regula
 length ell (gamma_r scaled by ell / h: H(h) = H h / ell) h / |H(h)| = ell / abs(H), and delta_r
 and D do not depend on h. The exponential law c = c_r + (c_p - c_r) exp(-3 gamma^p /
 gamma_95) has the same form, h (gamma^p(tau) - gamma^p_0) with gamma^p(tau) its inverse.
+The nonlocal average of gamma^p over a length (--ell-nonlocal) has no closed form here: its
+band is as wide as the average, and delta_r must converge as h shrinks.
 
 The mesh: one column of P2 triangles (width h, rows of height h: element size sqrt(2 A) = h),
 every x-dof of a height tied to one (u = u(y)) and each mid-row dof the mean of its row's ends
@@ -32,7 +34,8 @@ Checks: the elastic slope G / L and the peak c_w (to 1e-6); at the finest cap th
 points (delta, tau) from the exact curve, within 2 % of delta_r, on every mesh, regularised
 or not, and for the exponential law (within 2 % of the displacement at 95 % softening);
 delta_r and D within 2 %; the local slip ratio h_min / h_max (2 %); the regularised delta_r
-independent of h within 5 %; the error shrinking with the cap.
+independent of h within 5 %; the nonlocal delta_r within 5 % on the two finest meshes; the
+error shrinking with the cap.
 
 Usage::
 
@@ -81,7 +84,7 @@ def layer_model(rows, L, G, nu, kinematics="linear"):
                           shape=(disc.n_u, rows + 1))
     weights = disc.weights
     return dict(B=(assemble_B(disc) @ T).tocsr(), C=assemble_C(disc, elastic), h=h,
-                elastic=elastic, y=disc.points[:, 1], weights=weights,
+                elastic=elastic, points=disc.points, y=disc.points[:, 1], weights=weights,
                 size=point_sizes(weights), top=T.shape[1] - 1)
 
 
@@ -99,7 +102,8 @@ def end_strength(law):
 
 def exact_dissipation(law, scale, h, c_w, c_end):
     """h int c dgamma^p as c falls from c_w to c_end: h (c_w^2 - c_end^2) / (2 abs(H)) (linear);
-    h [c_r dgamma + (c_w - c_end) gamma_95 / 3] (exponential, dc = -3 (c - c_r) dgamma / gamma_95)."""
+    h [c_r dgamma + (c_w - c_end) gamma_95 / 3] (exponential: dc = -3 (c - c_r) dgamma /
+    gamma_95)."""
     from pfem_skfem.materials.softening import LinearSoftening
     if isinstance(law, LinearSoftening):
         H = (law.c_p - law.c_r) / (law.gamma_r * scale)
@@ -108,11 +112,14 @@ def exact_dissipation(law, scale, h, c_w, c_end):
     return h * (law.c_r * slip + (c_w - c_end) * law.gamma_95 * scale / 3)
 
 
-def shear(rows, law, ell, max_drop, args):
+def shear(rows, law, ell, max_drop, args, average_length=0.0):
     """The layer of ``rows`` rows sheared to --delta-end times its delta_r: (delta, tau) after
-    each accepted increment, the dissipation, and the closed form's delta_r, D and c_w."""
+    each accepted increment, the dissipation, and the closed form's delta_r, D and c_w.
+    ``average_length`` > 0: gamma^p averaged over that length (no closed form: the band's width is
+    the average's; the run goes to --delta-end times the delta_r of a band 1.5 x as wide)."""
     from pfem_skfem.drivers.softening import softening_control
-    from pfem_skfem.materials.softening import FractureEnergy, SofteningTresca
+    from pfem_skfem.materials.softening import (FractureEnergy, SofteningTresca,
+                                                nonlocal_average)
 
     m = layer_model(rows, args.L, args.G, args.nu, args.row_kinematics)
     material = SofteningTresca(law, m["elastic"], ell and FractureEnergy(ell))
@@ -124,11 +131,17 @@ def shear(rows, law, ell, max_drop, args):
     closed = dict(L=args.L, G=args.G, h=h, c_w=c_w)
     delta_r = exact_delta(c_end, law, scale, **closed)
     dissipated = exact_dissipation(law, scale, h, c_w, c_end)
+    average, end = None, args.delta_end * delta_r
+    if average_length:
+        average = nonlocal_average(m["points"], m["weights"], average_length)
+        wider = dict(closed, h=1.5 * average_length)
+        end = args.delta_end * exact_delta(c_end, law, scale, **wider)
+        delta_r = dissipated = np.nan
     run = softening_control(m["B"], m["C"], material, fixed=[0], prescribed=([m["top"]],
-                            [args.delta_end * delta_r]), n_increments=args.increments,
-                            size=m["size"], weights=m["weights"], gamma0=gamma0,
+                            [end]), n_increments=args.increments, size=m["size"],
+                            weights=m["weights"], gamma0=gamma0, average=average,
                             max_drop=max_drop, solver=args.solver)
-    delta = run.factors * args.delta_end * delta_r
+    delta = run.factors * end
     tau = run.reactions[:, m["top"]] / h                       # per unit width of the column
     post = np.arange(len(tau)) >= np.argmax(tau)
     softening = post & (tau > c_end * (1 + AT_RESIDUAL))
@@ -136,9 +149,12 @@ def shear(rows, law, ell, max_drop, args):
         / delta_r
     at_r = np.flatnonzero(post & (tau <= c_end * (1 + AT_RESIDUAL)))
     i_r = at_r[0] if at_r.size else len(tau) - 1
+    band = m["y"][run.gamma_p >= 0.5 * run.gamma_p.max()]
+    width = band.max() - band.min()
     return dict(rows=rows, h=h, ell=ell, max_drop=max_drop, delta=delta, tau=tau, c_w=c_w,
                 error=error, delta_r=delta[i_r], delta_r_exact=delta_r,
                 dissipation=run.dissipation[i_r] / h, dissipation_exact=dissipated,
+                reached=bool(at_r.size), width=width,
                 slope=tau[1] / delta[1], solves=run.solves, uncapped=run.uncapped,
                 scale=scale, law=law)
 
@@ -182,11 +198,14 @@ def build_parser():
                    help="gamma_95 of the exponential law (run on the coarsest mesh)")
     p.add_argument("--ell", type=positive_float, default=0.2,
                    help="regularisation length ell [m]: gamma_r holds for a band ell thick")
+    p.add_argument("--ell-nonlocal", type=positive_float, default=0.2,
+                   help="length of the nonlocal average of gamma^p [m]")
     p.add_argument("--epsilon", type=in_range(0, 1, low_open=True, high_open=True),
                    default=0.01, help="the weak row starts this fraction down the law")
     p.add_argument("--rows", type=in_range(2, integer=True), nargs="+", default=[10, 20, 40],
                    help="rows of the meshes (h = L / rows)")
-    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), nargs="+", default=[0.04, 0.02, 0.01, 0.005],
+    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), nargs="+",
+                   default=[0.04, 0.02, 0.01, 0.005],
                    help="caps on the strength drop of an increment, / (c_p - c_r); the "
                         "finest serves every mesh")
     p.add_argument("--increments", type=positive_int, default=10,
@@ -207,6 +226,8 @@ def run(args):
     local = [shear(n, linear, None, finest, args) for n in rows]
     regular = [shear(n, linear, args.ell, finest, args) for n in rows]
     expo = shear(rows[0], exponential, None, finest, args)
+    spread = [shear(n, linear, None, finest, args, average_length=args.ell_nonlocal)
+              for n in rows]
     study = [next((r for r in local if r["rows"] == rows[0]), None) if c == finest
              else shear(rows[0], linear, None, c, args) for c in caps]
     first = local[0]
@@ -233,6 +254,9 @@ def run(args):
     report.add_interval("regularised_delta_r_ratio", regular[-1]["delta_r"] /
                         regular[0]["delta_r"], 0.95, 1.05,
                         "fracture energy: delta_r independent of h (exactly 1)")
+    change = [r["delta_r"] if r["reached"] else np.nan for r in spread[-2:]]
+    report.add_interval("nonlocal_delta_r_change", abs(change[1] / change[0] - 1), 0.0, 0.05,
+                        "nonlocal average: delta_r converges with h (its two finest meshes)")
     errors = [r["error"] for r in study]
     order = (np.polyfit(np.log(caps), np.log(errors), 1)[0] if len(caps) > 1 else np.nan)
     report.add_interval("cap_order", order, 0.5, np.inf,
@@ -244,22 +268,27 @@ def run(args):
                       for name, runs in (("local", local), ("ell", regular),
                                          ("exponential", [expo])) for r in runs],
                      formats={"curve error / delta_r": ".2e"})
+    report.add_table("nonlocal", ["rows", "h", "delta_r", "band width (gamma^p > max / 2)",
+                                  "solves"],
+                     [[r["rows"], r["h"], r["delta_r"], r["width"], r["solves"]] for r in spread])
     report.add_table("caps", ["max drop", "curve error / delta_r", "solves"],
                      [[r["max_drop"], r["error"], r["solves"]] for r in study],
                      formats={"curve error / delta_r": ".2e"})
     report.extra = {"cap_errors": errors, "caps": caps,
                     "curves": {f"{k}_rows{r['rows']}": {"delta": r["delta"], "tau": r["tau"]}
-                               for k, runs in (("local", local), ("regularised", regular))
+                               for k, runs in (("local", local), ("regularised", regular),
+                                               ("nonlocal", spread))
                                for r in runs}}
-    report.data = dict(local=local, regular=regular, expo=expo, study=study)
+    report.data = dict(local=local, regular=regular, expo=expo, study=study, spread=spread)
     return report
 
 
-def figures(args, local, regular, expo, study):
-    """tau - delta against the closed form, local and regularised; the error against the cap."""
+def figures(args, local, regular, expo, study, spread):
+    """tau - delta against the closed form, local and regularised (the nonlocal runs beside);
+    the error against the cap."""
     fig, ax = pyplot().subplots(1, 3, figsize=(15, 4))
     for a, runs, title in ((ax[0], local + [expo], "local softening"),
-                           (ax[1], regular, f"fracture energy, ell = {args.ell:g} m")):
+                           (ax[1], regular, f"regularised: fracture energy, ell = {args.ell:g} m")):
         for k, r in enumerate(runs):
             tau = np.linspace(r["tau"][r["tau"] > 0].min(), r["c_w"], 200)
             peak = r["c_w"] * args.L / args.G
@@ -269,11 +298,16 @@ def figures(args, local, regular, expo, study):
             a.plot(np.r_[0, peak, exact[::-1]], np.r_[0, r["c_w"], tau[::-1]], "-",
                    color=f"C{k}", lw=3, alpha=0.4)
             a.plot(r["delta"], r["tau"], ".", color=f"C{k}", ms=3, label=label)
+        if a is ax[1]:
+            for k, r in enumerate(spread):
+                a.plot(r["delta"], r["tau"], "x", color=f"C{k}", ms=3,
+                       label=f"nonlocal, ell = {args.ell_nonlocal:g} m, h = {r['h']:g}")
         a.set(xlabel="top displacement delta [m]", ylabel="shear stress tau [kPa]", title=title)
         a.legend(fontsize=8)
     ax[2].loglog([r["max_drop"] for r in study], [r["error"] for r in study], "o-")
     ax[2].set(xlabel="cap on the strength drop / (c_p - c_r)",
-              ylabel="max |delta - exact| / delta_r", title=f"increment study, h = {study[0]['h']:g}")
+              ylabel="max |delta - exact| / delta_r",
+              title=f"increment study, h = {study[0]['h']:g}")
     save_figure(fig, figure_dir(args, "softening_layer") / "softening_layer.png")
 
 

@@ -8,8 +8,8 @@ strength as an increment spends; so the step control caps it: an increment whose
 strain at a point still above c_r, times the law's steepest rate abs(dc/dgamma^p) (abs(H), or
 3 (c_p - c_r) / gamma_95: a bound on the strength drop, equal to it for the linear law),
 exceeds ``max_drop`` (c_p - c_r) is re-solved from the same start with half the displacement,
-again until it does not (at most :data:`MAX_HALVINGS` times in a row); after an increment below a quarter
-of the cap the next is doubled again, up to the base increment.
+again until it does not (at most :data:`MAX_HALVINGS` times in a row); after an increment
+below a quarter of the cap the next is doubled again, up to the base increment.
 """
 from dataclasses import dataclass
 

@@ -36,6 +36,7 @@ the energy per unit band area G_f = ell gamma_r (c_p - c_r) / 2 (linear; ell gam
 (c_p - c_r) / 3 exponential) dissipated as it falls to c_r, do not depend on h.
 """
 from dataclasses import dataclass
+import warnings
 
 import numpy as np
 
@@ -79,7 +80,8 @@ class LinearSoftening:
 
     def strain_at(self, c, scale=1.0):
         """The plastic shear strain at which the strength is ``c`` (c_r < c <= c_p)."""
-        return self.gamma_r * scale * (self.c_p - np.asarray(c, dtype=float)) / (self.c_p - self.c_r)
+        spent = (self.c_p - np.asarray(c, dtype=float)) / (self.c_p - self.c_r)
+        return self.gamma_r * scale * spent
 
     def softening_energy(self, scale=1.0):
         """int (c - c_r) dgamma^p from 0 to full softening, per unit volume."""
@@ -137,6 +139,33 @@ class FractureEnergy:
         if np.any(~np.isfinite(size)) or np.any(size <= 0):
             raise ValueError("element sizes must be positive and finite")
         return self.length / size
+
+
+def nonlocal_average(points, weights, length):
+    """The nonlocal average over a length ell as a sparse (n, n) operator A:
+
+    .. math::
+        (A\\gamma)_i = \\frac{\\sum_j w_j\\,\\phi_{ij}\\,\\gamma_j}{\\sum_j w_j\\,\\phi_{ij}},\\qquad
+        \\phi_{ij} = \\bigl(1 - r_{ij}^2/\\ell^2\\bigr)^2 \\ (r_{ij} < \\ell)
+
+    over the stress points (or particles) at ``points`` (n, 2) of weights ``w``: the bell
+    function, a constant kept. A length below the points' spacing (their median distance to
+    the nearest other) averages nothing: warned, the operator then nearly the identity.
+    """
+    from scipy.sparse import coo_matrix, diags, identity
+    from scipy.spatial import cKDTree
+
+    _check_positive("length (ell, the nonlocal averaging length)", length)
+    points, weights = np.asarray(points, dtype=float), np.asarray(weights, dtype=float)
+    tree = cKDTree(points)
+    spacing = float(np.median(tree.query(points, k=2)[0][:, 1])) if len(points) > 1 else 0.0
+    if length <= spacing:
+        warnings.warn(f"nonlocal length {length:g} is below the points' spacing {spacing:g}: "
+                      f"the average is local", stacklevel=2)
+    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")   # r > 0 only
+    phi = coo_matrix(((1 - (r.data / length) ** 2) ** 2, (r.row, r.col)), shape=r.shape)
+    W = (phi.tocsr() + identity(len(points), format="csr")) @ diags(weights)
+    return (diags(1.0 / np.asarray(W.sum(axis=1)).ravel()) @ W).tocsr()
 
 
 def plastic_strain_increment(B, du, C, sigma_new, sigma_old, weights):
