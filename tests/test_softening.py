@@ -154,3 +154,25 @@ def test_a_nonlocal_length_below_the_spacing_is_warned_and_averages_nothing():
     assert A.toarray() == approx(np.eye(11))
     with pytest.raises(ValueError, match="length"):
         nonlocal_average(points, np.ones(11), 0.0)
+
+
+def test_a_softening_mohr_coulomb_layer_peaks_and_softens_at_c_cos_phi():
+    """Simple shear keeps sx = sy = 0 (u_y = 0, isochoric flow), so the zero-dilation cone's
+    radius is 2 c cos(phi): the weak row peaks at tau = c_w cos(phi), and its strength falls
+    at H cos(phi): d delta / d tau = L / G - h / (|H| cos(phi)) on the softening branch."""
+    from verification.softening_layer import layer_model
+    rows, L, G, phi = 10, 1.0, 2000.0, 30.0
+    m = layer_model(rows, L, G, 0.3)
+    material = SofteningMohrCoulomb(LINEAR, m["elastic"], phi=phi)
+    h, cos = m["h"], np.cos(np.radians(phi))
+    weak = (m["y"] > 5 * h) & (m["y"] < 6 * h)
+    gamma0 = np.where(weak, 0.01 * LINEAR.gamma_r, 0.0)            # c_w = 19.85
+    run = softening_control(m["B"], m["C"], material, fixed=[0],
+                            prescribed=([m["top"]], [0.06]), n_increments=10, size=m["size"], weights=m["weights"],
+                            gamma0=gamma0, max_drop=0.01)
+    tau, delta = run.reactions[:, m["top"]] / h, run.factors * 0.06
+    assert tau.max() == approx(19.85 * cos, rel=1e-6)
+    branch = (np.arange(len(tau)) > np.argmax(tau)) & (tau > 8 * cos) & (tau < 18 * cos)
+    slope = np.polyfit(tau[branch], delta[branch], 1)[0]
+    assert slope == approx(L / G - h / (20.0 * cos), rel=0.02)
+    assert np.abs(run.sigma[:, :3]).max() < 1e-6 * tau.max()      # sx = sy = sz = 0
