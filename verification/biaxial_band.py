@@ -8,16 +8,20 @@ left corner horizontally). Its Tresca strength softens linearly with the plastic
 energy of length ell (ell = 0: local). A quarter disc of radius r_0 at the left corner of the
 base starts a fraction epsilon down the law: the band starts there. With associated flow
 (every conic step's) the band makes Coulomb's angle 45 deg + phi / 2 with the direction of
-the least compressive principal stress, the horizontal here: 45 deg for Tresca.
+the least compressive principal stress, the horizontal here: 45 deg for Tresca. With
+--phi > 0 the material is Mohr-Coulomb with zero dilation ([80]: an associated step on the
+psi = 0 cone at the lagged mean stress), whose band theory puts between Roscoe's 45 + psi / 2
+= 45 deg and Coulomb's 45 + phi / 2.
 
 The angle is measured from the gamma^p field at the end: in horizontal slices of height 2 h
 above the seed, the band's centre (the gamma^p-weighted mean x of the slice's points above
 half its largest gamma^p), a straight line fitted through the centres.
 
 Checks: the elastic slope q / delta = E / ((1 - nu^2) H) (q the mean platen stress) to
-1e-6; the peak q at most 2 c_p (Tresca's uniaxial strength in plane strain, to 1e-6); the
-load falls after the peak (it softens); the band's inclination 45 deg within 3 deg, its
-line straight (R^2 >= 0.95).
+1e-6; the peak q at most 2 c_p cos(phi) / (1 - sin(phi)) (the uniaxial strength in plane
+strain, 2 c_p for Tresca; to 1e-6); the load falls after the peak (it softens); the band's
+inclination in [45 - 3, 45 + phi / 2 + 3] deg (Tresca: 45 within 3 deg), its line straight
+(R^2 >= 0.95).
 
 Usage::
 
@@ -100,7 +104,8 @@ def build_parser():
     p.add_argument("--height", type=positive_float, default=2.0, help="specimen height [m]")
     pfem_options(p, h=opt(0.06, "element size h of the Triangle mesh [m]"))
     p.add_argument("--G", type=positive_float, default=2000.0, help="shear modulus G [kPa]")
-    material_options(p, nu=0.3)
+    material_options(p, nu=0.3, phi=opt(0.0, "friction angle phi [deg] (> 0: Mohr-Coulomb "
+                                           "with zero dilation, [80])"))
     p.add_argument("--c-p", type=positive_float, default=20.0, help="peak strength c_p [kPa]")
     p.add_argument("--c-r", type=positive_float, default=5.0, help="residual strength c_r [kPa]")
     p.add_argument("--H", type=in_range(high=0, high_open=True, what="a negative number"),
@@ -121,12 +126,15 @@ def build_parser():
 
 def run(args):
     from pfem_skfem.drivers.softening import point_sizes, softening_control
-    from pfem_skfem.materials.softening import FractureEnergy, LinearSoftening, SofteningTresca
+    from pfem_skfem.materials.softening import (FractureEnergy, LinearSoftening,
+                                                SofteningMohrCoulomb, SofteningTresca)
 
     m = specimen(args)
     disc = m["disc"]
     law = LinearSoftening(args.c_p, args.c_r, (args.c_p - args.c_r) / -args.H)
-    material = SofteningTresca(law, m["elastic"], FractureEnergy(args.ell) if args.ell else None)
+    regularisation = FractureEnergy(args.ell) if args.ell else None
+    material = (SofteningMohrCoulomb(law, m["elastic"], regularisation, phi=args.phi)
+                if args.phi else SofteningTresca(law, m["elastic"], regularisation))
     points, weights = disc.points, disc.weights
     size = point_sizes(weights)
     seed = np.hypot(points[:, 0], points[:, 1]) < args.r0
@@ -143,13 +151,15 @@ def run(args):
     report = Report("biaxial_band", args, elements=disc.mesh.nelements, solves=run.solves)
     report.add("elastic_slope", q[1] / delta[1], E / ((1 - nu ** 2) * args.height),
                "q / delta = E / ((1 - nu^2) H), plane strain, free sides", 1e-6)
-    report.add_interval("peak_over_2c_p", q.max() / (2 * args.c_p), 0.0, 1.0 + 1e-6,
-                        "Tresca in plane strain: q <= 2 c_p")
+    s, c = np.sin(np.radians(args.phi)), np.cos(np.radians(args.phi))
+    report.add_interval("peak_over_strength", q.max() / (2 * args.c_p * c / (1 - s)), 0.0,
+                        1.0 + 1e-6,
+                        "uniaxial plane strain: q <= 2 c_p cos(phi) / (1 - sin(phi))")
     report.add_interval("final_over_peak", q[-1] / q.max(), 0.0, 0.95,
                         "the specimen softens: the load falls after the peak")
-    report.add_interval("band_angle_deg", angle, 42.0, 48.0,
-                        "Coulomb: 45 deg + phi / 2 from the least compressive principal "
-                        "stress (horizontal), phi = 0: 45 +- 3 deg")
+    report.add_interval("band_angle_deg", angle, 42.0, 48.0 + args.phi / 2,
+                        "from the least compressive principal stress (horizontal): Coulomb's "
+                        "45 + phi / 2, Roscoe's 45 + psi / 2 (psi = 0), +- 3 deg")
     report.add_interval("band_line_R2", r2, 0.95, 1.0, "the band is one straight line")
     report.extra = {"q": q, "delta": delta, "centres": centres, "angle": angle}
     report.data = dict(points=points, gamma=run.gamma_p, q=q, delta=delta, centres=centres,
@@ -170,7 +180,8 @@ def figures(args, points, gamma, q, delta, centres, angle):
     ax[0].set(xlabel="x [m]", ylabel="y [m]", title="plastic shear strain", aspect="equal")
     ax[0].legend(fontsize=8, loc="upper right")
     ax[1].plot(delta, q, ".-", ms=3)
-    ax[1].axhline(2 * args.c_p, color="0.5", ls="--", label="2 c_p")
+    strength = 2 * args.c_p * np.cos(np.radians(args.phi)) / (1 - np.sin(np.radians(args.phi)))
+    ax[1].axhline(strength, color="0.5", ls="--", label="2 c_p cos(phi) / (1 - sin(phi))")
     ax[1].set(xlabel="platen displacement delta [m]", ylabel="mean platen stress q [kPa]",
               title="load against displacement")
     ax[1].legend(fontsize=8)
