@@ -6,7 +6,7 @@ from pytest import approx
 from skfem import MeshTri
 
 from pfem_skfem.discretisation.static import assemble_B, assemble_C, discretise
-from pfem_skfem.drivers.softening import point_sizes, softening_control
+from pfem_skfem.drivers.softening import StepControl, point_sizes, softening_control
 from pfem_skfem.materials import Elastic
 from pfem_skfem.materials.softening import (ExponentialSoftening, FractureEnergy,
                                             LinearSoftening, SofteningMohrCoulomb,
@@ -117,10 +117,14 @@ def test_point_sizes_are_the_square_cells_side():
     assert point_sizes(disc.weights) == approx(np.full(disc.n_points, 0.5))
 
 
-@pytest.mark.parametrize("change, word", [({"max_drop": 0.0}, "max_drop"),
+@pytest.mark.parametrize("change, word", [({"control": 0.01}, "StepControl"),
                                           ({"n_increments": 0}, "n_increments"),
                                           ({"gamma0": np.ones(2)}, "gamma0")])
 def test_the_step_control_refuses_bad_settings(change, word):
+    for bad, name in (({"max_drop": 0.0}, "max_drop"), ({"passes": 0}, "passes"),
+                      ({"passes": 1.5}, "passes")):
+        with pytest.raises(ValueError, match=name):
+            StepControl(**bad)
     disc = small_mesh()
     material = SofteningTresca(LINEAR, Elastic(1e4, 0.3))
     kwargs = dict(dict(fixed=np.arange(4), prescribed=([5], [1e-3]), n_increments=2,
@@ -169,7 +173,7 @@ def test_a_softening_mohr_coulomb_layer_peaks_and_softens_at_c_cos_phi():
     gamma0 = np.where(weak, 0.01 * LINEAR.gamma_r, 0.0)            # c_w = 19.85
     run = softening_control(m["B"], m["C"], material, fixed=[0],
                             prescribed=([m["top"]], [0.06]), n_increments=10, size=m["size"], weights=m["weights"],
-                            gamma0=gamma0, max_drop=0.01)
+                            gamma0=gamma0, control=StepControl(max_drop=0.01))
     tau, delta = run.reactions[:, m["top"]] / h, run.factors * 0.06
     assert tau.max() == approx(19.85 * cos, rel=1e-6)
     branch = (np.arange(len(tau)) > np.argmax(tau)) & (tau > 8 * cos) & (tau < 18 * cos)

@@ -263,6 +263,7 @@ CASES = [
       "local_slip_ratio": approx(10 / 40, rel=0.02),               # the band is one row
       "regularised_delta_r_ratio": Between(0.95, 1.05),            # issue 55: within 5 %
       "nonlocal_delta_r_change": Between(0, 0.05),
+      "fixed_point_curve_error": Between(0, 1e-5),      # a straight branch: no lag left
       "exponential_curve_error": Between(0, 0.02)}, None),
     # a softening Tresca specimen (E = 5200 kPa, nu = 0.3, H = 2 m) between smooth platens:
     # elastic q / delta = E / ((1 - nu^2) H); the band at Coulomb's 45 deg + phi / 2 = 45 deg

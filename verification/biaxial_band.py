@@ -125,7 +125,7 @@ def build_parser():
 
 
 def run(args):
-    from pfem_skfem.drivers.softening import point_sizes, softening_control
+    from pfem_skfem.drivers.softening import StepControl, point_sizes, softening_control
     from pfem_skfem.materials.softening import (FractureEnergy, LinearSoftening,
                                                 SofteningMohrCoulomb, SofteningTresca)
 
@@ -143,7 +143,8 @@ def run(args):
     run = softening_control(m["B"], m["C"], material, fixed=m["fixed"],
                             prescribed=(m["top"], np.full(len(m["top"]), -args.delta)),
                             n_increments=args.increments, size=size, weights=weights,
-                            gamma0=gamma0, max_drop=args.max_drop, solver=args.solver)
+                            gamma0=gamma0, control=StepControl(args.max_drop),
+                            solver=args.solver)
     q = -run.reactions[:, m["top"]].sum(axis=1) / args.width
     delta = run.factors * args.delta
     angle, r2, centres = band_angle(points, run.gamma_p, args.h, args.r0 + args.h)

@@ -10,6 +10,12 @@ strain at a point still above c_r, times the law's steepest rate abs(dc/dgamma^p
 exceeds ``max_drop`` (c_p - c_r) is re-solved from the same start with half the displacement,
 again until it does not (at most :data:`MAX_HALVINGS` times in a row); after an increment
 below a quarter of the cap the next is doubled again, up to the base increment.
+
+With ``passes`` > 1 an increment is solved again from the same start with the strength at
+its trial end, c(gamma^p_n + Delta gamma^p of the last pass), until Delta gamma^p stops
+changing (a fixed point: the strength the step used is the strength it leaves; each pass
+convex). Under displacement control of a softening band the passes contract by
+(L / G) abs(H) / h per pass, below one exactly when the band does not snap back.
 """
 from dataclasses import dataclass
 
@@ -20,6 +26,29 @@ from ..problems.static import static_increment
 
 #: re-solves at half the displacement before an increment is taken over the cap (counted)
 MAX_HALVINGS = 12
+#: a fixed point: the passes' Delta gamma^p agree to this fraction of the law's strain scale
+PASS_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class StepControl:
+    """How :func:`softening_control` steps: ``max_drop``, the cap on an increment's strength
+    drop (at the law's steepest rate) as a fraction of c_p - c_r; ``passes``, the most
+    fixed-point passes of an increment (1: the explicit update); ``average``, a sparse
+    (n_points, n_points) operator applied to each increment of gamma^p (a nonlocal average,
+    :func:`~pfem_skfem.materials.softening.nonlocal_average`), or None."""
+
+    max_drop: float = 0.01
+    passes: int = 1
+    average: object = None
+
+    def __post_init__(self):
+        if not np.isfinite(self.max_drop) or not 0 < self.max_drop <= 1:
+            raise ValueError(f"max_drop (cap on the strength drop per increment, a fraction of "
+                             f"c_p - c_r) must lie in (0, 1], got {self.max_drop!r}")
+        if int(self.passes) != self.passes or self.passes < 1:
+            raise ValueError(f"passes (fixed-point passes per increment) must be a positive "
+                             f"integer, got {self.passes!r}")
 
 
 @dataclass
@@ -52,7 +81,7 @@ def point_sizes(weights):
 
 
 def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, weights,
-                      gamma0=None, average=None, max_drop=0.01, **solver_settings):
+                      gamma0=None, control=StepControl(), **solver_settings):
     """Impose ``prescribed`` = (dofs, total displacements) in ``n_increments`` base increments
     on a softening material, with the step control of the module's docstring.
 
@@ -63,10 +92,7 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     fixed : dofs with zero displacement.  size, weights : (n_points,) element size and
         integration weight of each stress point.
     gamma0 : (n_points,) initial plastic shear strain (a seed of weakness), default zero.
-    average : (n_points, n_points) sparse, or None: each increment of gamma^p is replaced by
-        ``average @`` it (a nonlocal average over neighbouring points).
-    max_drop : the cap on the strength drop of an increment (at the steepest rate), a fraction
-        of c_p - c_r.
+    control : :class:`StepControl`: the cap, the fixed-point passes, the nonlocal average.
     solver_settings : passed to :func:`~pfem_skfem.problems.static.static_increment`.
 
     Returns
@@ -76,9 +102,9 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     dofs, total = prescribed
     if int(n_increments) != n_increments or n_increments < 1:
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
-    if not np.isfinite(max_drop) or not 0 < max_drop <= 1:
-        raise ValueError(f"max_drop (cap on the strength drop per increment, a fraction of "
-                         f"c_p - c_r) must lie in (0, 1], got {max_drop!r}")
+    if not isinstance(control, StepControl):
+        raise ValueError(f"control must be a StepControl, got {type(control).__name__}")
+    max_drop, average = control.max_drop, control.average
     n_s, n_u = B.shape
     n = n_s // 4
     weights, size = np.asarray(weights, dtype=float), np.asarray(size, dtype=float)
@@ -92,16 +118,22 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     rate = material.law.steepest_rate / material.scale(size)     # abs(dc/dgamma^p) at its largest
     factors, reactions, dissipation = [0.0], [np.zeros(n_u)], [0.0]
     done, trial, solves, uncapped, halvings = 0.0, 1.0, 0, 0, 0
+    sigma_m = lambda s: 0.5 * (s[:, 0] + s[:, 1])          # noqa: E731 (the lagged mean)
+    tolerance = PASS_TOLERANCE * span / material.law.steepest_rate     # of gamma_r (gamma_95 / 3)
     while done < n_increments * (1 - 1e-12):
         part = min(trial, n_increments - done)
-        criterion = material.criterion(gamma, size, 0.5 * (sigma[:, 0] + sigma[:, 1]),
-                                       material.law.c_p)
-        res = static_increment(B, C, f, sigma, criterion, fixed=fixed,
-                               prescribed=(dofs, part * step), **solver_settings)
-        solves += 1
-        deps = plastic_strain_increment(B, res.du, C, res.sigma, sigma, weights)
-        dgamma = shear_invariant(deps)
-        gamma_new = gamma + (dgamma if average is None else average @ dgamma)
+        gamma_new = gamma                   # the first pass: the strength of the start
+        for _ in range(int(control.passes)):
+            criterion = material.criterion(gamma_new, size, sigma_m(sigma), material.law.c_p)
+            res = static_increment(B, C, f, sigma, criterion, fixed=fixed,
+                                   prescribed=(dofs, part * step), **solver_settings)
+            solves += 1
+            deps = plastic_strain_increment(B, res.du, C, res.sigma, sigma, weights)
+            dgamma = shear_invariant(deps)
+            trial_end, gamma_new = gamma_new, gamma + (dgamma if average is None
+                                                       else average @ dgamma)
+            if np.max(np.abs(gamma_new - trial_end)) <= tolerance:
+                break                       # the strength used is the strength left
         c_new = material.strength(gamma_new, size)
         softening = c > material.law.c_r * (1 + 1e-12)
         drop = (float(np.max(rate[softening] * (gamma_new - gamma)[softening], initial=0.0))
