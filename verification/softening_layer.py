@@ -16,7 +16,7 @@ band its plastic slip h (gamma^p - gamma^p_0), tau = c(gamma^p):
 
 with no snap-back while h / abs(H) > L / G. The band is one row: without regularisation its
 slip, delta_r - c_r L / G, halves when h halves. With the fracture-energy regularisation of
-length ell (gamma_r scaled by ell / h: H(h) = H h / ell) h / |H(h)| = ell / abs(H), and delta_r
+length ell (gamma_r scaled by ell / h: H(h) = H h / ell) h / abs(H(h)) = ell / abs(H), and delta_r
 and D do not depend on h. The exponential law c = c_r + (c_p - c_r) exp(-3 gamma^p /
 gamma_95) has the same form, h (gamma^p(tau) - gamma^p_0) with gamma^p(tau) its inverse.
 The nonlocal average of gamma^p over a length (--ell-nonlocal) has no closed form here: its
