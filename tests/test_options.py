@@ -67,6 +67,11 @@ CHECKS = {
                             (["--profile", "/no/such/profile.csv"], "--profile"),
                             (["--t-after", "0.01"], "--t-after"), (["--rest", "2"], "--rest")],
     "sliding_box": [(["--contact", "zero-dilation"], "--contact")],
+    "biaxial_band": [(["--r0", "0.6"], "--r0"), (["--c-r", "30"], "--c-r"),
+                     (["--h", "0.3"], "--h")],
+    "softening_layer": [(["--c-r", "30"], "--c-r"), (["--rows", "200"], "--rows"),
+                        (["--rows", "10"], "--rows"), (["--ell", "0.005"], "--ell"),
+                        (["--gamma-95", "0.001"], "--gamma-95")],
     "thick_cylinder": [(["--a", "2", "--b", "1"], "--a"), (["--phi", "45"], "--phi")],
     "trussed_frame": [(["--width", "7"], "--width")],
 }

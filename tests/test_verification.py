@@ -274,6 +274,31 @@ CASES = [
       "sticking_speed": Between(0, 1e-6),
       "sticking_friction": approx(2000 * 0.5 * 9.81 * np.sin(np.radians(10)), rel=1e-6)},
      None),
+    # simple shear of a layer (L = 1 m, G = 2000 kPa) whose mid row (h = L / rows) starts 1 %
+    # down the linear law c_p = 20, c_r = 5, H = -20 kPa: c_w = 19.85; post-peak
+    # delta = tau L / G + h (c_w - tau) / |H| (research file 3.4, W1); with --ell 0.2 the band's
+    # slip is ell (c_w - c_r) / |H| on every mesh
+    ("softening_layer", [],
+     {"elastic_slope": approx(2000.0, rel=1e-6), "peak_tau": approx(19.85, rel=1e-6),
+      **{f"local_rows{n}_delta_r": approx(5 / 2000 + (1 / n) * 14.85 / 20, rel=0.02)
+         for n in (10, 20, 40)},
+      **{f"local_rows{n}_dissipation": approx((1 / n) * (19.85 ** 2 - 25) / 40, rel=0.02)
+         for n in (10, 20, 40)},
+      **{f"regularised_rows{n}_delta_r": approx(5 / 2000 + 0.2 * 14.85 / 20, rel=0.02)
+         for n in (10, 20, 40)},
+      "local_rows40_curve_error": Between(0, 0.02),
+      "local_slip_ratio": approx(10 / 40, rel=0.02),               # the band is one row
+      "regularised_delta_r_ratio": Between(0.95, 1.05),            # issue 55: within 5 %
+      "nonlocal_delta_r_change": Between(0, 0.05),
+      "fixed_point_curve_error": Between(0, 1e-5),      # a straight branch: no lag left
+      "exponential_curve_error": Between(0, 0.02)}, None),
+    # a softening Tresca specimen (E = 5200 kPa, nu = 0.3, H = 2 m) between smooth platens:
+    # elastic q / delta = E / ((1 - nu^2) H); the band at Coulomb's 45 deg + phi / 2 = 45 deg
+    # from the horizontal (issue 55: within 3 deg), q never above 2 c_p = 40 kPa
+    ("biaxial_band", [],
+     {"elastic_slope": approx(5200 / ((1 - 0.3 ** 2) * 2.0), rel=1e-6),
+      "peak_over_strength": Between(0, 1 + 1e-6), "final_over_peak": Between(0, 0.95),
+      "band_angle_deg": approx(45.0, abs=3.0), "band_line_R2": Between(0.95, 1.0)}, None),
     # at the thesis' mu = 0.1 the lift's order is about 1/2 (0.58 quick); the script checks
     # only a positive order, for it falls with mu (0.06 at mu = 0.5: its docstring)
     ("sliding_box", [], {"travel_distance": approx(0.98 ** 2 / (2 * 0.1 * G), rel=1e-3),

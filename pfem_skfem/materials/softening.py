@@ -1,0 +1,272 @@
+"""Strain softening: a strength that falls with the accumulated plastic shear strain.
+
+Beyond the thesis; the model of Zhang, Sheng, Sloan & Bleyer (IJNME 112, 2017) for the
+intact sensitive clay: Tresca (or Mohr-Coulomb) whose cohesion c falls from its peak c_p to
+its remoulded value c_r as the plastic shear strain gamma^p accumulates (sensitivity
+S_t = c_p / c_r). The laws:
+
+.. math::
+    c_{lin}(\\gamma^p) = \\max\\bigl(c_r,\\; c_p - (c_p - c_r)\\,\\gamma^p/\\gamma_r\\bigr),
+    \\qquad
+    c_{exp}(\\gamma^p) = c_r + (c_p - c_r)\\, e^{-3\\gamma^p/\\gamma_{95}}
+
+(the linear one has the softening modulus H = dc/dgamma^p = -(c_p - c_r)/gamma_r until
+c_r; the exponential one has lost 95 % of c_p - c_r at gamma_95).
+
+The step stays convex: a strength that depended on the plastic strain of the same step
+would not be a cone. So the strength is data of each step, taken at the start of the step
+(:meth:`SofteningTresca.criterion`), and updated after it from the plastic strain increment
+at each stress point (:func:`plastic_strain_increment`, :func:`shear_invariant`):
+
+.. math::
+    \\Delta\\varepsilon^p = \\varepsilon(\\Delta u) - C^{-1}(\\sigma_{n+1} - \\sigma_n),\\qquad
+    \\Delta\\gamma^p = \\sqrt{(\\Delta\\varepsilon^p_{xx} - \\Delta\\varepsilon^p_{yy})^2
+                              + (2\\Delta\\varepsilon^p_{xy})^2},\\qquad
+    c_{n+1} = c(\\gamma^p_n + \\Delta\\gamma^p)
+
+The update lags by one step; a cap on the strength drop of a step (the step is re-solved
+with a smaller increment above it: :func:`pfem_skfem.drivers.softening.softening_control`)
+makes the lag as small as wanted.
+
+Regularisation (:class:`FractureEnergy`): a local softening law localises in one element,
+so the energy it dissipates scales with the element size h. With a length ell, the law's
+strain scale (gamma_r or gamma_95) is that of a band ell thick, and in an element of size
+h it is scaled by ell / h: the plastic slip h gamma^p at which the strength is spent, and
+the energy per unit band area G_f = ell gamma_r (c_p - c_r) / 2 (linear; ell gamma_95
+(c_p - c_r) / 3 exponential) dissipated as it falls to c_r, do not depend on h.
+"""
+from dataclasses import dataclass
+import warnings
+
+import numpy as np
+
+from .checks import _check_positive, _is_real
+from .criteria import TrescaField, mohr_coulomb_radius
+from .elastic import Elastic
+
+
+def _check_strengths(c_p, c_r):
+    """c_p > 0 and 0 <= c_r <= c_p, each named."""
+    _check_positive("c_p (peak strength)", c_p)
+    if not (_is_real(c_r) and np.isfinite(c_r) and c_r >= 0):
+        raise ValueError(f"c_r (residual strength) must be finite and >= 0, got {c_r!r}")
+    if c_r > c_p:
+        raise ValueError(f"c_r (residual strength) = {c_r!r} exceeds c_p (peak strength) = "
+                         f"{c_p!r}: the strength would harden")
+
+
+@dataclass(frozen=True)
+class LinearSoftening:
+    """c = max(c_r, c_p - (c_p - c_r) gamma^p / gamma_r): softening modulus
+    H = -(c_p - c_r) / gamma_r until the residual strength c_r at gamma^p = gamma_r."""
+
+    c_p: float
+    c_r: float
+    gamma_r: float
+
+    def __post_init__(self):
+        _check_strengths(self.c_p, self.c_r)
+        _check_positive("gamma_r (plastic shear strain at the residual strength)", self.gamma_r)
+
+    @property
+    def steepest_rate(self):
+        """abs(dc/dgamma^p) at its largest (gamma^p = 0): abs(H) = (c_p - c_r) / gamma_r."""
+        return (self.c_p - self.c_r) / self.gamma_r
+
+    def strength(self, gamma_p, scale=1.0):
+        """c at plastic shear strains ``gamma_p``, the strain scale times ``scale``."""
+        g = np.asarray(gamma_p, dtype=float) / (self.gamma_r * np.asarray(scale, dtype=float))
+        return np.maximum(self.c_r, self.c_p - (self.c_p - self.c_r) * g)
+
+    def strain_at(self, c, scale=1.0):
+        """The plastic shear strain at which the strength is ``c`` (c_r < c <= c_p)."""
+        spent = (self.c_p - np.asarray(c, dtype=float)) / (self.c_p - self.c_r)
+        return self.gamma_r * scale * spent
+
+    def softening_energy(self, scale=1.0):
+        """int (c - c_r) dgamma^p from 0 to full softening, per unit volume."""
+        return 0.5 * (self.c_p - self.c_r) * self.gamma_r * scale
+
+
+@dataclass(frozen=True)
+class ExponentialSoftening:
+    """c = c_r + (c_p - c_r) exp(-3 gamma^p / gamma_95): 95 % of c_p - c_r lost at gamma_95
+    (the Einav-Randolph form; the laws of Dey et al. 2015 and Troncone et al. are of it)."""
+
+    c_p: float
+    c_r: float
+    gamma_95: float
+
+    def __post_init__(self):
+        _check_strengths(self.c_p, self.c_r)
+        _check_positive("gamma_95 (plastic shear strain at 95 % softening)", self.gamma_95)
+
+    @property
+    def steepest_rate(self):
+        """abs(dc/dgamma^p) at its largest (gamma^p = 0): 3 (c_p - c_r) / gamma_95."""
+        return 3.0 * (self.c_p - self.c_r) / self.gamma_95
+
+    def strength(self, gamma_p, scale=1.0):
+        """c at plastic shear strains ``gamma_p``, the strain scale times ``scale``."""
+        g = np.asarray(gamma_p, dtype=float) / (self.gamma_95 * np.asarray(scale, dtype=float))
+        return self.c_r + (self.c_p - self.c_r) * np.exp(-3.0 * g)
+
+    def strain_at(self, c, scale=1.0):
+        """The plastic shear strain at which the strength is ``c`` (c_r < c <= c_p)."""
+        left = (np.asarray(c, dtype=float) - self.c_r) / (self.c_p - self.c_r)
+        return -self.gamma_95 * scale * np.log(left) / 3.0
+
+    def softening_energy(self, scale=1.0):
+        """int (c - c_r) dgamma^p from 0 to infinity, per unit volume."""
+        return (self.c_p - self.c_r) * self.gamma_95 * scale / 3.0
+
+
+@dataclass(frozen=True)
+class FractureEnergy:
+    """The softening law's strain scale belongs to a band ``length`` (ell) thick: in an
+    element of size h it is scaled by ell / h, so that the slip and the energy per unit
+    band area at which the strength is spent (G_f = ell x the law's softening energy per
+    unit volume) do not depend on h."""
+
+    length: float
+
+    def __post_init__(self):
+        _check_positive("length (ell, the regularisation length)", self.length)
+
+    def scale(self, size):
+        """ell / h at element sizes ``size``."""
+        size = np.asarray(size, dtype=float)
+        if np.any(~np.isfinite(size)) or np.any(size <= 0):
+            raise ValueError("element sizes must be positive and finite")
+        return self.length / size
+
+
+def nonlocal_average(points, weights, length):
+    """The nonlocal average over a length ell as a sparse (n, n) operator A:
+
+    .. math::
+        (A\\gamma)_i = \\frac{\\sum_j w_j\\,\\phi_{ij}\\,\\gamma_j}{\\sum_j w_j\\,\\phi_{ij}},\\qquad
+        \\phi_{ij} = \\bigl(1 - r_{ij}^2/\\ell^2\\bigr)^2 \\ (r_{ij} < \\ell)
+
+    over the stress points (or particles) at ``points`` (n, 2) of weights ``w``: the bell
+    function, a constant kept. A length below the points' spacing (their median distance to
+    the nearest other) averages nothing: warned, the operator then nearly the identity.
+    """
+    from scipy.sparse import coo_matrix, diags, identity
+    from scipy.spatial import cKDTree
+
+    _check_positive("length (ell, the nonlocal averaging length)", length)
+    points, weights = np.asarray(points, dtype=float), np.asarray(weights, dtype=float)
+    tree = cKDTree(points)
+    spacing = float(np.median(tree.query(points, k=2)[0][:, 1])) if len(points) > 1 else 0.0
+    if length <= spacing:
+        warnings.warn(f"nonlocal length {length:g} is below the points' spacing {spacing:g}: "
+                      f"the average is local", stacklevel=2)
+    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")   # r > 0 only
+    phi = coo_matrix(((1 - (r.data / length) ** 2) ** 2, (r.row, r.col)), shape=r.shape)
+    W = (phi.tocsr() + identity(len(points), format="csr")) @ diags(weights)
+    return (diags(1.0 / np.asarray(W.sum(axis=1)).ravel()) @ W).tocsr()
+
+
+def plastic_strain_increment(B, du, C, sigma_new, sigma_old, weights):
+    """Delta eps^p = eps(du) - C^-1 (sigma_{n+1} - sigma_n) at each stress point, (n, 4) in
+    (xx, yy, zz, 2xy).
+
+    B (4n, n_u) and C (4n, 4n) are the integrated operators of (3.41), (3.43): a point's rows
+    of B du and of C dsigma are its strain and elastic strain times its ``weights``. C = None
+    (rigid-plastic): every strain is plastic.
+    """
+    n = len(weights)
+    total = (B @ du).reshape(n, 4)
+    if C is not None:
+        total = total - (C @ (np.asarray(sigma_new) - np.asarray(sigma_old)).ravel()).reshape(n, 4)
+    return total / np.asarray(weights, dtype=float)[:, None]
+
+
+def shear_invariant(deps):
+    """sqrt((de_xx - de_yy)^2 + (2 de_xy)^2) of strains (n, 4) (xx, yy, zz, 2xy): the
+    engineering shear strain of simple shear, the measure gamma^p accumulates."""
+    deps = np.asarray(deps, dtype=float)
+    return np.hypot(deps[:, 0] - deps[:, 1], deps[:, 3])
+
+
+@dataclass(frozen=True)
+class SofteningTresca:
+    """Tresca whose strength c(gamma^p) at each stress point is data of a step:
+
+    .. math::
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le 2\\,c(\\gamma^p_j)
+
+    Parameters
+    ----------
+    law : :class:`LinearSoftening` or :class:`ExponentialSoftening`.
+    elastic : :class:`Elastic`.
+    regularisation : :class:`FractureEnergy`, or None (local softening: the strength is
+        spent in one element, whatever its size).
+
+    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`); the PFEM
+    loop does not carry gamma^p on its particles yet.
+    """
+
+    law: object
+    elastic: Elastic
+    regularisation: FractureEnergy = None
+
+    name = "Tresca, strain softening"
+
+    def __post_init__(self):
+        if not isinstance(self.law, (LinearSoftening, ExponentialSoftening)):
+            raise ValueError(f"law must be a LinearSoftening or an ExponentialSoftening, "
+                             f"got {type(self.law).__name__}")
+        if not isinstance(self.elastic, Elastic):
+            raise ValueError(f"elastic must be an Elastic, got {type(self.elastic).__name__}")
+        if self.regularisation is not None and not isinstance(self.regularisation,
+                                                              FractureEnergy):
+            raise ValueError(f"regularisation must be a FractureEnergy or None, got "
+                             f"{type(self.regularisation).__name__}")
+
+    def scale(self, size):
+        """The law's strain-scale factor at element sizes ``size``: ell / h, or 1."""
+        if self.regularisation is None:
+            return np.ones_like(np.asarray(size, dtype=float))
+        return self.regularisation.scale(size)
+
+    def strength(self, gamma_p, size):
+        """c at the points' plastic shear strains and element sizes."""
+        return self.law.strength(gamma_p, self.scale(size))
+
+    def criterion(self, gamma_p, size, sigma_m=None, stress_scale=1.0):
+        """The step's cone: :class:`TrescaField` of radii 2 c(gamma^p_j) (no mean stress)."""
+        return TrescaField(2.0 * self.strength(gamma_p, size))
+
+
+@dataclass(frozen=True)
+class SofteningMohrCoulomb(SofteningTresca):
+    """Mohr-Coulomb with zero dilation ([80], as
+    :class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb`) whose cohesion softens:
+
+    .. math::
+        \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le
+        \\max(2c(\\gamma^p_j)\\cos\\phi - 2\\sin\\phi\\,\\sigma_{m,j},\\; k_{min})
+
+    ``phi`` (degrees) stays; ``k_min`` is the least radius in units of the stress scale
+    given to :meth:`criterion`.
+    """
+
+    phi: float = 0.0
+    k_min: float = 0.005
+
+    name = "Mohr-Coulomb, zero dilation, cohesion softening"
+
+    def __post_init__(self):
+        super().__post_init__()
+        mohr_coulomb_radius(1.0, self.phi, 0.0, 1.0)          # validates phi
+        _check_positive("k_min (least cone radius / stress scale)", self.k_min)
+
+    def criterion(self, gamma_p, size, sigma_m=None, stress_scale=1.0):
+        """:class:`TrescaField` of the Mohr-Coulomb radii at the lagged mean stresses."""
+        c = self.strength(gamma_p, size)
+        sigma_m = np.zeros_like(c) if sigma_m is None else sigma_m
+        s, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
+        return TrescaField(np.maximum(2 * c * co - 2 * s * np.asarray(sigma_m, dtype=float),
+                                      self.k_min * stress_scale))

@@ -1,0 +1,182 @@
+"""The softening laws, the plastic strain increment and the regularisation
+(pfem_skfem.materials.softening), and the step control's refusals (drivers.softening)."""
+import numpy as np
+import pytest
+from pytest import approx
+from skfem import MeshTri
+
+from pfem_skfem.discretisation.static import assemble_B, assemble_C, discretise
+from pfem_skfem.drivers.softening import StepControl, point_sizes, softening_control
+from pfem_skfem.materials import Elastic
+from pfem_skfem.materials.softening import (ExponentialSoftening, FractureEnergy,
+                                            LinearSoftening, SofteningMohrCoulomb,
+                                            SofteningTresca, nonlocal_average,
+                                            plastic_strain_increment, shear_invariant)
+
+LINEAR = LinearSoftening(c_p=20.0, c_r=5.0, gamma_r=0.75)
+EXPONENTIAL = ExponentialSoftening(c_p=20.0, c_r=5.0, gamma_95=2.0)
+
+
+def test_the_linear_law_falls_at_H_to_c_r_and_stays():
+    g = np.array([0.0, 0.25, 0.75, 3.0])
+    assert LINEAR.strength(g) == approx([20.0, 20.0 - 15.0 / 0.75 * 0.25, 5.0, 5.0])
+    assert LINEAR.steepest_rate == approx(20.0)                # |H| = (c_p - c_r) / gamma_r
+    # a scale stretches the strain axis: the same strength at scale times the strain
+    assert LINEAR.strength(0.5, scale=2.0) == approx(LINEAR.strength(0.25))
+
+
+def test_the_exponential_law_has_lost_95_percent_at_gamma_95():
+    # exp(-3) = 0.0498: 95.0 % of c_p - c_r spent at gamma_95
+    spent = (20.0 - EXPONENTIAL.strength(2.0)) / 15.0
+    assert spent == approx(1 - np.exp(-3.0), rel=1e-12) and spent == approx(0.95, abs=1e-3)
+    assert EXPONENTIAL.strength(0.0) == approx(20.0)
+    # the initial slope is its steepest: -3 (c_p - c_r) / gamma_95
+    d = 1e-7
+    assert (EXPONENTIAL.strength(0.0) - EXPONENTIAL.strength(d)) / d == \
+        approx(EXPONENTIAL.steepest_rate, rel=1e-6)
+
+
+@pytest.mark.parametrize("law", [LINEAR, EXPONENTIAL], ids=["linear", "exponential"])
+def test_strain_at_inverts_strength(law):
+    c = np.array([19.9, 12.0, 5.5])
+    assert law.strength(law.strain_at(c, 1.7), 1.7) == approx(c, rel=1e-12)
+
+
+@pytest.mark.parametrize("law", [LINEAR, EXPONENTIAL], ids=["linear", "exponential"])
+def test_fracture_energy_makes_the_band_energy_independent_of_h(law):
+    """h x (energy per unit volume at scale ell / h) = ell x (energy at scale 1): G_f."""
+    reg, ell = FractureEnergy(0.1), 0.1
+    for h in (0.1, 0.05, 0.025, 0.2):
+        assert h * law.softening_energy(reg.scale(h)) == approx(ell * law.softening_energy())
+    # the linear law's G_f = ell gamma_r (c_p - c_r) / 2
+    assert 0.1 * LINEAR.softening_energy() == approx(0.1 * 0.75 * 15.0 / 2)
+
+
+@pytest.mark.parametrize("make, word", [
+    (lambda: LinearSoftening(5.0, 20.0, 0.75), "c_r (residual strength)"),
+    (lambda: LinearSoftening(20.0, 5.0, 0.0), "gamma_r"),
+    (lambda: LinearSoftening(20.0, 5.0, -1.0), "gamma_r"),
+    (lambda: LinearSoftening(0.0, 0.0, 1.0), "c_p (peak strength)"),
+    (lambda: LinearSoftening(20.0, -1.0, 1.0), "c_r (residual strength)"),
+    (lambda: ExponentialSoftening(20.0, 5.0, 0.0), "gamma_95"),
+    (lambda: ExponentialSoftening(20.0, 25.0, 1.0), "c_r (residual strength)"),
+    (lambda: FractureEnergy(0.0), "length"),
+    (lambda: SofteningTresca("linear", Elastic(1e4, 0.3)), "law"),
+    (lambda: SofteningTresca(LINEAR, None), "elastic"),
+    (lambda: SofteningTresca(LINEAR, Elastic(1e4, 0.3), 0.1), "regularisation"),
+    (lambda: SofteningMohrCoulomb(LINEAR, Elastic(1e4, 0.3), phi=95.0), "phi"),
+])
+def test_bad_parameters_are_refused_naming_them(make, word):
+    with pytest.raises(ValueError, match=word.replace("(", r"\(").replace(")", r"\)")):
+        make()
+
+
+def small_mesh():
+    mesh = MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    return discretise(mesh)
+
+
+def test_an_elastic_increment_has_no_plastic_strain_and_a_rigid_plastic_one_all():
+    disc = small_mesh()
+    elastic = Elastic(1e4, 0.3)
+    B, C, w = assemble_B(disc), assemble_C(disc, elastic), disc.weights
+    du = np.random.default_rng(1).normal(size=disc.n_u) * 1e-3
+    strain = (B @ du).reshape(-1, 4) / w[:, None]
+    sigma = strain @ np.linalg.inv(elastic.compliance()).T       # D eps at every point
+    sigma0 = np.ones_like(sigma)
+    elastic_part = plastic_strain_increment(B, du, C, sigma + sigma0, sigma0, w)
+    assert np.abs(elastic_part).max() < 1e-12 * np.abs(strain).max()
+    assert plastic_strain_increment(B, du, None, sigma, sigma0, w) == approx(strain)
+
+
+def test_the_shear_invariant_is_the_engineering_shear_strain_in_any_frame():
+    # simple shear gamma; pure shear (e, -e) is simple shear 2e at 45 degrees
+    assert shear_invariant([[0, 0, 0, 0.3]]) == approx([0.3])
+    assert shear_invariant([[0.1, -0.1, 0, 0]]) == approx([0.2])
+    eps = np.array([[2e-3, -1e-3], [-1e-3, 5e-4]])          # tensor: exy = -1e-3
+    for a in np.radians([0, 17, 45, 120]):
+        R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+        e = R @ eps @ R.T
+        assert shear_invariant([[e[0, 0], e[1, 1], 0, 2 * e[0, 1]]]) == \
+            approx(shear_invariant([[eps[0, 0], eps[1, 1], 0, 2 * eps[0, 1]]]))
+
+
+def test_the_criterion_carries_each_points_strength():
+    material = SofteningTresca(LINEAR, Elastic(1e4, 0.3), FractureEnergy(0.1))
+    gamma, size = np.array([0.0, 0.375, 0.375]), np.array([0.1, 0.1, 0.05])
+    # at h = ell the law itself; at h = ell / 2 gamma_r doubles: half the drop
+    assert material.criterion(gamma, size).k == approx(2 * np.array([20.0, 12.5, 16.25]))
+    mc = SofteningMohrCoulomb(LINEAR, Elastic(1e4, 0.3), phi=30.0)
+    k = mc.criterion(gamma, size, sigma_m=np.array([0.0, -10.0, 0.0])).k
+    c = LINEAR.strength(gamma)
+    assert k == approx(2 * c * np.cos(np.radians(30)) + np.array([0, 20 * 0.5, 0]))
+
+
+def test_point_sizes_are_the_square_cells_side():
+    disc = small_mesh()                       # 2 x 2 squares of side 1/2, two triangles each
+    assert point_sizes(disc.weights) == approx(np.full(disc.n_points, 0.5))
+
+
+@pytest.mark.parametrize("change, word", [({"control": 0.01}, "StepControl"),
+                                          ({"n_increments": 0}, "n_increments"),
+                                          ({"gamma0": np.ones(2)}, "gamma0")])
+def test_the_step_control_refuses_bad_settings(change, word):
+    for bad, name in (({"max_drop": 0.0}, "max_drop"), ({"passes": 0}, "passes"),
+                      ({"passes": 1.5}, "passes")):
+        with pytest.raises(ValueError, match=name):
+            StepControl(**bad)
+    disc = small_mesh()
+    material = SofteningTresca(LINEAR, Elastic(1e4, 0.3))
+    kwargs = dict(dict(fixed=np.arange(4), prescribed=([5], [1e-3]), n_increments=2,
+                       size=point_sizes(disc.weights), weights=disc.weights), **change)
+    with pytest.raises(ValueError, match=word):
+        softening_control(assemble_B(disc), assemble_C(disc, material.elastic), material,
+                          **kwargs)
+
+
+def test_the_nonlocal_average_keeps_constants_and_interior_linear_fields():
+    x, y = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41))
+    points = np.c_[x.ravel(), y.ravel()]
+    A = nonlocal_average(points, np.ones(len(points)), 0.1)
+    assert A @ np.full(len(points), 3.0) == approx(3.0)
+    # a symmetric neighbourhood keeps a linear field (the average of a line is its centre)
+    field = 2 * points[:, 0] - points[:, 1]
+    inner = np.all((points > 0.1 + 1e-9) & (points < 0.9 - 1e-9), axis=1)
+    assert (A @ field)[inner] == approx(field[inner], abs=1e-12)
+    # a peak spreads over the length, its weighted sum kept on a uniform grid
+    peak = np.zeros(len(points))
+    peak[np.argmin(np.hypot(*(points - 0.5).T))] = 1.0
+    spread = A @ peak
+    assert spread.max() < 0.2 and spread.sum() == approx(1.0, rel=1e-9)
+    assert np.all(spread[np.hypot(*(points - 0.5).T) >= 0.1] == 0)
+
+
+def test_a_nonlocal_length_below_the_spacing_is_warned_and_averages_nothing():
+    points = np.c_[np.linspace(0, 1, 11), np.zeros(11)]
+    with pytest.warns(UserWarning, match="below the points' spacing"):
+        A = nonlocal_average(points, np.ones(11), 0.05)
+    assert A.toarray() == approx(np.eye(11))
+    with pytest.raises(ValueError, match="length"):
+        nonlocal_average(points, np.ones(11), 0.0)
+
+
+def test_a_softening_mohr_coulomb_layer_peaks_and_softens_at_c_cos_phi():
+    """Simple shear keeps sx = sy = 0 (u_y = 0, isochoric flow), so the zero-dilation cone's
+    radius is 2 c cos(phi): the weak row peaks at tau = c_w cos(phi), and its strength falls
+    at H cos(phi): d delta / d tau = L / G - h / (|H| cos(phi)) on the softening branch."""
+    from verification.softening_layer import layer_model
+    rows, L, G, phi = 10, 1.0, 2000.0, 30.0
+    m = layer_model(rows, L, G, 0.3)
+    material = SofteningMohrCoulomb(LINEAR, m["elastic"], phi=phi)
+    h, cos = m["h"], np.cos(np.radians(phi))
+    weak = (m["y"] > 5 * h) & (m["y"] < 6 * h)
+    gamma0 = np.where(weak, 0.01 * LINEAR.gamma_r, 0.0)            # c_w = 19.85
+    run = softening_control(m["B"], m["C"], material, fixed=[0],
+                            prescribed=([m["top"]], [0.06]), n_increments=10, size=m["size"], weights=m["weights"],
+                            gamma0=gamma0, control=StepControl(max_drop=0.01))
+    tau, delta = run.reactions[:, m["top"]] / h, run.factors * 0.06
+    assert tau.max() == approx(19.85 * cos, rel=1e-6)
+    branch = (np.arange(len(tau)) > np.argmax(tau)) & (tau > 8 * cos) & (tau < 18 * cos)
+    slope = np.polyfit(tau[branch], delta[branch], 1)[0]
+    assert slope == approx(L / G - h / (20.0 * cos), rel=0.02)
+    assert np.abs(run.sigma[:, :3]).max() < 1e-6 * tau.max()      # sx = sy = sz = 0

@@ -1,0 +1,197 @@
+"""A shear band in a softening plane-strain specimen: its inclination against Coulomb's angle.
+
+Beyond the thesis (issue 55 item 3; ``shared/research/saturated-softening-3d.md`` 3.4, W2). A
+specimen W x H (plane strain, shear modulus G) between smooth platens is compressed by its
+top (vertical displacement -delta, horizontal motion free; the base held vertically, its
+left corner horizontally). Its Tresca strength softens linearly with the plastic shear strain
+(c_p to c_r, modulus H: :mod:`pfem_skfem.materials.softening`), regularised by a fracture
+energy of length ell (ell = 0: local). A quarter disc of radius r_0 at the left corner of the
+base starts a fraction epsilon down the law: the band starts there. With associated flow
+(every conic step's) the band makes Coulomb's angle 45 deg + phi / 2 with the direction of
+the least compressive principal stress, the horizontal here: 45 deg for Tresca. With
+--phi > 0 the material is Mohr-Coulomb with zero dilation ([80]: an associated step on the
+psi = 0 cone at the lagged mean stress), whose band theory puts between Roscoe's 45 + psi / 2
+= 45 deg and Coulomb's 45 + phi / 2.
+
+The angle is measured from the gamma^p field at the end: in horizontal slices of height 2 h
+above the seed, the band's centre (the gamma^p-weighted mean x of the slice's points above
+half its largest gamma^p), a straight line fitted through the centres.
+
+Checks: the elastic slope q / delta = E / ((1 - nu^2) H) (q the mean platen stress) to
+1e-6; the peak q at most 2 c_p cos(phi) / (1 - sin(phi)) (the uniaxial strength in plane
+strain, 2 c_p for Tresca; to 1e-6); the load falls after the peak (it softens); the band's
+inclination in [45 - 3, 45 + phi / 2 + 3] deg (Tresca: 45 within 3 deg), its line straight
+(R^2 >= 0.95).
+
+Usage::
+
+    python verification/biaxial_band.py --quick --json results/biaxial_band.json
+"""
+import sys
+
+import numpy as np
+
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, in_range, material_options,
+                                        nonnegative_float, opt, pfem_options, positive_float,
+                                        positive_int)
+from pfem_skfem.harness.report import Report, script_main
+
+QUICK = dict(h=0.12, max_drop=0.05)
+
+
+def specimen(args):
+    """The mesh (Triangle, element size h), operators and supports of the specimen."""
+    from pfem_skfem.discretisation.meshes import triangulate_polygon
+    from pfem_skfem.discretisation.static import (assemble_B, assemble_C, boundary_dofs,
+                                                  discretise)
+    from pfem_skfem.materials import Elastic
+
+    W, H = args.width, args.height
+    disc = discretise(triangulate_polygon([(0, 0), (W, 0), (W, H), (0, H)], args.h))
+    elastic = Elastic(2 * args.G * (1 + args.nu), args.nu)
+    tol = 1e-9 * H
+    base = boundary_dofs(disc, lambda x: x[1] < tol, 1)
+    top = boundary_dofs(disc, lambda x: x[1] > H - tol, 1)
+    x_dofs = disc.basis_u.nodal_dofs[0]
+    corner = x_dofs[np.argmin(np.hypot(*disc.basis_u.doflocs[:, x_dofs]))]
+    return dict(disc=disc, B=assemble_B(disc), C=assemble_C(disc, elastic), elastic=elastic,
+                fixed=np.union1d(base, [corner]), top=top)
+
+
+def band_angle(points, gamma, h, above):
+    """(angle in degrees from the horizontal, R^2 of the line, centres (k, 2)): the band's
+    centre in each slice of height h above ``above`` where the band is (the slice's largest
+    gamma^p at least a third of the largest slice's) and is not cut by a side (h clear of
+    it), a line fitted through them (NaN for fewer than three)."""
+    y0, y1 = above, points[:, 1].max()
+    edges = np.arange(y0, y1 + h, h)
+    peaks, centres = [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        mine = (points[:, 1] >= lo) & (points[:, 1] < hi)
+        if mine.sum() < 3 or gamma[mine].max() <= 0:
+            continue
+        g, p = gamma[mine], points[mine]
+        strong = g >= 0.5 * g.max()
+        peaks.append(g.max())
+        centres.append(np.average(p[strong], axis=0, weights=g[strong]))
+    peaks, centres = np.array(peaks), np.array(centres).reshape(-1, 2)
+    x0, x1 = points[:, 0].min(), points[:, 0].max()
+    inside = (centres[:, 0] > x0 + h) & (centres[:, 0] < x1 - h)     # not cut by a side
+    centres = centres[inside & (peaks >= peaks.max(initial=0.0) / 3)]
+    if len(centres) < 3:
+        return np.nan, np.nan, centres
+    slope, intercept = np.polyfit(centres[:, 1], centres[:, 0], 1)      # x = a + y cot(theta)
+    fit = intercept + slope * centres[:, 1]
+    spread = np.sum((centres[:, 0] - centres[:, 0].mean()) ** 2)
+    r2 = 1 - np.sum((centres[:, 0] - fit) ** 2) / spread
+    return float(np.degrees(np.arctan2(1.0, slope))), float(r2), centres
+
+
+def check(args):
+    if args.r0 >= min(args.width, args.height) / 2:
+        return f"--r0 {args.r0:g}: the seed must stay in the lower-left quarter of the specimen"
+    if args.c_r >= args.c_p:
+        return f"--c-r {args.c_r:g} must be below --c-p {args.c_p:g}"
+    if args.h > args.width / 4:
+        return f"--h {args.h:g}: four elements across --width at least"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--width", type=positive_float, default=1.0, help="specimen width W [m]")
+    p.add_argument("--height", type=positive_float, default=2.0, help="specimen height [m]")
+    pfem_options(p, h=opt(0.06, "element size h of the Triangle mesh [m]"))
+    p.add_argument("--G", type=positive_float, default=2000.0, help="shear modulus G [kPa]")
+    material_options(p, nu=0.3, phi=opt(0.0, "friction angle phi [deg] (> 0: Mohr-Coulomb "
+                                           "with zero dilation, [80])"))
+    p.add_argument("--c-p", type=positive_float, default=20.0, help="peak strength c_p [kPa]")
+    p.add_argument("--c-r", type=positive_float, default=5.0, help="residual strength c_r [kPa]")
+    p.add_argument("--H", type=in_range(high=0, high_open=True, what="a negative number"),
+                   default=-20.0, help="softening modulus H = dc/dgamma^p [kPa]")
+    p.add_argument("--ell", type=nonnegative_float, default=0.2,
+                   help="regularisation length ell [m] (0: local softening)")
+    p.add_argument("--r0", type=positive_float, default=0.15, help="radius of the seed [m]")
+    p.add_argument("--epsilon", type=in_range(0, 1, low_open=True, high_open=True),
+                   default=0.05, help="the seed starts this fraction down the law")
+    p.add_argument("--delta", type=positive_float, default=0.15,
+                   help="the platen's final displacement [m]")
+    p.add_argument("--increments", type=positive_int, default=20,
+                   help="base increments (halved where the cap asks)")
+    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), default=0.02,
+                   help="cap on the strength drop of an increment, / (c_p - c_r)")
+    return p
+
+
+def run(args):
+    from pfem_skfem.drivers.softening import StepControl, point_sizes, softening_control
+    from pfem_skfem.materials.softening import (FractureEnergy, LinearSoftening,
+                                                SofteningMohrCoulomb, SofteningTresca)
+
+    m = specimen(args)
+    disc = m["disc"]
+    law = LinearSoftening(args.c_p, args.c_r, (args.c_p - args.c_r) / -args.H)
+    regularisation = FractureEnergy(args.ell) if args.ell else None
+    material = (SofteningMohrCoulomb(law, m["elastic"], regularisation, phi=args.phi)
+                if args.phi else SofteningTresca(law, m["elastic"], regularisation))
+    points, weights = disc.points, disc.weights
+    size = point_sizes(weights)
+    seed = np.hypot(points[:, 0], points[:, 1]) < args.r0
+    gamma0 = np.where(seed, law.strain_at(law.c_p - args.epsilon * (law.c_p - law.c_r),
+                                          material.scale(size)), 0.0)
+    run = softening_control(m["B"], m["C"], material, fixed=m["fixed"],
+                            prescribed=(m["top"], np.full(len(m["top"]), -args.delta)),
+                            n_increments=args.increments, size=size, weights=weights,
+                            gamma0=gamma0, control=StepControl(args.max_drop),
+                            solver=args.solver)
+    q = -run.reactions[:, m["top"]].sum(axis=1) / args.width
+    delta = run.factors * args.delta
+    angle, r2, centres = band_angle(points, run.gamma_p, args.h, args.r0 + args.h)
+    E, nu = m["elastic"].E, args.nu
+    report = Report("biaxial_band", args, elements=disc.mesh.nelements, solves=run.solves)
+    report.add("elastic_slope", q[1] / delta[1], E / ((1 - nu ** 2) * args.height),
+               "q / delta = E / ((1 - nu^2) H), plane strain, free sides", 1e-6)
+    s, c = np.sin(np.radians(args.phi)), np.cos(np.radians(args.phi))
+    report.add_interval("peak_over_strength", q.max() / (2 * args.c_p * c / (1 - s)), 0.0,
+                        1.0 + 1e-6,
+                        "uniaxial plane strain: q <= 2 c_p cos(phi) / (1 - sin(phi))")
+    report.add_interval("final_over_peak", q[-1] / q.max(), 0.0, 0.95,
+                        "the specimen softens: the load falls after the peak")
+    report.add_interval("band_angle_deg", angle, 42.0, 48.0 + args.phi / 2,
+                        "from the least compressive principal stress (horizontal): Coulomb's "
+                        "45 + phi / 2, Roscoe's 45 + psi / 2 (psi = 0), +- 3 deg")
+    report.add_interval("band_line_R2", r2, 0.95, 1.0, "the band is one straight line")
+    report.extra = {"q": q, "delta": delta, "centres": centres, "angle": angle}
+    report.data = dict(points=points, gamma=run.gamma_p, q=q, delta=delta, centres=centres,
+                       angle=angle)
+    return report
+
+
+def figures(args, points, gamma, q, delta, centres, angle):
+    """The gamma^p field with the fitted band and the 45 deg line; q against delta."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(10, 5), gridspec_kw={"width_ratios": [1, 1.4]})
+    sc = ax[0].scatter(points[:, 0], points[:, 1], c=gamma, s=3, cmap="magma_r")
+    fig.colorbar(sc, ax=ax[0], label="gamma^p")
+    if len(centres):
+        ax[0].plot(centres[:, 0], centres[:, 1], "+", color="C0", ms=10, mew=2,
+                   label=f"band centres: {angle:.1f} deg")
+    y = np.array([0.0, args.width])
+    ax[0].plot(y, y, "--", color="C2", lw=1.5, label="45 deg from the corner")
+    ax[0].set(xlabel="x [m]", ylabel="y [m]", title="plastic shear strain", aspect="equal")
+    ax[0].legend(fontsize=8, loc="upper right")
+    ax[1].plot(delta, q, ".-", ms=3)
+    strength = 2 * args.c_p * np.cos(np.radians(args.phi)) / (1 - np.sin(np.radians(args.phi)))
+    ax[1].axhline(strength, color="0.5", ls="--", label="2 c_p cos(phi) / (1 - sin(phi))")
+    ax[1].set(xlabel="platen displacement delta [m]", ylabel="mean platen stress q [kPa]",
+              title="load against displacement")
+    ax[1].legend(fontsize=8)
+    save_figure(fig, figure_dir(args, "biaxial_band") / "biaxial_band.png")
+
+
+def main(argv=None):
+    return script_main(build_parser, run, figures, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
