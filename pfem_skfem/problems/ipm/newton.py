@@ -73,7 +73,7 @@ class Newton:
             R[:, np.arange(size), np.arange(size)] += null          # R_22 = I
             U = Vr @ np.linalg.inv(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
-            values += st.scatter(size, self.Hinv[size])
+            values += st.scatter(size, U)
         self.Hmat = st.block_matrix(self.Hinv)
         stiffest = max(values[st.diag_slots].max(initial=0.0), 1e-300)
         self.gamma = PENALTY                                # 1 / delta
@@ -131,9 +131,12 @@ class Newton:
                    *(np.abs(r).max(initial=0) for r in rz.values()))
         return rx, ry, rz, norm
 
-    def solve(self, bx, by, bzt):
-        """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`, :data:`REFINE_TOL`)."""
+    def solve(self, bx, by, bzt, refine=True):
+        """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`, :data:`REFINE_TOL`), or
+        not (``refine=False``: the predictor's direction sets only the centring)."""
         dx, dy, dzt = self._once(bx, by, bzt)
+        if not refine:
+            return dx, dy, dzt
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
         ex, ey, ez, norm = self._residual(bx, by, bzt, dx, dy, dzt)

@@ -177,7 +177,7 @@ def _step(lam, ds_t, dz_t):
     return a
 
 
-def _direction(pb, newton, W, lam, m, scale, comp):
+def _direction(pb, newton, W, lam, m, scale, comp, refine=True):
     """The Newton direction for the residuals times ``scale`` and the complementarity
     right-hand sides ``comp``: (dx, dz, ds) of the row length and the scaled (W^-1 ds,
     W dz) per group. From lambda o (W dz + W^-1 ds) = comp: W^-1 ds = q - W dz with
@@ -186,7 +186,7 @@ def _direction(pb, newton, W, lam, m, scale, comp):
     st = pb.st
     q = {d: K.divide(lam[d], comp[d]) for d in lam}
     bzt = {d: -scale * W[d].inverse(m["rz"][d]) - q[d] for d in lam}
-    dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt)
+    dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt, refine)
     ds_t = {d: q[d] - dz_t[d] for d in lam}
     dz, ds = np.zeros(pb.b.size), np.zeros(pb.b.size)
     dz[st.zero] = dy
@@ -250,7 +250,8 @@ def _solve(P, c, A, b, cones, settings=None):
             break
         mu = sum(float(np.sum(sg[d] * zg[d])) for d in zg) / pb.nu
         lam2 = {d: K.product(lam[d], lam[d]) for d in lam}
-        *_, ds_a, dz_a = _direction(pb, newton, W, lam, m, 1.0, {d: -lam2[d] for d in lam})
+        *_, ds_a, dz_a = _direction(pb, newton, W, lam, m, 1.0, {d: -lam2[d] for d in lam},
+                                    refine=False)
         a_aff = min(1.0, _step(lam, ds_a, dz_a))
         sigma = (1.0 - a_aff) ** 3
         comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])

@@ -258,9 +258,9 @@ class Structure:
                 continue
             lam, U = np.linalg.eigh(p)
             keep = lam > NULL_TOL * np.maximum(lam[:, -1:], 1e-300)
-            inv = np.where(keep, 1.0 / np.where(keep, lam, 1.0), 0.0)
-            self.Hinv_fixed[size] = (U * inv[:, None, :]) @ np.swapaxes(U, 1, 2)
-            self.S_fixed += self.scatter(size, self.Hinv_fixed[size])
+            root = U * np.where(keep, 1.0 / np.sqrt(np.where(keep, lam, 1.0)), 0.0)[:, None, :]
+            self.Hinv_fixed[size] = root @ np.swapaxes(root, 1, 2)
+            self.S_fixed += self.scatter(size, root)
 
     def _operators(self):
         """N^T as a sparse matrix (pressures x variables), and the order that lays the
@@ -297,12 +297,13 @@ class Structure:
         self.H_indptr = np.r_[0, np.cumsum(np.bincount(r_, minlength=n))].astype(np.int32)
 
 
-    def scatter(self, size, Hinv):
-        """The blocks' E_b H_b^+ E_b^T of ``size`` in the reduced matrix's values."""
-        dense, rows = self.E_parts[size]
-        S_b = dense @ Hinv @ np.swapaxes(dense, 1, 2)
+    def scatter(self, size, U):
+        """The blocks' E_b H_b^+ E_b^T of ``size`` in S's values, H_b^+ = U_b U_b^T."""
+        F = self.E_parts[size][0] @ U
+        S_b = F @ np.swapaxes(F, 1, 2)
         return np.bincount(self.S_slots[size], weights=S_b[self.S_mask[size]],
                            minlength=self.S_nnz)
+
     def block_matrix(self, mats):
         """The block-diagonal sparse matrix of the blocks' dense ``mats`` {size: (m, s, s)}."""
         data = np.concatenate([mats[size].ravel() for size in self.blocks])[self.H_perm]
