@@ -406,13 +406,18 @@ def test_inconsistent_options_are_usage_errors(name, argv, word, capsys):
     assert word in capsys.readouterr().err
 
 
-def test_report_keeps_the_parameters_and_drops_the_harness_options():
+def test_report_keeps_the_inputs_as_parameters_and_intervals_as_intervals():
     args = quick_args("rotating_bar", "--json", "x.json", "--progress")
     report = Report("rotating_bar", args, derived=3)
     assert not set(HARNESS_OPTIONS) & set(report.params)
     assert report.params["steps"] == args.steps and report.params["quick"] is True
-    assert report.params["derived"] == 3
+    assert "derived" not in report.params and report.extra["derived"] == {"derived": 3}
     assert Report("c", argparse.Namespace(a=1.0)).params == {"a": 1.0}
+    q = report.add_interval("inside", 0.5, 0.0, 1.0, "a bound")
+    assert q.reference is None and q.rel_error == 0.0 and q.passed
+    assert report.as_json()["quantities"][-1]["reference"] is None
+    q = report.add_interval("outside", 1.5, 0.0, 1.0, "a bound")
+    assert q.rel_error == 0.5 and not q.passed                   # the excess, relative
     with pytest.raises(KeyError, match="no quantity 'missing'"):
         report.quantity("missing")
 

@@ -31,14 +31,17 @@ an unreachable ``--scheduler`` and a damaged kept file are one line, not a trace
 
 JSON layout::
 
-    {"case": ..., "params": {...},
+    {"case": ..., "params": {the inputs},
      "quantities": [{"name", "value", "reference", "source", "rel_error",
-                     "tolerance", "pass"}, ...]}
+                     "tolerance", "pass"}, ...],
+     "extra": {"derived": {results derived before the quantities}, ...},
+     "tables": {...}}
 
 ``rel_error`` is |value - reference| / |reference|, or the absolute error when the
 reference is zero; ``pass`` is ``rel_error <= tolerance``. A quantity checked
 against an interval (a bound, a range of published values) gives ``lower`` and
-``upper`` instead (null for an infinite end); its ``rel_error`` is the distance outside
+``upper`` (null for an infinite end) and a null ``reference`` (unless the script names
+one beside the interval); its ``rel_error`` is the distance outside
 the interval relative to the larger end, or to the finite end of a one-sided interval
 (absolute where it is 0). A NaN or infinite value (an undefined ratio) never passes;
 the JSON writes it as null.
@@ -112,7 +115,7 @@ __all__ = ["Quantity", "Report", "relative_error", "HARNESS_OPTIONS", "thinned",
 class Quantity:
     name: str
     value: float
-    reference: float
+    reference: float | None
     source: str
     tolerance: float
     rel_error: float
@@ -152,8 +155,8 @@ class Report:
         The parameters of the run, usually the parsed options; the harness-only
         options (:data:`HARNESS_OPTIONS`) are left out.
     **more
-        Further parameters (derived sizes such as the element count), added to or
-        replacing those of ``params``.
+        Results the script derived before its quantities (the element count, a time):
+        written to the JSON as ``extra["derived"]``, so that ``params`` holds inputs only.
 
     Attributes
     ----------
@@ -170,11 +173,12 @@ class Report:
     def __init__(self, case, params=(), **more):
         if isinstance(params, argparse.Namespace):
             params = vars(params)
-        params = {**dict(params), **more}
         self.case = case
-        self.params = {k: _plain(v) for k, v in params.items() if k not in HARNESS_OPTIONS}
+        self.params = {k: _plain(v) for k, v in dict(params).items()
+                       if k not in HARNESS_OPTIONS}
         self.quantities = []
-        self.extra = {}
+        # results the script derived (an element count, a time): not inputs, so in extra
+        self.extra = {"derived": {k: _plain(v) for k, v in more.items()}} if more else {}
         self.tables = {}
         self.data = {}
 
@@ -193,13 +197,16 @@ class Report:
                      reference=None):
         """Check that ``value`` lies in [lower, upper] (widened by ``tolerance`` relative).
 
+        The quantity's ``reference`` is None (JSON null) unless one is given: the interval
+        is the reference (``lower``, ``upper``), and ``rel_error`` its excess.
+
         The excess outside the interval is relative to ``max(|lower|, |upper|)`` when both
         ends are finite; to the finite end's magnitude for a one-sided interval (absolute
         where that end is 0): an infinite scale would let any finite value pass. A NaN or
         infinite value fails (its ``rel_error`` NaN or inf).
         """
         value, lower, upper = float(value), float(lower), float(upper)
-        ref = float(reference) if reference is not None else 0.5 * (lower + upper)
+        ref = float(reference) if reference is not None else None   # an interval has none
         finite = [abs(b) for b in (lower, upper) if math.isfinite(b)]
         if len(finite) == 2:
             scale = max(abs(lower), abs(upper), 1e-300)
