@@ -1,13 +1,15 @@
-"""Substitutions before the interior point: a variable defined by one equality.
+"""Substitutions before the interior point: a variable fixed or defined by one equality.
 
-cvxpy states a cone on an expression by a new variable t and an equality t = a x (one
-row of two entries, t in no other equality). Such a t joins the cone's block to x's block
-only through the equality, which the reduced Newton system (:mod:`.structure`) counts
-as equilibrium: the blocks lose their structure. Substituting t = (b_r - a_x x) / a_t
-everywhere (x = T x' + t0: P' = T^T P T, c' = T^T (c + P t0), A' = A T, b' = b - A t0, the
-row dropped) gives the same problem on fewer variables, and the answer is mapped back
-(:meth:`Substitution.recover`): t from x, the dropped row's multiplier from t's
-stationarity, (P x + c + A^T z)_t = 0.
+An equality of one or two entries is not equilibrium: cvxpy states a cone on an
+expression by a new variable t and t = a x; a fluid point's deviatoric stress is held at
+zero by s_xy = 0 and s_xx - s_yy = 0. Counted as equilibrium rows by the reduced Newton
+system (:mod:`.structure`) they join blocks and put rows of one point into the
+displacements' matrix. Substituting t = (b_r - a_x x) / a_t, or t = b_r / a_t for a row of
+one entry, everywhere (x = T x' + t0: P' = T^T P T, c' = T^T (c + P t0), A' = A T,
+b' = b - A t0, the row dropped) gives the same problem on fewer variables, and the
+answer is mapped back (:meth:`Substitution.recover`): t from x, the dropped row's
+multiplier from t's stationarity, (P x + c + A^T z)_t = 0 (the other rows' multipliers
+first: t is in no other dropped row).
 """
 import numpy as np
 import scipy.sparse as sp
@@ -25,18 +27,22 @@ class Substitution:
             if type(cone).__name__ == "ZeroConeT":
                 zero[start:start + int(cone.dim)] = True
             start += int(cone.dim)
-        E = A[zero]
-        in_zero = np.diff(E.tocsc().indptr)          # each variable's equalities
         rows = np.flatnonzero(zero)
-        pairs = np.flatnonzero(np.diff(A.indptr)[rows] == 2)
+        count = np.diff(A.indptr)[rows]
         used = np.zeros(n, bool)
         drop, t_of, x_of, a_t, a_x = [], [], [], [], []
-        for r in rows[pairs]:
+        for r in rows[(count == 1) | (count == 2)]:
             cols = A.indices[A.indptr[r]:A.indptr[r + 1]]
             vals = A.data[A.indptr[r]:A.indptr[r + 1]]
+            if cols.size == 1:                       # t = b_r / a_t: fixed
+                if vals[0] != 0 and not used[cols[0]]:
+                    used[cols[0]] = True
+                    drop.append(r), t_of.append(cols[0]), x_of.append(-1)
+                    a_t.append(vals[0]), a_x.append(0.0)
+                continue
             for k in (0, 1):
                 t, x = cols[k], cols[1 - k]
-                if in_zero[t] == 1 and not used[t] and not used[x] and vals[k] != 0:
+                if not used[t] and not used[x] and vals[k] != 0:
                     used[t] = used[x] = True
                     drop.append(r), t_of.append(t), x_of.append(x)
                     a_t.append(vals[k]), a_x.append(vals[1 - k])
@@ -52,9 +58,11 @@ class Substitution:
         new = np.full(n, -1)
         new[self.keep] = np.arange(self.keep.size)
         # T: identity on the kept variables, t = -a_x / a_t x (+ b_r / a_t in t0)
-        Ti = np.r_[self.keep, self.t]
-        Tj = np.r_[np.arange(self.keep.size), new[np.array(x_of)]]
-        Tv = np.r_[np.ones(self.keep.size), -np.array(a_x) / self.a_t]
+        x_of = np.array(x_of)
+        pair = x_of >= 0                              # a fixed t has no column
+        Ti = np.r_[self.keep, self.t[pair]]
+        Tj = np.r_[np.arange(self.keep.size), new[x_of[pair]]]
+        Tv = np.r_[np.ones(self.keep.size), -np.array(a_x)[pair] / self.a_t[pair]]
         self.T = sp.csr_matrix((Tv, (Ti, Tj)), shape=(n, self.keep.size))
         self.t0 = np.zeros(n)
         self.t0[self.t] = b[self.rows] / self.a_t
