@@ -301,7 +301,10 @@ def step_fields(state, result):
     scalars ``sxx``, ``syy``, ``sxy``, equivalent plastic strain increment (in
     axisymmetry x = r and y = z: the stress is (s_rr, s_zz, s_rz), the hoop stress s_tt
     beside it as ``hoop_stress`` and ``stt``, and the mean stress the material's lag,
-    I1/3). Units: :data:`STEP_UNITS`.
+    I1/3). A saturated scene's (``Scene.water``) stresses are the effective ones, and the
+    point data add ``pore_pressure`` (p, compression positive, in the stresses' unit) and
+    ``excess_pore_pressure`` (p less the hydrostatic of the water table; p without one).
+    Units: :data:`STEP_UNITS`.
     """
     disc, inc = result.disc, result.increment
     points = state.mesh_p
@@ -327,6 +330,9 @@ def step_fields(state, result):
     if disc.geometry.axisymmetric:            # (s_rr, s_zz, s_rz) above; the hoop stress
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, disc.geometry.axisymmetric)
+    if getattr(result, "pore_pressure", None) is not None:     # a saturated scene
+        point_data["pore_pressure"] = result.pore_pressure
+        point_data["excess_pore_pressure"] = result.excess_pore_pressure
     return points, disc.mesh.t.T, point_data, cell_data
 
 

@@ -22,6 +22,7 @@ from .bodies import Body, check_motion_over
 from .config import PFEMConfig, check_passes, legacy_keys
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
+from .water import Water
 
 HOLDS = (None, "boundary", "free_surface")
 #: The most particles a scene may place (estimated from each region's area / h^2 before
@@ -96,6 +97,9 @@ class Scene:
         free surface, volumes and masses are those of the body of revolution and forces
         are ring forces (their r-component has no resultant; the z-component is the
         whole body's).
+    water : None (a dry or single-phase scene) or :class:`~pfem_skfem.scene.water.Water`:
+        every region is a saturated soil, the pore pressure a particle variable added to
+        each step (:mod:`pfem_skfem.scene.water`).
     """
 
     regions: tuple
@@ -110,6 +114,7 @@ class Scene:
     config: PFEMConfig = field(default_factory=PFEMConfig)
     output: Output = field(default_factory=Output)
     geometry: str = "plane"
+    water: Water = None
     max_particles: int = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
@@ -172,6 +177,10 @@ class Scene:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
         self._check_passes()
         self._check_materials(geometry)
+        if self.water is not None:
+            if not isinstance(self.water, Water):
+                raise ValueError(f"water must be None or a Water, got {self.water!r}")
+            self.water.check(self.gravity, self.config.theta.theta1)
         for r in regions:        # a fluid flows under any load that is not a pressure
             if getattr(r.material, "needs_container", False) and not self.bodies:
                 raise ValueError(f"region {r.name!r} is a fluid ({type(r.material).__name__}) "
@@ -380,7 +389,10 @@ class Scene:
             sigma_m[mine] = r.material.mean_stress(sigma[mine])
         stress = sigma if self.elastic is not None else None
         h_arg = h[0] if np.all(h == h[0]) else h
-        return initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
+        state = initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
+        if self.water is not None:                   # at rest: the hydrostatic pressure
+            state.pore_pressure = self.water.hydrostatic(x)
+        return state
 
     # -- per step -------------------------------------------------------------------------
     def phase_at(self, t):
@@ -456,6 +468,7 @@ def scene_digest(scene):
     gives the same digest in every process (a checkpoint can store it and refuse another
     scene's); a FunctionMotion is known by its function's qualified name only."""
     parts = {f.name: _identity(getattr(scene, f.name)) for f in fields(scene)
-             if f.name not in _NOT_IDENTITY}
+             if f.name not in _NOT_IDENTITY
+             and not (f.name == "water" and scene.water is None)}   # the digests before it
     text = json.dumps(parts, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
