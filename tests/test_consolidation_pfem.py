@@ -1,0 +1,93 @@
+"""The pore pressure in the PFEM engine (issue 54, item 5): Terzaghi's column remeshed every
+step, a wrong permeability failing it, p carried in the state, its VTU fields, its
+checkpoints, and a saturated scene's bad data refused by name."""
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from pfem_skfem.discretisation import ThetaMethod
+from pfem_skfem.drivers.pfem_loop import run
+from pfem_skfem.io import step_fields
+from pfem_skfem.pfem.state import load_checkpoint
+from pfem_skfem.scene.water import Drained, Water
+from verification import consolidation_pfem as script
+
+pytestmark = pytest.mark.xdist_group("consolidation_pfem")
+
+
+def small_column(*extra):
+    """The script's column at 4 spacings over the height, 2 across."""
+    args = script.build_parser().parse_args(["--quick", "--n", "4", "--W", "0.5", *extra])
+    return script.column_scene(args)
+
+
+def test_the_quick_run_passes_remeshing_every_step(quick_run):
+    report, _ = quick_run("consolidation_pfem")
+    assert report.passed
+    assert report.extra["remeshed"] == report.extra["steps"] > 0
+
+
+def test_a_wrong_permeability_moves_U_off_terzaghi():
+    """1.5 k in the scene, the series of k: U leaves the band of 0.01 (the right k: inside)."""
+    args = script.build_parser().parse_args(["--quick"])
+    e_U, _ = script.errors(script.swell(args, k=1.5 * args.k))
+    assert e_U > script.BAND
+
+
+def test_the_particles_carry_p_and_the_vtu_and_checkpoint_hold_it(tmp_path):
+    state0, scene = small_column()
+    assert state0.pore_pressure is not None and np.all(state0.pore_pressure == 0)
+    steps = []
+    state, _ = run(state0, scene, 2, checkpoint=tmp_path / "c.npz", checkpoint_every=1,
+                   on_step=lambda s, rec, res: steps.append((s, res)))
+    last, result = steps[-1]
+    p_vertices = last.pore_pressure[result.pm.particle]
+    np.testing.assert_array_equal(p_vertices, result.pore_pressure)
+    top = last.mesh_p[:, 1] > 1.0 - 1e-9
+    # the drained top: p = q, an equality row of the solver's (scaled) tolerance
+    np.testing.assert_allclose(result.pore_pressure[top], 100.0, rtol=1e-8)
+    assert 0 < result.pore_pressure[~top].max() < 100.0          # rising below it
+    _, _, point_data, _ = step_fields(last, result)
+    # no water table: p is the excess pore pressure itself
+    np.testing.assert_array_equal(point_data["pore_pressure"], result.pore_pressure)
+    np.testing.assert_array_equal(point_data["excess_pore_pressure"], result.pore_pressure)
+    kept = load_checkpoint(tmp_path / "c.npz")
+    np.testing.assert_array_equal(kept.pore_pressure, state.pore_pressure)
+
+
+def test_a_resumed_saturated_run_reproduces_an_uninterrupted_one(tmp_path):
+    state0, scene = small_column()
+    straight, _ = run(state0, scene, 3)
+    run(state0, scene, 2, checkpoint=tmp_path / "c.npz", checkpoint_every=2)
+    resumed, _ = run(load_checkpoint(tmp_path / "c.npz"), scene, 1)
+    for key in ("x", "v", "pore_pressure", "sigma"):
+        np.testing.assert_array_equal(getattr(resumed, key), getattr(straight, key),
+                                      err_msg=key)
+
+
+def test_a_water_table_gives_the_hydrostatic_start_and_excess():
+    state0, scene = small_column()
+    wet = replace(scene, water=Water(k=1e-8, table=1.5, drained=(Drained(),)))
+    start = wet.initial_state()
+    np.testing.assert_allclose(start.pore_pressure, 9.81 * (1.5 - start.x[:, 1]), rtol=1e-15)
+    assert scene.initial_state().pore_pressure.max() == 0.0       # no table: no excess
+    dry = replace(scene, water=None)
+    assert dry.initial_state().pore_pressure is None
+
+
+@pytest.mark.parametrize("change, words", [
+    (dict(theta1=0.5), "theta1 = 1"),
+    (dict(gravity=(0.0, 0.0), table=1.0), "needs gravity along -y"),
+    (dict(k=-1.0), "k (hydraulic conductivity)"),
+    (dict(M=0.0), "M (Biot's modulus)"),
+    (dict(drained=("top",)), "Drained faces"),
+])
+def test_a_saturated_scene_refuses_bad_data_by_name(change, words):
+    _, scene = small_column()
+    water = dict(k=1e-8, drained=())
+    water.update({k: v for k, v in change.items() if k in ("k", "M", "table", "drained")})
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        theta = ThetaMethod(scene.config.dt, change.get("theta1", 1.0), 1.0)
+        replace(scene, water=Water(**water), gravity=change.get("gravity", scene.gravity),
+                config=replace(scene.config, theta=theta))
