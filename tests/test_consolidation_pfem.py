@@ -91,3 +91,27 @@ def test_a_saturated_scene_refuses_bad_data_by_name(change, words):
         theta = ThetaMethod(scene.config.dt, change.get("theta1", 1.0), 1.0)
         replace(scene, water=Water(**water), gravity=change.get("gravity", scene.gravity),
                 config=replace(scene.config, theta=theta))
+
+
+def test_gravity_keeps_hydrostatic_water_and_the_skeleton_at_rest():
+    """A saturated column (rho_sat = 2 t/m^3) under a water table at its top, drained there:
+    the initial p is gamma_w (H - y), the effective geostatic stress carries the buoyant
+    weight, and five steps of T_v = 0.05 make no flow: p stays hydrostatic at the particles'
+    places (its excess zero) to 2e-5 gamma_w H (the solver's tolerance on Darcy's term;
+    measured 7e-6), and the column moves less than 1e-4 of the settlement its buoyant weight
+    would give, gamma' H^2 / E_oed. Without the water's weight, or with the total geostatic
+    stress as the effective one, p would move by O(gamma_w H)."""
+    _, scene = small_column("--rho", "2.0", "--dTv", "0.05")
+    water = Water(k=1e-8, table=1.0, drained=(replace(scene.water.drained[0], p=0.0),))
+    wet = replace(scene, water=water)
+    state0 = wet.initial_state()
+    np.testing.assert_allclose(state0.sigma[:, 1] if state0.sigma is not None else
+                               state0.stress0[:, 1], -9.81 * (1.0 - state0.x[:, 1]),
+                               atol=1e-12)                   # (rho_sat g - gamma_w)(H - y)
+    results = []
+    state, _ = run(state0, wet, 5, on_step=lambda s, rec, res: results.append(res))
+    gamma_w_H, e_oed = 9.81, 1e5 * 0.8 / (1.2 * 0.6)
+    hydrostatic = 9.81 * (1.0 - state.x[:, 1])
+    assert np.abs(state.pore_pressure - hydrostatic).max() < 2e-5 * gamma_w_H
+    assert np.abs(results[-1].excess_pore_pressure).max() < 2e-5 * gamma_w_H
+    assert np.abs(state.x - state0.x).max() < 1e-4 * 9.81 / e_oed

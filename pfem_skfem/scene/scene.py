@@ -363,6 +363,11 @@ class Scene:
         :func:`~pfem_skfem.scene.regions.volume_shares`), the lagged mean stress and
         (elastoplastic) the stresses from each region's initial stress.
 
+        In a saturated scene the stresses are effective: a Geostatic region's are those of
+        its (saturated) density less the hydrostatic pore pressure of the water table,
+        which is the initial p (:mod:`pfem_skfem.scene.water`; above the table a negative
+        p, the soil saturated by capillarity).
+
         The lagged mean stress is what the region's material lags (its
         ``mean_stress(sigma)``: (sx + sy)/2, or e.g. I1/3 for the axisymmetric cones); in
         axisymmetry the geostatic hoop stress equals the radial one, s_tt = s_rr = K0 s_zz.
@@ -383,7 +388,9 @@ class Scene:
                 k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
                 nu = 0.0 if self.elastic is None else self.elastic.nu
-                sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
+                pore = (None if self.water is None       # effective, under the table
+                        else self.water.hydrostatic(x[mine]))
+                sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu, pore)
                 if axisymmetric:
                     sigma[mine, 2] = sigma[mine, 0]
             sigma_m[mine] = r.material.mean_stress(sigma[mine])
