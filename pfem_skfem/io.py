@@ -336,7 +336,7 @@ def step_fields(state, result):
     return points, disc.mesh.t.T, point_data, cell_data
 
 
-def initial_fields(state, alpha, axisymmetric=False):
+def initial_fields(state, alpha, axisymmetric=False, water=None):
     """The fields of :func:`step_fields` at t = 0, before any step: the particles and
     the triangles of their alpha-shape, at rest, with the initial stresses (the
     particles' ``stress0`` averaged over each triangle; zero without) and the lagged
@@ -347,6 +347,8 @@ def initial_fields(state, alpha, axisymmetric=False):
     state : the initial PFEMState.
     alpha : the scene's alpha-shape parameter.
     axisymmetric : add the hoop stress arrays.
+    water : the scene's :class:`~pfem_skfem.scene.water.Water` (None: a scene without):
+        add the initial pore pressure and its excess over the hydrostatic.
 
     Returns
     -------
@@ -370,6 +372,9 @@ def initial_fields(state, alpha, axisymmetric=False):
     if axisymmetric:
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, axisymmetric)
+    if water is not None and state.pore_pressure is not None:
+        point_data["pore_pressure"] = state.pore_pressure
+        point_data["excess_pore_pressure"] = state.pore_pressure - water.hydrostatic(state.x)
     return state.x, cells, point_data, cell_data
 
 
@@ -391,5 +396,6 @@ def open_series(directory, name, resume_at=None, initial=None):
     elif initial is not None and initial[0].step == 0:
         state, scene = initial
         series.write(0.0, *initial_fields(state, scene.alpha,
-                                          as_geometry(scene.geometry).axisymmetric))
+                                          as_geometry(scene.geometry).axisymmetric,
+                                          getattr(scene, "water", None)))
     return series

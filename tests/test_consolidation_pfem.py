@@ -35,6 +35,13 @@ def test_a_wrong_permeability_moves_U_off_terzaghi():
     assert e_U > script.BAND
 
 
+def test_the_axisymmetric_column_meets_the_same_band():
+    """The column as a cylinder about x = 0 (2 pi r in every integral, u_r = 0 on the axis):
+    the same one-dimensional consolidation, U and p(base) within 0.01 of the series."""
+    args = script.build_parser().parse_args(["--quick", "--axisymmetric"])
+    assert max(script.errors(script.swell(args))) <= script.BAND
+
+
 def test_the_particles_carry_p_and_the_vtu_and_checkpoint_hold_it(tmp_path):
     state0, scene = small_column()
     assert state0.pore_pressure is not None and np.all(state0.pore_pressure == 0)
@@ -115,3 +122,38 @@ def test_gravity_keeps_hydrostatic_water_and_the_skeleton_at_rest():
     assert np.abs(state.pore_pressure - hydrostatic).max() < 2e-5 * gamma_w_H
     assert np.abs(results[-1].excess_pore_pressure).max() < 2e-5 * gamma_w_H
     assert np.abs(state.x - state0.x).max() < 1e-4 * 9.81 / e_oed
+
+
+def test_every_vtu_frame_has_p_and_its_excess(tmp_path):
+    from pfem_skfem.io import open_series
+    state0, scene = small_column()
+    series = open_series(tmp_path, "column", initial=(state0, scene))
+    run(state0, scene, 1, series=series)
+    frames = sorted(tmp_path.glob("column_*.vtu"))
+    assert len(frames) == 2                                   # t = 0 and the step
+    for frame in frames:
+        text = frame.read_text()
+        assert 'Name="pore_pressure"' in text and 'Name="excess_pore_pressure"' in text
+
+
+def test_a_node_a_remesher_adds_takes_the_old_p1_field_there():
+    """A linear p on the particles of the last mesh; a node added at a triangle's centroid
+    (that triangle split in three) takes the linear value there, to rounding."""
+    from skfem import MeshTri
+    from pfem_skfem.pfem.remesh import ParticleMesh
+    from pfem_skfem.pfem.transfer import adopt_added_nodes, old_discretisation
+    state0, scene = small_column()
+    state, _ = run(state0, scene, 1)
+    linear = lambda x: 3.0 + 2.0 * x[:, 0] - 5.0 * x[:, 1]                  # noqa: E731
+    state = replace(state, pore_pressure=linear(state.x))
+    p, t = state.mesh_p, state.mesh_t
+    a, b, c = t[0]
+    centroid = p[[a, b, c]].mean(axis=0)
+    k = len(p)
+    split = np.vstack([t[1:], [[a, b, k], [b, c, k], [c, a, k]]])
+    mesh = MeshTri(np.vstack([p, centroid]).T, split.T, sort_t=False)
+    pm = ParticleMesh(mesh, np.append(state.mesh_particle, -1))
+    new, pm = adopt_added_nodes(state, pm, old_discretisation(state))
+    assert new.n == state.n + 1 and pm.particle[-1] == state.n
+    assert new.pore_pressure[-1] == pytest.approx(linear(centroid[None])[0], rel=1e-12)
+    np.testing.assert_array_equal(new.pore_pressure[:-1], state.pore_pressure)

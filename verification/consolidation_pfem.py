@@ -35,6 +35,7 @@ Usage::
 
     python verification/consolidation_pfem.py --quick --json results/consolidation_pfem.json
 """
+import argparse
 import sys
 
 import numpy as np
@@ -68,7 +69,8 @@ def column_scene(args, k=None):
     """The column's scene (``k``: the permeability the scene is given, the script's --k if
     None) and its initial state; time steps of dTv."""
     from pfem_skfem.discretisation import ThetaMethod
-    from pfem_skfem.materials import CohesiveTresca, Elastic
+    from pfem_skfem.materials import (CohesiveTresca, Elastic,
+                                      ZeroDilationMohrCoulombAxisymmetric)
     from pfem_skfem.problems.contact import CoulombCones, RigidSegment
     from pfem_skfem.scene import Body, Geostatic, HalfPlane, Region, Scene
     from pfem_skfem.scene.config import PFEMConfig
@@ -77,19 +79,24 @@ def column_scene(args, k=None):
     H, W = args.H, args.W
     h = H / args.n
     dt = args.dTv * H ** 2 / oedometric(args)[1]
-    skeleton = CohesiveTresca(args.c, elastic=Elastic(args.E, args.nu))
+    elastic = Elastic(args.E, args.nu)
+    skeleton = (ZeroDilationMohrCoulombAxisymmetric(args.c, 0.0, elastic=elastic)   # Tresca
+                if args.axisymmetric else CohesiveTresca(args.c, elastic=elastic))
     soil = Region(((0.0, 0.0), (W, 0.0), (W, H), (0.0, H)), skeleton, args.rho, h,
                   stress=Geostatic(k0=args.nu / (1 - args.nu)), name="soil")
     far = 50 * H
     bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),      # soil above
               Body("left", RigidSegment((0.0, far), (0.0, -h), 0.0)),         # soil right
               Body("right", RigidSegment((W, -h), (W, far), 0.0)))            # soil left
+    if args.axisymmetric:                  # x = r: the axis holds u_r = 0, no left wall
+        bodies = bodies[:1] + bodies[2:]
     top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=args.q)          # p = q there
     water = Water(k=args.k if k is None else k, gamma_w=args.gamma_w, drained=(top,))
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         remesh_interval=1, solver=args.solver)
     scene = Scene(regions=(soil,), bodies=bodies, gravity=(0.0, -args.g), length=H,
-                  config=config, water=water)
+                  config=config, water=water,
+                  geometry="axisymmetric" if args.axisymmetric else "plane")
     return scene.initial_state(), scene
 
 
@@ -112,7 +119,7 @@ def swell(args, k=None):
         kept["p_base"].append(float(s.pore_pressure[base].mean()) / args.q)
         kept["remeshed"] += run.record["t_detect"] > 0          # the domain detected anew
 
-    keys = dict(H=args.H, W=args.W, n=args.n, q=args.q, k=args.k if k is None else k,
+    keys = dict(axisymmetric=args.axisymmetric, H=args.H, W=args.W, n=args.n, q=args.q, k=args.k if k is None else k,
                 gamma_w=args.gamma_w, E=args.E, nu=args.nu, rho=args.rho, g=args.g, c=args.c,
                 dTv=args.dTv)
     run = ResumableRun.open(scene, state, kept,
@@ -166,6 +173,9 @@ def build_parser():
                      rho=opt(1.0, "submerged density rho' of the skeleton [t/m^3]"), g=9.81,
                      c=opt(1e3, "the skeleton's strength [kPa] (Tresca: far above its "
                                 "stresses, an elastic skeleton)"))
+    p.add_argument("--axisymmetric", action=argparse.BooleanOptionalAction, default=False,
+                   help="the column as a cylinder of radius W about x = 0 (a smooth wall at "
+                        "r = W; the material the axisymmetric Mohr-Coulomb with phi = 0)")
     checkpoint_options(p, "column")
     return p
 

@@ -117,15 +117,20 @@ class PFEMState(Particles):
                        pore_pressure=(None if self.pore_pressure is None
                                       else self.pore_pressure[keep]))
 
-    def appended(self, x, v, h, sigma_m, region, mass=None, pore_pressure=None):
+    def appended(self, x, v, h, sigma_m, region, mass=None, pore_pressure=None,
+                 stress0=None):
         """The state with new particles (new arrays), e.g. nodes added by a remesher
-        (``pore_pressure``: theirs, where the state carries one)."""
+        (``pore_pressure``, ``stress0``: theirs, where the state carries them; zero if
+        not given)."""
         k = len(x)
         no = np.zeros(k, dtype=bool)
         if self.pore_pressure is not None:
             added = np.zeros(k) if pore_pressure is None else np.asarray(pore_pressure, float)
             pore_pressure = np.concatenate([self.pore_pressure, added])
-        return replace(self, pore_pressure=pore_pressure,
+        if self.stress0 is not None:
+            stress0 = np.vstack([self.stress0, np.zeros((k, 4)) if stress0 is None
+                                 else np.asarray(stress0, dtype=float)])
+        return replace(self, pore_pressure=pore_pressure, stress0=stress0,
                        x=np.vstack([self.x, x]), v=np.vstack([self.v, v]),
                        h=np.concatenate([self.h, h]),
                        sigma_m=np.concatenate([self.sigma_m, sigma_m]),

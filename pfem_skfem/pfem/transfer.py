@@ -84,10 +84,10 @@ def adopt_added_nodes(state, pm, source):
               else _vertex_field(state, state.pore_pressure, source[0], xa))
     particle = pm.particle.copy()
     particle[added] = state.n + np.arange(len(xa))
+    # the initial stress (read on the first mesh only): the nearest particle's
+    s0 = None if state.stress0 is None else state.stress0[nearest]
     new = state.appended(xa, va, np.full(len(xa), np.median(state.h)), sa, state.region[nearest],
-                         pore_pressure=pa)
-    if state.stress0 is not None:              # first mesh: nearest particle's initial stress
-        new.stress0 = np.vstack([state.stress0, state.stress0[nearest]])
+                         pore_pressure=pa, stress0=s0)
     return new, ParticleMesh(pm.mesh, particle)
 
 
