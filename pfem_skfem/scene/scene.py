@@ -292,6 +292,12 @@ class Scene:
                 if inside.any():
                     raise ValueError(f"body {body.name!r}: {int(inside.sum())} particle(s) lie "
                                      f"inside it at t = 0 (deepest {-g0.min():.3g})")
+        if self.water is not None:    # a drained face that drains nothing is a mistake
+            for i, face in enumerate(self.water.drained):
+                if face.zone is not None and not face.zone.contains(x, tol=1e-6 * h).any():
+                    raise ValueError(f"water.drained[{i}]: its zone holds no particle at "
+                                     f"t = 0 (it would drain nothing); give a zone on the "
+                                     f"body's boundary")
         for outlet in self.outlets:
             # particles on the zone's edge count as in it: a silo's bottom row lies on the
             # orifice's plane, and a reversed normal would discharge all the others
