@@ -8,14 +8,14 @@ variable, the domain detected and remeshed every step.
 The column (H high, W wide, particles on a square lattice of spacing H / n) stands on a
 smooth rigid floor between smooth rigid walls, an elastic skeleton (Tresca, c far above its
 stresses; E large enough that the column's strain q / E_oed is 1e-3, Terzaghi's small
-strains: the PFEM is updated-Lagrangian) of submerged density rho' under gravity, at rest in its geostatic effective stress
-(K0 = nu / (1 - nu)); p is the excess pore pressure (no water table: the water weighs nothing,
-the skeleton its buoyant weight). At t = 0 the pore pressure of the drained top rises by q
-(a reservoir that rises over the layer); the floor and walls are impermeable. Its effective
-stress change is p, the column swells as Terzaghi's column under a load q settles, and the
-excess p - q is Terzaghi's (Terzaghi 1923; Verruijt, *Theory and Problems of
-Poroelasticity*, ch. 2), so with c_v = k E_oed / gamma_w, T_v = c_v t / H^2 and
-M_m = pi (2m + 1) / 2:
+strains: the PFEM is updated-Lagrangian) of submerged density rho' under gravity, at rest in
+its geostatic effective stress (K0 = nu / (1 - nu)); p is the excess pore pressure (no water
+table: the water weighs nothing, the skeleton its buoyant weight). At t = 0 the pore
+pressure of the drained top rises by q (a reservoir that rises over the layer); the floor
+and walls are impermeable. Its effective stress change is p, the column swells as Terzaghi's
+column under a load q settles, and the excess p - q is Terzaghi's (Terzaghi 1923; Verruijt,
+*Theory and Problems of Poroelasticity*, ch. 2), so with c_v = k E_oed / gamma_w, T_v = c_v
+t / H^2 and M_m = pi (2m + 1) / 2:
 
     U(T_v) = heave / (q H / E_oed) = 1 - sum_m 2 / M_m^2 exp(-M_m^2 T_v),
     (q - p(base, t)) / q = sum_m 2 / M_m sin(M_m) exp(-M_m^2 T_v).
@@ -119,9 +119,9 @@ def swell(args, k=None):
         kept["p_base"].append(float(s.pore_pressure[base].mean()) / args.q)
         kept["remeshed"] += run.record["t_detect"] > 0          # the domain detected anew
 
-    keys = dict(axisymmetric=args.axisymmetric, H=args.H, W=args.W, n=args.n, q=args.q, k=args.k if k is None else k,
-                gamma_w=args.gamma_w, E=args.E, nu=args.nu, rho=args.rho, g=args.g, c=args.c,
-                dTv=args.dTv)
+    keys = dict(axisymmetric=args.axisymmetric, H=args.H, W=args.W, n=args.n, q=args.q,
+                k=args.k if k is None else k, gamma_w=args.gamma_w, E=args.E, nu=args.nu,
+                rho=args.rho, g=args.g, c=args.c, dTv=args.dTv)
     run = ResumableRun.open(scene, state, kept,
                             checkpoints=Checkpoints(args.checkpoint_dir, "consolidation_pfem",
                                                     keys, args.checkpoint_every))
