@@ -179,3 +179,19 @@ def test_a_saturated_scene_file_runs_from_the_command_line(tmp_path):
     state = load_checkpoint(tmp_path / "out" / "checkpoint.npz")
     top = state.x[:, 1] > 1.0 - 1e-9
     np.testing.assert_allclose(state.pore_pressure[top], 100.0, rtol=1e-8)
+
+
+def test_a_drained_free_surface_is_the_boundary_that_touches_no_body():
+    """Drained() without a zone: the top's vertices but its two corners (on the walls) hold
+    p = q; the corners, the walls and the floor are impermeable."""
+    _, scene = small_column()
+    free = replace(scene, water=replace(scene.water, drained=(Drained(p=100.0),)))
+    results = []
+    run(free.initial_state(), free, 1, on_step=lambda s, rec, res: results.append(res))
+    result = results[-1]
+    x = result.disc.mesh.p.T
+    top = np.abs(x[:, 1] - x[:, 1].max()) < 1e-6
+    corner = top & ((x[:, 0] < 1e-6) | (x[:, 0] > 0.5 - 1e-6))
+    np.testing.assert_allclose(result.pore_pressure[top & ~corner], 100.0, rtol=1e-8)
+    assert result.pore_pressure[corner].max() < 99.0
+    assert result.pore_pressure[~top].max() < 99.0

@@ -22,16 +22,17 @@ from ..problems.pore_term import PorePressureTerm
 def drained_vertices(water, disc, contacts, h):
     """(vertices, p_bar) held by the drained faces of ``water`` on the mesh of ``disc``: its
     boundary vertices in each face's zone (within 1e-6 h of it), or, for a face without a
-    zone, those whose node is no potential contact of ``contacts``; p_bar the hydrostatic
-    pressure plus the face's excess (a vertex in two faces: the last face's)."""
+    zone, those that touch no rigid body (no potential contact of ``contacts`` with a gap
+    below 1e-3 h: the search distance reaches further); p_bar the hydrostatic pressure plus
+    the face's excess (a vertex in two faces: the last face's)."""
     mesh = disc.mesh
     boundary = np.unique(mesh.facets[:, mesh.boundary_facets()])
     held = {}
     for face in water.drained:
         if face.zone is None:
-            touching = (np.zeros(0, dtype=int) if contacts is None
-                        else np.flatnonzero(np.isin(disc.basis_u.nodal_dofs[0],
-                                                    contacts.dofs[:, 0])))
+            touching = (np.zeros(0, dtype=int) if contacts is None else np.flatnonzero(
+                np.isin(disc.basis_u.nodal_dofs[0],
+                        contacts.dofs[contacts.gap <= 1e-3 * h, 0])))
             vertices = np.setdiff1d(boundary, touching)
         else:
             vertices = boundary[face.zone.contains(mesh.p[:, boundary].T, tol=1e-6 * h)]
