@@ -29,7 +29,7 @@ whose inertia is 1e-10 of its stiffness).
 
 Checks: U at T_v = 0.05 / 0.1 / 0.2 / 0.5 / 1 (0.2523 / 0.3568 / 0.5041 / 0.7640 / 0.9313)
 within 0.01 (the issue's band), and the base's pressure against the series within 0.01;
-``tests/test_consolidation_pfem.py`` shows that a wrong permeability fails them.
+``tests/test_consolidation_pfem.py`` shows that a permeability 10 % off fails them.
 
 Usage::
 
