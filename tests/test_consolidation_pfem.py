@@ -86,6 +86,17 @@ def test_a_water_table_gives_the_hydrostatic_start_and_excess():
     assert dry.initial_state().pore_pressure is None
 
 
+def test_a_saturated_scene_refuses_a_fluid_region_and_a_state_without_p():
+    from pfem_skfem.drivers.pfem_loop import pfem_step
+    from pfem_skfem.materials import NewtonianFluid
+    state0, scene = small_column()
+    region = replace(scene.regions[0], material=NewtonianFluid(1e-3), stress=None)
+    with pytest.raises(ValueError, match="region 'soil' is a fluid"):
+        replace(scene, regions=(region,))
+    with pytest.raises(ValueError, match="carries no pore pressure"):
+        pfem_step(replace(state0, pore_pressure=None), scene)
+
+
 @pytest.mark.parametrize("change, words", [
     (dict(theta1=0.5), "theta1 = 1"),
     (dict(gravity=(0.0, 0.0), table=1.0), "needs gravity along -y"),

@@ -49,6 +49,9 @@ def pore_pressure_term(scene, disc, pm, state, contacts):
     water = scene.water
     if water is None:
         return None
+    if state.pore_pressure is None:
+        raise ValueError("the scene is saturated (scene.water) and the state carries no pore "
+                         "pressure: start from scene.initial_state()")
     pressure = pressure_field(disc)                 # dof i is vertex i
     h = float(np.median(state.h))
     drained = drained_vertices(water, disc, contacts, h)

@@ -181,6 +181,11 @@ class Scene:
             if not isinstance(self.water, Water):
                 raise ValueError(f"water must be None or a Water, got {self.water!r}")
             self.water.check(self.gravity, self.config.theta.theta1)
+            for r in regions:             # the water fills a soil's pores, not a fluid
+                if getattr(r.material, "needs_container", False):
+                    raise ValueError(f"water: every region of a saturated scene is a soil "
+                                     f"skeleton, region {r.name!r} is a fluid "
+                                     f"({type(r.material).__name__})")
         for r in regions:        # a fluid flows under any load that is not a pressure
             if getattr(r.material, "needs_container", False) and not self.bodies:
                 raise ValueError(f"region {r.name!r} is a fluid ({type(r.material).__name__}) "
