@@ -301,7 +301,10 @@ def step_fields(state, result):
     scalars ``sxx``, ``syy``, ``sxy``, equivalent plastic strain increment (in
     axisymmetry x = r and y = z: the stress is (s_rr, s_zz, s_rz), the hoop stress s_tt
     beside it as ``hoop_stress`` and ``stt``, and the mean stress the material's lag,
-    I1/3). Units: :data:`STEP_UNITS`.
+    I1/3). A saturated scene's (``Scene.water``) stresses are the effective ones, and the
+    point data add ``pore_pressure`` (p, compression positive, in the stresses' unit) and
+    ``excess_pore_pressure`` (p less the hydrostatic of the water table; p without one).
+    Units: :data:`STEP_UNITS`.
     """
     disc, inc = result.disc, result.increment
     points = state.mesh_p
@@ -327,10 +330,13 @@ def step_fields(state, result):
     if disc.geometry.axisymmetric:            # (s_rr, s_zz, s_rz) above; the hoop stress
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, disc.geometry.axisymmetric)
+    if getattr(result, "pore_pressure", None) is not None:     # a saturated scene
+        point_data["pore_pressure"] = result.pore_pressure
+        point_data["excess_pore_pressure"] = result.excess_pore_pressure
     return points, disc.mesh.t.T, point_data, cell_data
 
 
-def initial_fields(state, alpha, axisymmetric=False):
+def initial_fields(state, alpha, axisymmetric=False, water=None):
     """The fields of :func:`step_fields` at t = 0, before any step: the particles and
     the triangles of their alpha-shape, at rest, with the initial stresses (the
     particles' ``stress0`` averaged over each triangle; zero without) and the lagged
@@ -341,6 +347,8 @@ def initial_fields(state, alpha, axisymmetric=False):
     state : the initial PFEMState.
     alpha : the scene's alpha-shape parameter.
     axisymmetric : add the hoop stress arrays.
+    water : the scene's :class:`~pfem_skfem.scene.water.Water` (None: a scene without):
+        add the initial pore pressure and its excess over the hydrostatic.
 
     Returns
     -------
@@ -364,6 +372,9 @@ def initial_fields(state, alpha, axisymmetric=False):
     if axisymmetric:
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, axisymmetric)
+    if water is not None and state.pore_pressure is not None:
+        point_data["pore_pressure"] = state.pore_pressure
+        point_data["excess_pore_pressure"] = state.pore_pressure - water.hydrostatic(state.x)
     return state.x, cells, point_data, cell_data
 
 
@@ -385,5 +396,6 @@ def open_series(directory, name, resume_at=None, initial=None):
     elif initial is not None and initial[0].step == 0:
         state, scene = initial
         series.write(0.0, *initial_fields(state, scene.alpha,
-                                          as_geometry(scene.geometry).axisymmetric))
+                                          as_geometry(scene.geometry).axisymmetric,
+                                          getattr(scene, "water", None)))
     return series

@@ -248,7 +248,8 @@ def _run_locked(scene, out, last, resume, progress, overwrite, force):
     say(runreport.start_line(scene, state, first, last, out))
     if series is not None and not resume:            # the frame at t = 0
         series.write(0.0, *initial_fields(state, scene.alpha,
-                                          as_geometry(scene.geometry).axisymmetric))
+                                          as_geometry(scene.geometry).axisymmetric,
+                                          scene.water))
     every = scene.output.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
 
     saved = [state.step if resume else None]       # the step of the folder's checkpoint

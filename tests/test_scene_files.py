@@ -23,6 +23,7 @@ from pfem_skfem.scene import (Body, ConstantVelocity, FunctionMotion, Geostatic,
                               Outlet, Output, Phase, PiecewiseLinear, PolygonZone, Region,
                               Scene)
 from pfem_skfem.scene import files
+from pfem_skfem.scene.water import Drained, Water
 from pfem_skfem.scene.files import (EXAMPLES, SceneFileError, example_text, key_lines,
                                     scene_from_toml, scene_to_toml)
 
@@ -109,11 +110,17 @@ def make_scene(name):
                                       spread_mass=True,
                                       refine_interior=1.5,
                                       remesher=AlphaMesh(thin=0.4, keep_surface=True)))
+    if name == "saturated":                           # a water table needs gravity along -y
+        water = Water(k=1e-6, gamma_w=9.81, M=1e5, alpha=0.9, table=1.2,
+                      drained=(Drained(HalfPlane((0, 1.4), (0, 1)), p=-5.0),
+                               Drained(PolygonZone(((-1, -1), (3, -1), (3, 0.1), (-1, 0.1))))))
+        return replace(rich, gravity=(0.0, -9.81), water=water,
+                       config=replace(rich.config, theta=ThetaMethod(0.01, 1.0, 0.75)))
     return scene_from_toml(EXAMPLE)
 
 
 ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "fluids",
-              "fluids_axisymmetric", "example")
+              "fluids_axisymmetric", "saturated", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -130,7 +137,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 26
+    assert len(names) == 28                      # HalfPlane, PolygonZone twice: outlets, drained
     for name in names:
         assert f'type = "{name}"' in text, name
 
@@ -193,6 +200,7 @@ PHASES = "\n[[phases]]\nuntil = 1.0\n[[phases]]\nuntil = 0.5\n"
 FUNCTION = '\n[[bodies]]\nname = "f"\n[bodies.shape]\ntype = "RigidSegment"\n' \
            'a = [5.0, 0.0]\nb = [6.0, 0.0]\n[bodies.motion]\ntype = "FunctionMotion"\n'
 
+WATER = '\n[water]\nk = 1e-6\nM = 0.0\n[[water.drained]]\np = -1.0\n'
 # (what is changed, the text after the change, key path, the line's text, words of the message)
 BAD_FILES = [
     ("unknown key", ("phi = 31.0 ", "phii = 31.0 "), "regions[0].material.phii",
@@ -230,6 +238,11 @@ BAD_FILES = [
     ("a table, not an array", ("[[regions]]", "[regions]"), "regions", "[regions]",
      "must be an array of tables"),
     ("syntax", ("rho = 2.0 ", "rho = = 2.0 "), "", "rho = = 2.0", "TOML syntax"),
+    ("a water's modulus", ("", WATER), "water.M", "M = 0.0",
+     "M (Biot's modulus) must be > 0"),
+    ("a negative permeability",
+     ("", WATER.replace("M = 0.0", "k = -1.0").replace("k = 1e-6\n", "")), "water.k",
+     "k = -1.0", "k (hydraulic conductivity) must be >= 0"),
 ]
 
 

@@ -264,6 +264,13 @@ CASES = [
       **{f"cryer_p_centre_T{t:g}": approx(p, abs=0.01) for t, p in
          ((0.01, 1.1758), (0.05, 1.3637), (0.1, 1.1941), (0.2, 0.6817))},
       "cryer_peak": approx(1.3643, abs=0.01)}, None),
+    # Terzaghi's column through the PFEM engine (issue 54, item 5), remeshed every step: the
+    # same series (research file 2.1) within the issue's band of 0.01, U and p(base) / p0
+    ("consolidation_pfem", [],
+     {**{f"U_Tv{t:g}": approx(u, abs=0.01) for t, u in
+         ((0.05, 0.2523), (0.1, 0.3568), (0.2, 0.5041), (0.5, 0.7640), (1, 0.9313))},
+      **{f"p_base_Tv{t:g}": approx(p, abs=0.01) for t, p in
+         ((0.05, 0.9969), (0.1, 0.9493), (0.2, 0.7723), (0.5, 0.3708), (1, 0.1080))}}, None),
     # a rigid block on a rough incline in the PFEM (LaggedFriction): backward Euler of the
     # constant force g (sin b - mu cos b), 5 steps of 0.02 s at b = 30 deg, mu = 0.3
     ("block_on_incline", [],

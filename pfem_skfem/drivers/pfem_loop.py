@@ -34,6 +34,7 @@ from ..pfem.assemble import (assemble_operators, contact_set, element_regions, h
                              step_material, step_scales)
 from ..pfem.bookkeeping import (StepFacts, discharge, free_flight_record, hand_on_mass,
                                spread_mass, step_record)
+from ..pfem.pore import carried, pore_pressure_term
 from ..pfem.remesh import ParticleMesh
 from ..pfem.state import PFEMState, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
@@ -54,7 +55,9 @@ class StepResult:
     disc : the step's Discretisation;  pm : its ParticleMesh (particle of each vertex);
     increment : the DynamicIncrement;  plastic_strain : (n_points,) equivalent plastic
     strain increment;  contacts : the ContactSet (None without contacts);  sigma_m :
-    (n_vertices,) smoothed mean stress of the solution at the mesh's vertices.
+    (n_vertices,) smoothed mean stress of the solution at the mesh's vertices;
+    pore_pressure, excess_pore_pressure : (n_vertices,) p at t_{n+1} and p less the
+    hydrostatic (None without water).
     """
 
     disc: object
@@ -63,6 +66,8 @@ class StepResult:
     plastic_strain: np.ndarray
     contacts: object = None
     sigma_m: np.ndarray = None
+    pore_pressure: np.ndarray = None
+    excess_pore_pressure: np.ndarray = None
 
 
 class StageTimer:
@@ -183,12 +188,15 @@ def pfem_step(state, scene):
         if geometry.axisymmetric:                    # u_r = 0 on the axis r = 0
             fixed = np.union1d(fixed, axis_dofs(disc))
         material = step_material(scene, disc, regions)
+        pore = pore_pressure_term(scene, disc, pm, state, contacts)    # None without water
     with timer("solve"):
         scales = step_scales(state.scales, scene, theta.dt)
         start = StepStart(v_dofs, sigma_n, state.sigma_m[pm.particle], scales)
         solved = lagged_step(ops, f, contacts, disc, material, start, config=config,
-                             stress_scale=stress_scale, fixed=fixed)
+                             stress_scale=stress_scale, fixed=fixed,
+                             terms=() if pore is None else (pore,))
     inc = solved.increment
+    state, p_vertices = carried(state, pm, inc)        # the particles' p at t_{n+1}
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
                        if b.present(state.time)]
@@ -219,6 +227,9 @@ def pfem_step(state, scene):
         surface = moved.n - state.n                  # midside nodes of stretched edges
         new, out_now = discharge(new, scene.outlets)
     result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m)
+    if p_vertices is not None:                      # at the vertices moved to t_{n+1}
+        result.pore_pressure = p_vertices
+        result.excess_pore_pressure = p_vertices - scene.water.hydrostatic(new.mesh_p)
     facts = StepFacts(result=result, ops=ops, solved=solved, contact_bodies=contact_bodies,
                       regions=regions, v_start=v_dofs, area=area, area0=area0, alpha=alpha,
                       phase=phase, projected=projected, added=added, surface=surface,
@@ -369,4 +380,5 @@ def _plain(value):
 def config_summary(scene):
     """The scene as plain JSON-able values (objects by type and fields)."""
     return {f.name: _plain(getattr(scene, f.name)) for f in fields(scene)
-            if f.name != "max_particles"}                 # a guard, not the problem
+            if f.name != "max_particles"                 # a guard, not the problem
+            and not (f.name == "water" and scene.water is None)}    # as before it

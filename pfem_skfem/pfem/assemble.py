@@ -89,8 +89,23 @@ def step_scales(previous, scene, dt):
     """The scales of the step: the previous step's magnitudes, but not below those of a
     free-fall step. As a body comes to rest the displacement scale would otherwise shrink
     step by step, the scaled gaps g0 / u_ref of (5.12) grow as much, and Clarabel reports
-    'unbounded' (book/dynamics.md, "Scaling"). None before the first step."""
+    'unbounded' (book/dynamics.md, "Scaling"). None before the first step.
+
+    A saturated scene's steps are as long as consolidation asks (c_v dt / h^2 near one:
+    minutes to days), and g dt^2 is then millions of times the step's displacement, which
+    a solver's tolerance of that unit leaves undetermined. With an elastic skeleton its
+    floor is the smaller of g dt^2 and the oedometric settlement of the scene's stress over
+    its length, sigma_s L / E_oed, and its first step is scaled by these (not None)."""
+    floor = scene.g * dt ** 2
+    if scene.water is not None and scene.elastic is not None:
+        elastic = scene.elastic
+        settlement = scene.stress_scale * scene.length / (elastic.lame_lambda
+                                                          + 2 * elastic.shear_modulus)
+        floor = min(floor, settlement) if floor > 0 else settlement
+        if previous is None:
+            return DynamicScales(scene.stress_scale, floor,
+                                 max(scene.rho * scene.g, scene.stress_scale / scene.length))
     if previous is None:
         return None
-    return DynamicScales(previous.stress, max(previous.displacement, scene.g * dt ** 2),
+    return DynamicScales(previous.stress, max(previous.displacement, floor),
                          max(previous.dynamic_force, scene.rho * scene.g))

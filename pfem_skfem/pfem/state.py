@@ -49,6 +49,9 @@ class PFEMState(Particles):
     stress0 : (n, 4) initial stresses (sx, sy, sz, sxy) at the particles, interpolated
         to the stress points of the first mesh (None: zero), which an elastoplastic
         body needs to start in equilibrium.
+    pore_pressure : (n,) the pore pressure at the particles (None: a scene without water).
+        It is continuous P1 on each step's mesh, whose vertices are particles: the
+        particles carry it through remeshing (:mod:`pfem_skfem.scene.water`).
 
     A run whose every particle has left through the outlets ends with an empty state
     (n = 0): its history and discharged totals complete, nothing left to step.
@@ -72,6 +75,7 @@ class PFEMState(Particles):
     discharged: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     stress0: np.ndarray = None
+    pore_pressure: np.ndarray = None
 
     def __post_init__(self):
         super().__post_init__()
@@ -90,6 +94,11 @@ class PFEMState(Particles):
             self.stress0 = np.asarray(self.stress0, dtype=float)
             if self.stress0.shape != (self.n, 4):
                 raise ValueError(f"stress must have shape ({self.n}, 4), got {self.stress0.shape}")
+        if self.pore_pressure is not None:
+            self.pore_pressure = np.asarray(self.pore_pressure, dtype=float)
+            if self.pore_pressure.shape != (self.n,):
+                raise ValueError(f"pore_pressure must have shape ({self.n},), got "
+                                 f"{self.pore_pressure.shape}")
 
     def subset(self, keep):
         """The state restricted to the kept particles (boolean mask); the old mesh keeps
@@ -104,13 +113,25 @@ class PFEMState(Particles):
                        free_surface=self.free_surface[keep], contact=self.contact[keep],
                        sigma_m=self.sigma_m[keep], region=self.region[keep],
                        mass=self.mass[keep], mesh_particle=mesh_particle,
-                       stress0=None if self.stress0 is None else self.stress0[keep])
+                       stress0=None if self.stress0 is None else self.stress0[keep],
+                       pore_pressure=(None if self.pore_pressure is None
+                                      else self.pore_pressure[keep]))
 
-    def appended(self, x, v, h, sigma_m, region, mass=None):
-        """The state with new particles (new arrays), e.g. nodes added by a remesher."""
+    def appended(self, x, v, h, sigma_m, region, mass=None, pore_pressure=None,
+                 stress0=None):
+        """The state with new particles (new arrays), e.g. nodes added by a remesher
+        (``pore_pressure``, ``stress0``: theirs, where the state carries them; zero if
+        not given)."""
         k = len(x)
         no = np.zeros(k, dtype=bool)
-        return replace(self, x=np.vstack([self.x, x]), v=np.vstack([self.v, v]),
+        if self.pore_pressure is not None:
+            added = np.zeros(k) if pore_pressure is None else np.asarray(pore_pressure, float)
+            pore_pressure = np.concatenate([self.pore_pressure, added])
+        if self.stress0 is not None:
+            stress0 = np.vstack([self.stress0, np.zeros((k, 4)) if stress0 is None
+                                 else np.asarray(stress0, dtype=float)])
+        return replace(self, pore_pressure=pore_pressure, stress0=stress0,
+                       x=np.vstack([self.x, x]), v=np.vstack([self.v, v]),
                        h=np.concatenate([self.h, h]),
                        sigma_m=np.concatenate([self.sigma_m, sigma_m]),
                        region=np.concatenate([self.region, region]),
@@ -135,7 +156,7 @@ def initial_state(x, h, sigma_m=None, stress=None, *, region=None, mass=None):
 
 # -- checkpoints -----------------------------------------------------------------------
 _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass", "mesh_p",
-           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0")
+           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0", "pore_pressure")
 
 
 class CheckpointError(ValueError):

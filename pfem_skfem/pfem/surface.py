@@ -244,11 +244,14 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
     moved = replace(state, x=x, v=v, sigma_m=sm)
     if split.any():
         new_sm = 0.5 * (sm[pa[split]] + sm[pb[split]])
-        moved = moved.appended(new_x, new_v, h_edge[split], new_sm, state.region[pa[split]])
+        moved = moved.appended(new_x, new_v, h_edge[split], new_sm, state.region[pa[split]],
+                               pore_pressure=_midpoint(state.pore_pressure, pa[split],
+                                                       pb[split]))
     if inner.size:
         fi = disc.basis_u.facet_dofs[:, inner]
         moved = moved.appended(disc.basis_u.doflocs[:, fi[0]].T + inc.du[fi].T, inc.v[fi].T,
-                               h_inner, 0.5 * (sm[ia] + sm[ib]), state.region[ia])
+                               h_inner, 0.5 * (sm[ia] + sm[ib]), state.region[ia],
+                               pore_pressure=_midpoint(state.pore_pressure, ia, ib))
     # no particle inside a rigid body: a node that was outside the contact search (or a
     # free particle) and crossed a wall is put back on it with its normal velocity removed
     x, v, projected = project_out_of_bodies(moved.x, moved.v, bodies, np.median(state.h))
@@ -256,6 +259,12 @@ def move_particles(state, pm, disc, inc, sigma_m_vertices, *, theta, gravity, bo
         x[pm.particle[axis], 0] = 0.0              # on the axis, exactly
         keep_off_axis(x, v)
     return replace(moved, x=x, v=v), projected, shift
+
+
+def _midpoint(values, a, b):
+    """A P1 field (the pore pressure) at the midpoints of edges (a, b): the mean of their
+    ends, exactly; None without one."""
+    return None if values is None else 0.5 * (values[a] + values[b])
 
 
 def keep_off_axis(x, v):

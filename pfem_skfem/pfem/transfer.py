@@ -76,21 +76,31 @@ def adopt_added_nodes(state, pm, source):
     else:
         old_disc, v_old, _ = source
         va = interpolate(old_disc.basis_u, v_old, xa).T
-        p1 = Basis(old_disc.mesh, ElementTriP1())
-        mp = state.mesh_particle                  # -1: a particle thinned away since
-        vals = state.sigma_m[np.maximum(mp, 0)]
-        if (mp < 0).any():
-            vals[mp < 0] = vals[mp >= 0].mean()
-        # a vertex only a collapsed triangle used is not in the map source's mesh (the
-        # last ones: its vertices keep their numbers)
-        sa = interpolate(p1, vals[:old_disc.mesh.nvertices], xa)
+        sa = _vertex_field(state, state.sigma_m, old_disc, xa)
     nearest = cKDTree(state.x).query(xa)[1]
+    pa = None
+    if state.pore_pressure is not None:        # the old P1 field there (first mesh: nearest)
+        pa = (state.pore_pressure[nearest] if source is None
+              else _vertex_field(state, state.pore_pressure, source[0], xa))
     particle = pm.particle.copy()
     particle[added] = state.n + np.arange(len(xa))
-    new = state.appended(xa, va, np.full(len(xa), np.median(state.h)), sa, state.region[nearest])
-    if state.stress0 is not None:              # first mesh: nearest particle's initial stress
-        new.stress0 = np.vstack([state.stress0, state.stress0[nearest]])
+    # the initial stress (read on the first mesh only): the nearest particle's
+    s0 = None if state.stress0 is None else state.stress0[nearest]
+    new = state.appended(xa, va, np.full(len(xa), np.median(state.h)), sa, state.region[nearest],
+                         pore_pressure=pa, stress0=s0)
     return new, ParticleMesh(pm.mesh, particle)
+
+
+def _vertex_field(state, values, old_disc, xa):
+    """A particle field (the mean stress, the pore pressure) as P1 on the old mesh, at xa."""
+    p1 = Basis(old_disc.mesh, ElementTriP1())
+    mp = state.mesh_particle                  # -1: a particle thinned away since
+    vals = values[np.maximum(mp, 0)]
+    if (mp < 0).any():
+        vals[mp < 0] = vals[mp >= 0].mean()
+    # a vertex only a collapsed triangle used is not in the map source's mesh (the
+    # last ones: its vertices keep their numbers)
+    return interpolate(p1, vals[:old_disc.mesh.nvertices], xa)
 
 
 def map_state(state, pm, disc, source, stress_mapping="uem_bounded", velocity=L2Projection()):

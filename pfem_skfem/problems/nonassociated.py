@@ -127,7 +127,8 @@ class StepStart:
     scales: object = None
 
 
-def lagged_step(ops, f, contacts, disc, material, start, *, config, stress_scale, fixed=()):
+def lagged_step(ops, f, contacts, disc, material, start, *, config, stress_scale, fixed=(),
+                terms=()):
     """Step 2a: (4.23) with (5.12) on the material's cone, in fixed-point passes.
 
     Parameters
@@ -150,6 +151,8 @@ def lagged_step(ops, f, contacts, disc, material, start, *, config, stress_scale
         (:data:`~pfem_skfem.problems.backends.STEP_SOLVERS`).
     stress_scale : the scene's stress scale (the unit of the material's least radius).
     fixed : dofs held at zero increment (a held phase; in axisymmetry u_r on the axis).
+    terms : further terms of the step, after the contacts and the rate stress (e.g. the
+        pore pressure of a saturated scene, :mod:`pfem_skfem.pfem.pore`).
 
     Returns
     -------
@@ -179,7 +182,7 @@ def lagged_step(ops, f, contacts, disc, material, start, *, config, stress_scale
         viscous = material.viscous(at_points, stress_scale, gamma_dot, disc.weights)
         # Clarabel's 'AlmostSolved' is accepted and counted in the step record
         inc = dynamic_increment(ops, f, f, sigma_n, v_n, cone, fixed=fixed,
-                                terms=step_terms(contacts=step_contacts, viscous=viscous),
+                                terms=step_terms(contacts=step_contacts, viscous=viscous) + tuple(terms),
                                 scaling=scales, solver=config.solver, accept_inaccurate=True)
         inaccurate += inc.info.status != "optimal"
         iterations += inc.info.iterations

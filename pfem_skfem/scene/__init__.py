@@ -15,6 +15,7 @@ from .bodies import Body, ConstantVelocity, Fixed, FunctionMotion, Motion, Piece
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region, fill_region, geostatic_stress, polygon_area
 from .scene import MAX_PARTICLES, Output, Phase, Scene, scene_digest
+from .water import Drained, Water
 from .columns import column_scene
 from .files import SceneFileError, load_scene, scene_from_toml, scene_to_toml
 
@@ -22,4 +23,4 @@ __all__ = ["Body", "ConstantVelocity", "Fixed", "FunctionMotion", "Motion", "Pie
            "HalfPlane", "Outlet", "PolygonZone", "Geostatic", "Region", "fill_region",
            "geostatic_stress", "polygon_area", "Output", "Phase", "Scene", "SceneFileError",
            "load_scene", "scene_from_toml", "scene_to_toml", "scene_digest", "MAX_PARTICLES",
-           "column_scene"]
+           "column_scene", "Drained", "Water"]

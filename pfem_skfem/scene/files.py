@@ -35,6 +35,10 @@ out takes the constructor's default (TOML has no null: a ``None`` is an omitted 
     [config.theta]
     dt = 0.003
 
+A saturated scene (:mod:`pfem_skfem.scene.water`) has a ``[water]`` table (``k``,
+``gamma_w``, ``M``, ``alpha``, ``table``) and its drained faces as ``[[water.drained]]``
+(``p``, and a ``[water.drained.zone]``; without a zone, the free surface);
+
 so that ``scene_from_toml(scene_to_toml(scene)) == scene`` (a
 :class:`~pfem_skfem.scene.bodies.FunctionMotion`, a Python callable, has no TOML form).
 
@@ -71,6 +75,7 @@ from .config import PFEMConfig, legacy_solver
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
+from .water import Drained, Water
 
 __all__ = ["SceneFileError", "scene_from_toml", "scene_to_toml", "load_scene", "key_lines",
            "example_text", "EXAMPLES", "SCHEMA"]
@@ -343,6 +348,9 @@ BODY = Spec(Body, {"name": STRING, "shape": SHAPE, "motion": MOTION, "removed_at
 ZONE = OneOf(Spec(HalfPlane, {"point": POINT, "normal": POINT}),
              Spec(PolygonZone, {"vertices": POINTS}))
 OUTLET = Spec(Outlet, {"name": STRING, "zone": ZONE})
+DRAINED = Spec(Drained, {"zone": ZONE, "p": NUMBER})
+WATER = Spec(Water, {"k": NUMBER, "gamma_w": NUMBER, "M": NUMBER, "alpha": NUMBER,
+                     "table": NUMBER, "drained": Tables(DRAINED)})
 PHASE = Spec(Phase, {"name": STRING, "until": NUMBER, "hold": STRING})
 #: keys of [config] that earlier scene files used for the step's solver (PFEMConfig.solver)
 _EARLIER_KEYS = ("backend", "form")
@@ -380,7 +388,8 @@ SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
     "length": NUMBER, "regions": Tables(REGION), "bodies": Tables(BODY),
     "outlets": Tables(OUTLET), "phases": Tables(PHASE), "config": Table(CONFIG),
-    "output": Table(OUTPUT), "geometry": STRING, "max_particles": INTEGER})
+    "output": Table(OUTPUT), "geometry": STRING, "water": Table(WATER),
+    "max_particles": INTEGER})
 
 
 # -- loading --------------------------------------------------------------------------------

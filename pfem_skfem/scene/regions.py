@@ -364,9 +364,13 @@ def fill_region(region):
     return x
 
 
-def geostatic_stress(x, top, rho, g, k0, nu=0.0):
+def geostatic_stress(x, top, rho, g, k0, nu=0.0, pore=None):
     """Geostatic stresses (n, 4) (sx, sy, sz, sxy): sy = -rho g (top - y), sx = k0 sy and
-    the plane-strain sz = nu (sx + sy)."""
+    the plane-strain sz = nu (sx + sy). With ``pore`` (n,), the pore pressure at x, they
+    are the effective stresses of a saturated soil: sy = -rho g (top - y) + p (rho the
+    saturated density), K0 and nu on the effective stress."""
     sy = -rho * g * np.clip(top - x[:, 1], 0, None)
+    if pore is not None:
+        sy = sy + pore
     sx = k0 * sy
     return np.column_stack([sx, sy, nu * (sx + sy), np.zeros_like(sy)])

@@ -22,6 +22,7 @@ from .bodies import Body, check_motion_over
 from .config import PFEMConfig, check_passes, legacy_keys
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
+from .water import Water
 
 HOLDS = (None, "boundary", "free_surface")
 #: The most particles a scene may place (estimated from each region's area / h^2 before
@@ -96,6 +97,9 @@ class Scene:
         free surface, volumes and masses are those of the body of revolution and forces
         are ring forces (their r-component has no resultant; the z-component is the
         whole body's).
+    water : None (a dry or single-phase scene) or :class:`~pfem_skfem.scene.water.Water`:
+        every region is a saturated soil, the pore pressure a particle variable added to
+        each step (:mod:`pfem_skfem.scene.water`).
     """
 
     regions: tuple
@@ -110,6 +114,7 @@ class Scene:
     config: PFEMConfig = field(default_factory=PFEMConfig)
     output: Output = field(default_factory=Output)
     geometry: str = "plane"
+    water: Water = None
     max_particles: int = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
@@ -172,6 +177,15 @@ class Scene:
             raise ValueError("the scene has no stress scale: give gravity or a cohesive material")
         self._check_passes()
         self._check_materials(geometry)
+        if self.water is not None:
+            if not isinstance(self.water, Water):
+                raise ValueError(f"water must be None or a Water, got {self.water!r}")
+            self.water.check(self.gravity, self.config.theta.theta1)
+            for r in regions:             # the water fills a soil's pores, not a fluid
+                if getattr(r.material, "needs_container", False):
+                    raise ValueError(f"water: every region of a saturated scene is a soil "
+                                     f"skeleton, region {r.name!r} is a fluid "
+                                     f"({type(r.material).__name__})")
         for r in regions:        # a fluid flows under any load that is not a pressure
             if getattr(r.material, "needs_container", False) and not self.bodies:
                 raise ValueError(f"region {r.name!r} is a fluid ({type(r.material).__name__}) "
@@ -283,6 +297,12 @@ class Scene:
                 if inside.any():
                     raise ValueError(f"body {body.name!r}: {int(inside.sum())} particle(s) lie "
                                      f"inside it at t = 0 (deepest {-g0.min():.3g})")
+        if self.water is not None:    # a drained face that drains nothing is a mistake
+            for i, face in enumerate(self.water.drained):
+                if face.zone is not None and not face.zone.contains(x, tol=1e-6 * h).any():
+                    raise ValueError(f"water.drained[{i}]: its zone holds no particle at "
+                                     f"t = 0 (it would drain nothing); give a zone on the "
+                                     f"body's boundary")
         for outlet in self.outlets:
             # particles on the zone's edge count as in it: a silo's bottom row lies on the
             # orifice's plane, and a reversed normal would discharge all the others
@@ -354,6 +374,11 @@ class Scene:
         :func:`~pfem_skfem.scene.regions.volume_shares`), the lagged mean stress and
         (elastoplastic) the stresses from each region's initial stress.
 
+        In a saturated scene the stresses are effective: a Geostatic region's are those of
+        its (saturated) density less the hydrostatic pore pressure of the water table,
+        which is the initial p (:mod:`pfem_skfem.scene.water`; above the table a negative
+        p, the soil saturated by capillarity).
+
         The lagged mean stress is what the region's material lags (its
         ``mean_stress(sigma)``: (sx + sy)/2, or e.g. I1/3 for the axisymmetric cones); in
         axisymmetry the geostatic hoop stress equals the radial one, s_tt = s_rr = K0 s_zz.
@@ -374,13 +399,18 @@ class Scene:
                 k0 = 1 - np.sin(np.radians(phi)) if r.stress.k0 is None else r.stress.k0
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
                 nu = 0.0 if self.elastic is None else self.elastic.nu
-                sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu)
+                pore = (None if self.water is None       # effective, under the table
+                        else self.water.hydrostatic(x[mine]))
+                sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu, pore)
                 if axisymmetric:
                     sigma[mine, 2] = sigma[mine, 0]
             sigma_m[mine] = r.material.mean_stress(sigma[mine])
         stress = sigma if self.elastic is not None else None
         h_arg = h[0] if np.all(h == h[0]) else h
-        return initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
+        state = initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
+        if self.water is not None:                   # at rest: the hydrostatic pressure
+            state.pore_pressure = self.water.hydrostatic(x)
+        return state
 
     # -- per step -------------------------------------------------------------------------
     def phase_at(self, t):
@@ -456,6 +486,7 @@ def scene_digest(scene):
     gives the same digest in every process (a checkpoint can store it and refuse another
     scene's); a FunctionMotion is known by its function's qualified name only."""
     parts = {f.name: _identity(getattr(scene, f.name)) for f in fields(scene)
-             if f.name not in _NOT_IDENTITY}
+             if f.name not in _NOT_IDENTITY
+             and not (f.name == "water" and scene.water is None)}   # the digests before it
     text = json.dumps(parts, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()

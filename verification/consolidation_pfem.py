@@ -1,0 +1,228 @@
+"""Terzaghi's column through the PFEM engine: the pore pressure carried by the particles.
+
+Beyond the thesis (issue 54, item 5): a saturated scene (``Scene(water=Water(...))``,
+:mod:`pfem_skfem.scene.water`) runs the PFEM loop of Section 2.2 with the pore pressure in
+each step (:class:`~pfem_skfem.problems.pore_term.PorePressureTerm`) and p a particle
+variable, the domain detected and remeshed every step.
+
+The column (H high, W wide, particles on a square lattice of spacing H / n) stands on a
+smooth rigid floor between smooth rigid walls, an elastic skeleton (Tresca, c far above its
+stresses; E large enough that the column's strain q / E_oed is 1e-3, Terzaghi's small
+strains: the PFEM is updated-Lagrangian) of submerged density rho' under gravity, at rest in
+its geostatic effective stress (K0 = nu / (1 - nu)); p is the excess pore pressure (no water
+table: the water weighs nothing, the skeleton its buoyant weight). At t = 0 the pore
+pressure of the drained top rises by q (a reservoir that rises over the layer); the floor
+and walls are impermeable. Its effective stress change is p, the column swells as Terzaghi's
+column under a load q settles, and the excess p - q is Terzaghi's (Terzaghi 1923; Verruijt,
+*Theory and Problems of Poroelasticity*, ch. 2), so with c_v = k E_oed / gamma_w, T_v = c_v
+t / H^2 and M_m = pi (2m + 1) / 2:
+
+    U(T_v) = heave / (q H / E_oed) = 1 - sum_m 2 / M_m^2 exp(-M_m^2 T_v),
+    (q - p(base, t)) / q = sum_m 2 / M_m sin(M_m) exp(-M_m^2 T_v).
+
+Why a rise, not Terzaghi's load: a scene has no surface load, and a fall of the top's
+pressure by q (the same diffusion, settling) makes the total horizontal stress tensile
+((1 - 2 nu) / (1 - nu) q): the column would leave its smooth walls, which cannot pull, and
+cease to be an oedometer. The rise presses the walls and leaves the floor the column's
+weight, which holds it in place (a floating column's position is undetermined by a step
+whose inertia is 1e-10 of its stiffness).
+
+Checks: U at T_v = 0.05 / 0.1 / 0.2 / 0.5 / 1 (0.2523 / 0.3568 / 0.5041 / 0.7640 / 0.9313)
+within 0.01 (the issue's band), and the base's pressure against the series within 0.01;
+``tests/test_consolidation_pfem.py`` shows that a permeability 10 % off fails them.
+
+Usage::
+
+    python verification/consolidation_pfem.py --quick --json results/consolidation_pfem.json
+"""
+import argparse
+import sys
+
+import numpy as np
+
+from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options, opt,
+                                        positive_float, positive_int)
+from pfem_skfem.harness.report import Report, script_main
+
+QUICK = dict(n=10, dTv=0.005)
+REPORT_TV = (0.05, 0.1, 0.2, 0.5, 1.0)
+#: the band of the issue's done-when, on U and on p(base) / q
+BAND = 0.01
+
+
+def terzaghi(Tv, terms=2000):
+    """Terzaghi's series: U and p(base) / p0 (the excess left at the impermeable base)."""
+    M = np.pi * (2 * np.arange(terms) + 1) / 2
+    decay = np.exp(-M ** 2 * Tv)
+    return 1 - np.sum(2 / M ** 2 * decay), np.sum(2 / M * np.sin(M) * decay)
+
+
+def oedometric(args):
+    """E_oed and c_v = k E_oed / gamma_w (alpha = 1, incompressible constituents)."""
+    nu = args.nu
+    e_oed = args.E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    return e_oed, args.k * e_oed / args.gamma_w
+
+
+def column_scene(args, k=None):
+    """The column's scene (``k``: the permeability the scene is given, the script's --k if
+    None) and its initial state; time steps of dTv."""
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import (CohesiveTresca, Elastic,
+                                      ZeroDilationMohrCoulombAxisymmetric)
+    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
+    from pfem_skfem.scene import Body, Geostatic, HalfPlane, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene.water import Drained, Water
+
+    H, W = args.H, args.W
+    h = H / args.n
+    dt = args.dTv * H ** 2 / oedometric(args)[1]
+    elastic = Elastic(args.E, args.nu)
+    skeleton = (ZeroDilationMohrCoulombAxisymmetric(args.c, 0.0, elastic=elastic)   # Tresca
+                if args.axisymmetric else CohesiveTresca(args.c, elastic=elastic))
+    soil = Region(((0.0, 0.0), (W, 0.0), (W, H), (0.0, H)), skeleton, args.rho, h,
+                  stress=Geostatic(k0=args.nu / (1 - args.nu)), name="soil")
+    far = 50 * H
+    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),      # soil above
+              Body("left", RigidSegment((0.0, far), (0.0, -h), 0.0)),         # soil right
+              Body("right", RigidSegment((W, -h), (W, far), 0.0)))            # soil left
+    if args.axisymmetric:                  # x = r: the axis holds u_r = 0, no left wall
+        bodies = bodies[:1] + bodies[2:]
+    top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=args.q)          # p = q there
+    water = Water(k=args.k if k is None else k, gamma_w=args.gamma_w, drained=(top,))
+    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
+                        remesh_interval=1, solver=args.solver)
+    scene = Scene(regions=(soil,), bodies=bodies, gravity=(0.0, -args.g), length=H,
+                  config=config, water=water,
+                  geometry="axisymmetric" if args.axisymmetric else "plane")
+    return scene.initial_state(), scene
+
+
+def swell(args, k=None):
+    """The column from rest to T_v = 1 (and T_v-end): T_v, U and p(base) after each step."""
+    from pfem_skfem.drivers.resumable import Checkpoints, ResumableRun
+
+    state, scene = column_scene(args, k)
+    top = np.flatnonzero(np.abs(state.x[:, 1] - args.H) < 1e-9 * args.H)
+    base = np.flatnonzero(np.abs(state.x[:, 1]) < 1e-9 * args.H)
+    e_oed, _ = oedometric(args)
+    heave_inf = args.q * args.H / e_oed
+    steps = int(round(args.Tv_end / args.dTv))
+    kept = {"Tv": [0.0], "U": [0.0], "p_base": [0.0], "remeshed": 0}
+
+    def observe(run, snapshots):
+        s = run.state
+        kept["Tv"].append(s.step * args.dTv)
+        kept["U"].append(float(s.x[top, 1].mean() - args.H) / heave_inf)
+        kept["p_base"].append(float(s.pore_pressure[base].mean()) / args.q)
+        kept["remeshed"] += run.record["t_detect"] > 0          # the domain detected anew
+
+    keys = dict(axisymmetric=args.axisymmetric, H=args.H, W=args.W, n=args.n, q=args.q,
+                k=args.k if k is None else k, gamma_w=args.gamma_w, E=args.E, nu=args.nu,
+                rho=args.rho, g=args.g, c=args.c, dTv=args.dTv)
+    run = ResumableRun.open(scene, state, kept,
+                            checkpoints=Checkpoints(args.checkpoint_dir, "consolidation_pfem",
+                                                    keys, args.checkpoint_every))
+    run.advance(lambda r: r.state.step >= steps, observe)
+    kept = run.kept
+    return {"Tv": np.array(kept["Tv"]), "U": np.array(kept["U"]),
+            "p_base": np.array(kept["p_base"]), "remeshed": int(kept["remeshed"]),
+            "steps": steps, "particles": state.n}
+
+
+def errors(result):
+    """max |U - series| and max |(q - p_base) / q - series| over the report times."""
+    e_U = e_p = 0.0
+    for r in REPORT_TV:
+        i = int(np.argmin(abs(result["Tv"] - r)))
+        U_ex, p_ex = terzaghi(r)
+        e_U = max(e_U, abs(result["U"][i] - U_ex))
+        e_p = max(e_p, abs(1 - result["p_base"][i] - p_ex))
+    return e_U, e_p
+
+
+def check(args):
+    if abs(args.H / args.n * round(args.W * args.n / args.H) - args.W) > 1e-9 * args.W:
+        return f"--W {args.W:g}: a whole number of spacings --H / --n = {args.H / args.n:g}"
+    if abs(1 / args.dTv - round(1 / args.dTv)) > 1e-6 / args.dTv:
+        return f"--dTv {args.dTv:g}: T_v = 1 must be a whole number of steps"
+    if args.Tv_end < 1:
+        return f"--Tv-end {args.Tv_end:g}: the report times reach T_v = 1"
+    return None
+
+
+def build_parser():
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
+    p.add_argument("--H", type=positive_float, default=1.0, help="column height H [m]")
+    p.add_argument("--W", type=positive_float, default=0.2, help="column width W [m]")
+    p.add_argument("--n", type=positive_int, default=20,
+                   help="particle spacings over the height (h = H / n)")
+    p.add_argument("--q", type=positive_float, default=100.0,
+                   help="rise q of the top's pore pressure at t = 0 [kPa]")
+    p.add_argument("--k", type=positive_float, default=1e-8,
+                   help="hydraulic conductivity k [m/s]")
+    p.add_argument("--gamma-w", type=positive_float, default=9.81,
+                   help="unit weight of water gamma_w [kN/m^3]")
+    p.add_argument("--dTv", type=positive_float, default=0.0025, help="time step in T_v")
+    p.add_argument("--Tv-end", type=positive_float, default=1.0, help="the last T_v")
+    material_options(p, E=opt(1e5, "Young's modulus E of the skeleton [kPa] (q / E_oed small: "
+                                   "Terzaghi's small strains)"),
+                     nu=opt(0.2, "Poisson's ratio nu' of the skeleton"),
+                     rho=opt(1.0, "submerged density rho' of the skeleton [t/m^3]"), g=9.81,
+                     c=opt(1e3, "the skeleton's strength [kPa] (Tresca: far above its "
+                                "stresses, an elastic skeleton)"))
+    p.add_argument("--axisymmetric", action=argparse.BooleanOptionalAction, default=False,
+                   help="the column as a cylinder of radius W about x = 0 (a smooth wall at "
+                        "r = W; the material the axisymmetric Mohr-Coulomb with phi = 0)")
+    checkpoint_options(p, "column")
+    return p
+
+
+def run(args):
+    result = swell(args)
+    report = Report("consolidation_pfem", args)
+    rows = []
+    for r in REPORT_TV:
+        i = int(np.argmin(abs(result["Tv"] - r)))
+        U_ex, p_ex = terzaghi(r)
+        U, p = result["U"][i], 1 - result["p_base"][i]
+        report.add_interval(f"U_Tv{r:g}", U, U_ex - BAND, U_ex + BAND,
+                            f"Terzaghi's series, +-{BAND:g} (remeshed every step)",
+                            reference=U_ex)
+        report.add_interval(f"p_base_Tv{r:g}", p, p_ex - BAND, p_ex + BAND,
+                            f"Terzaghi's series at the impermeable base, +-{BAND:g}",
+                            reference=p_ex)
+        rows.append([r, U, U_ex, U - U_ex, p, p_ex, p - p_ex])
+    report.add_table("terzaghi", ["T_v", "U", "U series", "error", "(q - p_base)/q", "series",
+                                  "error "], rows,
+                     formats={"error": ".1e", "error ": ".1e"})
+    report.extra.update({"Tv": result["Tv"], "U": result["U"], "p_base": result["p_base"],
+                         "remeshed": result["remeshed"], "steps": result["steps"],
+                         "particles": result["particles"], "c_v": oedometric(args)[1]})
+    report.data = dict(result=result)
+    return report
+
+
+def figures(args, result):
+    """U(T_v) of the PFEM column against Terzaghi's series."""
+    fig, ax = pyplot().subplots(figsize=(6, 4))
+    T = np.geomspace(1e-3, args.Tv_end, 200)
+    ax.semilogx(T, [terzaghi(t)[0] for t in T], "-", color="0.4", label="Terzaghi's series")
+    keep = result["Tv"] > 0
+    ax.semilogx(result["Tv"][keep], result["U"][keep], ".", ms=4,
+                label="PFEM, remeshed every step")
+    ax.set_xlabel("T_v = c_v t / H^2")
+    ax.set_ylabel("degree of consolidation U")
+    ax.set_title(f"Terzaghi's column in the PFEM, h = H / {args.n}")
+    ax.legend()
+    save_figure(fig, figure_dir(args, "consolidation_pfem") / "terzaghi_pfem.png")
+
+
+def main(argv=None):
+    return script_main(build_parser, run, figures, argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
