@@ -43,6 +43,8 @@ CHECKS = {
     "accretionary_wedge": [(["--base-friction", "40"], "--base-friction"),
                            (["--h", "0.05"], "--h"), (["--passes", "2"], "--passes")],
     "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
+    "effective_bounds": [(["--B", "13"], "--B"), (["--gamma", "9"], "--gamma"),
+                         (["--y-w", "0.5", "0.3"], "--y-w")],
     "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps")],
     "consolidation": [(["--b", "50"], "--b"), (["--h-min", "10"], "--h-min")],
     "cylinder_soil": [(["--h-fine", "0.5", "--h-coarse", "0.3"], "--h-fine")],
