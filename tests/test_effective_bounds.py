@@ -19,7 +19,7 @@ from pfem_skfem.materials import MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import (LimitProblem, Punch, Support, local_gap, lower_bound,
                                         upper_bound)
 from pfem_skfem.problems.conic import AlmostSolvedWarning
-from pfem_skfem.problems.effective_stress import PorePressure, WaterTable
+from pfem_skfem.problems.effective_stress import PorePressure, Seepage, WaterTable
 
 EPS = 1e-9
 H, GAMMA, GAMMA_W = 1.0, 20.0, 9.81            # slope height, saturated and water unit weights
@@ -163,3 +163,33 @@ def test_bad_pore_pressure_is_refused_when_the_problem_is_made():
             LimitProblem(mesh, Tresca(1.0), pore_pressure=field, **base)
     with pytest.raises(ValueError, match="live pore pressure"):
         footing(PorePressure(WaterTable(0.0), live=True), n=50)
+
+
+def test_seepage_between_two_heads_is_linear_and_without_difference_hydrostatic():
+    """Laplace's equation between two walls at heads h1, h2, no flow across the others: h is
+    linear in x, which P1 holds exactly (1e-12); with one head everywhere held, the field
+    is hydrostatic, gamma_w (h - y): the water table's at that level (1e-12)."""
+    mesh = triangulate_polygon([(0, 0), (3, 0), (3, 1), (0, 1)], 0.3)
+    flow = Seepage.solve(mesh, ((lambda x: x[0] < EPS, 2.0), (lambda x: x[0] > 3 - EPS, 5.0)),
+                         gamma_w=10.0)
+    exact = lambda x: 10.0 * (2.0 + x[0] - x[1])          # noqa: E731
+    assert np.abs(flow(mesh.p) - exact(mesh.p)).max() < 1e-12
+    finer = mesh.refined()                                  # interpolated off the vertices
+    assert np.abs(flow(finer.p) - exact(finer.p)).max() < 1e-12
+    still = Seepage.solve(mesh, ((lambda x: x[1] > 1 - EPS, 4.0),), gamma_w=9.81)
+    assert np.abs(still(mesh.p) - WaterTable(4.0)(mesh.p)).max() < 1e-12
+
+
+def test_bad_seepage_is_refused_before_the_solve():
+    mesh = triangulate_polygon([(0, 0), (3, 0), (3, 1), (0, 1)], 0.5)
+    left = lambda x: x[0] < EPS                             # noqa: E731
+    for gamma_w in (0.0, -1.0, np.nan):
+        with pytest.raises(ValueError, match="gamma_w"):
+            Seepage.solve(mesh, ((left, 1.0),), gamma_w)
+    with pytest.raises(ValueError, match="heads"):
+        Seepage.solve(mesh, ())
+    with pytest.raises(ValueError, match="selects no boundary facet"):
+        Seepage.solve(mesh, ((lambda x: x[0] > 10, 1.0),))
+    for h in (np.nan, lambda x: np.full(x.shape[1], np.inf)):
+        with pytest.raises(ValueError, match="finite"):
+            Seepage.solve(mesh, ((left, h),))

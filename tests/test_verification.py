@@ -324,7 +324,9 @@ CASES = [
       **{f"footing_Nc_upper_h_w{h:g}": Between(2 + np.pi, 5.5) for h in (-1, 0, 1)},
       **{f"F_{k}_falls_y_w{y:g}": Between(0, np.inf) for k in ("lower", "upper")
          for y in (0.4, 0.8)},
-      **{f"submerged_F_{k}_above_dry": Between(0, np.inf) for k in ("lower", "upper")}},
+      **{f"submerged_F_{k}_above_dry": Between(0, np.inf) for k in ("lower", "upper")},
+      # steady seepage from below (a Laplace solve): a higher head, a lower F
+      **{f"seepage_F_{k}_falls_dh0.5": Between(0, np.inf) for k in ("lower", "upper")}},
      None),
     ("strip_footing", ["--phi", "20"], {"Nc": approx(2 + np.pi, rel=0.05),
                                         "Nc_limit_analysis": approx(2 + np.pi, rel=0.05),

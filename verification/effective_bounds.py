@@ -16,7 +16,13 @@ water's pressure p). Cases:
    the face below y_w: a seepage face, p = 0 on the whole face; hydrostatic below it):
    F_L <= F_U for each y_w, beside the dry slope's, and both fall as y_w rises
    (associated flow dilates, so the pore pressure's power int p div v >= 0 grows with p);
-3. the undrained strip footing, Tresca in effective stress (c' = s_u, phi' = 0), a water
+3. steady seepage up through the submerged slope (a Laplace solve for the head: the
+   slope's face and crest under water at the level of case 1; an aquifer below, the base
+   higher by Delta h x / (5H), the back wall by Delta h (1 - y / H), continuous): with
+   Delta h = 0 the solve is hydrostatic and F_L, F_U are case 1's to 1e-6; as Delta h
+   rises the pore pressure rises everywhere inside (maximum principle) and stays the
+   water's on the free boundary, so both bounds of F fall;
+4. the undrained strip footing, Tresca in effective stress (c' = s_u, phi' = 0), a water
    table at h_w below, at and above the ground: Tresca bounds the deviator only and its
    flow is isochoric, so p changes the footing's force only by the water's pressure on
    it: (F - p(0) B) / (s_u B) brackets Prandtl's 2 + pi, and both bounds equal the dry
@@ -51,9 +57,9 @@ from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.materials import MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import LimitProblem, Punch, Support, lower_bound, upper_bound
 from pfem_skfem.problems.conic import AlmostSolvedWarning
-from pfem_skfem.problems.effective_stress import PorePressure, WaterTable
+from pfem_skfem.problems.effective_stress import PorePressure, Seepage, WaterTable
 
-QUICK = dict(slope_size=0.2, fos_tol=1e-2, y_w=[0.4, 0.8], elements=300)
+QUICK = dict(slope_size=0.2, fos_tol=1e-2, y_w=[0.4, 0.8], Delta_h=[0.5], elements=300)
 SLOPE_CHARTS = 1.38               # Griffiths & Lane (1999) ex. 1: Bishop-Morgenstern charts
 EPS = 1e-9                        # relative tolerance of the boundary selections
 #: Clarabel's retry settings of the bounds (problems/bounds.py) from the start: the
@@ -81,6 +87,18 @@ def phreatic(args, y_w):
                         live=True)
 
 
+def seepage(args, problem, dh):
+    """``problem`` with the pore pressure of steady seepage (live): face and crest at the
+    head 2H (under water, as case 1); an aquifer below, the base at 2H + dh x / (5H), and
+    the back wall at 2H + dh (1 - y / H): continuous, no singular exit gradient."""
+    H, e = args.H, EPS * args.H
+    heads = ((lambda x: (x[1] > e) & (x[0] < 5 * H - e), 2 * H),
+             (lambda x: x[1] < e, lambda x: 2 * H + dh * x[0] / (5 * H)),
+             (lambda x: x[0] > 5 * H - e, lambda x: 2 * H + dh * (1 - x[1] / H)))
+    field = Seepage.solve(problem.mesh, heads, args.gamma_w)
+    return replace(problem, pore_pressure=PorePressure(field, live=True))
+
+
 def footing_problem(args, h_w=None):
     """Half model of a smooth strip footing B on Tresca soil s_u of unit weight gamma (a dead
     load): smooth sides, rough base; a water table at h_w above the ground (dead)."""
@@ -103,12 +121,14 @@ def check(args):
                 "positive submerged unit weight")
     if any(b <= a for a, b in zip(args.y_w, args.y_w[1:])):
         return f"--y-w must increase, got {args.y_w}"
+    if any(b <= a for a, b in zip(args.Delta_h, args.Delta_h[1:])):
+        return f"--Delta-h must increase, got {args.Delta_h}"
     return None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    g = p.add_argument_group("slope (cases 1, 2)")
+    g = p.add_argument_group("slope (cases 1-3)")
     g.add_argument("--H", type=positive_float, default=10.0, help="slope height H [m]")
     g.add_argument("--gamma", type=positive_float, default=20.0,
                    help="saturated unit weight gamma_sat of slope and footing soil [kN/m3]")
@@ -122,11 +142,17 @@ def build_parser():
                                           what="a fraction of H in (0, 1)"),
                    nargs="+", default=[0.25, 0.5, 0.75],
                    help="water-table heights y_w / H below the crest, increasing (case 2)")
+    g.add_argument("--Delta-h", type=in_range(0, 1, low_open=True,
+                                              what="a fraction of H in (0, 1] (measured: at "
+                                                   "2 the slope has no positive F)"),
+                   nargs="+", default=[0.25, 0.5, 1.0],
+                   help="excess head of the aquifer below at the corner (5H, 0) over the "
+                        "reservoir's, Delta h / H, increasing (case 3)")
     adaptive_options(g, "slope", what="the slope",
                      size=opt(0.1, "element size of the slope mesh over H (uniform)"))
     g.add_argument("--fos-tol", type=positive_float, default=1e-3,
                    help="relative tolerance of each F's root search")
-    g = p.add_argument_group("footing (case 3)")
+    g = p.add_argument_group("footing (case 4)")
     g.add_argument("--B", type=positive_float, default=2.0, help="footing width B [m]")
     g.add_argument("--W", type=positive_float, default=6.0, help="half-domain width [m]")
     g.add_argument("--D", type=positive_float, default=4.0, help="domain depth [m]")
@@ -149,7 +175,7 @@ def safety(problem, tol, settings):
 
 
 def run(args):
-    """The three cases; Clarabel's certified 'AlmostSolved' ends are counted, not printed."""
+    """The four cases; Clarabel's certified 'AlmostSolved' ends are counted, not printed."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", AlmostSolvedWarning)
         report = _run(args)
@@ -161,10 +187,13 @@ def run(args):
 def _run(args):
     t_start = time.perf_counter()
     report = Report("effective_bounds", args)
-    settings = dict(solver=args.solver, **(EXACT if args.solver == "clarabel" else {}))
+    # the identities (cases 1, 4 and 3 at Delta h = 0) with EXACT; the rest as the library
+    # solves (an EXACT solve is one try: it fails where the retries would not)
+    settings = dict(solver=args.solver)
+    exact = dict(settings, **(EXACT if args.solver == "clarabel" else {}))
     gamma, gamma_w = args.gamma, args.gamma_w
     gamma_sub = gamma - gamma_w
-    bar = progress_bar(total=5 + len(args.y_w) + len(args.h_w), args=args,
+    bar = progress_bar(total=6 + len(args.y_w) + len(args.Delta_h) + len(args.h_w), args=args,
                        desc="effective bounds", unit="case")
 
     # -- 1. submerged slope against the dry slope of gamma' --------------------------------
@@ -172,12 +201,12 @@ def _run(args):
                               PorePressure(WaterTable(2 * args.H, gamma_w), live=True))
     dry_sub = replace(submerged, body_live=(0.0, -gamma_sub), pore_pressure=None)
     dry = replace(submerged, pore_pressure=None)
-    alpha = {name: bracket(pr, settings) for name, pr in
+    alpha = {name: bracket(pr, exact) for name, pr in
              (("submerged", submerged), ("dry_sub", dry_sub), ("dry", dry))}
     bar.update(1)
     F = {}
     for name, pr in (("submerged", submerged), ("dry_sub", dry_sub), ("dry", dry)):
-        F[name] = safety(pr, args.fos_tol, settings)
+        F[name] = safety(pr, args.fos_tol, exact)
         bar.update(1)
     src = "the submerged slope is the dry slope of gamma' = gamma_sat - gamma_w"
     for k, kind in enumerate(("lower", "upper")):
@@ -218,15 +247,37 @@ def _run(args):
                      title=f"slope 2:1, phi' = {args.phi:g}, c' = {args.c:g}, "
                            f"{n_slope} elements")
 
-    # -- 3. the undrained Tresca footing ------------------------------------------------------
+    # -- 3. steady seepage towards the submerged slope -------------------------------------------
+    flow = [("Delta h = 0", 0.0, *safety(seepage(args, dry, 0.0), args.fos_tol, exact))]
+    bar.update(1)
+    for k, kind in enumerate(("lower", "upper")):
+        report.add(f"seepage_none_F_{kind}", flow[0][2 + k], F["submerged"][k],
+                   "no head difference: the Laplace solve is hydrostatic, case 1's "
+                   f"F_{kind[0].upper()}, to 1e-6", 1e-6)
+    for dh in args.Delta_h:
+        flow.append((f"Delta h = {dh:g} H", dh, *safety(seepage(args, dry, dh * args.H),
+                                                        args.fos_tol, settings)))
+        bar.update(1)
+    for (prev, _, fl0, fu0), (name, dh, fl, fu) in zip(flow, flow[1:]):
+        report.add_interval(f"seepage_F_order_dh{dh:g}", fu - fl, 0.0, np.inf,
+                            "F_U - F_L >= 0: the bracket is ordered", reference=0.0)
+        for kind, a, b in (("lower", fl0, fl), ("upper", fu0, fu)):
+            report.add_interval(f"seepage_F_{kind}_falls_dh{dh:g}", a - b, 0.0, np.inf,
+                                f"F_{kind[0].upper()} below that of {prev}: a higher head "
+                                "behind, more pore pressure inside, the same on the face",
+                                reference=0.0)
+    report.add_table("seepage", ["aquifer", "Delta h / H", "F_L", "F_U"],
+                     [list(r) for r in flow], formats={"F_L": ".4f", "F_U": ".4f"})
+
+    # -- 4. the undrained Tresca footing ------------------------------------------------------
     nc = 2.0 / (args.su * args.B)               # Nc of the half model's force
     pi2 = 2 + np.pi
     dry_f = footing_problem(args)
-    lo_d, up_d = bracket(dry_f, settings)
+    lo_d, up_d = bracket(dry_f, exact)
     bar.update(1)
     foot_rows = [("dry", np.nan, lo_d * nc, up_d * nc)]
     for h_w in args.h_w:
-        lo, up = bracket(footing_problem(args, h_w), settings)
+        lo, up = bracket(footing_problem(args, h_w), exact)
         surcharge = gamma_w * max(h_w, 0.0) * args.B / 2    # the water's pressure on it
         nl, nu = (lo - surcharge) * nc, (up - surcharge) * nc
         foot_rows.append((f"h_w = {h_w:g} m", h_w, nl, nu))
@@ -248,17 +299,19 @@ def _run(args):
     bar.close()
     report.extra = {"slope": dict(elements=n_slope, rows=[list(r) for r in rows],
                                   alpha=alpha, F={k: list(v) for k, v in F.items()}),
+                    "seepage": [list(r) for r in flow],
                     "footing": dict(elements=dry_f.mesh.t.shape[1],
                                     rows=[list(r) for r in foot_rows]),
                     "wall_time_s": time.perf_counter() - t_start}
-    report.data = dict(rows=rows, foot_rows=foot_rows)
+    report.data = dict(rows=rows, flow=flow, foot_rows=foot_rows)
     return report
 
 
-def figures(args, rows, foot_rows):
-    """The slope's F bracket against the water table's height, the footing's Nc bracket."""
+def figures(args, rows, flow, foot_rows):
+    """The slope's F bracket against the water table's height and against the head
+    difference of the seepage, the footing's Nc bracket."""
     plt = pyplot()
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4))
     y = [r[1] for r in rows]
     ax[0].fill_between(y, [r[2] for r in rows], [r[3] for r in rows], color="C0", alpha=0.3,
                        label="[F_L, F_U]")
@@ -269,16 +322,24 @@ def figures(args, rows, foot_rows):
     ax[0].set_title(f"slope 2:1, phi' = {args.phi:g}: water table below the crest",
                     fontsize=9)
     ax[0].legend(fontsize=8)
+    d = [r[1] for r in flow]
+    ax[1].fill_between(d, [r[2] for r in flow], [r[3] for r in flow], color="C0", alpha=0.3)
+    ax[1].plot(d, [r[2] for r in flow], "o-", color="C0", label="F_L (safe)")
+    ax[1].plot(d, [r[3] for r in flow], "s-", color="C3", label="F_U (unsafe)")
+    ax[1].set_xlabel("excess head at the base's far corner, Delta h / H")
+    ax[1].set_ylabel("factor of safety F")
+    ax[1].set_title("submerged slope, steady seepage from below", fontsize=9)
+    ax[1].legend(fontsize=8)
     h = np.arange(len(foot_rows))
-    ax[1].errorbar(h, [0.5 * (r[2] + r[3]) for r in foot_rows],
+    ax[2].errorbar(h, [0.5 * (r[2] + r[3]) for r in foot_rows],
                    yerr=[[0.5 * (r[3] - r[2]) for r in foot_rows]] * 2, fmt="o", capsize=4,
                    label="[Nc_L, Nc_U]")
-    ax[1].axhline(2 + np.pi, color="k", ls="--", lw=1, label="2 + pi")
-    ax[1].set_xticks(h, [r[0] for r in foot_rows])
-    ax[1].set_xlabel("water table")
-    ax[1].set_ylabel("(F - p(0) B) / (s_u B)")
-    ax[1].set_title("undrained Tresca footing (c' = s_u, phi' = 0)", fontsize=9)
-    ax[1].legend(fontsize=8)
+    ax[2].axhline(2 + np.pi, color="k", ls="--", lw=1, label="2 + pi")
+    ax[2].set_xticks(h, [r[0] for r in foot_rows])
+    ax[2].set_xlabel("water table")
+    ax[2].set_ylabel("(F - p(0) B) / (s_u B)")
+    ax[2].set_title("undrained Tresca footing (c' = s_u, phi' = 0)", fontsize=9)
+    ax[2].legend(fontsize=8)
     fig.tight_layout()
     save_figure(fig, figure_dir(args, "effective_bounds") / "brackets.png")
 

@@ -37,7 +37,7 @@ support). Pi_p is a load vector beside f_0 (a dead pore pressure) or beside f (a
 scaled with the multiplier: gravity's, which scales the water's weight too). The sum of
 the local gaps stays the gap (the lower bound's sigma' is an effective stress).
 
-Associated flow dilates (Mohr-Coulomb: div v = sin(phi) |dev eps| >= 0), so Pi_p >= 0 and
+Associated flow dilates (Mohr-Coulomb: div v = sin(phi) ``|dev eps|`` >= 0), so Pi_p >= 0 and
 grows with p: more pore pressure, a lower collapse load. Tresca (phi = 0) keeps div v = 0:
 p enters only through the water's pressure on the boundary (a surcharge on the punch).
 """
@@ -45,7 +45,8 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from skfem import ElementTriP1, FacetBasis, LinearForm
+from skfem import Basis, ElementTriP1, FacetBasis, LinearForm, condense, solve
+from skfem.models.poisson import laplace
 
 from ..discretisation.bounds import element_gradients
 
@@ -85,6 +86,55 @@ class WaterTable:
 
     def __call__(self, x):
         return self.gamma_w * np.maximum(self.height(x[0]) - x[1], 0.0)
+
+
+@dataclass(frozen=True)
+class Seepage:
+    """The pore pressure of steady confined seepage: p = gamma_w (h - y), the total head h
+    harmonic (Darcy's law and continuity, uniform permeability: div grad h = 0), held at
+    the given ``heads`` ((where, h), ...: the boundary facets whose midpoints x (2, m)
+    satisfy ``where(x)``, at head h, a number or a callable h(x) of their vertices) and
+    without flow across the rest of the boundary.
+
+    Made by :meth:`solve` on a triangle mesh (continuous P1, the field of the bounds: at
+    the mesh's vertices p is the solve's own); elsewhere h is interpolated.
+    """
+
+    mesh: object
+    head: np.ndarray
+    gamma_w: float
+
+    @classmethod
+    def solve(cls, mesh, heads, gamma_w=9.81):
+        """The seepage of ``heads`` on ``mesh``; refuses gamma_w <= 0, a head that is not
+        finite, a selection of no boundary facet, and no head at all."""
+        if not (np.isfinite(gamma_w) and gamma_w > 0):
+            raise ValueError(f"gamma_w must be positive and finite, got {gamma_w!r}")
+        if not heads:
+            raise ValueError("heads: give at least one (where, h): a head somewhere")
+        basis = Basis(mesh, ElementTriP1())
+        facets = mesh.boundary_facets()
+        mid = mesh.p[:, mesh.facets[:, facets]].mean(axis=1)
+        h = np.zeros(basis.N)
+        held = []
+        for where, value in heads:
+            on = facets[np.asarray(where(mid), dtype=bool)]
+            if on.size == 0:
+                raise ValueError(f"heads: the head {value!r} selects no boundary facet")
+            dofs = np.unique(mesh.facets[:, on])
+            h[dofs] = value(mesh.p[:, dofs]) if callable(value) else value
+            if not np.all(np.isfinite(h[dofs])):
+                raise ValueError(f"heads: a head must be finite, got {value!r}")
+            held.append(dofs)
+        K = laplace.assemble(basis)
+        h = solve(*condense(K, np.zeros(basis.N), x=h, D=np.unique(np.concatenate(held))))
+        return cls(mesh, h, float(gamma_w))
+
+    def __call__(self, x):
+        x = np.asarray(x, dtype=float)
+        same = x.shape == self.mesh.p.shape and np.array_equal(x, self.mesh.p)
+        h = self.head if same else Basis(self.mesh, ElementTriP1()).interpolator(self.head)(x)
+        return self.gamma_w * (h - x[1])
 
 
 @dataclass(frozen=True)
