@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.discretisation.meshes import graded_rectangle_with_elements, triangulate_polygon
-from pfem_skfem.drivers.bounds import factor_of_safety
+from pfem_skfem.drivers.bounds import factor_of_safety, reduced
 from pfem_skfem.materials import MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import (LimitProblem, Punch, Support, local_gap, lower_bound,
                                         upper_bound)
@@ -193,3 +193,20 @@ def test_bad_seepage_is_refused_before_the_solve():
     for h in (np.nan, lambda x: np.full(x.shape[1], np.inf)):
         with pytest.raises(ValueError, match="finite"):
             Seepage.solve(mesh, ((left, h),))
+
+
+@pytest.mark.filterwarnings("ignore::pfem_skfem.problems.conic.AlmostSolvedWarning")
+def test_a_live_and_a_dead_pore_pressure_are_one_problem_at_alpha_one():
+    """At alpha = 1 the live pore pressure (scaled with gravity's multiplier) and the dead one
+    are the same problem: at the live F (its root search to a relative 1e-5) the dead
+    problem's multiplier is 1 within 1e-3 (both bounds), while away from alpha = 1 (the
+    unreduced strength) their multipliers differ. (The root search itself wants the live one:
+    with a dead pore pressure a trial of small alpha may leave the water's uplift unbalanced,
+    and that bound is infeasible.)"""
+    table = WaterTable([(0.0, 0.0), (1.0, 0.5), (5.0, 0.5)], GAMMA_W)
+    live, dead = (slope(pore=PorePressure(table, live=k), size=0.3) for k in (True, False))
+    for kind, bound in (("lower", lower_bound), ("upper", upper_bound)):
+        F = factor_of_safety(live, kind, tol=1e-5, **EXACT).F
+        at = replace(dead, criterion=reduced(dead.criterion, F))
+        assert bound(at, **EXACT).load == pytest.approx(1.0, abs=1e-3)
+    assert abs(lower_bound(live, **EXACT).load - lower_bound(dead, **EXACT).load) > 0.1

@@ -141,7 +141,9 @@ class Seepage:
 class PorePressure:
     """A pore-pressure field p(x) (x: (2, n) -> (n,)); ``live``: scaled with the load
     multiplier (a pore pressure of the water's weight under gravity as the live load),
-    else carried as it is (a dead load)."""
+    else carried as it is (a dead load). At alpha = 1 both are one problem; for the factor
+    of safety give it live: a dead one leaves a trial of small alpha with the water's
+    uplift unbalanced, and that bound infeasible."""
 
     field: Callable
     live: bool = False
