@@ -347,6 +347,19 @@ CASES = [
                           "cut_N_lower": Between(3.4, 3.786), "cut_N_upper": Between(3.772, 4.2),
                           "slope_F_lower": Between(1.30, 1.38),
                           "slope_F_upper": Between(1.38, 1.48)}, None),
+    # effective-stress bounds (issue 54 item 4): an undrained Tresca footing brackets
+    # Prandtl's 2 + pi whatever the water table (less the water's pressure on it); a water
+    # table rising below the crest lowers both bounds of the slope's F; a submerged slope
+    # is the dry slope of gamma' = gamma_sat - gamma_w (the script's identities, to 1e-6)
+    ("effective_bounds", [],
+     {**{f"footing_Nc_lower_h_w{h:g}": Between(4.8, 2 + np.pi) for h in (-1, 0, 1)},
+      **{f"footing_Nc_upper_h_w{h:g}": Between(2 + np.pi, 5.5) for h in (-1, 0, 1)},
+      **{f"F_{k}_falls_y_w{y:g}": Between(0, np.inf) for k in ("lower", "upper")
+         for y in (0.4, 0.8)},
+      **{f"submerged_F_{k}_above_dry": Between(0, np.inf) for k in ("lower", "upper")},
+      # steady seepage from below (a Laplace solve): a higher head, a lower F
+      **{f"seepage_F_{k}_falls_dh0.5": Between(0, np.inf) for k in ("lower", "upper")}},
+     None),
     ("strip_footing", ["--phi", "20"], {"Nc": approx(2 + np.pi, rel=0.05),
                                         "Nc_limit_analysis": approx(2 + np.pi, rel=0.05),
                                         "Nc_MC_phi20": approx(prandtl_reissner(20), rel=0.075)},

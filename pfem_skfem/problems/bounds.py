@@ -39,6 +39,10 @@ Both bounds are exact cones where the criterion is one in (sx, sy, sz, sxy): Tre
 Mohr-Coulomb (A.9)-(A.12) and Drucker-Prager (A.17) in plane strain. A rigid punch
 (a footing pushed at a velocity v) replaces the load multiplier by the force it needs:
 both bounds then bound the power of its reactions divided by |v|.
+
+A given pore-pressure field (``pore_pressure``) makes both bounds effective-stress ones:
+the criterion holds for sigma', equilibrium for sigma' - p I
+(:mod:`pfem_skfem.problems.effective_stress` derives both terms).
 """
 import warnings
 from dataclasses import dataclass, field, replace
@@ -54,6 +58,8 @@ from ..discretisation.static import (assemble_B, body_force_vector, boundary_fac
                                      check_mesh, discretise, traction_vector)
 from ..materials.criteria import YieldCriterion
 from .conic import AlmostSolvedWarning, SolveInfo, SolverError, solve, solver_backend
+from .effective_stress import (as_pore_pressure, pore_body_force, pore_load_vector,
+                               punch_pore_power)
 
 #: a bound is the objective of its own field, so it holds when that field is feasible:
 #: an 'AlmostSolved' end is accepted when the field's largest constraint violation
@@ -130,6 +136,11 @@ class LimitProblem:
     force on its velocity v divided by the speed of v, per unit thickness); ``body_dead``
     and dead tractions are carried as they are.
     Boundary facets neither supported nor loaded are free surfaces.
+    ``pore_pressure``: a callable p(x) (a dead load), a
+    :class:`~pfem_skfem.problems.effective_stress.PorePressure` (live or dead) or a
+    :class:`~pfem_skfem.problems.effective_stress.WaterTable`; the criterion is then of
+    the effective stress, the bounds' ``sigma`` effective, and free boundaries carry the
+    water's pressure p (:mod:`~pfem_skfem.problems.effective_stress`).
     """
 
     mesh: object
@@ -139,6 +150,7 @@ class LimitProblem:
     body_live: tuple = (0.0, 0.0)
     body_dead: tuple = (0.0, 0.0)
     punch: Optional[Punch] = None
+    pore_pressure: object = None
 
     def __post_init__(self):
         if type(self.mesh) is not MeshTri:
@@ -154,11 +166,27 @@ class LimitProblem:
             b = np.asarray(getattr(self, name), dtype=float)
             if b.shape != (2,) or not np.all(np.isfinite(b)):
                 raise ValueError(f"{name} must be a finite (bx, by), got {getattr(self, name)!r}")
-        live = np.any(self.body_live) or any(t.live and np.any(t.t) for t in self.tractions)
+        object.__setattr__(self, "pore_pressure", as_pore_pressure(self.pore_pressure))
+        pore = self.pore_pressure
+        if pore is not None:
+            pore.nodal(self.mesh)              # finite, one value a vertex: now
+            if pore.live and self.punch is not None:
+                raise ValueError("pore_pressure: a live pore pressure needs a load "
+                                 "multiplier; with a punch give a dead one (live=False)")
+        live = (np.any(self.body_live) or any(t.live and np.any(t.t) for t in self.tractions)
+                or (pore is not None and pore.live))
         if (self.punch is None) == (not live):
             raise ValueError("state one reference load: live loads (body_live or a live "
                              "traction) or a punch, not both" if live else
                              "no reference load: give body_live, a live traction or a punch")
+
+    def pore_nodal(self, live):
+        """p at the vertices when the pore pressure is given and ``live`` matches it
+        (zeros otherwise)."""
+        pore = self.pore_pressure
+        if pore is None or pore.live != live:
+            return np.zeros(self.mesh.p.shape[1])
+        return pore.nodal(self.mesh)
 
     def refined(self, elements=None):
         """The same problem on the mesh refined at ``elements`` (all with None)."""
@@ -260,8 +288,13 @@ def lower_bound(problem, solver="clarabel", **solver_settings):
     alpha = cp.Variable() if load_control else 0.0
     # each element's two rows times its own size h_e: rows of order one on graded meshes
     h = np.repeat(np.sqrt(2 * ops.area), 2)
-    b = (alpha * (np.tile(np.asarray(problem.body_live, float), n_el) * h / s0)
-         + np.tile(np.asarray(problem.body_dead, float), n_el) * h / s0)
+    # the pore pressure a body force -grad p_h (effective_stress.py), live or dead
+    p_live, p_dead = problem.pore_nodal(True), problem.pore_nodal(False)
+    b_live = (np.tile(np.asarray(problem.body_live, float), n_el)
+              + pore_body_force(mesh, p_live).ravel())
+    b_dead = (np.tile(np.asarray(problem.body_dead, float), n_el)
+              + pore_body_force(mesh, p_dead).ravel())
+    b = alpha * (b_live * h / s0) + b_dead * h / s0
     t = (alpha * live.ravel()[given] + dead.ravel()[given]) / s0
     constraints = [
         # div sigma + alpha b + b0 = 0 in each element (exact: sigma is linear)
@@ -283,7 +316,10 @@ def lower_bound(problem, solver="clarabel", **solver_settings):
         v = np.asarray(problem.punch.velocity, float) / np.linalg.norm(problem.punch.velocity)
         width = length[(state == "punch").any(axis=1)].sum()
         w = 0.5 * (length / width)[:, None] * v[None, :] * (state == "punch")
-        objective = w.ravel() @ (ends[0] @ s) + w.ravel() @ (ends[1] @ s)
+        # the total traction's: sigma' n - p_h n (a dead pore pressure)
+        objective = (w.ravel() @ (ends[0] @ s) + w.ravel() @ (ends[1] @ s)
+                     - punch_pore_power(mesh, facets, normal, length, state == "punch",
+                                        p_dead, v) / (s0 * width))
     prob = cp.Problem(cp.Maximize(objective), constraints)
     info = _solve_bound(prob, "lower bound", solver_settings, "static", solver)
     load = float(objective.value * (1.0 if load_control else s0 * width))
@@ -433,6 +469,12 @@ def _load_vector(disc, problem, live):
     thesis' 3-point rule for the body force, order 4 on the edges; same dofs)."""
     exact = discretise(disc.mesh)
     f = body_force_vector(exact, problem.body_live if live else problem.body_dead)
+    if problem.pore_pressure is not None and problem.pore_pressure.live == live:
+        facets, state = problem.boundary_states()
+        v = np.asarray(problem.punch.velocity, float) if problem.punch else np.zeros(2)
+        f = f + pore_load_vector(exact, problem.pore_nodal(live),
+                                 [(facets[state[:, k] == "punch"], k) for k in (0, 1)],
+                                 v / max(np.linalg.norm(v), 1e-300))
     for t in problem.tractions:
         if t.live == live and np.any(t.t):
             facets = boundary_facets(exact, t.where)
