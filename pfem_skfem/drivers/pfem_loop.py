@@ -5,6 +5,7 @@ One step from the cloud C^n to C^{n+1}, one call per stage, each timed::
     detect   (1a) alpha-shape of the particles          pfem.alpha_shape.alpha_shape
     remesh   (1b) mesh of the detected domain            pfem.remesh (AlphaMesh, QualityRemesh)
     map      (1c) velocities and stresses onto it        pfem.transfer.map_state
+                  (and a softening material's gamma^p    pfem.softening)
     assemble      B, A, D (C), gravity, contacts, holds  pfem.assemble
     solve    (2a) (4.23) + (5.12), fixed-point passes    problems.nonassociated.lagged_step
     move     (2b) particles moved, surface kept, outlets pfem.surface, pfem.bookkeeping
@@ -34,6 +35,7 @@ from ..pfem.assemble import (assemble_operators, contact_set, element_regions, h
                              step_material, step_scales)
 from ..pfem.bookkeeping import (StepFacts, discharge, free_flight_record, hand_on_mass,
                                spread_mass, step_record)
+from ..pfem import softening
 from ..pfem.remesh import ParticleMesh
 from ..pfem.state import PFEMState, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
@@ -54,7 +56,9 @@ class StepResult:
     disc : the step's Discretisation;  pm : its ParticleMesh (particle of each vertex);
     increment : the DynamicIncrement;  plastic_strain : (n_points,) equivalent plastic
     strain increment;  contacts : the ContactSet (None without contacts);  sigma_m :
-    (n_vertices,) smoothed mean stress of the solution at the mesh's vertices.
+    (n_vertices,) smoothed mean stress of the solution at the mesh's vertices;
+    strength : (n_points,) a softening material's strength c(gamma^p) the step used (None
+    without one).
     """
 
     disc: object
@@ -63,6 +67,7 @@ class StepResult:
     plastic_strain: np.ndarray
     contacts: object = None
     sigma_m: np.ndarray = None
+    strength: np.ndarray = None
 
 
 class StageTimer:
@@ -126,6 +131,7 @@ def pfem_step(state, scene):
     t_start = _time.perf_counter()
     h_median = float(np.median(state.h))
     stress_scale = scene.stress_scale
+    softens = any(r.material.softening for r in scene.regions)
     remesh_now = (state.mesh_p is None or state.step % int(config.remesh_interval) == 0
                   or np.any(state.mesh_particle < 0))    # a vertex's particle has left
     alpha = scene.alpha if not np.isfinite(state.alpha) else state.alpha
@@ -162,6 +168,8 @@ def pfem_step(state, scene):
         with timer("map"):
             v_dofs, sigma_n = map_state(state, pm, disc, source, config.stress_mapping,
                                         config.velocity)
+            gamma_n = (softening.carried_strain(state, disc, source, config.stress_mapping)
+                       if softens else None)
     else:
         added = 0
         with timer("remesh"):
@@ -171,6 +179,7 @@ def pfem_step(state, scene):
             disc = discretise(mesh, geometry)
             area = disc.area
         v_dofs, sigma_n = state.v_dofs, state.sigma
+        gamma_n = softening.carried_strain(state, disc, False, None) if softens else None
     with timer("assemble"):
         regions = element_regions(state, pm)
         ops, f = assemble_operators(scene, disc, regions, theta)
@@ -183,12 +192,19 @@ def pfem_step(state, scene):
         if geometry.axisymmetric:                    # u_r = 0 on the axis r = 0
             fixed = np.union1d(fixed, axis_dofs(disc))
         material = step_material(scene, disc, regions)
+        if softens:                                  # the strength at the carried gamma^p
+            softening_material, material = material, softening.step_material(
+                material, gamma_n, disc)
     with timer("solve"):
         scales = step_scales(state.scales, scene, theta.dt)
         start = StepStart(v_dofs, sigma_n, state.sigma_m[pm.particle], scales)
         solved = lagged_step(ops, f, contacts, disc, material, start, config=config,
                              stress_scale=stress_scale, fixed=fixed)
     inc = solved.increment
+    gamma_p = drop = None
+    if softens:                                      # gamma^p after the step (lags one step)
+        gamma_p, drop = softening.strain_update(softening_material, ops, inc, sigma_n, disc,
+                                                gamma_n)
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
                        if b.present(state.time)]
@@ -215,15 +231,19 @@ def pfem_step(state, scene):
                       free_surface=free_surface, contact=contact,
                       mesh_p=moved.x[pm.particle], mesh_t=disc.mesh.t.T.copy(),
                       mesh_particle=pm.particle.copy(), v_dofs=inc.v.copy(),
-                      sigma=inc.sigma.copy(), scales=inc.scales, area0=area0, alpha=alpha)
+                      sigma=inc.sigma.copy(), scales=inc.scales, area0=area0, alpha=alpha,
+                      gamma_p=gamma_p)
         surface = moved.n - state.n                  # midside nodes of stretched edges
         new, out_now = discharge(new, scene.outlets)
-    result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m)
+    result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m,
+                        material.strength() if softens else None)
     facts = StepFacts(result=result, ops=ops, solved=solved, contact_bodies=contact_bodies,
                       regions=regions, v_start=v_dofs, area=area, area0=area0, alpha=alpha,
                       phase=phase, projected=projected, added=added, surface=surface,
                       thinned=thinned, held=len(fixed), discharged_now=out_now, shift=shift)
     record = step_record(scene, new, facts, timer, t_start)
+    if softens:                    # the step control's measure and the largest gamma^p
+        record["softening_drop"], record["gamma_p_max"] = drop, float(gamma_p.max())
     return new, record, result
 
 
@@ -244,7 +264,7 @@ def free_flight(state, scene, timer, t_start, alpha, thinned):
         new = replace(moved, step=state.step + 1, time=state.time + theta.dt,
                       free_surface=np.ones(n, dtype=bool), contact=np.zeros(n, dtype=bool),
                       mesh_p=None, mesh_t=None, mesh_particle=None, v_dofs=None, sigma=None,
-                      stress0=None, alpha=alpha)
+                      stress0=None, alpha=alpha, gamma_p=None)
         new, out_now = discharge(new, scene.outlets)
     record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
                                 moved_over_h=moved_over_h, thinned=thinned, phase=phase,

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..materials.softening import plastic_strain_increment, shear_invariant
+from ..materials.softening import (plastic_strain_increment, point_sizes,  # noqa: F401
+                                   shear_invariant)
 from ..problems.static import static_increment
 
 #: re-solves at half the displacement before an increment is taken over the cap (counted)
@@ -72,12 +73,6 @@ class SofteningHistory:
     u: np.ndarray
     solves: int
     uncapped: int
-
-
-def point_sizes(weights):
-    """Element size at each stress point of a plane-strain mesh: sqrt(2 A), A = 3 w the area of
-    its element (three points of equal weight): the side of a square cell of two triangles."""
-    return np.sqrt(6.0 * np.asarray(weights, dtype=float))
 
 
 def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, weights,

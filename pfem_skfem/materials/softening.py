@@ -43,6 +43,7 @@ import numpy as np
 from .checks import _check_positive, _is_real
 from .criteria import TrescaField, mohr_coulomb_radius
 from .elastic import Elastic
+from .pfem import PFEMMaterial
 
 
 def _check_strengths(c_p, c_r):
@@ -190,8 +191,28 @@ def shear_invariant(deps):
     return np.hypot(deps[:, 0] - deps[:, 1], deps[:, 3])
 
 
+def point_sizes(weights):
+    """Element size at each stress point of a plane-strain mesh: sqrt(2 A), A = 3 w the area of
+    its element (three points of equal weight): the side of a square cell of two triangles."""
+    return np.sqrt(6.0 * np.asarray(weights, dtype=float))
+
+
+def strength_drop(material, gamma_old, gamma_new, size):
+    """The largest strength drop of a step as a fraction of c_p - c_r: abs(dc/dgamma^p) at
+    its steepest times the step's Delta gamma^p, over the points still above c_r at its
+    start (a bound on the drop, equal to it for the linear law); 0 without softening."""
+    law = material.law
+    span = law.c_p - law.c_r
+    if span <= 0:
+        return 0.0
+    rate = law.steepest_rate / material.scale(size)
+    softening = material.strength(gamma_old, size) > law.c_r * (1 + 1e-12)
+    return float(np.max(rate[softening] * (gamma_new - gamma_old)[softening],
+                        initial=0.0)) / span
+
+
 @dataclass(frozen=True)
-class SofteningTresca:
+class SofteningTresca(PFEMMaterial):
     """Tresca whose strength c(gamma^p) at each stress point is data of a step:
 
     .. math::
@@ -204,8 +225,10 @@ class SofteningTresca:
     regularisation : :class:`FractureEnergy`, or None (local softening: the strength is
         spent in one element, whatever its size).
 
-    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`); the PFEM
-    loop does not carry gamma^p on its particles yet.
+    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`) and the
+    PFEM loop: a PFEM material (``softening``) whose step is :meth:`at_strain`, the cone at
+    the gamma^p the state carries at the step's stress points
+    (:mod:`pfem_skfem.pfem.softening`); its own :meth:`cone` is the intact one (gamma^p = 0).
     """
 
     law: object
@@ -213,6 +236,14 @@ class SofteningTresca:
     regularisation: FractureEnergy = None
 
     name = "Tresca, strain softening"
+    softening = True
+    geometries = ("plane",)
+    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+
+    @property
+    def c(self):
+        """The peak strength c_p: the stress scale of a scene without gravity."""
+        return self.law.c_p
 
     def __post_init__(self):
         if not isinstance(self.law, (LinearSoftening, ExponentialSoftening)):
@@ -239,6 +270,20 @@ class SofteningTresca:
         """The step's cone: :class:`TrescaField` of radii 2 c(gamma^p_j) (no mean stress)."""
         return TrescaField(2.0 * self.strength(gamma_p, size))
 
+    def at_strain(self, gamma_p, size):
+        """The PFEM material of a step whose points carry ``gamma_p`` in elements of sizes
+        ``size`` (:class:`SofteningStep`)."""
+        return SofteningStep(self, gamma_p, size)
+
+    def cone(self, sigma_m, stress_scale=1.0, *, shear_rate=None):
+        """The intact cone (gamma^p = 0) at the points of ``sigma_m``."""
+        n = len(np.atleast_1d(sigma_m))
+        return self.criterion(np.zeros(n), np.ones(n), np.atleast_1d(sigma_m), stress_scale)
+
+    def strength_scale(self, sigma_m, stress_scale=1.0):
+        """A stress of the step (half the median radius of the intact cone)."""
+        return self.cone(sigma_m, stress_scale).strength_scale()
+
 
 @dataclass(frozen=True)
 class SofteningMohrCoulomb(SofteningTresca):
@@ -257,6 +302,7 @@ class SofteningMohrCoulomb(SofteningTresca):
     k_min: float = 0.005
 
     name = "Mohr-Coulomb, zero dilation, cohesion softening"
+    lagged = True           # the cone depends on the mean stress: fixed-point passes help
 
     def __post_init__(self):
         super().__post_init__()
@@ -270,3 +316,58 @@ class SofteningMohrCoulomb(SofteningTresca):
         s, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
         return TrescaField(np.maximum(2 * c * co - 2 * s * np.asarray(sigma_m, dtype=float),
                                       self.k_min * stress_scale))
+
+
+class SofteningStep(PFEMMaterial):
+    """The PFEM material of one step of a softening material: its cone at the plastic shear
+    strains ``gamma_p`` the state carries at the step's stress points (data of the step:
+    the step stays convex), made by the engine (:meth:`SofteningTresca.at_strain`).
+
+    Parameters
+    ----------
+    material : :class:`SofteningTresca` or :class:`SofteningMohrCoulomb`.
+    gamma_p, size : (n_points,) plastic shear strain and element size at each point.
+    """
+
+    name = "softening material at the step's gamma^p"
+    geometries = ("plane",)
+    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+
+    def __init__(self, material, gamma_p, size):
+        if not isinstance(material, SofteningTresca):
+            raise ValueError(f"material must be a SofteningTresca or a SofteningMohrCoulomb, "
+                             f"got {type(material).__name__}")
+        self.material = material
+        self.gamma_p = np.asarray(gamma_p, dtype=float)
+        self.size = np.asarray(size, dtype=float)
+        if self.gamma_p.shape != self.size.shape or self.gamma_p.ndim != 1:
+            raise ValueError(f"gamma_p and size must be (n_points,) alike, got "
+                             f"{self.gamma_p.shape} and {self.size.shape}")
+
+    @property
+    def lagged(self):
+        return self.material.lagged
+
+    @property
+    def elastic(self):
+        return self.material.elastic
+
+    @property
+    def c(self):
+        return self.material.c
+
+    @property
+    def phi(self):
+        return self.material.phi
+
+    def strength(self):
+        """c(gamma^p) at the step's points."""
+        return self.material.strength(self.gamma_p, self.size)
+
+    def cone(self, sigma_m, stress_scale=1.0, *, shear_rate=None):
+        """The step's criterion at the carried gamma^p (and the lagged ``sigma_m``)."""
+        return self.material.criterion(self.gamma_p, self.size, sigma_m, stress_scale)
+
+    def strength_scale(self, sigma_m, stress_scale=1.0):
+        """Half the median radius of the step's cone."""
+        return self.cone(sigma_m, stress_scale).strength_scale()

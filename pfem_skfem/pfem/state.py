@@ -49,6 +49,10 @@ class PFEMState(Particles):
     stress0 : (n, 4) initial stresses (sx, sy, sz, sxy) at the particles, interpolated
         to the stress points of the first mesh (None: zero), which an elastoplastic
         body needs to start in equilibrium.
+    gamma_p : (n_points,) accumulated plastic shear strain at the stress points of the
+        mesh, beside ``sigma`` and carried as it is (mapped at each remeshing by the
+        stresses' scheme, :func:`~pfem_skfem.pfem.softening.carried_strain`); None: zero
+        everywhere, and not carried (a run without a softening material).
 
     A run whose every particle has left through the outlets ends with an empty state
     (n = 0): its history and discharged totals complete, nothing left to step.
@@ -72,6 +76,7 @@ class PFEMState(Particles):
     discharged: dict = field(default_factory=dict)
     history: dict = field(default_factory=dict)
     stress0: np.ndarray = None
+    gamma_p: np.ndarray = None
 
     def __post_init__(self):
         super().__post_init__()
@@ -90,6 +95,12 @@ class PFEMState(Particles):
             self.stress0 = np.asarray(self.stress0, dtype=float)
             if self.stress0.shape != (self.n, 4):
                 raise ValueError(f"stress must have shape ({self.n}, 4), got {self.stress0.shape}")
+        if self.gamma_p is not None:
+            self.gamma_p = np.asarray(self.gamma_p, dtype=float)
+            if (self.gamma_p.ndim != 1 or not np.all(np.isfinite(self.gamma_p))
+                    or np.any(self.gamma_p < 0)):
+                raise ValueError("gamma_p (plastic shear strain at the stress points) must be "
+                                 "a 1-d array of finite values >= 0")
 
     def subset(self, keep):
         """The state restricted to the kept particles (boolean mask); the old mesh keeps
@@ -135,7 +146,7 @@ def initial_state(x, h, sigma_m=None, stress=None, *, region=None, mass=None):
 
 # -- checkpoints -----------------------------------------------------------------------
 _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass", "mesh_p",
-           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0")
+           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0", "gamma_p")
 
 
 class CheckpointError(ValueError):

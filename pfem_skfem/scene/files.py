@@ -61,6 +61,8 @@ from ..materials import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
 from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
+from ..materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
+                         SofteningMohrCoulomb, SofteningTresca)
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -302,6 +304,10 @@ class OneOf:
 
 # -- the schema: every scene class and its keys ---------------------------------------------
 ELASTIC = Table(Spec(Elastic, {"E": NUMBER, "nu": NUMBER}))
+SOFTENING_LAW = OneOf(
+    Spec(LinearSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_r": NUMBER}),
+    Spec(ExponentialSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_95": NUMBER}))
+REGULARISATION = OneOf(Spec(FractureEnergy, {"length": NUMBER}))
 MATERIAL = OneOf(
     Spec(ZeroDilationMohrCoulomb, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
                                    "elastic": ELASTIC}),
@@ -316,10 +322,18 @@ MATERIAL = OneOf(
                  "p_min": NUMBER, "k_min": NUMBER, "elastic": ELASTIC, "lag": STRING})
       for cls in (MuIRheology, MuIRheologyAxisymmetric)),
     *(Spec(cls, {"mu": NUMBER}) for cls in (NewtonianFluid, NewtonianFluidAxisymmetric)),
+    Spec(SofteningTresca, {"law": SOFTENING_LAW, "elastic": ELASTIC,
+                           "regularisation": REGULARISATION}),
+    Spec(SofteningMohrCoulomb, {"law": SOFTENING_LAW, "elastic": ELASTIC,
+                                "regularisation": REGULARISATION, "phi": NUMBER,
+                                "k_min": NUMBER}),
     *(Spec(cls, {"tau_y": NUMBER, "mu": NUMBER})
       for cls in (BinghamFluid, BinghamFluidAxisymmetric)),
     refused={"RegionCones": "RegionCones is the step's combination of the regions' "
-             "materials, made by the engine: give each region its own material"})
+             "materials, made by the engine: give each region its own material",
+             "SofteningStep": "SofteningStep is a softening material bound to one step's "
+             "gamma^p, made by the engine: give the region a SofteningTresca or a "
+             "SofteningMohrCoulomb"})
 STRESS = OneOf(Spec(Geostatic, {"k0": NUMBER, "top": NUMBER}))
 REGION = Spec(Region, {"name": STRING, "polygon": POINTS, "holes": POLYGONS, "lattice": STRING,
                        "h": NUMBER, "rho": NUMBER, "material": MATERIAL, "stress": STRESS})
