@@ -118,11 +118,13 @@ class PFEMState(Particles):
                        stress0=None if self.stress0 is None else self.stress0[keep])
 
     def appended(self, x, v, h, sigma_m, region, mass=None):
-        """The state with new particles (new arrays), e.g. nodes added by a remesher."""
+        """The state with new particles (new arrays), e.g. nodes added by a remesher; their
+        initial stress (read on the first mesh only) zero."""
         k = len(x)
         no = np.zeros(k, dtype=bool)
+        stress0 = None if self.stress0 is None else np.vstack([self.stress0, np.zeros((k, 4))])
         return replace(self, x=np.vstack([self.x, x]), v=np.vstack([self.v, v]),
-                       h=np.concatenate([self.h, h]),
+                       h=np.concatenate([self.h, h]), stress0=stress0,
                        sigma_m=np.concatenate([self.sigma_m, sigma_m]),
                        region=np.concatenate([self.region, region]),
                        mass=np.concatenate([self.mass, np.zeros(k) if mass is None else mass]),
