@@ -13,10 +13,12 @@ from pfem_skfem.drivers.pfem_loop import pfem_step, run
 from pfem_skfem.drivers.time_step import SofteningTimeStep
 from pfem_skfem.io import TimeSeries
 from pfem_skfem.materials import (CohesiveTresca, Elastic, LinearSoftening, RegionCones,
-                                  SofteningStep, SofteningTresca)
+                                  SofteningMohrCoulomb, SofteningStep, SofteningTresca,
+                                  ZeroDilationMohrCoulomb)
+from pfem_skfem.scene import Region, Scene
 from pfem_skfem.materials.softening import point_sizes
 from pfem_skfem.pfem.softening import carried_strain
-from pfem_skfem.pfem.state import load_checkpoint
+from pfem_skfem.pfem.state import PFEMState, load_checkpoint
 from pfem_skfem.pfem.transfer import old_discretisation
 from verification.granular_column_plane import granular_column
 
@@ -60,6 +62,22 @@ def test_softening_without_end_is_the_perfectly_plastic_run_bit_for_bit():
     np.testing.assert_array_equal(endless.x, plastic.x)
     np.testing.assert_array_equal(endless.sigma, plastic.sigma)
     assert endless.gamma_p.max() > 0.01                            # it flowed plastically
+
+
+def test_a_softening_mohr_coulomb_without_end_is_the_zero_dilation_run_bit_for_bit():
+    """The same for the lagged material: SofteningMohrCoulomb (c_p = 1, phi = 30) with
+    gamma_r = 1e300 against ZeroDilationMohrCoulomb(c = 1, phi = 30), both [80]'s psi = 0
+    cone at the lagged mean stress, over 6 steps of a collapsing column."""
+    elastic = Elastic(1e4, 0.3)
+    runs = [run(*granular_column(1.0, 6, phi=30.0, soil=soil, E=1e4, nu=0.3,
+                                 dt=0.05 * np.sqrt(1.0 / G)), 6)[0]
+            for soil in (ZeroDilationMohrCoulomb(c=1.0, phi=30.0, k_min=0.005, elastic=elastic),
+                         SofteningMohrCoulomb(LinearSoftening(1.0, 0.2, 1e300), elastic,
+                                              phi=30.0, k_min=0.005))]
+    x0 = granular_column(1.0, 6, phi=30.0)[0].x
+    assert np.abs(runs[0].x[:len(x0)] - x0).max() > 0.01
+    np.testing.assert_array_equal(runs[1].x, runs[0].x)
+    np.testing.assert_array_equal(runs[1].sigma_m, runs[0].sigma_m)
 
 
 def test_the_softening_collapse_lies_between_the_peak_and_the_residual_ones():
@@ -174,6 +192,20 @@ def test_the_softening_time_step_refuses_bad_data(bad, words):
 
 
 def test_softening_is_refused_where_it_cannot_run():
+    """Before any work: beside another region's material, in axisymmetry, and a state whose
+    gamma^p does not match its stresses."""
+    clay = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)), softening(), 2.0, 0.25)
+    other = Region(((1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0)),
+                   CohesiveTresca(C_P, ELASTIC), 2.0, 0.25, name="other")
+    with pytest.raises(ValueError, match="softening material"):
+        Scene(regions=(clay, other))
+    with pytest.raises(ValueError, match="axisymmetric softening is not built"):
+        Scene(regions=(clay,), geometry="axisymmetric")
+    state, scene = column(softening())
+    state, _ = run(state, scene, 1)
+    with pytest.raises(ValueError, match="one value per stress point"):
+        PFEMState(step=1, time=0.0, x=state.x, h=state.h, sigma_m=state.sigma_m,
+                  sigma=state.sigma, gamma_p=state.gamma_p[:-3])
     with pytest.raises(ValueError, match="softening material"):
         RegionCones.check([softening(), CohesiveTresca(C_P, ELASTIC)])
     with pytest.raises(ValueError, match="gamma_p and size"):

@@ -2,7 +2,8 @@
 
 :class:`PFEMMaterial` is the protocol (as scikit-fem's ``Element`` declares its
 vocabulary): typed class attributes with defaults, and the verbs the engine calls,
-``cone``, ``strength_scale``, ``mean_stress`` and ``viscous``. A material sets only what
+``cone``, ``strength_scale``, ``mean_stress`` and ``viscous`` (and ``at_strain`` of a
+``softening`` material, :mod:`pfem_skfem.materials.softening`). A material sets only what
 differs. The engine (``Scene``, ``pfem.assemble``, ``problems.nonassociated.lagged_step``)
 reads these attributes and makes these calls, nothing else. A subclass without a
 ``name``, its ``geometries``, a ``cone`` or a ``strength_scale`` (or with a one-geometry
@@ -69,6 +70,9 @@ class PFEMMaterial:
         The lagged quantity of stresses (n, 4): (sx + sy)/2 unless a material lags another.
     viscous(sigma_m, stress_scale, shear_rate, weights)
         The step's viscous stress (ViscousStress, RateDissipation) or None.
+    at_strain(gamma_p, size)
+        A ``softening`` material only: the material of a step whose stress points carry
+        the plastic shear strains ``gamma_p`` in elements of sizes ``size``.
     """
 
     name: ClassVar[str]

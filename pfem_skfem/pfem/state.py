@@ -101,6 +101,9 @@ class PFEMState(Particles):
                     or np.any(self.gamma_p < 0)):
                 raise ValueError("gamma_p (plastic shear strain at the stress points) must be "
                                  "a 1-d array of finite values >= 0")
+            if self.sigma is not None and len(self.gamma_p) != len(self.sigma):
+                raise ValueError(f"gamma_p must have one value per stress point of sigma "
+                                 f"({len(self.sigma)}), got {len(self.gamma_p)}")
 
     def subset(self, keep):
         """The state restricted to the kept particles (boolean mask); the old mesh keeps
