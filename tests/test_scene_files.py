@@ -10,7 +10,7 @@ from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.pfem.state import load_checkpoint
 from pfem_skfem.materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
-                                  SofteningMohrCoulomb, SofteningTresca)
+                                  NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,
@@ -98,7 +98,8 @@ def make_scene(name):
                else ExponentialSoftening(30.0, 10.0, 0.5))
         soil = (SofteningTresca(law, Elastic(1e4, 0.45), FractureEnergy(0.1))
                 if name == "softening" else
-                SofteningMohrCoulomb(law, Elastic(1e4, 0.3), phi=20.0, k_min=0.01))
+                SofteningMohrCoulomb(law, Elastic(1e4, 0.3), NonlocalAverage(0.3), phi=20.0,
+                                     k_min=0.01))
         return replace(rich, regions=(replace(rich.regions[0], material=soil),))
     if name == "mu_i":
         soil = MuIRheology(mu_2=0.7, d=1e-3, lag="friction", elastic=Elastic(1e4, 0.3))
@@ -139,7 +140,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 34
+    assert len(names) == 36
     for name in names:
         assert f'type = "{name}"' in text, name
 

@@ -12,7 +12,8 @@ from pfem_skfem.discretisation.fields import element_mean
 from pfem_skfem.drivers.pfem_loop import pfem_step, run
 from pfem_skfem.drivers.time_step import SofteningTimeStep
 from pfem_skfem.io import TimeSeries
-from pfem_skfem.materials import (CohesiveTresca, Elastic, LinearSoftening, RegionCones,
+from pfem_skfem.materials import (CohesiveTresca, Elastic, LinearSoftening, NonlocalAverage,
+                                  RegionCones,
                                   SofteningMohrCoulomb, SofteningStep, SofteningTresca,
                                   ZeroDilationMohrCoulomb)
 from pfem_skfem.scene import Region, Scene
@@ -117,6 +118,29 @@ def test_each_step_reads_the_law_at_the_carried_strain_and_flows_on_that_cone():
         assert record["gamma_p_max"] == new.gamma_p.max()
         state = new
     assert softened > 50
+
+
+def test_a_nonlocal_average_longer_than_the_body_spreads_the_increment_evenly():
+    """NonlocalAverage(ell): each step's Delta gamma^p averaged over the points within ell.
+    The first step does not depend on gamma^p (zero everywhere), so with ell = 1000 (the bell
+    weights 1 - O(r^2 / ell^2) = 1 - 5e-6 over the column) the nonlocal gamma^p after it is
+    the weighted mean of the local one at every point, to 1e-5."""
+    local, scene = column(softening())
+    local, _, result = pfem_step(local, scene)
+    spread, _, _ = pfem_step(*column(SofteningTresca(LinearSoftening(C_P, C_R, GAMMA_R),
+                                                     ELASTIC, NonlocalAverage(1000.0))))
+    w = result.disc.weights
+    mean = np.sum(w * local.gamma_p) / np.sum(w)
+    assert local.gamma_p.max() > 2 * mean                      # the local field is uneven
+    np.testing.assert_allclose(spread.gamma_p, mean, rtol=1e-5)
+
+
+def test_the_static_driver_refuses_a_nonlocal_material():
+    from pfem_skfem.drivers.softening import softening_control
+    material = SofteningTresca(LinearSoftening(C_P, C_R, GAMMA_R), ELASTIC, NonlocalAverage(0.1))
+    with pytest.raises(ValueError, match="StepControl"):
+        softening_control(None, None, material, fixed=[], prescribed=([], []), n_increments=1,
+                          size=np.ones(1), weights=np.ones(1))
 
 
 def test_gamma_p_never_decreases_at_a_point_between_remeshings():

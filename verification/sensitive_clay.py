@@ -81,7 +81,8 @@ def failure(S_t, args):
         scene, state, {"gamma_max": [], "dt": []},
         checkpoints=Checkpoints(args.checkpoint_dir, f"sensitive_clay_St{S_t:g}", keys,
                                 args.checkpoint_every),
-        bar=Bar(None, f"sensitive clay, S_t = {S_t:g}", args.progress), time_step=policy)
+        bar=Bar(int(np.ceil(args.t_end / args.dt)), f"sensitive clay, S_t = {S_t:g}",
+                args.progress), time_step=policy)
 
     def observe(run, snapshots):
         run.kept["gamma_max"].append(float(run.state.gamma_p.max()))
@@ -103,6 +104,11 @@ def failure(S_t, args):
                 halved=bool(np.all(np.isclose(dts[over + 1], np.maximum(dts[over] / 2, floor),
                                               rtol=1e-12))),
                 x=state.x, x0=x0, mesh=(state.mesh_p, state.mesh_t), gamma_p=state.gamma_p)
+
+
+def ratio(a, b):
+    """b / a, NaN (a failed check) where a is not positive."""
+    return b / a if a > 0 else float("nan")
 
 
 def build_parser():
@@ -142,14 +148,14 @@ def run(args):
                         f"N = {args.N:g} > {CUT_UPPER} (the vertical cut's upper bound): the "
                         f"bank fails without softening")
     runouts = [cases[s]["runout"] for s in args.sensitivities]
-    report.add_interval("runout_growth", min(b / a for a, b in zip(runouts, runouts[1:])),
+    report.add_interval("runout_growth", min(ratio(a, b) for a, b in zip(runouts, runouts[1:])),
                         1.05, np.inf, "the run-out grows with S_t, by 5 % or more (least ratio)")
     last = cases[args.sensitivities[-1]]
     report.add_interval("retrogression_gain",
                         (last["retrogression"] - first["retrogression"]) / spacing, 0.5, np.inf,
                         "the largest S_t retrogresses further than S_t = 1 (in spacings: the "
                         "ground's particles lie a spacing apart, so a gain is a whole one)")
-    report.add_interval("mobilised_gain", last["mobilised"] / first["mobilised"], 1.05, np.inf,
+    report.add_interval("mobilised_gain", ratio(first["mobilised"], last["mobilised"]), 1.05, np.inf,
                         "the largest S_t moves 5 % more mass or more than S_t = 1 (ratio)")
     report.add_interval("halved_after_cap", float(all(c["halved"] for c in cases.values())),
                         1.0, 1.0, "after each step over the cap the next dt was halved")

@@ -24,7 +24,7 @@ from .pfem import (CohesiveTresca, DavisMohrCoulomb, PFEMMaterial, RegionCones,
                    ZeroDilationMohrCoulombAxisymmetric)
 from .rate import MuIRheology, MuIRheologyAxisymmetric, RateDissipation, ViscousStress
 from .softening import (ExponentialSoftening, FractureEnergy, LinearSoftening,
-                        SofteningMohrCoulomb, SofteningStep, SofteningTresca)
+                        NonlocalAverage, SofteningMohrCoulomb, SofteningStep, SofteningTresca)
 from .fluids import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
                      NewtonianFluidAxisymmetric)
 
@@ -39,4 +39,4 @@ __all__ = ["Elastic", "check_cohesion",
            "MuIRheology", "MuIRheologyAxisymmetric", "ViscousStress", "RateDissipation",
            "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
            "BinghamFluidAxisymmetric", "LinearSoftening", "ExponentialSoftening",
-           "FractureEnergy", "SofteningTresca", "SofteningMohrCoulomb", "SofteningStep"]
+           "FractureEnergy", "NonlocalAverage", "SofteningTresca", "SofteningMohrCoulomb", "SofteningStep"]

@@ -142,6 +142,24 @@ class FractureEnergy:
         return self.length / size
 
 
+@dataclass(frozen=True)
+class NonlocalAverage:
+    """Each step's increment of gamma^p averaged over the stress points within ``length``
+    (ell) of each (:func:`nonlocal_average`, rebuilt on each step's points), the law's strain
+    scale left as it is: the band is spread over about ell, whatever the element size. For
+    the PFEM loop (:mod:`pfem_skfem.pfem.softening`); static increments take their average
+    from :class:`~pfem_skfem.drivers.softening.StepControl`."""
+
+    length: float
+
+    def __post_init__(self):
+        _check_positive("length (ell, the nonlocal averaging length)", self.length)
+
+    def scale(self, size):
+        """1 at every point: the average, not the law, is regularised."""
+        return np.ones_like(np.asarray(size, dtype=float))
+
+
 def nonlocal_average(points, weights, length):
     """The nonlocal average over a length ell as a sparse (n, n) operator A:
 
@@ -163,8 +181,10 @@ def nonlocal_average(points, weights, length):
     if length <= spacing:
         warnings.warn(f"nonlocal length {length:g} is below the points' spacing {spacing:g}: "
                       f"the average is local", stacklevel=2)
-    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")   # r > 0 only
-    phi = coo_matrix(((1 - (r.data / length) ** 2) ** 2, (r.row, r.col)), shape=r.shape)
+    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")
+    other = r.row != r.col            # scipy keeps each point's zero distance to itself
+    phi = coo_matrix(((1 - (r.data[other] / length) ** 2) ** 2,
+                      (r.row[other], r.col[other])), shape=r.shape)
     W = (phi.tocsr() + identity(len(points), format="csr")) @ diags(weights)
     return (diags(1.0 / np.asarray(W.sum(axis=1)).ravel()) @ W).tocsr()
 
@@ -222,8 +242,8 @@ class SofteningTresca(PFEMMaterial):
     ----------
     law : :class:`LinearSoftening` or :class:`ExponentialSoftening`.
     elastic : :class:`Elastic`.
-    regularisation : :class:`FractureEnergy`, or None (local softening: the strength is
-        spent in one element, whatever its size).
+    regularisation : :class:`FractureEnergy`, :class:`NonlocalAverage` (PFEM runs), or
+        None (local softening: the strength is spent in one element, whatever its size).
 
     For static increments (:func:`pfem_skfem.drivers.softening.softening_control`) and the
     PFEM loop: a PFEM material (``softening``) whose step is :meth:`at_strain`, the cone at
@@ -251,13 +271,14 @@ class SofteningTresca(PFEMMaterial):
                              f"got {type(self.law).__name__}")
         if not isinstance(self.elastic, Elastic):
             raise ValueError(f"elastic must be an Elastic, got {type(self.elastic).__name__}")
-        if self.regularisation is not None and not isinstance(self.regularisation,
-                                                              FractureEnergy):
-            raise ValueError(f"regularisation must be a FractureEnergy or None, got "
-                             f"{type(self.regularisation).__name__}")
+        if self.regularisation is not None and not isinstance(
+                self.regularisation, (FractureEnergy, NonlocalAverage)):
+            raise ValueError(f"regularisation must be a FractureEnergy, a NonlocalAverage or "
+                             f"None, got {type(self.regularisation).__name__}")
 
     def scale(self, size):
-        """The law's strain-scale factor at element sizes ``size``: ell / h, or 1."""
+        """The law's strain-scale factor at element sizes ``size``: ell / h (a fracture
+        energy), or 1."""
         if self.regularisation is None:
             return np.ones_like(np.asarray(size, dtype=float))
         return self.regularisation.scale(size)

@@ -25,7 +25,8 @@ of the engine without this module, bit for bit.
 import numpy as np
 
 from ..discretisation.fields import collapsed
-from ..materials.softening import (plastic_strain_increment, point_sizes, shear_invariant,
+from ..materials.softening import (NonlocalAverage, nonlocal_average,
+                                   plastic_strain_increment, point_sizes, shear_invariant,
                                    strength_drop)
 from .mapping import map_stress
 
@@ -67,9 +68,15 @@ def strain_update(material, ops, increment, sigma_n, disc, gamma_n):
 
     Delta gamma^p is the shear invariant of eps(du) - C^-1 (sigma_{n+1} - sigma_n) at each
     stress point (:func:`~pfem_skfem.materials.softening.plastic_strain_increment`, with the
-    step's B and C); ``material`` the region's softening material.
+    step's B and C), averaged over the step's points with a
+    :class:`~pfem_skfem.materials.softening.NonlocalAverage` regularisation; ``material`` the
+    region's softening material.
     """
     deps = plastic_strain_increment(ops.B, increment.du, ops.C, increment.sigma, sigma_n,
                                     disc.weights)
-    gamma = gamma_n + shear_invariant(deps)
+    dgamma = shear_invariant(deps)
+    if isinstance(material.regularisation, NonlocalAverage):
+        dgamma = nonlocal_average(disc.points, disc.weights,
+                                  material.regularisation.length) @ dgamma
+    gamma = gamma_n + dgamma
     return gamma, strength_drop(material, gamma_n, gamma, point_sizes(disc.weights))

@@ -62,7 +62,7 @@ from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
 from ..materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
-                         SofteningMohrCoulomb, SofteningTresca)
+                         NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -307,7 +307,8 @@ ELASTIC = Table(Spec(Elastic, {"E": NUMBER, "nu": NUMBER}))
 SOFTENING_LAW = OneOf(
     Spec(LinearSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_r": NUMBER}),
     Spec(ExponentialSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_95": NUMBER}))
-REGULARISATION = OneOf(Spec(FractureEnergy, {"length": NUMBER}))
+REGULARISATION = OneOf(Spec(FractureEnergy, {"length": NUMBER}),
+                       Spec(NonlocalAverage, {"length": NUMBER}))
 MATERIAL = OneOf(
     Spec(ZeroDilationMohrCoulomb, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
                                    "elastic": ELASTIC}),
