@@ -280,7 +280,9 @@ class TimeSeries:
 STEP_UNITS = ("units: x, y (or r, z) in m; time in s; velocity, speed in m/s; stresses "
               "(stress, sxx, syy, sxy, stt, hoop_stress, mean_stress, pressure) in Pa when "
               "rho is in kg/m^3 (kPa when rho is in t/m^3); tension positive, pressure "
-              "= -mean_stress; plastic_strain_increment per step, dimensionless")
+              "= -mean_stress; plastic_strain_increment per step, dimensionless; "
+              "plastic_shear_strain (gamma^p of a softening material) accumulated, "
+              "dimensionless; strength (its c(gamma^p) in the step) as the stresses")
 
 
 def _stress_components(cell_data, stress, axisymmetric):
@@ -298,7 +300,8 @@ def step_fields(state, result):
     Point data: velocity (3 components, z = 0 for ParaView), speed, smoothed mean stress
     and pressure p = -(sx + sy)/2, the tags free_surface and contact (0/1), region;
     cell data: element mean stress (sx, sy, sxy) as one array ``stress`` and as the
-    scalars ``sxx``, ``syy``, ``sxy``, equivalent plastic strain increment (in
+    scalars ``sxx``, ``syy``, ``sxy``, equivalent plastic strain increment, the accumulated
+    plastic shear strain ``plastic_shear_strain`` of a softening material (in
     axisymmetry x = r and y = z: the stress is (s_rr, s_zz, s_rz), the hoop stress s_tt
     beside it as ``hoop_stress`` and ``stt``, and the mean stress the material's lag,
     I1/3). A saturated scene's (``Scene.water``) stresses are the effective ones, and the
@@ -327,6 +330,10 @@ def step_fields(state, result):
                   "region": tag(state.region)}
     cell_data = {"stress": stress[:, [0, 1, 3]],
                  "plastic_strain_increment": element_mean(disc, result.plastic_strain)}
+    if state.gamma_p is not None:             # a softening material's (pfem.softening)
+        cell_data["plastic_shear_strain"] = element_mean(disc, state.gamma_p)
+    if getattr(result, "strength", None) is not None:     # c(gamma^p) the step used
+        cell_data["strength"] = element_mean(disc, result.strength)
     if disc.geometry.axisymmetric:            # (s_rr, s_zz, s_rz) above; the hoop stress
         cell_data["hoop_stress"] = stress[:, 2]
     _stress_components(cell_data, stress, disc.geometry.axisymmetric)

@@ -32,7 +32,8 @@ def test_the_package_has_the_pfem_materials():
                      "ZeroDilationDruckerPrager", "ZeroDilationMohrCoulombAxisymmetric",
                      "MuIRheology", "MuIRheologyAxisymmetric", "RegionCones",
                      "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
-                     "BinghamFluidAxisymmetric"}
+                     "BinghamFluidAxisymmetric", "SofteningTresca", "SofteningMohrCoulomb",
+                     "SofteningStep"}
     for c in PFEM_MATERIALS:                     # importable from the package face
         assert getattr(materials, c.__name__) is c
 

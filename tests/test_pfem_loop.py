@@ -330,6 +330,19 @@ def test_state_rejects_mismatched_fields():
         initial_state(np.zeros((3, 2)), -1.0)
 
 
+def test_particles_appended_to_a_state_with_initial_stresses_keep_its_shapes():
+    """Surface particles added after the first step of a geostatic body (the move stage's
+    ``appended``) once failed the state's check on stress0 (n, 4); they get zero, which
+    only the first mesh reads."""
+    stress = -np.ones((3, 4))
+    state = initial_state(np.eye(3, 2), 1.0, stress=stress)
+    more = state.appended(np.full((2, 2), 5.0), np.zeros((2, 2)), np.ones(2), np.zeros(2),
+                          np.zeros(2, dtype=int))
+    assert more.stress0.shape == (5, 4)
+    np.testing.assert_array_equal(more.stress0[:3], stress)
+    assert not more.stress0[3:].any()
+
+
 def test_run_to_rest_stops_at_rest_or_after_max_steps():
     state, scene = granular_column(1.0, 5, dt=0.05 * np.sqrt(1.0 / G))
     still, rest, taken = run_to_rest(state, scene, 1e-3, 5)      # starts at rest

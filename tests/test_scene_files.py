@@ -9,6 +9,8 @@ from pfem_skfem import cli
 from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.pfem.state import load_checkpoint
+from pfem_skfem.materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
+                                  NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,
@@ -92,6 +94,14 @@ def make_scene(name):
         return replace(rich, regions=tuple(replace(r, material=m)
                                            for r, m in zip(rich.regions, soils)),
                        geometry="axisymmetric")
+    if name in ("softening", "softening_mc"):
+        law = (LinearSoftening(30.0, 10.0, 0.2) if name == "softening"
+               else ExponentialSoftening(30.0, 10.0, 0.5))
+        soil = (SofteningTresca(law, Elastic(1e4, 0.45), FractureEnergy(0.1))
+                if name == "softening" else
+                SofteningMohrCoulomb(law, Elastic(1e4, 0.3), NonlocalAverage(0.3), phi=20.0,
+                                     k_min=0.01))
+        return replace(rich, regions=(replace(rich.regions[0], material=soil),))
     if name == "mu_i":
         soil = MuIRheology(mu_2=0.7, d=1e-3, lag="friction", elastic=Elastic(1e4, 0.3))
         return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions))
@@ -120,7 +130,7 @@ def make_scene(name):
 
 
 ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "fluids",
-              "fluids_axisymmetric", "saturated", "example")
+              "fluids_axisymmetric", "saturated", "softening", "softening_mc", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -137,7 +147,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 28                      # HalfPlane, PolygonZone twice: outlets, drained
+    assert len(names) == 38                      # HalfPlane, PolygonZone twice: outlets, drained
     for name in names:
         assert f'type = "{name}"' in text, name
 

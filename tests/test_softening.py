@@ -151,6 +151,14 @@ def test_the_nonlocal_average_keeps_constants_and_interior_linear_fields():
     assert np.all(spread[np.hypot(*(points - 0.5).T) >= 0.1] == 0)
 
 
+def test_the_nonlocal_average_weighs_each_point_itself_once():
+    """Two points 0.05 apart, ell = 0.1: phi = (1 - 1/4)^2 = 9/16 for the other, 1 for itself
+    (scipy lists each point's zero distance to itself: it once counted twice)."""
+    A = nonlocal_average(np.array([[0.0, 0.0], [0.05, 0.0]]), np.ones(2), 0.1).toarray()
+    phi = (1 - 0.25) ** 2
+    assert A == approx(np.array([[1, phi], [phi, 1]]) / (1 + phi), abs=1e-15)
+
+
 def test_a_nonlocal_length_below_the_spacing_is_warned_and_averages_nothing():
     points = np.c_[np.linspace(0, 1, 11), np.zeros(11)]
     with pytest.warns(UserWarning, match="below the points' spacing"):

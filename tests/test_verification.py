@@ -281,6 +281,13 @@ CASES = [
       "sticking_speed": Between(0, 1e-6),
       "sticking_friction": approx(2000 * 0.5 * 9.81 * np.sin(np.radians(10)), rel=1e-6)},
      None),
+    # a sensitive-clay bank, N = rho g H / c_p = 6 above the vertical cut's rigorous upper
+    # bound 3.786 (Pastor et al. 2000): it fails at S_t = 1; the remoulded clay (S_t = 10)
+    # runs out further, moves more mass and retrogresses further (issue 55 item 4)
+    ("sensitive_clay", [],
+     {"runout_St1_over_h": Between(1.0, np.inf), "runout_growth": Between(1.05, np.inf),
+      "mobilised_gain": Between(1.05, np.inf), "retrogression_gain": Between(0.5, np.inf),
+      "halved_after_cap": 1.0}, None),
     # simple shear of a layer (L = 1 m, G = 2000 kPa) whose mid row (h = L / rows) starts 1 %
     # down the linear law c_p = 20, c_r = 5, H = -20 kPa: c_w = 19.85; post-peak
     # delta = tau L / G + h (c_w - tau) / |H| (research file 3.4, W1); with --ell 0.2 the band's

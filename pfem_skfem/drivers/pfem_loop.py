@@ -5,6 +5,7 @@ One step from the cloud C^n to C^{n+1}, one call per stage, each timed::
     detect   (1a) alpha-shape of the particles          pfem.alpha_shape.alpha_shape
     remesh   (1b) mesh of the detected domain            pfem.remesh (AlphaMesh, QualityRemesh)
     map      (1c) velocities and stresses onto it        pfem.transfer.map_state
+                  (and a softening material's gamma^p    pfem.softening)
     assemble      B, A, D (C), gravity, contacts, holds  pfem.assemble
     solve    (2a) (4.23) + (5.12), fixed-point passes    problems.nonassociated.lagged_step
     move     (2b) particles moved, surface kept, outlets pfem.surface, pfem.bookkeeping
@@ -35,6 +36,7 @@ from ..pfem.assemble import (assemble_operators, contact_set, element_regions, h
 from ..pfem.bookkeeping import (StepFacts, discharge, free_flight_record, hand_on_mass,
                                spread_mass, step_record)
 from ..pfem.pore import carried, pore_pressure_term
+from ..pfem import softening
 from ..pfem.remesh import ParticleMesh
 from ..pfem.state import PFEMState, save_checkpoint
 from ..pfem.surface import fly_free, move_particles, particle_tags
@@ -58,6 +60,8 @@ class StepResult:
     (n_vertices,) smoothed mean stress of the solution at the mesh's vertices;
     pore_pressure, excess_pore_pressure : (n_vertices,) p at t_{n+1} and p less the
     hydrostatic (None without water).
+    strength : (n_points,) a softening material's strength c(gamma^p) the step used (None
+    without one).
     """
 
     disc: object
@@ -68,6 +72,7 @@ class StepResult:
     sigma_m: np.ndarray = None
     pore_pressure: np.ndarray = None
     excess_pore_pressure: np.ndarray = None
+    strength: np.ndarray = None
 
 
 class StageTimer:
@@ -131,6 +136,7 @@ def pfem_step(state, scene):
     t_start = _time.perf_counter()
     h_median = float(np.median(state.h))
     stress_scale = scene.stress_scale
+    softens = any(r.material.softening for r in scene.regions)
     remesh_now = (state.mesh_p is None or state.step % int(config.remesh_interval) == 0
                   or np.any(state.mesh_particle < 0))    # a vertex's particle has left
     alpha = scene.alpha if not np.isfinite(state.alpha) else state.alpha
@@ -167,6 +173,8 @@ def pfem_step(state, scene):
         with timer("map"):
             v_dofs, sigma_n = map_state(state, pm, disc, source, config.stress_mapping,
                                         config.velocity)
+            gamma_n = (softening.carried_strain(state, disc, source, config.stress_mapping)
+                       if softens else None)
     else:
         added = 0
         with timer("remesh"):
@@ -176,6 +184,7 @@ def pfem_step(state, scene):
             disc = discretise(mesh, geometry)
             area = disc.area
         v_dofs, sigma_n = state.v_dofs, state.sigma
+        gamma_n = softening.carried_strain(state, disc, False, None) if softens else None
     with timer("assemble"):
         regions = element_regions(state, pm)
         ops, f = assemble_operators(scene, disc, regions, theta)
@@ -189,6 +198,9 @@ def pfem_step(state, scene):
             fixed = np.union1d(fixed, axis_dofs(disc))
         material = step_material(scene, disc, regions)
         pore = pore_pressure_term(scene, disc, pm, state, contacts)    # None without water
+        if softens:                                  # the strength at the carried gamma^p
+            softening_material, material = material, softening.step_material(
+                material, gamma_n, disc)
     with timer("solve"):
         scales = step_scales(state.scales, scene, theta.dt)
         start = StepStart(v_dofs, sigma_n, state.sigma_m[pm.particle], scales)
@@ -197,6 +209,10 @@ def pfem_step(state, scene):
                              terms=() if pore is None else (pore,))
     inc = solved.increment
     state, p_vertices = carried(state, pm, inc)        # the particles' p at t_{n+1}
+    gamma_p = drop = None
+    if softens:                                      # gamma^p after the step (lags one step)
+        gamma_p, drop = softening.strain_update(softening_material, ops, inc, sigma_n, disc,
+                                                gamma_n)
     with timer("move"):
         bodies_next = [b.at(state.time + theta.dt) for b in scene.bodies
                        if b.present(state.time)]
@@ -223,10 +239,12 @@ def pfem_step(state, scene):
                       free_surface=free_surface, contact=contact,
                       mesh_p=moved.x[pm.particle], mesh_t=disc.mesh.t.T.copy(),
                       mesh_particle=pm.particle.copy(), v_dofs=inc.v.copy(),
-                      sigma=inc.sigma.copy(), scales=inc.scales, area0=area0, alpha=alpha)
+                      sigma=inc.sigma.copy(), scales=inc.scales, area0=area0, alpha=alpha,
+                      gamma_p=gamma_p)
         surface = moved.n - state.n                  # midside nodes of stretched edges
         new, out_now = discharge(new, scene.outlets)
-    result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m)
+    result = StepResult(disc, pm, inc, deps, contacts, solved.sigma_m,
+                        strength=material.strength() if softens else None)
     if p_vertices is not None:                      # at the vertices moved to t_{n+1}
         result.pore_pressure = p_vertices
         result.excess_pore_pressure = p_vertices - scene.water.hydrostatic(new.mesh_p)
@@ -235,6 +253,8 @@ def pfem_step(state, scene):
                       phase=phase, projected=projected, added=added, surface=surface,
                       thinned=thinned, held=len(fixed), discharged_now=out_now, shift=shift)
     record = step_record(scene, new, facts, timer, t_start)
+    if softens:                    # the step control's measure and the largest gamma^p
+        record["softening_drop"], record["gamma_p_max"] = drop, float(gamma_p.max())
     return new, record, result
 
 
@@ -255,7 +275,7 @@ def free_flight(state, scene, timer, t_start, alpha, thinned):
         new = replace(moved, step=state.step + 1, time=state.time + theta.dt,
                       free_surface=np.ones(n, dtype=bool), contact=np.zeros(n, dtype=bool),
                       mesh_p=None, mesh_t=None, mesh_particle=None, v_dofs=None, sigma=None,
-                      stress0=None, alpha=alpha)
+                      stress0=None, alpha=alpha, gamma_p=None)
         new, out_now = discharge(new, scene.outlets)
     record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
                                 moved_over_h=moved_over_h, thinned=thinned, phase=phase,

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..materials.softening import plastic_strain_increment, shear_invariant
+from ..materials.softening import (NonlocalAverage, plastic_strain_increment,
+                                   point_sizes, shear_invariant)  # noqa: F401 (point_sizes)
 from ..problems.static import static_increment
 
 #: re-solves at half the displacement before an increment is taken over the cap (counted)
@@ -74,12 +75,6 @@ class SofteningHistory:
     uncapped: int
 
 
-def point_sizes(weights):
-    """Element size at each stress point of a plane-strain mesh: sqrt(2 A), A = 3 w the area of
-    its element (three points of equal weight): the side of a square cell of two triangles."""
-    return np.sqrt(6.0 * np.asarray(weights, dtype=float))
-
-
 def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, weights,
                       gamma0=None, control=StepControl(), **solver_settings):
     """Impose ``prescribed`` = (dofs, total displacements) in ``n_increments`` base increments
@@ -104,6 +99,9 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
     if not isinstance(control, StepControl):
         raise ValueError(f"control must be a StepControl, got {type(control).__name__}")
+    if isinstance(material.regularisation, NonlocalAverage):
+        raise ValueError("a NonlocalAverage regularisation is for PFEM runs: static increments "
+                         "take their average from StepControl(average=nonlocal_average(...))")
     max_drop, average = control.max_drop, control.average
     n_s, n_u = B.shape
     n = n_s // 4

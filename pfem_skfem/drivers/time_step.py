@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["AdaptiveTimeStep"]
+__all__ = ["AdaptiveTimeStep", "SofteningTimeStep"]
 
 
 class AdaptiveTimeStep:
@@ -83,3 +83,63 @@ class AdaptiveTimeStep:
 
     def restore(self, saved):
         self.dt = float(saved["dt"])
+
+
+class SofteningTimeStep:
+    """The step control of a softening material (:mod:`pfem_skfem.pfem.softening`): a cap on
+    the strength drop of a step.
+
+    The step record's ``softening_drop`` is the largest drop of the step's strength update,
+    as a fraction of c_p - c_r (at the law's steepest rate: a bound, the drop itself for the
+    linear law). After a step above ``max_drop`` the next dt is half the last, after one
+    below ``max_drop / 4`` twice it, within [dt0 / 2^halvings, dt0]. The step over the cap
+    is kept: gamma^p is updated after each step, and its control acts on the next one.
+    The steps taken are the rungs dt0 / 2^n, one scene per rung, made once from the run's
+    scene, so that a rung's problems are the same objects each time.
+
+    Parameters
+    ----------
+    dt0 : the largest time step (the run's scene's dt).
+    max_drop : the cap, a fraction of c_p - c_r in (0, 1].
+    halvings : the most halvings of dt0 (a positive integer).
+    """
+
+    def __init__(self, dt0, *, max_drop=0.1, halvings=6):
+        if not np.isfinite(dt0) or not dt0 > 0:
+            raise ValueError(f"dt0 must be positive and finite, got {dt0!r}")
+        if not np.isfinite(max_drop) or not 0 < max_drop <= 1:
+            raise ValueError(f"max_drop (cap on the strength drop per step, a fraction of "
+                             f"c_p - c_r) must lie in (0, 1], got {max_drop!r}")
+        if int(halvings) != halvings or halvings < 1:
+            raise ValueError(f"halvings must be a positive integer, got {halvings!r}")
+        self.dt0, self.max_drop, self.halvings = float(dt0), float(max_drop), int(halvings)
+        self.rung = 0                        # the next step's dt is dt0 / 2^rung
+        self._rungs = {}
+
+    def scene(self, scene, rung):
+        """The run's ``scene`` with dt0 / 2^rung."""
+        if rung not in self._rungs:
+            theta = replace(scene.config.theta, dt=self.dt0 / 2 ** rung)
+            self._rungs[rung] = (scene if rung == 0 else
+                                 replace(scene, config=replace(scene.config, theta=theta)))
+        return self._rungs[rung]
+
+    def before(self, scene, state):
+        """The scene of the next step (its rung) and the state it starts from."""
+        return self.scene(scene, self.rung), state
+
+    def after(self, scene, state):
+        """The next rung from the step's ``softening_drop`` (none recorded: unchanged)."""
+        drops = state.history.get("softening_drop")
+        if not drops:
+            return
+        if drops[-1] > self.max_drop:
+            self.rung = min(self.rung + 1, self.halvings)
+        elif drops[-1] < self.max_drop / 4:
+            self.rung = max(self.rung - 1, 0)
+
+    def saved(self):
+        return {"rung": self.rung}
+
+    def restore(self, saved):
+        self.rung = int(saved["rung"])

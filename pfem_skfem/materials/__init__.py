@@ -7,7 +7,8 @@
   a material, and the materials of the PFEM runs ([80]; :class:`RegionCones` for regions
   of different materials);
 * :mod:`~pfem_skfem.materials.rate`: mu(I) and the rate terms of the dynamic step;
-* :mod:`~pfem_skfem.materials.fluids`: water and mud (Newtonian and Bingham fluids).
+* :mod:`~pfem_skfem.materials.fluids`: water and mud (Newtonian and Bingham fluids);
+* :mod:`~pfem_skfem.materials.softening`: strain softening (Tresca, Mohr-Coulomb).
 
 Stresses are tension positive and ordered (sx, sy, sz, sxy) as in (3.23).
 """
@@ -22,6 +23,8 @@ from .pfem import (CohesiveTresca, DavisMohrCoulomb, PFEMMaterial, RegionCones,
                    ZeroDilationDruckerPrager, ZeroDilationMohrCoulomb,
                    ZeroDilationMohrCoulombAxisymmetric)
 from .rate import MuIRheology, MuIRheologyAxisymmetric, RateDissipation, ViscousStress
+from .softening import (ExponentialSoftening, FractureEnergy, LinearSoftening,
+                        NonlocalAverage, SofteningMohrCoulomb, SofteningStep, SofteningTresca)
 from .fluids import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
                      NewtonianFluidAxisymmetric)
 
@@ -35,4 +38,5 @@ __all__ = ["Elastic", "check_cohesion",
            "ZeroDilationDruckerPrager", "ZeroDilationMohrCoulombAxisymmetric", "RegionCones",
            "MuIRheology", "MuIRheologyAxisymmetric", "ViscousStress", "RateDissipation",
            "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
-           "BinghamFluidAxisymmetric"]
+           "BinghamFluidAxisymmetric", "LinearSoftening", "ExponentialSoftening",
+           "FractureEnergy", "NonlocalAverage", "SofteningTresca", "SofteningMohrCoulomb", "SofteningStep"]

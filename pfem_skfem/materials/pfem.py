@@ -2,7 +2,8 @@
 
 :class:`PFEMMaterial` is the protocol (as scikit-fem's ``Element`` declares its
 vocabulary): typed class attributes with defaults, and the verbs the engine calls,
-``cone``, ``strength_scale``, ``mean_stress`` and ``viscous``. A material sets only what
+``cone``, ``strength_scale``, ``mean_stress`` and ``viscous`` (and ``at_strain`` of a
+``softening`` material, :mod:`pfem_skfem.materials.softening`). A material sets only what
 differs. The engine (``Scene``, ``pfem.assemble``, ``problems.nonassociated.lagged_step``)
 reads these attributes and makes these calls, nothing else. A subclass without a
 ``name``, its ``geometries``, a ``cone`` or a ``strength_scale`` (or with a one-geometry
@@ -49,6 +50,10 @@ class PFEMMaterial:
         The shear rate counts the hoop strain (axisymmetry).
     needs_container : bool
         A fluid: a Scene refuses it without rigid bodies to hold it.
+    softening : bool
+        The cone depends on the plastic shear strain gamma^p the state carries at the
+        stress points: the step's material is ``at_strain(gamma_p, size)``, and gamma^p is
+        updated after the step (:mod:`pfem_skfem.pfem.softening`).
     elastic : Elastic or None
         None for rigid-plastic (C = 0 in (4.23)).
     c, phi : float
@@ -65,6 +70,9 @@ class PFEMMaterial:
         The lagged quantity of stresses (n, 4): (sx + sy)/2 unless a material lags another.
     viscous(sigma_m, stress_scale, shear_rate, weights)
         The step's viscous stress (ViscousStress, RateDissipation) or None.
+    at_strain(gamma_p, size)
+        A ``softening`` material only: the material of a step whose stress points carry
+        the plastic shear strains ``gamma_p`` in elements of sizes ``size``.
     """
 
     name: ClassVar[str]
@@ -74,6 +82,7 @@ class PFEMMaterial:
     rate_dependent: ClassVar[bool] = False
     hoop: ClassVar[bool] = False
     needs_container: ClassVar[bool] = False
+    softening: ClassVar[bool] = False
     elastic = None
     c = 0.0
     phi = 0.0
@@ -379,6 +388,11 @@ class RegionCones(PFEMMaterial):
         """Refuse materials that cannot share a step (ValueError naming them): a cone whose
         radius depends on the stress, cones of different kinds, different elasticities, a
         viscous stress (mu(I)) that would not cover every region."""
+        soft = [type(m).__name__ for m in materials if m.softening]
+        if soft:
+            raise ValueError(f"regions of different materials: a softening material "
+                             f"({', '.join(soft)}) cannot share a step with other regions yet "
+                             f"(its gamma^p is bound to the whole step's points)")
         families = {}
         for m in materials:            # a cone at one point tells the family
             found = _per_point(m.cone(np.zeros(1), 1.0), 1)

@@ -43,6 +43,7 @@ import numpy as np
 from .checks import _check_positive, _is_real
 from .criteria import TrescaField, mohr_coulomb_radius
 from .elastic import Elastic
+from .pfem import PFEMMaterial
 
 
 def _check_strengths(c_p, c_r):
@@ -141,6 +142,24 @@ class FractureEnergy:
         return self.length / size
 
 
+@dataclass(frozen=True)
+class NonlocalAverage:
+    """Each step's increment of gamma^p averaged over the stress points within ``length``
+    (ell) of each (:func:`nonlocal_average`, rebuilt on each step's points), the law's strain
+    scale left as it is: the band is spread over about ell, whatever the element size. For
+    the PFEM loop (:mod:`pfem_skfem.pfem.softening`); static increments take their average
+    from :class:`~pfem_skfem.drivers.softening.StepControl`."""
+
+    length: float
+
+    def __post_init__(self):
+        _check_positive("length (ell, the nonlocal averaging length)", self.length)
+
+    def scale(self, size):
+        """1 at every point: the average, not the law, is regularised."""
+        return np.ones_like(np.asarray(size, dtype=float))
+
+
 def nonlocal_average(points, weights, length):
     """The nonlocal average over a length ell as a sparse (n, n) operator A:
 
@@ -162,8 +181,10 @@ def nonlocal_average(points, weights, length):
     if length <= spacing:
         warnings.warn(f"nonlocal length {length:g} is below the points' spacing {spacing:g}: "
                       f"the average is local", stacklevel=2)
-    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")   # r > 0 only
-    phi = coo_matrix(((1 - (r.data / length) ** 2) ** 2, (r.row, r.col)), shape=r.shape)
+    r = tree.sparse_distance_matrix(tree, length, output_type="coo_matrix")
+    other = r.row != r.col            # scipy keeps each point's zero distance to itself
+    phi = coo_matrix(((1 - (r.data[other] / length) ** 2) ** 2,
+                      (r.row[other], r.col[other])), shape=r.shape)
     W = (phi.tocsr() + identity(len(points), format="csr")) @ diags(weights)
     return (diags(1.0 / np.asarray(W.sum(axis=1)).ravel()) @ W).tocsr()
 
@@ -190,8 +211,28 @@ def shear_invariant(deps):
     return np.hypot(deps[:, 0] - deps[:, 1], deps[:, 3])
 
 
+def point_sizes(weights):
+    """Element size at each stress point of a plane-strain mesh: sqrt(2 A), A = 3 w the area of
+    its element (three points of equal weight): the side of a square cell of two triangles."""
+    return np.sqrt(6.0 * np.asarray(weights, dtype=float))
+
+
+def strength_drop(material, gamma_old, gamma_new, size):
+    """The largest strength drop of a step as a fraction of c_p - c_r: abs(dc/dgamma^p) at
+    its steepest times the step's Delta gamma^p, over the points still above c_r at its
+    start (a bound on the drop, equal to it for the linear law); 0 without softening."""
+    law = material.law
+    span = law.c_p - law.c_r
+    if span <= 0:
+        return 0.0
+    rate = law.steepest_rate / material.scale(size)
+    softening = material.strength(gamma_old, size) > law.c_r * (1 + 1e-12)
+    return float(np.max(rate[softening] * (gamma_new - gamma_old)[softening],
+                        initial=0.0)) / span
+
+
 @dataclass(frozen=True)
-class SofteningTresca:
+class SofteningTresca(PFEMMaterial):
     """Tresca whose strength c(gamma^p) at each stress point is data of a step:
 
     .. math::
@@ -201,11 +242,13 @@ class SofteningTresca:
     ----------
     law : :class:`LinearSoftening` or :class:`ExponentialSoftening`.
     elastic : :class:`Elastic`.
-    regularisation : :class:`FractureEnergy`, or None (local softening: the strength is
-        spent in one element, whatever its size).
+    regularisation : :class:`FractureEnergy`, :class:`NonlocalAverage` (PFEM runs), or
+        None (local softening: the strength is spent in one element, whatever its size).
 
-    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`); the PFEM
-    loop does not carry gamma^p on its particles yet.
+    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`) and the
+    PFEM loop: a PFEM material (``softening``) whose step is :meth:`at_strain`, the cone at
+    the gamma^p the state carries at the step's stress points
+    (:mod:`pfem_skfem.pfem.softening`); its own :meth:`cone` is the intact one (gamma^p = 0).
     """
 
     law: object
@@ -213,6 +256,14 @@ class SofteningTresca:
     regularisation: FractureEnergy = None
 
     name = "Tresca, strain softening"
+    softening = True
+    geometries = ("plane",)
+    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+
+    @property
+    def c(self):
+        """The peak strength c_p: the stress scale of a scene without gravity."""
+        return self.law.c_p
 
     def __post_init__(self):
         if not isinstance(self.law, (LinearSoftening, ExponentialSoftening)):
@@ -220,13 +271,14 @@ class SofteningTresca:
                              f"got {type(self.law).__name__}")
         if not isinstance(self.elastic, Elastic):
             raise ValueError(f"elastic must be an Elastic, got {type(self.elastic).__name__}")
-        if self.regularisation is not None and not isinstance(self.regularisation,
-                                                              FractureEnergy):
-            raise ValueError(f"regularisation must be a FractureEnergy or None, got "
-                             f"{type(self.regularisation).__name__}")
+        if self.regularisation is not None and not isinstance(
+                self.regularisation, (FractureEnergy, NonlocalAverage)):
+            raise ValueError(f"regularisation must be a FractureEnergy, a NonlocalAverage or "
+                             f"None, got {type(self.regularisation).__name__}")
 
     def scale(self, size):
-        """The law's strain-scale factor at element sizes ``size``: ell / h, or 1."""
+        """The law's strain-scale factor at element sizes ``size``: ell / h (a fracture
+        energy), or 1."""
         if self.regularisation is None:
             return np.ones_like(np.asarray(size, dtype=float))
         return self.regularisation.scale(size)
@@ -238,6 +290,20 @@ class SofteningTresca:
     def criterion(self, gamma_p, size, sigma_m=None, stress_scale=1.0):
         """The step's cone: :class:`TrescaField` of radii 2 c(gamma^p_j) (no mean stress)."""
         return TrescaField(2.0 * self.strength(gamma_p, size))
+
+    def at_strain(self, gamma_p, size):
+        """The PFEM material of a step whose points carry ``gamma_p`` in elements of sizes
+        ``size`` (:class:`SofteningStep`)."""
+        return SofteningStep(self, gamma_p, size)
+
+    def cone(self, sigma_m, stress_scale=1.0, *, shear_rate=None):
+        """The intact cone (gamma^p = 0) at the points of ``sigma_m``."""
+        n = len(np.atleast_1d(sigma_m))
+        return self.criterion(np.zeros(n), np.ones(n), np.atleast_1d(sigma_m), stress_scale)
+
+    def strength_scale(self, sigma_m, stress_scale=1.0):
+        """A stress of the step (half the median radius of the intact cone)."""
+        return self.cone(sigma_m, stress_scale).strength_scale()
 
 
 @dataclass(frozen=True)
@@ -257,6 +323,7 @@ class SofteningMohrCoulomb(SofteningTresca):
     k_min: float = 0.005
 
     name = "Mohr-Coulomb, zero dilation, cohesion softening"
+    lagged = True           # the cone depends on the mean stress: fixed-point passes help
 
     def __post_init__(self):
         super().__post_init__()
@@ -270,3 +337,58 @@ class SofteningMohrCoulomb(SofteningTresca):
         s, co = np.sin(np.radians(self.phi)), np.cos(np.radians(self.phi))
         return TrescaField(np.maximum(2 * c * co - 2 * s * np.asarray(sigma_m, dtype=float),
                                       self.k_min * stress_scale))
+
+
+class SofteningStep(PFEMMaterial):
+    """The PFEM material of one step of a softening material: its cone at the plastic shear
+    strains ``gamma_p`` the state carries at the step's stress points (data of the step:
+    the step stays convex), made by the engine (:meth:`SofteningTresca.at_strain`).
+
+    Parameters
+    ----------
+    material : :class:`SofteningTresca` or :class:`SofteningMohrCoulomb`.
+    gamma_p, size : (n_points,) plastic shear strain and element size at each point.
+    """
+
+    name = "softening material at the step's gamma^p"
+    geometries = ("plane",)
+    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+
+    def __init__(self, material, gamma_p, size):
+        if not isinstance(material, SofteningTresca):
+            raise ValueError(f"material must be a SofteningTresca or a SofteningMohrCoulomb, "
+                             f"got {type(material).__name__}")
+        self.material = material
+        self.gamma_p = np.asarray(gamma_p, dtype=float)
+        self.size = np.asarray(size, dtype=float)
+        if self.gamma_p.shape != self.size.shape or self.gamma_p.ndim != 1:
+            raise ValueError(f"gamma_p and size must be (n_points,) alike, got "
+                             f"{self.gamma_p.shape} and {self.size.shape}")
+
+    @property
+    def lagged(self):
+        return self.material.lagged
+
+    @property
+    def elastic(self):
+        return self.material.elastic
+
+    @property
+    def c(self):
+        return self.material.c
+
+    @property
+    def phi(self):
+        return self.material.phi
+
+    def strength(self):
+        """c(gamma^p) at the step's points."""
+        return self.material.strength(self.gamma_p, self.size)
+
+    def cone(self, sigma_m, stress_scale=1.0, *, shear_rate=None):
+        """The step's criterion at the carried gamma^p (and the lagged ``sigma_m``)."""
+        return self.material.criterion(self.gamma_p, self.size, sigma_m, stress_scale)
+
+    def strength_scale(self, sigma_m, stress_scale=1.0):
+        """Half the median radius of the step's cone."""
+        return self.cone(sigma_m, stress_scale).strength_scale()

@@ -52,6 +52,10 @@ class PFEMState(Particles):
     pore_pressure : (n,) the pore pressure at the particles (None: a scene without water).
         It is continuous P1 on each step's mesh, whose vertices are particles: the
         particles carry it through remeshing (:mod:`pfem_skfem.scene.water`).
+    gamma_p : (n_points,) accumulated plastic shear strain at the stress points of the
+        mesh, beside ``sigma`` and carried as it is (mapped at each remeshing by the
+        stresses' scheme, :func:`~pfem_skfem.pfem.softening.carried_strain`); None: zero
+        everywhere, and not carried (a run without a softening material).
 
     A run whose every particle has left through the outlets ends with an empty state
     (n = 0): its history and discharged totals complete, nothing left to step.
@@ -76,6 +80,7 @@ class PFEMState(Particles):
     history: dict = field(default_factory=dict)
     stress0: np.ndarray = None
     pore_pressure: np.ndarray = None
+    gamma_p: np.ndarray = None
 
     def __post_init__(self):
         super().__post_init__()
@@ -99,6 +104,15 @@ class PFEMState(Particles):
             if self.pore_pressure.shape != (self.n,):
                 raise ValueError(f"pore_pressure must have shape ({self.n},), got "
                                  f"{self.pore_pressure.shape}")
+        if self.gamma_p is not None:
+            self.gamma_p = np.asarray(self.gamma_p, dtype=float)
+            if (self.gamma_p.ndim != 1 or not np.all(np.isfinite(self.gamma_p))
+                    or np.any(self.gamma_p < 0)):
+                raise ValueError("gamma_p (plastic shear strain at the stress points) must be "
+                                 "a 1-d array of finite values >= 0")
+            if self.sigma is not None and len(self.gamma_p) != len(self.sigma):
+                raise ValueError(f"gamma_p must have one value per stress point of sigma "
+                                 f"({len(self.sigma)}), got {len(self.gamma_p)}")
 
     def subset(self, keep):
         """The state restricted to the kept particles (boolean mask); the old mesh keeps
@@ -156,7 +170,8 @@ def initial_state(x, h, sigma_m=None, stress=None, *, region=None, mass=None):
 
 # -- checkpoints -----------------------------------------------------------------------
 _ARRAYS = ("x", "v", "h", "free_surface", "contact", "sigma_m", "region", "mass", "mesh_p",
-           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0", "pore_pressure")
+           "mesh_t", "mesh_particle", "v_dofs", "sigma", "stress0", "pore_pressure",
+           "gamma_p")
 
 
 class CheckpointError(ValueError):

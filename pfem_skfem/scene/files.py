@@ -65,6 +65,8 @@ from ..materials import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
 from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
+from ..materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
+                         NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -75,6 +77,7 @@ from .config import PFEMConfig, legacy_solver
 from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
+from .key_lines import key_lines
 from .water import Drained, Water
 
 __all__ = ["SceneFileError", "scene_from_toml", "scene_to_toml", "load_scene", "key_lines",
@@ -307,6 +310,11 @@ class OneOf:
 
 # -- the schema: every scene class and its keys ---------------------------------------------
 ELASTIC = Table(Spec(Elastic, {"E": NUMBER, "nu": NUMBER}))
+SOFTENING_LAW = OneOf(
+    Spec(LinearSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_r": NUMBER}),
+    Spec(ExponentialSoftening, {"c_p": NUMBER, "c_r": NUMBER, "gamma_95": NUMBER}))
+REGULARISATION = OneOf(Spec(FractureEnergy, {"length": NUMBER}),
+                       Spec(NonlocalAverage, {"length": NUMBER}))
 MATERIAL = OneOf(
     Spec(ZeroDilationMohrCoulomb, {"c": NUMBER, "phi": NUMBER, "k_min": NUMBER,
                                    "elastic": ELASTIC}),
@@ -321,10 +329,18 @@ MATERIAL = OneOf(
                  "p_min": NUMBER, "k_min": NUMBER, "elastic": ELASTIC, "lag": STRING})
       for cls in (MuIRheology, MuIRheologyAxisymmetric)),
     *(Spec(cls, {"mu": NUMBER}) for cls in (NewtonianFluid, NewtonianFluidAxisymmetric)),
+    Spec(SofteningTresca, {"law": SOFTENING_LAW, "elastic": ELASTIC,
+                           "regularisation": REGULARISATION}),
+    Spec(SofteningMohrCoulomb, {"law": SOFTENING_LAW, "elastic": ELASTIC,
+                                "regularisation": REGULARISATION, "phi": NUMBER,
+                                "k_min": NUMBER}),
     *(Spec(cls, {"tau_y": NUMBER, "mu": NUMBER})
       for cls in (BinghamFluid, BinghamFluidAxisymmetric)),
     refused={"RegionCones": "RegionCones is the step's combination of the regions' "
-             "materials, made by the engine: give each region its own material"})
+             "materials, made by the engine: give each region its own material",
+             "SofteningStep": "SofteningStep is a softening material bound to one step's "
+             "gamma^p, made by the engine: give the region a SofteningTresca or a "
+             "SofteningMohrCoulomb"})
 STRESS = OneOf(Spec(Geostatic, {"k0": NUMBER, "top": NUMBER}))
 REGION = Spec(Region, {"name": STRING, "polygon": POINTS, "holes": POLYGONS, "lattice": STRING,
                        "h": NUMBER, "rho": NUMBER, "material": MATERIAL, "stress": STRESS})
@@ -489,103 +505,3 @@ def example_text(name):
         raise ValueError(f"no example {name!r}; examples: {', '.join(EXAMPLES)}")
     from importlib.resources import files
     return (files("pfem_skfem.scene") / "examples" / f"{name}.toml").read_text()
-
-
-# -- where the keys are: a scan of the text -------------------------------------------------
-_BARE = re.compile(r"[A-Za-z0-9_-]+")
-
-
-def _read_key(s, i):
-    """Dotted key starting at s[i]: (parts, index after it)."""
-    parts = []
-    while True:
-        while i < len(s) and s[i] in " \t":
-            i += 1
-        if i < len(s) and s[i] in "\"'":
-            q = s[i]
-            j = i + 1
-            while s[j] != q:
-                j += 2 if (q == '"' and s[j] == "\\") else 1
-            raw = s[i:j + 1]
-            parts.append(json.loads(raw) if q == '"' else raw[1:-1])
-            i = j + 1
-        else:
-            m = _BARE.match(s, i)
-            parts.append(m.group(0))
-            i = m.end()
-        while i < len(s) and s[i] in " \t":
-            i += 1
-        if i < len(s) and s[i] == ".":
-            i += 1
-            continue
-        return parts, i
-
-
-def _scan_value(s, depth, string):
-    """Bracket depth and open multi-line string (its quotes, or None) after reading s."""
-    i = 0
-    while i < len(s):
-        if string:
-            if s.startswith(string, i):
-                i += 3
-                string = None
-                continue
-            i += 2 if (string == '"""' and s[i] == "\\") else 1
-            continue
-        c = s[i]
-        if c == "#":
-            break
-        if s.startswith('"""', i) or s.startswith("'''", i):
-            string = s[i:i + 3]
-            i += 3
-        elif c in "\"'":
-            j = i + 1
-            while j < len(s) and s[j] != c:
-                j += 2 if (c == '"' and s[j] == "\\") else 1
-            i = j + 1
-        else:
-            depth += c in "[{"
-            depth -= c in "]}"
-            i += 1
-    return depth, string
-
-
-def key_lines(text):
-    """{key path tuple: line number} of a valid TOML text: each table header, each element
-    of an array of tables (``('regions', 1)``), each ``key = value`` (its first line)."""
-    lines = {}
-    table = ()
-    counts = {}                                      # array of tables -> elements so far
-
-    def resolve(names):
-        path = ()
-        for name in names:
-            path += (name,)
-            if path in counts:                       # [regions.material]: the last region's
-                path += (counts[path] - 1,)
-        return path
-
-    depth, string = 0, None
-    for n, raw in enumerate(text.splitlines(), 1):
-        if depth or string:                          # inside a value over several lines
-            depth, string = _scan_value(raw, depth, string)
-            continue
-        s = raw.strip()
-        if not s or s.startswith("#"):
-            continue
-        if s.startswith("[["):
-            names, _ = _read_key(s, 2)
-            base = resolve(names[:-1]) + (names[-1],)
-            counts[base] = counts.get(base, 0) + 1
-            table = base + (counts[base] - 1,)
-            lines.setdefault(base, n)
-            lines[table] = n
-        elif s.startswith("["):
-            names, _ = _read_key(s, 1)
-            table = resolve(names)
-            lines[table] = n
-        else:
-            names, i = _read_key(s, 0)
-            lines[table + tuple(names)] = n
-            depth, string = _scan_value(s[i + 1:], 0, None)
-    return lines

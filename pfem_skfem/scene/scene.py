@@ -216,6 +216,12 @@ class Scene:
                                  f"{type(r.material).__name__} is for geometry "
                                  f"{allowed[0]!r}, the scene's is {name!r}: use "
                                  f"{r.material.counterpart}")
+        soft = [r for r in self.regions if r.material.softening]
+        if soft and len({repr(r.material) for r in self.regions}) > 1:
+            raise ValueError(f"region {soft[0].name!r}: a softening material "
+                             f"({type(soft[0].material).__name__}) cannot share a scene "
+                             f"with other materials yet (its gamma^p is bound to every "
+                             f"stress point of the step)")
 
     def _check_size(self):
         # before any particle is placed: a lattice of spacing h holds about area / h^2
