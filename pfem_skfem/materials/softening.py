@@ -238,17 +238,17 @@ class SofteningTresca(PFEMMaterial):
     .. math::
         \\sqrt{(\\sigma_x-\\sigma_y)^2 + 4\\tau_{xy}^2} \\le 2\\,c(\\gamma^p_j)
 
+    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`) and the
+    PFEM loop: a PFEM material (``softening``) whose step is :meth:`at_strain`, the cone at
+    the gamma^p the state carries at the step's stress points
+    (:mod:`pfem_skfem.pfem.softening`); its own :meth:`cone` is the intact one (gamma^p = 0).
+
     Parameters
     ----------
     law : :class:`LinearSoftening` or :class:`ExponentialSoftening`.
     elastic : :class:`Elastic`.
     regularisation : :class:`FractureEnergy`, :class:`NonlocalAverage` (PFEM runs), or
         None (local softening: the strength is spent in one element, whatever its size).
-
-    For static increments (:func:`pfem_skfem.drivers.softening.softening_control`) and the
-    PFEM loop: a PFEM material (``softening``) whose step is :meth:`at_strain`, the cone at
-    the gamma^p the state carries at the step's stress points
-    (:mod:`pfem_skfem.pfem.softening`); its own :meth:`cone` is the intact one (gamma^p = 0).
     """
 
     law: object

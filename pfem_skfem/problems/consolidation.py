@@ -131,8 +131,10 @@ class SaturatedSoil:
 class Hydraulic:
     """The step's water boundaries: drained dofs with their pressure, and the inflow.
 
-    drained : (dofs, values): p = p_bar on these P1 dofs (boundary vertices);
-    inflow : (n_p,) int q_bar N_p dS (:func:`~pfem_skfem.discretisation.pressure.inflow_vector`)
+    Attributes
+    ----------
+    drained : (dofs, values): p = p_bar on these P1 dofs (boundary vertices).
+    inflow : (n_p,) int q_bar N_p dS (:func:`~pfem_skfem.discretisation.pressure.inflow_vector`),
         or None: no prescribed flux (the other faces are impermeable).
     """
 
