@@ -7,14 +7,17 @@ Gauss-point stresses of the thesis element). Tension positive, p compression pos
 total stress sigma = sigma' - alpha p I. For the step n -> n+1 of length dt:
 
 .. math::
+    \\begin{aligned}
     \\max_{\\sigma',\\,p}\\;
-      -\\tfrac12\\int(\\sigma'-\\sigma'_n):\\mathbb C^{-1}:(\\sigma'-\\sigma'_n)\\,dV
-      -\\tfrac{\\Delta t}{2}\\int\\tfrac{k}{\\gamma_w}|\\nabla p-\\rho_w\\mathbf g|^2\\,dV
-      -\\int\\tfrac{(p-p_n)^2}{2M}\\,dV
-      +\\Delta t\\int_{\\Gamma_q}\\bar q\\,p\\,dS
-    \\quad\\text{s.t.}\\quad
-    \\int(\\sigma'-\\alpha p I):\\varepsilon(v)\\,dV = f(v)\\;\\forall v,\\quad
-    F(\\sigma')\\le 0,\\quad p=\\bar p\\text{ on }\\Gamma_p.        \\qquad (C.1)
+      & -\\tfrac12\\int(\\sigma'-\\sigma'_n):\\mathbb C^{-1}:(\\sigma'-\\sigma'_n)\\,dV
+        -\\tfrac{\\Delta t}{2}\\int\\tfrac{k}{\\gamma_w}|\\nabla p-\\rho_w\\mathbf g|^2\\,dV \\\\
+      & -\\int\\tfrac{(p-p_n)^2}{2M}\\,dV
+        +\\Delta t\\int_{\\Gamma_q}\\bar q\\,p\\,dS \\\\
+    \\text{s.t.}\\quad
+      & \\int(\\sigma'-\\alpha p I):\\varepsilon(v)\\,dV = f(v)\\;\\forall v, \\\\
+      & F(\\sigma')\\le 0,\\quad p=\\bar p\\text{ on }\\Gamma_p
+        \\qquad (C.1)
+    \\end{aligned}
 
 How it comes from Biot's principle. The kinematic form of the step minimises, over the
 displacement increment du and the water volume w = dt q that crosses each area during the

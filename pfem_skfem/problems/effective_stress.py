@@ -27,9 +27,11 @@ int sigma' : eps(v) - int p_h div v = the power of the loads, the water's on the
 edges, -int_free p_h n . v ds, included. With sigma' : eps <= D(eps),
 
 .. math::
-    \\alpha\\, f\\cdot v + f_0\\cdot v + \\Pi_p(v) \\le \\int D(\\varepsilon(v)),\\qquad
-    \\Pi_p(v) = \\int_\\Omega p_h \\nabla\\cdot v - \\int_{\\Gamma_{free}} p_h n\\cdot v
+    \\begin{aligned}
+    &\\alpha\\, f\\cdot v + f_0\\cdot v + \\Pi_p(v) \\le \\int D(\\varepsilon(v)),\\\\
+    &\\Pi_p(v) = \\int_\\Omega p_h \\nabla\\cdot v - \\int_{\\Gamma_{free}} p_h n\\cdot v
              = -\\int_\\Omega \\nabla p_h\\cdot v + \\int_{punch} p_h n\\cdot v,
+    \\end{aligned}
 
 the power of the pore pressure on the volumetric strain rate, written as the body force
 -grad p_h (integration by parts is exact: p_h and v are continuous; v . n = 0 on a
