@@ -7,7 +7,8 @@ K (the zero cone's rows E x = b_E, the others G x + s = h), infeasible start:
 
 1. residuals r_x = P x + c + A^T z, r_y = E x - b_E, r_z = G x + s - h and the gap
    mu = s^T z / nu (nu the number of cones); stop when Clarabel's tests hold
-   (:func:`measures`, the tolerances :data:`DEFAULTS`, Clarabel's names and values);
+   (the measures of ``_Problem``, the tolerances :data:`DEFAULTS`, Clarabel's names
+   and values);
 2. the scaling W at (s, z), lambda = W z = W^-1 s, the Newton system factorised once;
 3. the affine (predictor) direction: the linearised conditions with the complementarity
    lambda o (W dz + W^-1 ds) = -lambda o lambda; its largest step a in the cones;

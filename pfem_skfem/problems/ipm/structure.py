@@ -10,13 +10,12 @@ found once per problem (a PFEM step's pattern does not change between its iterat
   block of its own (a fluid point's pressure), unless it is in many equalities (a load
   factor's dense column: kept **free**); a variable in nothing is **dead** (zero);
 * each block's **null space**: the directions that neither P nor any cone sees (the mean
-  stress of a zero-dilation or Tresca point without compliance, a pressure). They cannot
-  be eliminated (H is singular there): they stay as unknowns beside the displacements,
-  one per direction, the "pressures" p of the augmented system;
+  stress of a zero-dilation or Tresca point without compliance, a pressure). H is
+  singular there: they are the "pressures", penalised and eliminated by
+  :mod:`.newton` (their constant E_N E_N^T kept here);
 * the constant dense pieces (P's blocks and square roots, each cone's rows on its block,
-  E's rows on each block, E N on the null directions) and the scatter of the blocks'
-  contributions into the lower triangle of the reduced matrix
-  [[E H^-1 E^T, E N], [N^T E^T, -delta I]] (displacements first, then pressures).
+  E's rows on each block, E_N = E N on the null directions) and the scatter of the
+  blocks' E_b H_b^+ E_b^T into the lower triangle of S, the displacements' matrix.
 """
 import numpy as np
 import scipy.sparse as sp
