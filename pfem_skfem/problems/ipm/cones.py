@@ -91,13 +91,6 @@ class Scaling:
         out[:, 1:] += u[:, 1:]
         return out / self.beta[:, None]
 
-    def squared(self):
-        """W^2 of each cone, shape (m, d, d)."""
-        m, d = self.v.shape
-        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
-        W = self.beta[:, None, None] * (2.0 * self.v[:, :, None] * self.v[:, None, :] - J)
-        return W @ W
-
     def inverse_matrix(self):
         """W^-1 of each cone, shape (m, d, d)."""
         m, d = self.v.shape
@@ -106,24 +99,20 @@ class Scaling:
         J = np.diag(np.r_[1.0, -np.ones(d - 1)])
         return (2.0 * jv[:, :, None] * jv[:, None, :] - J) / self.beta[:, None, None]
 
-    def inverse_squared(self):
-        """W^-2 of each cone, shape (m, d, d): the cone's block of the Newton matrix."""
-        m, d = self.v.shape
-        jv = self.v.copy()
-        jv[:, 1:] *= -1.0
-        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
-        Winv = (2.0 * jv[:, :, None] * jv[:, None, :] - J) / self.beta[:, None, None]
-        return Winv @ Winv
-
 
 def max_step(u, du):
     """The largest a >= 0 (inf where none binds) with u + a du in each cone, u interior:
     the first positive root of q(a) = (u + a du)^T J (u + a du), a quadratic with q(0) > 0
-    (it cannot leave the cone without q crossing zero)."""
+    (it cannot leave the cone without q crossing zero). For d = 1, q = u0^2 never
+    changes sign: the half line's own bound, u0 + a du0 = 0."""
+    step = np.full(len(u), np.inf)
+    if u.shape[1] == 1:
+        neg = du[:, 0] < 0
+        step[neg] = -u[neg, 0] / du[neg, 0]
+        return step
     a = jdot(du, du)
     b = 2.0 * jdot(u, du)
     c = jdot(u, u)
-    step = np.full(len(u), np.inf)
     disc = b * b - 4.0 * a * c
     real = disc >= 0
     root = np.sqrt(np.where(real, disc, 0.0))
@@ -135,10 +124,4 @@ def max_step(u, du):
     for r in (r1, r2):
         hit = real & (r > 0) & np.isfinite(r)
         step[hit] = np.minimum(step[hit], r[hit])
-    # a first coordinate that turns negative with q > 0 means u + a du passed through -K:
-    # impossible from the interior without q = 0 first, except for d = 1 (q = u0^2)
-    if u.shape[1] == 1:
-        neg = du[:, 0] < 0
-        step = np.full(len(u), np.inf)
-        step[neg] = -u[neg, 0] / du[neg, 0]
     return step

@@ -14,6 +14,8 @@ first: t is in no other dropped row).
 import numpy as np
 import scipy.sparse as sp
 
+from .structure import full_symmetric
+
 
 class Substitution:
     """The substitutions of one problem (none where no row qualifies)."""
@@ -70,8 +72,7 @@ class Substitution:
         rows_kept[self.rows] = False
         self.rows_kept = np.flatnonzero(rows_kept)
         self.n_rows = A.shape[0]
-        Pf = sp.csr_matrix(P)
-        self.P_full = Pf + sp.triu(Pf, 1).T if sp.tril(Pf, -1).nnz == 0 else Pf
+        self.P_full = full_symmetric(P)
         self.A, self.c = A, np.asarray(c, dtype=float)
         self.problem = (sp.csc_matrix(self.T.T @ self.P_full @ self.T),
                         self.T.T @ (self.c + self.P_full @ self.t0),

@@ -63,6 +63,12 @@ def cone_rows(cones):
     return zero, {d: np.concatenate(r) for d, r in sorted(groups.items())}
 
 
+def full_symmetric(P):
+    """P with both triangles (CSR), given Clarabel's upper triangle or both."""
+    P = sp.csr_matrix(P)
+    return (P + sp.triu(P, 1).T).tocsr() if sp.tril(P, -1).nnz == 0 else P
+
+
 def _membership(m, d):
     """The (m, m d) matrix summing each cone's d rows."""
     return sp.csr_matrix((np.ones(m * d), (np.repeat(np.arange(m), d), np.arange(m * d))),
@@ -81,8 +87,7 @@ class Structure:
         self.ET = self.E.T.tocsr()
         self.G = {d: A[rows.ravel()].tocsr() for d, rows in self.groups.items()}
         self.GT = {d: G.T.tocsr() for d, G in self.G.items()}
-        P = sp.csr_matrix(P)
-        self.P = (P + sp.triu(P, 1).T).tocsr() if sp.tril(P, -1).nnz == 0 else P
+        self.P = full_symmetric(P)
         links, self._incidence = abs(self.P), {}
         for d, rows in self.groups.items():               # variables in a common cone
             inc = (_membership(rows.shape[0], d) @ abs(self.G[d])).tocsr()
