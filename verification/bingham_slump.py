@@ -53,7 +53,7 @@ eps, alpha_U = 1 + 1.9-2.1 eps: the longitudinal stresses its shallow theory neg
 and its excess strength alpha - 1 shrinks with eps (the upper bound at the smaller eps
 below the lower bound at the larger). Stretched upright by s = sqrt(alpha) (a shallow
 heap's basal shear grows as s^2) it is at its limit: its bounds within --stretch-tol of 1
-(measured 0.99-1.07), so a 2D heap at its limit is about s - 1 = 0.9 eps taller than
+(measured 0.99-1.07; bounded on the heap's own last mesh stretched with it), so a 2D heap at its limit is about s - 1 = 0.9 eps taller than
 Nye's. Each deposit, the heap under its measured surface,
 stopped at its limit within --alpha-tol: alpha_U >= 1 - alpha_tol (not steeper than the
 continuum can hold; measured alpha 0.80-0.95 at n_h = 3.5-5: the PFEM's step, a few
@@ -80,7 +80,7 @@ from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoin
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
-             bound_elements=3000)
+             bound_elements=3000, deposit_rounds=2)
 
 #: argparse type of a relative tolerance of a gravity multiplier
 TOLERANCE = in_range(0, 1, low_open=True, high_open=True, what="a fraction in (0, 1)")
@@ -135,12 +135,13 @@ def nye_heap_mesh(eps, size, stretch=1.0):
     return heap_mesh(x, stretch * np.sqrt(np.clip(1 - eps * x, 0.0, None)), size)
 
 
-def limit_bracket(mesh, c, args):
+def limit_bracket(mesh, c, args, rounds=None, last=None):
     """alpha_L <= alpha <= alpha_U: the multiplier of gravity that a rigid-plastic body on
     ``mesh`` (unit weight, Tresca c: lengths in a height, order-one data) can carry on a
     floor y = 0 without slip against the smooth wall x = 0, both bounds strict
-    (:func:`pfem_skfem.drivers.bounds.adapt`: refined where they differ). Without slip is
-    the strongest floor: alpha_U bounds the body on any floor, alpha_L the rough one.
+    (:func:`pfem_skfem.drivers.bounds.adapt`: refined where they differ, ``rounds``
+    meshes, --bound-rounds by default). Without slip is the strongest floor: alpha_U
+    bounds the body on any floor, alpha_L the rough one.
 
     A bound that --solver cannot certify is asked of the other of :data:`FALLBACK`
     (measured: Clarabel stalls 'AlmostSolved' on some lower bounds of Nye's long heaps at
@@ -148,7 +149,8 @@ def limit_bracket(mesh, c, args):
     solve that fails in a later round leaves the best of the rounds before it, and its
     error as the status. A dict: lower, upper, elements (of the round that gave the lower
     bound), rounds, seconds, status (the error, or '') and solvers (those that certified
-    the bounds); NaN bounds where the first round failed: a failed check, not a number."""
+    the bounds); NaN bounds where the first round failed: a failed check, not a number.
+    The last mesh bounded is appended to the list ``last`` if one is given."""
     import warnings
 
     from pfem_skfem.drivers.bounds import adapt
@@ -164,17 +166,32 @@ def limit_bracket(mesh, c, args):
     try:
         with warnings.catch_warnings():     # AlmostSolved: still a strict bound (checked)
             warnings.simplefilter("ignore", AlmostSolvedWarning)
-            adapt(problem, rounds=args.bound_rounds, max_elements=args.bound_elements,
-                  target_gap=args.bound_gap, progress=done.append, solver=args.solver,
-                  fallback=tuple(FALLBACK - {args.solver}))
+            adapted = adapt(problem, rounds=rounds or args.bound_rounds,
+                            max_elements=args.bound_elements, target_gap=args.bound_gap,
+                            progress=done.append, solver=args.solver,
+                            fallback=tuple(FALLBACK - {args.solver}))
+        mesh = adapted.problem.mesh
     except SolverError as error:
         status = f"round {len(done) + 1}: {error}"
+    if last is not None:
+        last.append(mesh)
     best = max(done, key=lambda r: r.lower, default=None)
     return dict(lower=best.lower if done else np.nan,
                 upper=min(r.upper for r in done) if done else np.nan,
                 elements=best.elements if done else mesh.t.shape[1], rounds=len(done),
                 seconds=time.perf_counter() - t0, status=status,
                 solvers=sorted({name for r in done for name in r.solvers}))
+
+
+def stretched_bracket(mesh, s, c, args):
+    """:func:`limit_bracket` of a heap on ``mesh`` stretched upright by ``s``, the mesh
+    stretched with it, --stretch-rounds meshes: any mesh gives strict bounds, and the
+    last mesh of the unstretched heap's bracket is already refined where its bounds
+    differed."""
+    from skfem import MeshTri
+
+    return limit_bracket(MeshTri(mesh.p * np.array([[1.0], [s]]), mesh.t), c, args,
+                         rounds=args.stretch_rounds)
 
 
 def no_bracket(status):
@@ -187,13 +204,15 @@ def no_bracket(status):
 def deposit_bracket(r, args):
     """:func:`limit_bracket` of a slump's deposit, the heap under its measured surface h(x)
     (continued flat to the wall, down to the floor at its front x_f) in units of its
-    height at the wall, c = k H0 / h(0); elements of --bound-size h(0)."""
+    height at the wall, c = k H0 / h(0); elements of --bound-size h(0), --deposit-rounds
+    meshes."""
     h0 = r["h"][0]
     x = np.r_[0.0, r["xs"], r["x_f"]] / h0
     h = np.r_[r["h"][0], r["h"], 0.0] / h0
     if not np.all(np.isfinite(h)):              # a gap in the deposit: no heap to bound
         return no_bracket("a gap in the deposit's surface")
-    return limit_bracket(heap_mesh(x, h, args.bound_size), r["k"] * args.H0 / h0, args)
+    return limit_bracket(heap_mesh(x, h, args.bound_size), r["k"] * args.H0 / h0, args,
+                         rounds=args.deposit_rounds)
 
 
 def slump_scene(k, material, *, L0, H0, rho, g, mu, mu_f, spacing, dt, alpha_advected,
@@ -346,6 +365,12 @@ def build_parser():
                    help="a deposit's certified gravity multiplier may miss 1 by this much")
     p.add_argument("--stretch-tol", type=TOLERANCE, default=0.05,
                    help="Nye's heap stretched upright by sqrt(alpha) carries 1 within this")
+    p.add_argument("--deposit-rounds", type=positive_int, default=6,
+                   help="meshes of a deposit's bounds (fewer: a wider bracket, so the "
+                        "--alpha-tol checks only harder to pass)")
+    p.add_argument("--stretch-rounds", type=positive_int, default=1,
+                   help="meshes of the stretched heap's bounds, the first the last of the "
+                        "heap's own, stretched")
     adaptive_options(p, "bound", what="the limit bounds, drivers.bounds.adapt", rounds=6,
                      max_elements=opt(8000, dest="bound_elements"),
                      target_gap=opt(0.01, dest="bound_gap"),
@@ -386,14 +411,14 @@ def run(args):
     nye = {}
     for k in args.k:
         eps = aspect_ratio(k, args.H0, args.L0 * args.H0)
+        last = []
         nye[k] = dict(eps=eps, **limit_bracket(nye_heap_mesh(eps, args.bound_size), eps / 2,
-                                               args))
+                                               args, last=last))
         # the heap at its limit: Nye's stretched upright by s = sqrt(alpha), since a
         # shallow heap's basal shear rho g h h' grows as s^2 (alpha as s^-2)
         s = float(np.sqrt((nye[k]["lower"] + nye[k]["upper"]) / 2))
         nye[k]["stretch"] = s
-        nye[k]["stretched"] = (limit_bracket(nye_heap_mesh(eps, args.bound_size, s), eps / 2,
-                                             args) if np.isfinite(s)
+        nye[k]["stretched"] = (stretched_bracket(last[0], s, eps / 2, args) if np.isfinite(s)
                                else no_bracket("no bracket of Nye's heap to stretch"))
     report = Report("bingham_slump", args,
                     Reynolds=args.rho * np.sqrt(args.g * args.H0) * args.H0 / args.mu)
