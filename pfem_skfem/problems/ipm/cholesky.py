@@ -27,8 +27,11 @@ class Cholesky:
         self._I = matrix(np.asarray(rows, dtype=np.int32).astype(int))
         self._J = matrix(np.asarray(cols, dtype=int))
         cholmod.options["supernodal"] = 2            # CHOLMOD's default: automatic
-        pattern = spmatrix(1.0, self._I, self._J, (n, n))
-        self._F = cholmod.symbolic(pattern, uplo="L")
+        self._A = spmatrix(1.0, self._I, self._J, (n, n))
+        self._F = cholmod.symbolic(self._A, uplo="L")
+        # the values are handed over in place, in the matrix's compressed-column order
+        # (by column, then row), not rebuilt from triplets (a sort) each iteration
+        self._order = np.lexsort((np.asarray(rows), np.asarray(cols)))
 
     def factor(self, values):
         """The numeric factorisation with the lower triangle's ``values`` (in the order of
@@ -36,10 +39,9 @@ class Cholesky:
         self.factorisations += 1
         if self.n == 0:
             return
-        A = self._spmatrix(self._matrix(np.ascontiguousarray(values, dtype=float)),
-                           self._I, self._J, (self.n, self.n))
+        self._A.V = self._matrix(np.asarray(values, dtype=float)[self._order])
         try:
-            self._cholmod.numeric(A, self._F)
+            self._cholmod.numeric(self._A, self._F)
         except ArithmeticError as error:
             raise CholeskyError(f"the reduced Newton matrix is not positive definite "
                                 f"({error})") from None

@@ -219,14 +219,19 @@ class Structure:
         (E_N E_N^T / delta, and the blocks that no cone touches: an element's r', a
         pressure alone, whose H^+ is constant)."""
         nE = self.E.shape[0]
-        self.E_parts, keys, self.S_mask = {}, [], {}
+        self.E_parts, keys, self.S_mask, self.S_groups = {}, [], {}, {}
         en = [], [], []
         for size in self.blocks:
             dense, rows = self._dense_rows(size)
             self.E_parts[size] = (dense, rows)
-            i, k = rows[:, :, None], rows[:, None, :]
+            self.S_groups[size] = _same_rows(rows)
+            on = rows                                 # the rows of each scattered matrix
+            if self.S_groups[size] is not None:       # one E_g H_g^+ E_g^T per group
+                order, group = self.S_groups[size]
+                on = rows[order[::group]]
+            i, k = on[:, :, None], on[:, None, :]
             ok = np.broadcast_to((i >= 0) & (k >= 0) & (i >= k),
-                                 (rows.shape[0], rows.shape[1], rows.shape[1]))
+                                 (on.shape[0], on.shape[1], on.shape[1]))
             self.S_mask[size] = ok
             keys.append(np.broadcast_to(i, ok.shape)[ok].astype(np.int64) * nE
                         + np.broadcast_to(k, ok.shape)[ok])
@@ -302,8 +307,15 @@ class Structure:
 
 
     def scatter(self, size, U):
-        """The blocks' E_b H_b^+ E_b^T of ``size`` in S's values, H_b^+ = U_b U_b^T."""
+        """The blocks' E_b H_b^+ E_b^T of ``size`` in S's values, H_b^+ = U_b U_b^T;
+        blocks on the same rows of E (an element's stress points) summed first, as
+        [F_1 .. F_k] [F_1 .. F_k]^T: a third of the entries to scatter."""
         F = self.E_parts[size][0] @ U
+        if self.S_groups[size] is not None:   # the blocks on the same rows side by side
+            order, k = self.S_groups[size]
+            m, r, s = F.shape
+            F = F[order].reshape(m // k, k, r, s).transpose(0, 2, 1, 3).reshape(
+                m // k, r, k * s)
         S_b = F @ np.swapaxes(F, 1, 2)
         return np.bincount(self.S_slots[size], weights=S_b[self.S_mask[size]],
                            minlength=self.S_nnz)
@@ -313,3 +325,20 @@ class Structure:
         data = np.concatenate([mats[size].ravel() for size in self.blocks])[self.H_perm]
         n = self.where.shape[0]
         return sp.csr_matrix((data, self.H_indices, self.H_indptr), shape=(n, n))
+
+
+def _same_rows(rows):
+    """(order, k) where the blocks fall into groups of k > 1 on the same rows of E (the
+    stress points of one element), ``order`` listing each group's blocks side by side;
+    None where they do not (groups of different sizes, or every block alone)."""
+    m = rows.shape[0]
+    if m < 2:
+        return None
+    order = np.lexsort(rows.T[::-1])
+    ordered = rows[order]
+    new = np.r_[True, np.any(ordered[1:] != ordered[:-1], axis=1)]
+    counts = np.diff(np.r_[np.flatnonzero(new), m])
+    k = int(counts[0])
+    if k < 2 or np.any(counts != k):
+        return None
+    return order, k
