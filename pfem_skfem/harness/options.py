@@ -11,6 +11,9 @@ import math
 import re
 from pathlib import Path
 
+from .store import output_path_problem
+
+
 class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
     """argparse's "(default: ...)", once: not where the help states its default itself,
     nor for a flag or an option whose default is None (it said "(default: False)")."""
@@ -26,42 +29,6 @@ class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
 # rather than after the computation, which was lost (dest -> what it names)
 OUTPUT_PATHS = {"json": "file", "outdir": "directory", "results_dir": "directory",
                 "checkpoint_dir": "directory"}
-
-
-def output_path_problem(path, kind="file"):
-    """Why ``path`` cannot be written as a ``kind`` ("file" or "directory"), or None.
-
-    Nothing is created: the nearest existing folder on the way must be a folder in which a
-    file can be made (a probe file, removed); an existing ``path`` must be of its kind (and
-    a file writable)."""
-    import os
-    import tempfile
-    target = Path(path).expanduser()
-    if target.exists():
-        if kind == "file" and target.is_dir():
-            return f"{path} is a directory, not a file"
-        if kind == "directory" and not target.is_dir():
-            return f"{path} exists and is not a directory"
-        if kind == "file":
-            try:
-                with open(target, "r+b"):
-                    pass
-            except OSError as error:
-                return f"cannot write {path} ({error.strerror or error})"
-            return None
-        folder = target
-    else:
-        folder = target.parent
-        while not folder.exists() and folder != folder.parent:
-            folder = folder.parent
-        if not folder.is_dir():
-            return f"{folder} (on the way to {path}) is a file, not a directory"
-    try:
-        with tempfile.TemporaryFile(dir=folder, prefix=".write-probe-"):
-            pass
-    except OSError as error:
-        return f"cannot write in {folder} ({error.strerror or error})"
-    return None
 
 
 #: the folder under ``--outdir`` of a ``--quick`` run's figures and VTU files
@@ -221,7 +188,6 @@ class OptionError(ValueError):
     error of the script (:func:`script_main`), not a traceback."""
 
 
-
 def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
              integer=False, unit="", what=None):
     """argparse type: a number in an interval, its error naming the range and the value.
@@ -299,14 +265,6 @@ poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
 fraction = in_range(0, 1, what="a fraction in [0, 1]")
 theta_weight = in_range(0.5, 1, what="a theta-method weight in [1/2, 1]")
 element_count = in_range(4, integer=True, what="a number of elements >= 4")
-
-
-def positive(name=None):
-    """argparse type: a positive float (the older spelling of :data:`positive_float`).
-
-    ``name`` is not needed (argparse names the option) and kept for older scripts.
-    """
-    return positive_float
 
 
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
