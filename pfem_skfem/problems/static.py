@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import cvxpy as cp
 import numpy as np
 
-from .conic import (Scaling, SolveInfo, SolverError, certify, prescribed_values, solve,
-                    solver_backend, split_dofs)
+from .conic import (Scaling, SolveInfo, SolverError, certify, point_multipliers,
+                    prescribed_values, solve, solver_backend, split_dofs)
 from .contact import contact_terms
 
 
@@ -178,16 +178,6 @@ def _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing, 
     reactions[free] = 0.0
     multiplier = point_multipliers(yield_cone.dual_value[0], n) * sc.length * u_ref
     return StaticIncrement(sigma, du, reactions, multiplier, info, p, q)
-
-
-def point_multipliers(dual, n):
-    """Yield-cone duals as one value per stress point (summed over a criterion's cones).
-
-    Criteria with several cones per point (``n_cones``, cone-major order, e.g. exact
-    Mohr-Coulomb in axisymmetry) give n_cones x n duals; one cone gives them as they are.
-    """
-    dual = np.asarray(dual).ravel()
-    return dual if dual.size == n else dual.reshape(-1, n).sum(axis=0)
 
 
 @dataclass

@@ -21,8 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .conic import SolveInfo, prescribed_values, split_dofs
-from .static import point_multipliers
+from .conic import SolveInfo, point_multipliers, prescribed_values, split_dofs
 
 
 @dataclass(frozen=True)
