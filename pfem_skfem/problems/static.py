@@ -27,7 +27,7 @@ import numpy as np
 
 from .conic import (Scaling, SolveInfo, SolverError, certify, point_multipliers,
                     prescribed_values, solve, solver_backend, split_dofs)
-from .step_scaling import ScaledSolution
+from .step_scaling import ScaledSolution, StepUnits
 from .step_terms import Compliance, Contact, PrescribedWork
 
 
@@ -57,7 +57,7 @@ class StaticIncrement:
 
 
 @dataclass
-class StaticStep:
+class StaticStep(StepUnits):
     """The scaled data of one increment of (3.45), in the names its terms read in the dynamic
     step's :class:`~pfem_skfem.problems.step_scaling.ScaledStep`.
 
@@ -81,23 +81,6 @@ class StaticStep:
     Ch: object = None
     kappa_C = 1.0
     theta1 = 1.0
-
-    @property
-    def n(self):
-        """Stress points."""
-        return self.Bh.shape[0] // 4
-
-    @property
-    def n_u(self):
-        return self.Bh.shape[1]
-
-    @property
-    def force(self):
-        return self.stress * self.length
-
-    @property
-    def j_ref(self):
-        return self.force * self.u_ref
 
 
 class StaticStatement:
