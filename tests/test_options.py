@@ -13,7 +13,9 @@ known validator nor a row in ``CHECKS``.
 
 One spelling (CONTRIBUTING.md, ``options.OPTION_SPELLING``): the parsers of every script
 and of ``pfem-skfem`` are walked; and an option of a shared group (``GROUPS``) is declared
-through its group, not by hand, unless it names another thing (``OTHER_MEANINGS``).
+through its group, not by hand, unless it names another thing (``OTHER_MEANINGS``; a
+symbol that names another thing in many scripts, ``SYMBOLS_OF_SEVERAL``, is checked only
+where the script uses its group).
 """
 import argparse
 import importlib
@@ -85,6 +87,12 @@ OTHER_MEANINGS = {
     ("fluid_films", "--h"): "the film's depth h, not a particle spacing",
     ("inclined_plane_flow", "--h"): "the layer's depth h, not a particle spacing",
 }
+
+# a group's symbol that other scripts use for another thing: declared through its group where
+# the script uses that group (a softening run's --H), by hand elsewhere (a height H)
+SYMBOLS_OF_SEVERAL = {"--H": "a height elsewhere (a slope's, a column's)",
+                      "--k": "bingham_slump's yield numbers k = tau_y / (rho g H0)",
+                      "--increments": "the footings' and the cylinder's load increments"}
 
 # options of a bare float: any number is meant, or the script's check says what is not
 ANY_NUMBER = {("accretionary_wedge", "--taper"): "a surface slope may dip either way",
@@ -220,8 +228,12 @@ def test_a_group_option_is_declared_by_its_group(name):
     their validator; a script gives their defaults (and, where it must, its help)."""
     shared = {options.option_name(key): group for group, specs in options.GROUPS.items()
               if group != "adaptive" for key in specs}
-    for _, action in _actions(_parser(name)):
+    actions = [action for _, action in _actions(_parser(name))]
+    used = {getattr(action, "option_group", None) for action in actions}
+    for action in actions:
         for text in action.option_strings:
+            if text in SYMBOLS_OF_SEVERAL and shared.get(text) not in used:
+                continue                                # a height H, not a softening modulus
             if text in shared and (name, text) not in OTHER_MEANINGS:
                 assert getattr(action, "option_group", None) == shared[text], \
                     f"{name}: {text} by hand: declare it with {shared[text]}_options"
@@ -248,6 +260,26 @@ def test_the_groups_declare_what_a_script_gives():
     assert helps["mc_rounds"] == "adaptive rounds (the footing)"
     with pytest.raises(TypeError, match="no option psi"):
         options.material_options(parser, psi=0.0)
+
+
+def test_the_saturated_and_softening_groups_declare_their_symbols():
+    """``--M-inv``, ``--Tv-end``, ``--c-p``: the symbol's case kept, its parts hyphenated;
+    the help's unit from ``units``; a script's validator (``opt(type=...)``) replaces the
+    group's."""
+    parser = argparse.ArgumentParser()
+    options.saturated_options(parser, k=1e-8, gamma_w=9.81, M_inv=0.0, Tv_end=1.0)
+    options.softening_options(parser, c_p=20.0, H=-20.0,
+                              ell=options.opt(0.2, type=options.positive_float))
+    args = parser.parse_args(["--M-inv", "1e-5", "--Tv-end", "2", "--c-p", "30"])
+    assert (args.k, args.gamma_w, args.M_inv, args.Tv_end, args.c_p, args.H, args.ell) == \
+        (1e-8, 9.81, 1e-5, 2.0, 30.0, -20.0, 0.2)
+    helps = {a.dest: a.help for a in parser._actions}
+    assert helps["gamma_w"] == "unit weight of water gamma_w [kN/m3]"
+    assert helps["M_inv"] == "1/M, the storage (inverse Biot modulus) [1/kPa]"
+    assert helps["c_p"] == "peak strength c_p [kPa]"
+    for argv in (["--H", "5"], ["--ell", "0"], ["--k", "0"]):
+        with pytest.raises(SystemExit):
+            parser.parse_args(argv)
 
 
 @pytest.mark.parametrize("group", sorted(options.GROUPS))

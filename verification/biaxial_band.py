@@ -32,9 +32,8 @@ import sys
 import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, in_range, material_options,
-                                        nonnegative_float, opt, pfem_options, positive_float,
-                                        positive_int)
+from pfem_skfem.harness.options import (base_parser, material_options, opt, pfem_options,
+                                        positive_float, softening_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(h=0.12, max_drop=0.05)
@@ -103,24 +102,15 @@ def build_parser():
     p.add_argument("--width", type=positive_float, default=1.0, help="specimen width W [m]")
     p.add_argument("--height", type=positive_float, default=2.0, help="specimen height [m]")
     pfem_options(p, h=opt(0.06, "element size h of the Triangle mesh [m]"))
-    p.add_argument("--G", type=positive_float, default=2000.0, help="shear modulus G [kPa]")
-    material_options(p, nu=0.3, phi=opt(0.0, "friction angle phi [deg] (> 0: Mohr-Coulomb "
-                                           "with zero dilation, [80])"))
-    p.add_argument("--c-p", type=positive_float, default=20.0, help="peak strength c_p [kPa]")
-    p.add_argument("--c-r", type=positive_float, default=5.0, help="residual strength c_r [kPa]")
-    p.add_argument("--H", type=in_range(high=0, high_open=True, what="a negative number"),
-                   default=-20.0, help="softening modulus H = dc/dgamma^p [kPa]")
-    p.add_argument("--ell", type=nonnegative_float, default=0.2,
-                   help="regularisation length ell [m] (0: local softening)")
+    material_options(p, G=2000.0, nu=0.3,
+                     phi=opt(0.0, "friction angle phi [deg] (> 0: Mohr-Coulomb with zero "
+                                  "dilation, [80])"))
+    softening_options(p, c_p=20.0, c_r=5.0, H=-20.0, ell=0.2,
+                      epsilon=opt(0.05, "the seed starts this fraction down the law"),
+                      increments=20, max_drop=0.02)
     p.add_argument("--r0", type=positive_float, default=0.15, help="radius of the seed [m]")
-    p.add_argument("--epsilon", type=in_range(0, 1, low_open=True, high_open=True),
-                   default=0.05, help="the seed starts this fraction down the law")
     p.add_argument("--delta", type=positive_float, default=0.15,
                    help="the platen's final displacement [m]")
-    p.add_argument("--increments", type=positive_int, default=20,
-                   help="base increments (halved where the cap asks)")
-    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), default=0.02,
-                   help="cap on the strength drop of an increment, / (c_p - c_r)")
     return p
 
 

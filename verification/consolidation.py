@@ -52,8 +52,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
-                                        positive_float, positive_int)
+from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
+                                        positive_int, saturated_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=10, dTv=0.001, L=20.0, h_min=0.1, h_max=4.0)
@@ -341,18 +341,11 @@ def build_parser():
                    help="element size at the strip's edge [m]")
     p.add_argument("--h-max", type=positive_float, default=6.0,
                    help="largest element size of the strip's domain [m]")
-    p.add_argument("--q", type=positive_float, default=100.0, help="load q on the top [kPa]")
-    p.add_argument("--k", type=positive_float, default=1e-8,
-                   help="hydraulic conductivity k [m/s]")
-    p.add_argument("--gamma-w", type=positive_float, default=9.81,
-                   help="unit weight of water gamma_w [kN/m^3]")
-    p.add_argument("--M-inv", type=nonnegative_float, default=0.0,
-                   help="1/M, the storage (inverse Biot modulus) [1/kPa]; 0: incompressible "
-                        "constituents")
-    p.add_argument("--dTv", type=positive_float, default=0.0005,
-                   help="time step in T_v up to T_v = 0.1 (5 dTv after)")
-    p.add_argument("--Tv-end", type=positive_float, default=128.0,
-                   help="the last T_v (doubling steps after T_v = 1): the drained limit")
+    saturated_options(p, q=opt(100.0, "load q on the top [kPa]"), k=1e-8, gamma_w=9.81,
+                      M_inv=opt(0.0, why="0: incompressible constituents"),
+                      dTv=opt(0.0005, "time step in T_v up to T_v = 0.1 (5 dTv after)"),
+                      Tv_end=opt(128.0, "the last T_v (doubling steps after T_v = 1): the "
+                                        "drained limit"))
     material_options(p, E=opt(1e4, "Young's modulus E of the skeleton [kPa]"),
                      nu=opt(0.2, "Poisson's ratio nu' of the skeleton"))
     return p

@@ -42,7 +42,7 @@ import numpy as np
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options, opt,
-                                        positive_float, positive_int)
+                                        positive_float, positive_int, saturated_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=10, dTv=0.005)
@@ -159,14 +159,8 @@ def build_parser():
     p.add_argument("--W", type=positive_float, default=0.2, help="column width W [m]")
     p.add_argument("--n", type=positive_int, default=20,
                    help="particle spacings over the height (h = H / n)")
-    p.add_argument("--q", type=positive_float, default=100.0,
-                   help="rise q of the top's pore pressure at t = 0 [kPa]")
-    p.add_argument("--k", type=positive_float, default=1e-8,
-                   help="hydraulic conductivity k [m/s]")
-    p.add_argument("--gamma-w", type=positive_float, default=9.81,
-                   help="unit weight of water gamma_w [kN/m^3]")
-    p.add_argument("--dTv", type=positive_float, default=0.0025, help="time step in T_v")
-    p.add_argument("--Tv-end", type=positive_float, default=1.0, help="the last T_v")
+    saturated_options(p, q=opt(100.0, "rise q of the top's pore pressure at t = 0 [kPa]"),
+                      k=1e-8, gamma_w=9.81, dTv=0.0025, Tv_end=1.0)
     material_options(p, E=opt(1e5, "Young's modulus E of the skeleton [kPa] (q / E_oed small: "
                                    "Terzaghi's small strains)"),
                      nu=opt(0.2, "Poisson's ratio nu' of the skeleton"),

@@ -51,7 +51,7 @@ from pfem_skfem.discretisation.meshes import (graded_rectangle_with_elements,
 from pfem_skfem.drivers.bounds import factor_of_safety
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, in_range,
-                                        material_options, opt, positive_float)
+                                        material_options, opt, positive_float, saturated_options)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.materials import MohrCoulomb, Tresca
@@ -132,8 +132,7 @@ def build_parser():
     g.add_argument("--H", type=positive_float, default=10.0, help="slope height H [m]")
     g.add_argument("--gamma", type=positive_float, default=20.0,
                    help="saturated unit weight gamma_sat of slope and footing soil [kN/m3]")
-    g.add_argument("--gamma-w", type=positive_float, default=9.81,
-                   help="unit weight of water gamma_w [kN/m3]")
+    saturated_options(g, gamma_w=9.81)
     material_options(g, c=opt(10.0, "effective cohesion c' of the slope (c' / (gamma H) = "
                                     "0.05: Griffiths & Lane)"),
                      phi=opt(20.0, "effective friction angle phi' of the slope"),

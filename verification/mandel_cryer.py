@@ -36,7 +36,7 @@ import scipy.sparse as sp
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
-                                        positive_int)
+                                        positive_int, saturated_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=10, dT=0.001, nrefs=3, dT_cryer=0.0025)
@@ -277,12 +277,8 @@ def build_parser():
                    help="refinements of the disc whose quarter is Cryer's (hemi)sphere")
     p.add_argument("--dT-cryer", type=positive_float, default=0.001,
                    help="the sphere's time step in c t / a^2 (to 0.3)")
-    p.add_argument("--q", type=positive_float, default=100.0,
-                   help="the plate's mean stress, the sphere's surface pressure q [kPa]")
-    p.add_argument("--k", type=positive_float, default=1e-8,
-                   help="hydraulic conductivity k [m/s]")
-    p.add_argument("--gamma-w", type=positive_float, default=9.81,
-                   help="unit weight of water gamma_w [kN/m^3]")
+    saturated_options(p, q=opt(100.0, "the plate's mean stress, the sphere's surface pressure "
+                                      "q [kPa]"), k=1e-8, gamma_w=9.81)
     material_options(p, E=opt(1e4, "Young's modulus E of the skeleton [kPa]"),
                      nu=opt(0.2, "Poisson's ratio nu' of the skeleton"))
     return p

@@ -39,7 +39,7 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt,
-                                        positive_float, time_options)
+                                        positive_float, softening_options, time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=5, sensitivities=[1.0, 10.0])
@@ -120,16 +120,14 @@ def build_parser():
                    help="particles across the height")
     p.add_argument("--N", type=in_range(CUT_UPPER, low_open=True), default=6.0,
                    help="stability number rho g H / c_p (above the cut's 3.786: it fails)")
-    p.add_argument("--sensitivities", type=in_range(1.0), nargs="+", default=[1.0, 3.0, 10.0],
-                   help="sensitivities S_t = c_p / c_r, the first 1 (no softening)")
-    p.add_argument("--gamma-r", type=positive_float, default=0.2,
-                   help="plastic shear strain gamma_r at the residual strength")
+    softening_options(p, sensitivities=opt([1.0, 3.0, 10.0], "sensitivities S_t = c_p / c_r, "
+                                           "the first 1 (no softening)", nargs="+"),
+                      gamma_r=0.2,
+                      max_drop=opt(0.5, "cap on a step's strength drop, a fraction of c_p - c_r "
+                                        "(the next step's dt is halved above it)"))
     p.add_argument("--E-over-c", type=positive_float, default=500.0,
                    help="Young's modulus over c_p")
     p.add_argument("--mu", type=nonnegative_float, default=0.5, help="floor friction mu")
-    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), default=0.5,
-                   help="cap on a step's strength drop, a fraction of c_p - c_r (the next "
-                        "step's dt is halved above it)")
     material_options(p, units="kPa", rho=2.0, g=9.8, nu=0.45)
     time_options(p, dt=opt(0.05, "time step, in units of sqrt(H / g)"),
                  t_end=opt(5.0, "end time, in units of sqrt(H / g)"))

@@ -51,7 +51,7 @@ from skfem import MeshTri
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, material_options, opt,
-                                        pfem_options, positive_float, positive_int)
+                                        pfem_options, positive_float, softening_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(rows=[10, 20, 40], max_drop=[0.04, 0.01])
@@ -191,30 +191,23 @@ def check(args):
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--L", type=positive_float, default=1.0, help="layer height L [m]")
-    p.add_argument("--G", type=positive_float, default=2000.0, help="shear modulus G [kPa]")
-    material_options(p, nu=0.3)
-    p.add_argument("--c-p", type=positive_float, default=20.0, help="peak strength c_p [kPa]")
-    p.add_argument("--c-r", type=positive_float, default=5.0, help="residual strength c_r [kPa]")
-    p.add_argument("--H", type=in_range(high=0, high_open=True, what="a negative number"),
-                   default=-20.0, help="softening modulus H = dc/dgamma^p of the linear law [kPa]")
-    p.add_argument("--gamma-95", type=positive_float, default=2.0,
-                   help="gamma_95 of the exponential law (run on the coarsest mesh)")
-    p.add_argument("--ell", type=positive_float, default=0.2,
-                   help="regularisation length ell [m]: gamma_r holds for a band ell thick")
-    p.add_argument("--ell-nonlocal", type=positive_float, default=0.2,
-                   help="length of the nonlocal average of gamma^p [m]")
-    p.add_argument("--epsilon", type=in_range(0, 1, low_open=True, high_open=True),
-                   default=0.01, help="the weak row starts this fraction down the law")
+    material_options(p, G=2000.0, nu=0.3)
+    softening_options(p, c_p=20.0, c_r=5.0,
+                      H=opt(-20.0, "softening modulus H = dc/dgamma^p of the linear law [kPa]"),
+                      gamma_95=opt(2.0, "gamma_95 of the exponential law (run on the coarsest "
+                                        "mesh)"),
+                      ell=opt(0.2, "regularisation length ell [m]: gamma_r holds for a band ell "
+                                   "thick", type=positive_float),
+                      ell_nonlocal=0.2,
+                      epsilon=opt(0.01, "the weak row starts this fraction down the law"),
+                      max_drop=opt([0.04, 0.02, 0.01, 0.005], nargs="+",
+                                   help="caps on the strength drop of an increment, "
+                                        "/ (c_p - c_r); the finest serves every mesh"),
+                      increments=10)
     p.add_argument("--rows", type=in_range(2, integer=True), nargs="+", default=[10, 20, 40],
                    help="rows of the meshes (h = L / rows)")
-    p.add_argument("--max-drop", type=in_range(0, 1, low_open=True), nargs="+",
-                   default=[0.04, 0.02, 0.01, 0.005],
-                   help="caps on the strength drop of an increment, / (c_p - c_r); the "
-                        "finest serves every mesh")
     pfem_options(p, passes=opt(20, "most fixed-point passes of an increment in the "
                                    "fixed-point run (strength at the trial end)"))
-    p.add_argument("--increments", type=positive_int, default=10,
-                   help="base increments (halved where the cap asks)")
     p.add_argument("--delta-end", type=in_range(1, low_open=True), default=1.2,
                    help="the run's end, a multiple of its delta_r")
     p.add_argument("--row-kinematics", choices=("linear", "p2"), default="linear",

@@ -2,7 +2,8 @@
 the output paths), the typed validators (an error names the option, its range and the
 value given) and the option groups several scripts share, each option declared once with
 its validator and help: :func:`material_options`, :func:`pfem_options` (PFEM numerics),
-:func:`time_options`, :func:`adaptive_options` (a limit-bound loop), :func:`sweep_options`,
+:func:`time_options`, :func:`adaptive_options` (a limit-bound loop), :func:`saturated_options`
+(a saturated soil), :func:`softening_options` (a softening law), :func:`sweep_options`,
 :func:`checkpoint_options`. One spelling (:data:`OPTION_SPELLING`): hyphens join the parts
 of a name. The table of the validators is in :mod:`pfem_skfem.harness.report`.
 """
@@ -10,6 +11,9 @@ import argparse
 import math
 import re
 from pathlib import Path
+
+from .store import output_path_problem
+
 
 class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
     """argparse's "(default: ...)", once: not where the help states its default itself,
@@ -26,42 +30,6 @@ class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
 # rather than after the computation, which was lost (dest -> what it names)
 OUTPUT_PATHS = {"json": "file", "outdir": "directory", "results_dir": "directory",
                 "checkpoint_dir": "directory"}
-
-
-def output_path_problem(path, kind="file"):
-    """Why ``path`` cannot be written as a ``kind`` ("file" or "directory"), or None.
-
-    Nothing is created: the nearest existing folder on the way must be a folder in which a
-    file can be made (a probe file, removed); an existing ``path`` must be of its kind (and
-    a file writable)."""
-    import os
-    import tempfile
-    target = Path(path).expanduser()
-    if target.exists():
-        if kind == "file" and target.is_dir():
-            return f"{path} is a directory, not a file"
-        if kind == "directory" and not target.is_dir():
-            return f"{path} exists and is not a directory"
-        if kind == "file":
-            try:
-                with open(target, "r+b"):
-                    pass
-            except OSError as error:
-                return f"cannot write {path} ({error.strerror or error})"
-            return None
-        folder = target
-    else:
-        folder = target.parent
-        while not folder.exists() and folder != folder.parent:
-            folder = folder.parent
-        if not folder.is_dir():
-            return f"{folder} (on the way to {path}) is a file, not a directory"
-    try:
-        with tempfile.TemporaryFile(dir=folder, prefix=".write-probe-"):
-            pass
-    except OSError as error:
-        return f"cannot write in {folder} ({error.strerror or error})"
-    return None
 
 
 #: the folder under ``--outdir`` of a ``--quick`` run's figures and VTU files
@@ -221,7 +189,6 @@ class OptionError(ValueError):
     error of the script (:func:`script_main`), not a traceback."""
 
 
-
 def in_range(low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
              integer=False, unit="", what=None):
     """argparse type: a number in an interval, its error naming the range and the value.
@@ -299,14 +266,6 @@ poisson_ratio = in_range(-1, 0.5, low_open=True, high_open=True,
 fraction = in_range(0, 1, what="a fraction in [0, 1]")
 theta_weight = in_range(0.5, 1, what="a theta-method weight in [1/2, 1]")
 element_count = in_range(4, integer=True, what="a number of elements >= 4")
-
-
-def positive(name=None):
-    """argparse type: a positive float (the older spelling of :data:`positive_float`).
-
-    ``name`` is not needed (argparse names the option) and kept for older scripts.
-    """
-    return positive_float
 
 
 SCHEDULER_SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
@@ -388,8 +347,10 @@ on_off = ("on", "off")
 
 #: the units of a script's quantities (``material_options(units=...)``): the thesis' kN, m,
 #: t, s (stresses in kPa), SI (Pa), the trusses' N and mm, or none (a dimensionless study)
-UNITS = {"kPa": dict(density="t/m3", stress="kPa", acceleration="m/s2", angle="deg"),
-         "Pa": dict(density="kg/m3", stress="Pa", acceleration="m/s2", angle="deg"),
+UNITS = {"kPa": dict(density="t/m3", stress="kPa", acceleration="m/s2", angle="deg",
+                    unit_weight="kN/m3", compliance="1/kPa"),
+         "Pa": dict(density="kg/m3", stress="Pa", acceleration="m/s2", angle="deg",
+                   unit_weight="N/m3", compliance="1/Pa"),
          "N/mm2": dict(stress="N/mm^2", angle="deg"),
          None: dict(angle="deg")}
 
@@ -426,6 +387,7 @@ MATERIAL = {
     "rho": _Spec(positive_float, "density", "density"),
     "g": _Spec(positive_float, "gravity", "acceleration"),
     "E": _Spec(positive_float, "Young's modulus", "stress"),
+    "G": _Spec(positive_float, "shear modulus G", "stress"),
     "nu": _Spec(poisson_ratio, "Poisson's ratio"),
     "c": _Spec(positive_float, "cohesion", "stress"),
     "su": _Spec(positive_float, "undrained shear strength Su", "stress"),
@@ -484,9 +446,39 @@ ADAPTIVE = {
     "max_elements": _Spec(element_count, "largest adapted mesh"),
 }
 
+#: a saturated soil (Biot, Terzaghi): its water, its storage, its load, its time factor T_v
+SATURATED = {
+    "k": _Spec(positive_float, "hydraulic conductivity k [m/s]"),
+    "gamma_w": _Spec(positive_float, "unit weight of water gamma_w", "unit_weight"),
+    "M_inv": _Spec(nonnegative_float, "1/M, the storage (inverse Biot modulus)", "compliance"),
+    "q": _Spec(positive_float, "load q", "stress"),
+    "dTv": _Spec(positive_float, "time step in T_v"),
+    "Tv_end": _Spec(positive_float, "the last T_v"),
+}
+
+#: a softening law (c_p to c_r over the plastic shear strain), its regularisation and the
+#: steps of a softening run
+SOFTENING = {
+    "c_p": _Spec(positive_float, "peak strength c_p", "stress"),
+    "c_r": _Spec(positive_float, "residual strength c_r", "stress"),
+    "sensitivities": _Spec(in_range(1.0), "sensitivity S_t = c_p / c_r"),
+    "H": _Spec(in_range(high=0, high_open=True, what="a negative number"),
+               "softening modulus H = dc/dgamma^p", "stress"),
+    "gamma_r": _Spec(positive_float, "plastic shear strain gamma_r at the residual strength"),
+    "gamma_95": _Spec(positive_float, "gamma_95 of the exponential law"),
+    "ell": _Spec(nonnegative_float, "regularisation length ell [m] (0: local softening)"),
+    "ell_nonlocal": _Spec(positive_float, "length of the nonlocal average of gamma^p [m]"),
+    "epsilon": _Spec(in_range(0, 1, low_open=True, high_open=True),
+                     "the weak zone starts this fraction down the law"),
+    "max_drop": _Spec(in_range(0, 1, low_open=True),
+                      "cap on the strength drop of an increment, / (c_p - c_r)"),
+    "increments": _Spec(positive_int, "base increments (halved where the cap asks)"),
+}
+
 #: group name -> its options (the vocabulary: tests/test_options.py checks that no script
 #: declares one of these names by hand unless it names another thing)
-GROUPS = {"material": MATERIAL, "pfem": PFEM, "time": TIME, "adaptive": ADAPTIVE}
+GROUPS = {"material": MATERIAL, "pfem": PFEM, "time": TIME, "adaptive": ADAPTIVE,
+          "saturated": SATURATED, "softening": SOFTENING}
 
 
 def option_name(name, prefix=""):
@@ -554,6 +546,21 @@ def adaptive_options(parser, prefix="", what="", **options):
     ``max_elements``), named ``--PREFIX-NAME`` (``adaptive_options(g, "mc", rounds=5)``:
     ``--mc-rounds``, ``args.mc_rounds``); ``what`` names the loop in the help."""
     return _declare(parser, "adaptive", options, prefix=prefix, what=what)
+
+
+def saturated_options(parser, units="kPa", **options):
+    """Add the options of a saturated soil given (:data:`SATURATED`): ``--k``, ``--gamma-w``,
+    ``--M-inv``, the load ``--q`` and the time factor's ``--dTv``, ``--Tv-end``; each keyword
+    the option's default or an :class:`opt`."""
+    return _declare(parser, "saturated", options, units=units)
+
+
+def softening_options(parser, units="kPa", **options):
+    """Add the options of a softening law given (:data:`SOFTENING`): ``--c-p``, ``--c-r``,
+    ``--sensitivities``, ``--H``, ``--gamma-r``, ``--gamma-95``, ``--ell``,
+    ``--ell-nonlocal``, ``--epsilon``, ``--max-drop``, ``--increments``; each keyword the
+    option's default or an :class:`opt`."""
+    return _declare(parser, "softening", options, units=units)
 
 
 def bad_values(action):

@@ -4,7 +4,8 @@ A long run's checkpoint (:func:`checkpoint_path`) and a sweep's kept result
 (:func:`pfem_skfem.harness.sweeps.result_path`) are found again by the parameters that
 define them (``tests/test_store.py`` pins the names the kept runs of ``runs/`` have); a
 file is written under a temporary name and renamed, so that a stop while writing leaves
-the previous one whole.
+the previous one whole. Before any work, :func:`output_path_problem` says why a path an
+option names cannot be written (the parser's check of ``--json``, ``--outdir``, ...).
 """
 import json
 import math
@@ -61,3 +62,38 @@ def _dump_pickle(value, path):
     with open(path.with_suffix(".tmp"), "wb") as stream:
         pickle.dump(value, stream)
     os.replace(path.with_suffix(".tmp"), path)
+
+
+def output_path_problem(path, kind="file"):
+    """Why ``path`` cannot be written as a ``kind`` ("file" or "directory"), or None.
+
+    Nothing is created: the nearest existing folder on the way must be a folder in which a
+    file can be made (a probe file, removed); an existing ``path`` must be of its kind (and
+    a file writable)."""
+    import tempfile
+    target = Path(path).expanduser()
+    if target.exists():
+        if kind == "file" and target.is_dir():
+            return f"{path} is a directory, not a file"
+        if kind == "directory" and not target.is_dir():
+            return f"{path} exists and is not a directory"
+        if kind == "file":
+            try:
+                with open(target, "r+b"):
+                    pass
+            except OSError as error:
+                return f"cannot write {path} ({error.strerror or error})"
+            return None
+        folder = target
+    else:
+        folder = target.parent
+        while not folder.exists() and folder != folder.parent:
+            folder = folder.parent
+        if not folder.is_dir():
+            return f"{folder} (on the way to {path}) is a file, not a directory"
+    try:
+        with tempfile.TemporaryFile(dir=folder, prefix=".write-probe-"):
+            pass
+    except OSError as error:
+        return f"cannot write in {folder} ({error.strerror or error})"
+    return None

@@ -538,3 +538,13 @@ def prescribed_values(prescribed, values):
     if values.shape != np.shape(prescribed):
         raise ValueError("du_prescribed must give one value per prescribed dof")
     return values
+
+
+def point_multipliers(dual, n):
+    """Yield-cone duals as one value per stress point (summed over a criterion's cones).
+
+    Criteria with several cones per point (``n_cones``, cone-major order, e.g. exact
+    Mohr-Coulomb in axisymmetry) give n_cones x n duals; one cone gives them as they are.
+    """
+    dual = np.asarray(dual).ravel()
+    return dual if dual.size == n else dual.reshape(-1, n).sum(axis=0)

@@ -63,9 +63,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..discretisation.pressure import drained_dofs, element_flux
-from .conic import (Scaling, SolveInfo, prescribed_values, solve, solver_backend,
-                    split_dofs)
-from .static import point_multipliers
+from .conic import (Scaling, SolveInfo, point_multipliers, prescribed_values, solve,
+                    solver_backend, split_dofs)
 
 
 def _finite(name, value, low=-np.inf, *, strict=False, infinite=False):

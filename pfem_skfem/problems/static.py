@@ -9,15 +9,26 @@ when its own measures certify it (:func:`~pfem_skfem.problems.conic.certify`).
 Sign convention, settled by the KKT conditions (3.47) and the tests: with the
 Lagrangian J = -1/2 ds^T C ds + du^T (B^T s - f) of (3.46), cvxpy's dual y of the
 equality in a maximisation is -du.
+
+The increment (3.45) is equilibrium and the yield cones; its optional parts are the terms of
+:mod:`~pfem_skfem.problems.step_terms`, the objects the dynamic step (4.23) adds, in this
+order: the compliance when C is given (:class:`~pfem_skfem.problems.step_terms.Compliance`),
+the caller's (contacts (5.12), :class:`~pfem_skfem.problems.step_terms.Contact`; springs,
+:class:`~pfem_skfem.problems.step_terms.ElasticSupport`), and the work of the reactions on
+the prescribed dofs (:class:`~pfem_skfem.problems.step_terms.PrescribedWork`). Each writes
+its part of the cvxpy statement (:class:`StaticStatement`) in the scaled units of
+:class:`StaticStep`, the names of the dynamic step's; a term that needs a time step (a rate
+stress) says so (``StepTerm.static``) and is refused.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import cvxpy as cp
 import numpy as np
 
-from .conic import (Scaling, SolveInfo, SolverError, certify, prescribed_values, solve,
-                    solver_backend, split_dofs)
-from .contact import contact_terms
+from .conic import (Scaling, SolveInfo, SolverError, certify, point_multipliers,
+                    prescribed_values, solve, solver_backend, split_dofs)
+from .step_scaling import ScaledSolution, StepUnits
+from .step_terms import Compliance, Contact, PrescribedWork
 
 
 @dataclass
@@ -31,7 +42,8 @@ class StaticIncrement:
     plastic_multiplier : (n_points,) integrated plastic multipliers (area x strain;
         divide by the stress-point weights for a value per unit volume; summed over
         the cones of a criterion with several cones per point);
-    info : solver report.
+    info : solver report;
+    parts : what other terms of the increment return, by name (``spring_forces``, ...).
     """
 
     sigma: np.ndarray
@@ -41,10 +53,55 @@ class StaticIncrement:
     info: SolveInfo
     p: np.ndarray = None
     q: np.ndarray = None
+    parts: dict = field(default_factory=dict)
+
+
+@dataclass
+class StaticStep(StepUnits):
+    """The scaled data of one increment of (3.45), in the names its terms read in the dynamic
+    step's :class:`~pfem_skfem.problems.step_scaling.ScaledStep`.
+
+    Bh (4n, n_u) : B / length;  f_h : f / force;  s_n : sigma_n / stress (4n,);
+    free, P : the free and the prescribed dofs;  u_P : the prescribed increments / u_ref;
+    Ch : C / compliance (CSR; None: rigid-plastic);  stress, length, u_ref : the units.
+    The objective is measured in force x u_ref, in which 1/2 ds^T C ds weighs one
+    (``kappa_C``: u_ref is the yield strain x length), and equilibrium holds at t_{n+1}
+    (``theta1`` one).
+    """
+
+    Bh: object
+    f_h: np.ndarray
+    s_n: np.ndarray
+    free: np.ndarray
+    P: np.ndarray
+    u_P: np.ndarray
+    stress: float
+    length: float
+    u_ref: float
+    Ch: object = None
+    kappa_C = 1.0
+    theta1 = 1.0
+
+
+class StaticStatement:
+    """What the terms of (3.45) write on, as on the dynamic step's ``CvxpyStatement``: the
+    scaled step ``step``, the stresses ``S`` (n, 4) and ``s`` (their vector, point-major), the
+    objective, the constraints and ``internal``, the internal forces B^T sigma (n_u,) that a
+    term adds its forces to."""
+
+    def __init__(self, step):
+        self.step = step
+        self.S = cp.Variable((step.n, 4))            # sigma_{n+1} / stress, one row per point
+        self.s = cp.vec(self.S, order="C")           # point-major as (3.28)
+        self.stress = self.s
+        self.objective = 0
+        self.constraints = []
+        self.internal = step.Bh.T @ self.s           # B^T sigma
 
 
 def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
-                     contacts=None, scaling=None, solver="clarabel", **solver_settings):
+                     contacts=None, terms=(), scaling=None, solver="clarabel",
+                     **solver_settings):
     """Solve the incremental elastoplastic static problem (3.45).
 
     .. math::
@@ -60,7 +117,9 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
 
     With ``contacts`` (a :class:`~pfem_skfem.problems.contact.ContactSet`) the
     rigid frictional boundaries of (5.12) join: equilibrium gains the contact
-    forces G (p, q), the objective the term - sum g0_j p_j, and ``|q_j| <= mu_j p_j``.
+    forces G (p, q), the objective the term - sum g0_j p_j, and ``|q_j| <= mu_j p_j``
+    (the term :class:`~pfem_skfem.problems.step_terms.Contact`). Other ``terms`` of
+    :mod:`~pfem_skfem.problems.step_terms` follow it (module docstring).
 
     Parameters
     ----------
@@ -69,6 +128,8 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
     criterion : a :class:`~pfem_skfem.materials.YieldCriterion`.
     fixed : dofs with zero increment.  prescribed : (dofs, increments): the dofs with a
         prescribed increment and its values.
+    contacts : a ContactSet or None.  terms : further terms (``StepTerm.static``), stated
+        after the contacts.
     scaling : :class:`Scaling`; by default the criterion's strength and medians of B, C.
     solver : the conic solver (:data:`~pfem_skfem.problems.conic.SOLVERS`; 'clarabel').
     solver_settings : the solver's settings, and ``accept_inaccurate``
@@ -92,6 +153,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
     f = np.asarray(f, dtype=float)
     free, P = split_dofs(n_u, fixed, prescribed[0])
     du_P = prescribed_values(P, prescribed[1])
+    terms = static_terms(B, C, criterion, P, contacts, terms)
     closing = 0.0 if contacts is None else max(0.0, -float(np.min(contacts.gap)))
     if C is None and not np.any(du_P) and closing == 0:
         raise ValueError("a rigid-plastic increment needs a non-zero prescribed motion "
@@ -102,7 +164,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
     accept = solver_settings.get("accept_inaccurate", False)
     solver_settings = dict(solver_settings, solver=solver)
     supports = (free, P, du_P)
-    res = _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing, sc,
+    res = _static_increment(B, C, f, sigma_n, criterion, supports, terms, closing, sc,
                             solver_settings)
     if res.info.status == cp.OPTIMAL_INACCURATE and scaling is None:
         # Frictional materials can carry stresses far above their cohesion, and the
@@ -111,7 +173,7 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
         level = float(np.sqrt(np.mean(res.sigma ** 2)))
         if np.isfinite(level) and level > sc.stress:
             sc = Scaling(stress=level, length=sc.length, compliance=sc.compliance)
-            res = _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing,
+            res = _static_increment(B, C, f, sigma_n, criterion, supports, terms, closing,
                                     sc, solver_settings)
     if not accept:          # an AlmostSolved end: certified by its measures, or raised
         try:
@@ -122,72 +184,75 @@ def static_increment(B, C, f, sigma_n, criterion, *, fixed, prescribed=((), ()),
     return res
 
 
-def _static_increment(B, C, f, sigma_n, criterion, supports, contacts, closing, sc,
+def static_terms(B, C, criterion, P, contacts=None, terms=()):
+    """The terms of one increment of (3.45), in the order they are stated: the compliance
+    (C given), the contacts, the caller's ``terms``, the work of the prescribed dofs ``P``;
+    a term the static step cannot state, or whose data do not fit B and C, refused."""
+    terms = (((Compliance(),) if C is not None else ())
+             + ((Contact(contacts),) if contacts is not None else ()) + tuple(terms)
+             + ((PrescribedWork(),) if np.size(P) else ()))
+    ops = StaticOperators(B, C)
+    for term in terms:
+        if not term.static:
+            raise ValueError(f"{term.name}: a term of the dynamic step only (it needs a time "
+                             "step); the static increment (3.45) cannot state it")
+        term.check(ops, criterion)
+    return terms
+
+
+@dataclass(frozen=True)
+class StaticOperators:
+    """The operators a term checks its data against (``StepTerm.check``): B and C (or None)."""
+
+    B: object
+    C: object = None
+
+
+def _static_increment(B, C, f, sigma_n, criterion, supports, terms, closing, sc,
                       solver_settings):
     """(3.45) in the scaled variables of ``sc``, ``supports`` the free dofs, the prescribed
-    ones and their increments; see :func:`static_increment`."""
+    ones and their increments, ``terms`` from :func:`static_terms`; see
+    :func:`static_increment`.
+
+    .. math::
+        \\max_{s}\\; \\text{terms}(s) \\quad \\text{s.t.}\\quad
+        \\hat B_F^T s + \\text{terms' forces}_F = \\hat f_F,\\quad F(s_j) \\le 0
+    """
     free, P, du_P = supports
-    n_s, n_u = B.shape
-    n = n_s // 4
+    n_u = B.shape[1]
     # reference displacement: yield strain x element size, or the prescribed motion
     u_ref = (sc.stress * sc.compliance / sc.length if C is not None
              else max(np.abs(du_P).max(initial=0.0), closing))
-
-    Bh = (B / sc.length).tocsc()
-    B_F, B_P = Bh[:, free], Bh[:, P]
-    f_h = f / (sc.stress * sc.length)
-    u_P = du_P / u_ref
-    s_n = sigma_n.ravel() / sc.stress
-
-    S = cp.Variable((n, 4))                      # sigma_{n+1} / sigma_ref, one row per point
-    s = cp.vec(S, order="C")                     # point-major as (3.28)
-    if contacts is not None:
-        ct = contact_terms(contacts, n_u, length_scale=u_ref,
-                           force_scale=sc.stress * sc.length)
-        g = ct.force()                            # G (p, q): contact forces on the solid
-        internal = B_F.T @ s - g[free]
-        work_P = u_P @ (B_P.T @ s - f_h[P] - g[P]) if P.size else 0
-        contact_objective, contact_cones = ct.objective, ct.constraints
-    else:
-        internal = B_F.T @ s
-        work_P = u_P @ (B_P.T @ s - f_h[P]) if P.size else 0
-        contact_objective, contact_cones = 0, []
-    if C is not None:
-        Ch = (C / sc.compliance).tocsr()
-        complementary = 0.5 * cp.quad_form(s, cp.psd_wrap(Ch)) - (Ch @ s_n) @ s
-        objective = cp.Maximize(-complementary + work_P + contact_objective)
-    else:
-        objective = cp.Maximize(work_P + contact_objective)
-    equilibrium = internal == f_h[free]           # B^T sigma_{n+1} (+ E^T rho) - f = 0
-    yield_cone = criterion.scaled(sc.stress).constraint(S)   # F(sigma_j) <= 0
-    problem = cp.Problem(objective, [equilibrium, yield_cone] + contact_cones)
+    step = StaticStep(Bh=(B / sc.length).tocsc(), f_h=f / (sc.stress * sc.length),
+                      s_n=sigma_n.ravel() / sc.stress, free=free, P=P, u_P=du_P / u_ref,
+                      stress=sc.stress, length=sc.length, u_ref=u_ref,
+                      Ch=None if C is None else (C / sc.compliance).tocsr())
+    st = StaticStatement(step)
+    for term in terms:                        # compliance, contacts, ..., prescribed work
+        term.cvxpy(st)
+    equilibrium = st.internal[free] == step.f_h[free]     # B^T sigma (- G (p, q)) - f = 0
+    yield_cone = criterion.scaled(sc.stress).constraint(st.S)   # F(sigma_j) <= 0
+    problem = cp.Problem(cp.Maximize(st.objective), [equilibrium, yield_cone] + st.constraints)
     # 'AlmostSolved' comes back: static_increment rescales, then certifies or raises
     info = solve(problem, what="static increment (3.45)", defer_certify=True,
                  **solver_settings)
+    solution = ScaledSolution(s=st.S.value.ravel(), r=None,
+                              dual_equilibrium=equilibrium.dual_value,
+                              dual_yield=yield_cone.dual_value[0], info=info)
+    for term in terms:                        # contact forces, ...
+        term.read(st, solution)
 
-    sigma = S.value * sc.stress
+    sigma = st.S.value * sc.stress
     du = np.zeros(n_u)
-    du[free] = -equilibrium.dual_value * u_ref
+    du[free] = -solution.dual_equilibrium * u_ref
     du[P] = du_P
-    force = sc.stress * sc.length
-    p = q = np.zeros(0)
-    reactions = B.T @ sigma.ravel() - f
-    if contacts is not None:
-        p, q = ct.p.value * force, ct.q.value * force
-        reactions -= ct.G @ np.concatenate([p, q])
-    reactions[free] = 0.0
-    multiplier = point_multipliers(yield_cone.dual_value[0], n) * sc.length * u_ref
-    return StaticIncrement(sigma, du, reactions, multiplier, info, p, q)
-
-
-def point_multipliers(dual, n):
-    """Yield-cone duals as one value per stress point (summed over a criterion's cones).
-
-    Criteria with several cones per point (``n_cones``, cone-major order, e.g. exact
-    Mohr-Coulomb in axisymmetry) give n_cones x n duals; one cone gives them as they are.
-    """
-    dual = np.asarray(dual).ravel()
-    return dual if dual.size == n else dual.reshape(-1, n).sum(axis=0)
+    multiplier = point_multipliers(solution.dual_yield, step.n) * sc.length * u_ref
+    increment = StaticIncrement(sigma, du, B.T @ sigma.ravel() - f, multiplier, info,
+                                np.zeros(0), np.zeros(0))
+    for term in terms:                        # their forces off the reactions
+        term.invert(solution, increment, step)
+    increment.reactions[free] = 0.0
+    return increment
 
 
 @dataclass

@@ -21,8 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .conic import SolveInfo, prescribed_values, split_dofs
-from .static import point_multipliers
+from .conic import SolveInfo, point_multipliers, prescribed_values, split_dofs
 
 
 @dataclass(frozen=True)
@@ -114,8 +113,31 @@ class DynamicIncrement:
     parts: dict = field(default_factory=dict)
 
 
+class StepUnits:
+    """What a scaled step (dynamic or static) derives from its ``Bh``, ``stress``, ``length``
+    and ``u_ref``: the stress points ``n``, the dofs ``n_u``, the unit of force and of the
+    objective."""
+
+    @property
+    def n(self):
+        """Stress points."""
+        return self.Bh.shape[0] // 4
+
+    @property
+    def n_u(self):
+        return self.Bh.shape[1]
+
+    @property
+    def force(self):
+        return self.stress * self.length
+
+    @property
+    def j_ref(self):
+        return self.force * self.u_ref
+
+
 @dataclass
-class ScaledStep:
+class ScaledStep(StepUnits):
     """The scaled data of one step of (4.23), read by every statement of it.
 
     ops : the step's DynamicOperators (D, G, C in physical units; ``Dh``, ``Ch`` scaled);
@@ -146,25 +168,8 @@ class ScaledStep:
     c_ref: float = None
 
     @property
-    def n(self):
-        """Stress points."""
-        return self.Bh.shape[0] // 4
-
-    @property
-    def n_u(self):
-        return self.Bh.shape[1]
-
-    @property
     def n_r(self):
         return self.Ah.shape[0]
-
-    @property
-    def force(self):
-        return self.stress * self.length
-
-    @property
-    def j_ref(self):
-        return self.force * self.u_ref
 
     @property
     def dt(self):

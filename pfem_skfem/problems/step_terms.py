@@ -30,7 +30,9 @@ term                     in (4.23)                                              
 =======================  =============================================================  ========
 
 A new term is a subclass with these methods, handed to the step in ``terms=[...]``; the
-step knows nothing of its kind (CONTRIBUTING.md, "A new term of the step"). Beyond this
+step knows nothing of its kind. The static increment (3.45) states the terms marked
+``static`` (the compliance, the contacts, the springs, the prescribed work) through their
+cvxpy form, in the same order (:mod:`~pfem_skfem.problems.static`) (CONTRIBUTING.md, "A new term of the step"). Beyond this
 module: :class:`~pfem_skfem.problems.pore_term.PorePressureTerm`, the pore pressure of a
 saturated soil (Darcy, storage, Biot's alpha p in equilibrium; zero cones).
 """
@@ -50,11 +52,14 @@ class StepTerm:
     name : a short name (in messages).
     cones : the cone kinds its statement needs (:data:`~pfem_skfem.problems.conic.CONE_KINDS`).
     self_dual : whether its cones are self-dual (the direct assembly's dual form needs it).
+    static : whether the static increment (3.45) states it too (its cvxpy form, ``read`` and
+        ``invert`` on :class:`~pfem_skfem.problems.static.StaticStep`, which has no time step).
     """
 
     name = ""
     cones = frozenset()
     self_dual = True
+    static = False
 
     def check(self, ops, criterion):
         """Refuse data that do not fit the step's operators and criterion (ValueError),
@@ -95,6 +100,7 @@ class Compliance(StepTerm):
     operators carry C (an elastoplastic material)."""
 
     name = "compliance"
+    static = True
 
     def cvxpy(self, st):
         step = st.step
@@ -117,6 +123,7 @@ class Contact(StepTerm):
 
     name = "contact"
     cones = frozenset({"zero", "nonneg"})
+    static = True
 
     def __init__(self, contacts):
         self.contacts = contacts
@@ -308,6 +315,7 @@ class ElasticSupport(StepTerm):
     The increment's ``parts["spring_forces"]`` holds g."""
 
     name = "elastic support"
+    static = True
 
     def __init__(self, dofs, stiffness):
         self.dofs = np.asarray(dofs, dtype=int).ravel()
@@ -360,6 +368,7 @@ class PrescribedWork(StepTerm):
     internal forces every other term has added to."""
 
     name = "prescribed work"
+    static = True
 
     def cvxpy(self, st):
         step = st.step
