@@ -1,5 +1,5 @@
 """Faults and bad input of ``pfem-skfem run`` (issue 56, item 9; ../shared/RELIABILITY.md
-R1-R6, R12, R13): each ends in a clean message and an exit code, never a traceback, and
+R1-R9, R12, R13): each ends in a clean message and an exit code, never a traceback, and
 never costs the user a file or a folder."""
 import json
 
@@ -177,3 +177,30 @@ def test_a_motion_infinite_at_a_step_time_is_refused_naming_the_body(t_end):
         _pushed_block(blow, t_end=t_end)
     scene = _pushed_block(lambda t: (-0.1 * t, 0.0), t_end=t_end)     # a finite one runs
     assert scene.bodies[1].name == "pusher"
+
+
+def _refused(tmp_path, capsys, path, *names):
+    """The scene file ``path`` is refused before any work (exit 2, no folder), the message
+    holding each of ``names``."""
+    assert _run(path, "--steps", 3, "--every", 0) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and all(name in err for name in names), err
+    assert not path.with_suffix("").exists()
+    return err
+
+
+def test_a_polygon_that_touches_itself_is_refused_naming_the_region_and_the_vertex(
+        tmp_path, capsys):
+    # R8: the vertex (1, 1) repeated non-adjacently: a zero-width spike to (1.5, 1) whose
+    # 7 edge particles carried 9.7 % of the mass on a line outside the material
+    square = "polygon = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]"
+    spike = "polygon = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [1.5, 1.0], [1.0, 1.0], [0.0, 1.0]]"
+    path = _scene(tmp_path, "column", (square, spike))
+    _refused(tmp_path, capsys, path, "regions[0].polygon", "region 'column'",
+             "touches itself: vertex 4 (1.0, 1.0) is vertex 2 again", "zero-width spike")
+    from pfem_skfem.scene.regions import check_polygon
+    with pytest.raises(ValueError, match=r"pinch: the polygon touches itself: vertex 4 "
+                                         r"\(1.0, 0.0\) lies on edge 0 "):
+        check_polygon(((0, 0), (2, 0), (2, 2), (1, 2), (1, 0), (0.5, 1)), "pinch")
+    with pytest.raises(ValueError, match=r"closed: vertices 0 and 4 are the same point"):
+        check_polygon(((0, 0), (1, 0), (1, 1), (0, 1), (0, 0)), "closed")
