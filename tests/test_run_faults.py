@@ -151,7 +151,7 @@ def test_a_time_step_longer_than_t_end_is_refused_before_any_work(tmp_path, caps
     assert not path.with_suffix("").exists()
 
 
-def _pushed_block(motion, **scene):
+def _pushed_block(motion, bodies_extra=(), **scene):
     from pfem_skfem.discretisation import ThetaMethod
     from pfem_skfem.materials import ZeroDilationMohrCoulomb
     from pfem_skfem.problems.contact import RigidSegment
@@ -161,7 +161,7 @@ def _pushed_block(motion, **scene):
                    ZeroDilationMohrCoulomb(c=0.0, phi=30.0), rho=2.0, h=0.25)
     bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),
               Body("pusher", RigidSegment((1.05, -0.1), (1.05, 5.0), 0.3), motion=motion))
-    return Scene(regions=(block,), bodies=bodies,
+    return Scene(regions=(block,), bodies=bodies + tuple(bodies_extra),
                  config=PFEMConfig(theta=ThetaMethod(dt=0.01)), **scene)
 
 
@@ -204,3 +204,27 @@ def test_a_polygon_that_touches_itself_is_refused_naming_the_region_and_the_vert
         check_polygon(((0, 0), (2, 0), (2, 2), (1, 2), (1, 0), (0.5, 1)), "pinch")
     with pytest.raises(ValueError, match=r"closed: vertices 0 and 4 are the same point"):
         check_polygon(((0, 0), (1, 0), (1, 1), (0, 1), (0, 0)), "closed")
+
+
+def test_a_small_body_buried_between_the_particles_is_refused_naming_it(tmp_path, capsys):
+    # R7: a fixed disc of radius 0.05 at the column's centre, between the lattice points
+    # (h = 0.143): no particle inside it, so the run was bit for bit the column's without it
+    pebble = ('[[bodies]]\nname = "pebble"\n[bodies.shape]\ntype = "RigidCircle"\n'
+              'center = [0.5, 0.5]\nradius = 0.05\nmu = 0.6\n\n# -- the numerical choices')
+    path = _scene(tmp_path, "column", ("# -- the numerical choices", pebble))
+    _refused(tmp_path, capsys, path, "body 'pebble' reaches into the material of region",
+             "its centre (0.5, 0.5) lies in the material", "no particle inside it")
+    # a disc reaching in from outside, a polyline obstacle inside: refused too; a cylinder
+    # resting on the surface and a wall along an edge touch the material, and run
+    from pfem_skfem.problems.contact import RigidCircle, RigidPolyline, RigidSegment
+    from pfem_skfem.scene import Body
+    side = Body("side", RigidCircle((1.05, 0.625), 0.06))            # h = 0.25 here
+    box = Body("box", RigidPolyline(((0.6, 0.6), (0.6, 0.7), (0.7, 0.7), (0.7, 0.6),
+                                     (0.6, 0.6))))
+    for body, said in ((side, "reaches 0.01 into the material"),
+                       (box, r"its point \(0.6, 0.6\) lies 0.4 inside the material")):
+        with pytest.raises(ValueError, match=rf"body '{body.name}' reaches into .*{said}"):
+            _pushed_block(lambda t: (0.0, 0.0), bodies_extra=(body,))
+    _pushed_block(lambda t: (0.0, 0.0),
+                  bodies_extra=(Body("roller", RigidCircle((0.5, 1.5), 0.5)),
+                                Body("wall", RigidSegment((0.0, 3.0), (0.0, -0.2)))))

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
-from .bodies import Body, check_motion_over
+from .bodies import Body, check_motion_over, reach_into
 from .config import PFEMConfig, check_passes, legacy_keys
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
@@ -303,6 +303,7 @@ class Scene:
                 if inside.any():
                     raise ValueError(f"body {body.name!r}: {int(inside.sum())} particle(s) lie "
                                      f"inside it at t = 0 (deepest {-g0.min():.3g})")
+                self._check_not_buried(body)
         if self.water is not None:    # a drained face that drains nothing is a mistake
             for i, face in enumerate(self.water.drained):
                 if face.zone is not None and not face.zone.contains(x, tol=1e-6 * h).any():
@@ -317,6 +318,20 @@ class Scene:
                                  f"(those on its edge included): they would all leave in "
                                  f"step 1; a half-plane's normal points out of the body, "
                                  f"into the discharge side (is it reversed?)")
+
+    def _check_not_buried(self, body):
+        # a body in the material with no particle inside it (a pebble between the lattice
+        # points) is not felt: the contacts are searched from the mesh's boundary, which
+        # does not pass near it, and the run is bit for bit the one without it
+        for r in self.regions:
+            where = reach_into(body.shape, r, 1e-6 * r.h)
+            if where is not None:
+                raise ValueError(f"body {body.name!r} reaches into the material of region "
+                                 f"{r.name!r} at t = 0 ({where}), with no particle inside "
+                                 f"it: the material would not feel it (the run would be the "
+                                 f"one without it). Cut a hole around it in the region "
+                                 f"(holes = [...], a polygon just outside the body, h small "
+                                 f"enough to follow it), or move it out of the material")
 
     # -- scales ---------------------------------------------------------------------------
     @property
