@@ -228,3 +228,19 @@ def test_a_small_body_buried_between_the_particles_is_refused_naming_it(tmp_path
     _pushed_block(lambda t: (0.0, 0.0),
                   bodies_extra=(Body("roller", RigidCircle((0.5, 1.5), 0.5)),
                                 Body("wall", RigidSegment((0.0, 3.0), (0.0, -0.2)))))
+
+
+def test_an_outlet_holding_most_of_the_material_at_the_start_is_refused_naming_it(
+        tmp_path, capsys):
+    # R9: the silo's outlet moved up to hold all but the top row: 396 of 409 particles
+    # left in step 1 (the edge-inclusive "holds every particle" check passed by one row)
+    path = _scene(tmp_path, "silo", ("point = [0.0, 0.0]", "point = [0.0, 1.34]"))
+    _refused(tmp_path, capsys, path, "outlets[0]", "outlet 'orifice' holds 396 of the 409 "
+             "particles at t = 0", "more than 50%")
+    from pfem_skfem.scene import HalfPlane, Outlet
+    half = HalfPlane((0.0, 0.45), (0.0, -1.0))           # y < 0.45 of the unit square
+    _pushed_block(lambda t: (0.0, 0.0), outlets=(Outlet("low", half),))
+    with pytest.raises(ValueError, match=r"outlet 'high' holds 20 of the 25 particles"):
+        _pushed_block(lambda t: (0.0, 0.0),
+                      outlets=(Outlet("high", HalfPlane((0.0, 0.8), (0.0, -1.0))),))
+
