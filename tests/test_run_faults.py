@@ -244,3 +244,19 @@ def test_an_outlet_holding_most_of_the_material_at_the_start_is_refused_naming_i
         _pushed_block(lambda t: (0.0, 0.0),
                       outlets=(Outlet("high", HalfPlane((0.0, 0.8), (0.0, -1.0))),))
 
+
+def test_a_motion_infinite_after_the_checked_times_is_refused_by_run_naming_the_body():
+    # R12 through the API: the scene checks to t_end (or its first 1000 steps), and run()
+    # may go past both; a motion infinite at t = 0.08 > t_end = 0.05 ran on with
+    # RuntimeWarnings, every particle free at the end
+    from pfem_skfem.drivers.pfem_loop import run
+
+    def blow(t):
+        return (np.float64(1.0) / (np.float64(0.08) - np.float64(t)) - 12.5, 0.0)
+    scene = _pushed_block(blow, t_end=0.05)                      # accepted: finite to t_end
+    state = scene.initial_state()
+    with pytest.raises(ValueError, match=r"body 'pusher': motion\(t\) must return a finite "
+                                         r"\(dx, dy\) at every step time, .* at t = 0.08 "
+                                         r"\(step 8 of dt = 0.01\)"):
+        run(state, scene, 10)
+    assert state.step == 0 and state.history == {}               # refused before any step

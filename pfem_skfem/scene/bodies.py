@@ -110,10 +110,13 @@ def as_motion(motion, name):
 MOTION_CHECK_STEPS = 1000
 
 
-def check_motion_over(body, dt, t_end=None):
+def check_motion_over(body, dt, t_end=None, *, start=0.0, first=0, steps=None):
     """Refuse (ValueError naming the body and the time) a motion of ``body`` that fails or
-    is not a finite (dx, dy) at a step time k dt of the run (to t_end, else the first
-    :data:`MOTION_CHECK_STEPS` steps; at most 100000) while the body is present.
+    is not a finite (dx, dy) at a step time of a run while the body is present.
+
+    The step times are start + k dt, k = 1..``steps``, numbered ``first`` + k (a run from a
+    state: its time and step); ``steps`` None: those of a run from t = 0 to t_end, else
+    the first :data:`MOTION_CHECK_STEPS` (at most 100000).
     :func:`as_motion` checks t = 0 and 1 only; a function finite there can blow up in
     between (1 / (0.02 - t)) and the run would go on with RuntimeWarnings. The motions of
     the package (Fixed, ConstantVelocity, PiecewiseLinear) are finite by construction and
@@ -121,21 +124,23 @@ def check_motion_over(body, dt, t_end=None):
     motion = body.motion
     if type(motion) in (Fixed, ConstantVelocity, PiecewiseLinear):
         return
-    steps = MOTION_CHECK_STEPS if t_end is None else int(np.ceil(t_end / dt * (1 - 1e-9)))
-    for k in range(1, min(steps, 100_000) + 1):
-        t = k * dt
+    if steps is None:
+        steps = min(MOTION_CHECK_STEPS if t_end is None
+                    else int(np.ceil(t_end / dt * (1 - 1e-9))), 100_000)
+    for k in range(1, steps + 1):
+        t = start + k * dt
         if t >= body.removed_at:
             break
         try:
             with np.errstate(all="ignore"):
                 d = np.asarray(motion(t), dtype=float)
         except Exception as err:                     # noqa: BLE001 - reported with the body
-            raise ValueError(f"body {body.name!r}: motion(t) failed at t = {t:g} (step {k}: "
-                             f"{err})") from err
+            raise ValueError(f"body {body.name!r}: motion(t) failed at t = {t:g} (step "
+                             f"{first + k}: {err})") from err
         if d.shape != (2,) or not np.all(np.isfinite(d)):
             raise ValueError(f"body {body.name!r}: motion(t) must return a finite (dx, dy) "
-                             f"at every step time, got {d!r} at t = {t:g} (step {k} of "
-                             f"dt = {dt:g})")
+                             f"at every step time, got {d!r} at t = {t:g} (step {first + k} "
+                             f"of dt = {dt:g})")
 
 
 def _distance_to_edges(point, loops):
