@@ -260,3 +260,19 @@ def test_a_motion_infinite_after_the_checked_times_is_refused_by_run_naming_the_
                                          r"\(step 8 of dt = 0.01\)"):
         run(state, scene, 10)
     assert state.step == 0 and state.history == {}               # refused before any step
+
+
+def test_a_nearly_full_disk_at_the_start_is_a_clean_stop_naming_the_1_mb_reserve(
+        tmp_path, capsys, monkeypatch):
+    # R3: under about 1.1 MB free the t = 0 frame raised an OSError traceback whose message
+    # said "401408 bytes free, a frame takes about 25600", not the 1 MB kept for the
+    # checkpoint that refused it
+    import shutil
+    path = _scene(tmp_path, "column")
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=1_000_000))
+    assert _run(path, "--steps", 3, "--every", 1) == 3
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert "1,000,000 bytes free" in err and "a reserve of 1 MB" in err, err
+    assert "no step was computed" in err
