@@ -18,8 +18,9 @@ import numpy as np
 
 from ..discretisation.geometry import as_geometry
 from ..pfem.state import initial_state
-from .bodies import Body, check_motion_over, reach_into
+from .bodies import MOTION_CHECK_STEPS, Body, check_motion_over, reach_into
 from .config import PFEMConfig, check_passes, legacy_keys
+from .crossing import check_no_crossing
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 from .water import Water
@@ -201,6 +202,8 @@ class Scene:
         self._check_size()
         self._check_overlaps()
         self._check_particles()
+        check_no_crossing(self.bodies, self.config.dt, self.t_end,
+                          0.5 * min(r.h for r in regions), MOTION_CHECK_STEPS)
 
     # -- checks ---------------------------------------------------------------------------
     def _check_passes(self):
