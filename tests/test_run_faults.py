@@ -318,3 +318,41 @@ def test_bodies_that_pass_through_each_other_are_refused_naming_both(tmp_path, c
         _vice(0.2, dt, gate=down)
     lift = PiecewiseLinear((0.0, 0.1), ((0.0, 0.0), (0.0, 5.0)))
     _vice(0.2, dt, gate=Body("gate", RigidSegment((-0.5, 3.0), (-0.5, -0.5)), motion=lift))
+
+
+def _box(t_end, lid=None, right=1.1):
+    """squeeze.py's closed box with a gap: a 1 x 0.5 block on a base, under a lid, between
+    a wall at x = 0 and one at x = ``right`` moving in at 0.5 m/s (it reaches the block at
+    t = 0.2 s when right = 1.1); ``lid``: the lid's motion."""
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import RigidSegment
+    from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+    block = Region(((0, 0), (1, 0), (1, 0.5), (0, 0.5)), ZeroDilationMohrCoulomb(0.0, 30.0),
+                   rho=2.0, h=0.125, stress=Geostatic())
+    moving = ConstantVelocity((-0.5, 0.0)) if lid is None else None
+    bodies = (Body("base", RigidSegment((-1, 0), (3, 0))),
+              Body("lid", RigidSegment((3, 0.5), (-1, 0.5)), motion=lid),
+              Body("left", RigidSegment((0, 2), (0, -1))),
+              Body("right", RigidSegment((right, -1), (right, 2)), motion=moving))
+    return Scene(regions=(block,), bodies=bodies, t_end=t_end,
+                 config=PFEMConfig(theta=ThetaMethod(0.02)))
+
+
+def test_bodies_closing_in_on_an_incompressible_material_are_refused_naming_them(
+        tmp_path, capsys):
+    # R11: the closed box's right wall passes the block's side at t = 0.2 s: 248 m/s in
+    # step 11, 6 % of the area lost, then the solver gave up in step 17
+    from pfem_skfem.scene import ConstantVelocity
+    from pfem_skfem.scene.files import scene_to_toml
+    said = (r"the bodies close the material in, and as 'right' moves the room they leave "
+            r"falls below its area 0.5 from t = 0.2 s \(to 9\d.\d% of it at t = 0.\d+ s, "
+            r"before t_end = 0.6 s\)")
+    with pytest.raises(ValueError, match=said):
+        _box(0.6)
+    path = tmp_path / "gap_box.toml"
+    path.write_text(scene_to_toml(_box(0.2)).replace("t_end = 0.2", "t_end = 0.6"))
+    _refused(tmp_path, capsys, path, "as 'right' moves the room they leave falls below")
+    _box(0.6, right=1.5)                         # room to the end: 1.2 x 0.5 at t = 0.6
+    _box(0.6, lid=ConstantVelocity((0.5, 0.0)), right=1.0)     # a lid sliding: a shear box

@@ -21,6 +21,7 @@ from ..pfem.state import initial_state
 from .bodies import MOTION_CHECK_STEPS, Body, check_motion_over, reach_into
 from .config import PFEMConfig, check_passes, legacy_keys
 from .crossing import check_no_crossing
+from .enclosure import check_room
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 from .water import Water
@@ -320,6 +321,7 @@ class Scene:
                     raise ValueError(f"water.drained[{i}]: its zone holds no particle at "
                                      f"t = 0 (it would drain nothing); give a zone on the "
                                      f"body's boundary")
+        check_room(self, x, MOTION_CHECK_STEPS)      # bodies closing in on the material
         for outlet in self.outlets:
             # particles on the zone's edge count as in it: a silo's bottom row lies on the
             # orifice's plane, and a reversed normal would discharge all the others
