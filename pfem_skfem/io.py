@@ -208,13 +208,16 @@ class TimeSeries:
     directory, name : where and under which name the files are written.
     note : text put in the PVD as a comment (e.g. :data:`STEP_UNITS`).
     reserve : bytes to leave free after a frame (e.g. for a checkpoint).
+    reserve_for : what the reserve is, for the message of a full disk (e.g. "1 MB for
+        the checkpoint").
     """
 
-    def __init__(self, directory, name, note=None, reserve=0):
+    def __init__(self, directory, name, note=None, reserve=0, reserve_for=None):
         self.directory = Path(directory)
         self.name = name
         self.note = note
         self.reserve = reserve
+        self.reserve_for = reserve_for
         self.entries = []
 
     @property
@@ -260,9 +263,14 @@ class TimeSeries:
         last = self.entries[-1][1] if self.entries else None
         size = last.stat().st_size if last is not None and last.exists() else 400 * n_points
         free = shutil.disk_usage(self.directory).free
-        if free < 2 * size + self.reserve:
-            raise OSError(errno.ENOSPC, f"disk nearly full ({free} bytes free, a frame takes "
-                          f"about {size}): {vtu.name} not written", str(self.directory))
+        need = 2 * size + self.reserve
+        if free < need:
+            reserve = ("" if not self.reserve else f" and a reserve of {self.reserve:,} bytes"
+                       if self.reserve_for is None else
+                       f" and a reserve of {self.reserve_for}, {self.reserve:,} bytes")
+            raise OSError(errno.ENOSPC, f"disk nearly full: {free:,} bytes free, {need:,} "
+                          f"needed (twice a frame of about {size:,}{reserve}): {vtu.name} "
+                          "not written", str(self.directory))
 
     def write(self, time, points, cells, point_data=None, cell_data=None):
         """Write one step; returns the VTU path."""

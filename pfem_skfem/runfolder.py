@@ -33,6 +33,9 @@ from .scene.files import load_scene, scene_to_toml
 
 #: The files a run writes into its folder (besides ``<series>_NNNN.vtu``).
 RUN_FILES = ("checkpoint.npz", "history.json", "scene.toml", "scene.pvd")
+#: Bytes a VTU frame leaves free (with twice the checkpoint's size): a full disk stops the
+#: run at a frame, before the checkpoint that keeps its steps cannot be written.
+RESERVE = 1 << 20
 
 
 def check_output_dir(out):
@@ -233,7 +236,9 @@ def _run_locked(scene, out, last, resume, progress, overwrite, force):
     else:
         state, records = scene.initial_state(), []
     size = checkpoint.stat().st_size if checkpoint.exists() else 0
-    series = (TimeSeries(out, "scene", note=STEP_UNITS, reserve=2 * size + (1 << 20))
+    kept = "1 MB" + " and twice the checkpoint's size" * bool(size)
+    series = (TimeSeries(out, "scene", note=STEP_UNITS, reserve=2 * size + RESERVE,
+                         reserve_for=f"{kept} for the checkpoint and history.json")
               if scene.output.every else None)
     if series is not None:           # the steps up to the checkpoint's (none on a new run)
         try:
@@ -247,9 +252,15 @@ def _run_locked(scene, out, last, resume, progress, overwrite, force):
         return 0
     say(runreport.start_line(scene, state, first, last, out))
     if series is not None and not resume:            # the frame at t = 0
-        series.write(0.0, *initial_fields(state, scene.alpha,
-                                          as_geometry(scene.geometry).axisymmetric,
-                                          scene.water))
+        try:
+            series.write(0.0, *initial_fields(state, scene.alpha,
+                                              as_geometry(scene.geometry).axisymmetric,
+                                              scene.water))
+        except OSError as err:                       # a full disk: no step computed
+            print(f"pfem-skfem run: stopped before step {first + 1}: {err}; no step was "
+                  "computed: free some space (or write no VTU: --every 0) and run the same "
+                  "command again", file=sys.stderr)
+            return 3
     every = scene.output.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
 
     saved = [state.step if resume else None]       # the step of the folder's checkpoint

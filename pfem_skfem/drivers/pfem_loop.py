@@ -44,6 +44,7 @@ from ..pfem.transfer import adopt_added_nodes, map_state, old_discretisation
 from ..pfem.volume_projection import step_constraint
 from ..problems.contact import without_nodes
 from ..problems.nonassociated import lagged_step, StepStart
+from ..scene.bodies import check_motion_over
 
 __all__ = ["StepResult", "pfem_step", "run", "run_to_rest", "check_run", "config_summary"]
 
@@ -304,7 +305,8 @@ def run(state, scene, steps, *, checkpoint=None, checkpoint_every=0, series=None
     Notes
     -----
     The input state is not changed (the returned one has its own history), and it must be
-    a state of ``scene`` (:func:`check_run`).
+    a state of ``scene`` (:func:`check_run`), and each prescribed motion finite at every
+    step time of the run (ValueError naming the body).
     The run ends early when every particle has been discharged (the state is then empty).
     A step whose particles form no element has no mesh: it writes no VTU and keeps no
     snapshot.
@@ -350,7 +352,10 @@ def check_run(state, scene, steps):
     non-negative int (TypeError, ValueError naming it) and that ``state`` can be a state
     of ``scene`` (ValueError): its region indices are the scene's and its mass (with what
     has been discharged) is the scene's mass (to 1e-6), so a state of another scene
-    (a resumed checkpoint, a branched study) is refused before any step."""
+    (a resumed checkpoint, a branched study) is refused before any step; so is a body's
+    prescribed motion that fails or is not finite at a step time of the run
+    (:func:`~pfem_skfem.scene.bodies.check_motion_over`: the scene checks t_end, or its
+    first 1000 steps, and a run may go past both)."""
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
         raise TypeError(f"steps must be a non-negative int, got {steps!r}")
     if steps < 0:
@@ -369,6 +374,9 @@ def check_run(state, scene, steps):
     if state.total_mass > 0 and not abs(held - expected) <= 1e-6 * expected:
         raise ValueError(f"the state does not belong to the scene: it holds mass {held:.6g} "
                          f"(with the discharged), the scene's regions {expected:.6g}")
+    for body in scene.bodies:       # the scene checked to t_end, or its first 1000 steps
+        check_motion_over(body, scene.config.dt, start=state.time, first=state.step,
+                          steps=int(steps))
     return int(steps)
 
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..problems.contact import RigidCircle, RigidPolyline
+from .regions import _edges
 
 
 class Motion:
@@ -109,10 +110,13 @@ def as_motion(motion, name):
 MOTION_CHECK_STEPS = 1000
 
 
-def check_motion_over(body, dt, t_end=None):
+def check_motion_over(body, dt, t_end=None, *, start=0.0, first=0, steps=None):
     """Refuse (ValueError naming the body and the time) a motion of ``body`` that fails or
-    is not a finite (dx, dy) at a step time k dt of the run (to t_end, else the first
-    :data:`MOTION_CHECK_STEPS` steps; at most 100000) while the body is present.
+    is not a finite (dx, dy) at a step time of a run while the body is present.
+
+    The step times are start + k dt, k = 1..``steps``, numbered ``first`` + k (a run from a
+    state: its time and step); ``steps`` None: those of a run from t = 0 to t_end, else
+    the first :data:`MOTION_CHECK_STEPS` (at most 100000).
     :func:`as_motion` checks t = 0 and 1 only; a function finite there can blow up in
     between (1 / (0.02 - t)) and the run would go on with RuntimeWarnings. The motions of
     the package (Fixed, ConstantVelocity, PiecewiseLinear) are finite by construction and
@@ -120,21 +124,65 @@ def check_motion_over(body, dt, t_end=None):
     motion = body.motion
     if type(motion) in (Fixed, ConstantVelocity, PiecewiseLinear):
         return
-    steps = MOTION_CHECK_STEPS if t_end is None else int(np.ceil(t_end / dt * (1 - 1e-9)))
-    for k in range(1, min(steps, 100_000) + 1):
-        t = k * dt
+    if steps is None:
+        steps = min(MOTION_CHECK_STEPS if t_end is None
+                    else int(np.ceil(t_end / dt * (1 - 1e-9))), 100_000)
+    for k in range(1, steps + 1):
+        t = start + k * dt
         if t >= body.removed_at:
             break
         try:
             with np.errstate(all="ignore"):
                 d = np.asarray(motion(t), dtype=float)
         except Exception as err:                     # noqa: BLE001 - reported with the body
-            raise ValueError(f"body {body.name!r}: motion(t) failed at t = {t:g} (step {k}: "
-                             f"{err})") from err
+            raise ValueError(f"body {body.name!r}: motion(t) failed at t = {t:g} (step "
+                             f"{first + k}: {err})") from err
         if d.shape != (2,) or not np.all(np.isfinite(d)):
             raise ValueError(f"body {body.name!r}: motion(t) must return a finite (dx, dy) "
-                             f"at every step time, got {d!r} at t = {t:g} (step {k} of "
-                             f"dt = {dt:g})")
+                             f"at every step time, got {d!r} at t = {t:g} (step {first + k} "
+                             f"of dt = {dt:g})")
+
+
+def _distance_to_edges(point, loops):
+    """The distance from ``point`` (2,) to the nearest edge of the closed ``loops``."""
+    e = np.vstack([_edges(np.asarray(loop, dtype=float)) for loop in loops])
+    a, t = e[:, 0], e[:, 1] - e[:, 0]
+    s = np.clip(np.einsum("kd,kd->k", point - a, t) / np.maximum(np.sum(t * t, axis=1),
+                                                                 1e-300), 0, 1)
+    return float(np.min(np.linalg.norm(point - a - s[:, None] * t, axis=1)))
+
+
+def reach_into(shape, region, tol):
+    """Where a body's ``shape`` at t = 0 lies in ``region``'s material (inside its polygon
+    and outside its holes) by more than ``tol``: a text naming the point, or None.
+
+    A disc reaches in when its centre is in the material or an edge passes nearer its
+    centre than its radius; a polyline when a point of it (its vertices and points a
+    quarter of the region's h apart) is in the material. Touching (a cylinder resting on
+    the surface, a wall along an edge) is not reaching in.
+    """
+    loops = [region.polygon, *region.holes]
+    if isinstance(shape, RigidCircle):
+        c = np.asarray(shape.center)
+        if region.contains(c[None], tol=-tol)[0]:
+            return f"its centre {tuple(map(float, c))} lies in the material"
+        gap = _distance_to_edges(c, loops)
+        if gap < shape.radius - tol:
+            return (f"its disc (centre {tuple(map(float, c))}, radius {shape.radius:g}) "
+                    f"reaches {shape.radius - gap:.3g} into the material")
+        return None
+    pts = np.asarray(shape.points, dtype=float)
+    samples = [pts[:1]]
+    for a, b in zip(pts[:-1], pts[1:]):
+        m = max(int(np.ceil(np.linalg.norm(b - a) / (region.h / 4))), 1)
+        samples.append(a + (np.arange(1, m + 1) / m)[:, None] * (b - a))
+    x = np.vstack(samples)
+    inside = region.contains(x, tol=-tol)
+    if inside.any():
+        p = x[np.argmax(inside)]
+        return (f"its point {tuple(round(float(v), 12) for v in p)} lies "
+                f"{_distance_to_edges(p, loops):.3g} inside the material")
+    return None
 
 
 @dataclass(frozen=True)

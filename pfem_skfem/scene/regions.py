@@ -131,7 +131,41 @@ def check_polygon(vertices, name):
         raise ValueError(f"{name}: the polygon intersects itself (edges {i} and {j})")
     if abs(polygon_area(v)) <= 1e-12 * np.ptp(v, axis=0).max() ** 2:
         raise ValueError(f"{name}: the polygon is empty (zero area)")
+    _check_not_touching(v, name)
     return v
+
+
+def _check_not_touching(v, name):
+    """ValueError naming ``name`` and the vertex when a polygon touches itself: a vertex
+    repeated (a zero-length edge, or a zero-width spike or pinch when not adjacent) or lying
+    on an edge that does not end at it, within 1e-9 of the polygon's extent. The crossing
+    test finds proper crossings only, and a spike out to a point and back along the same
+    line crosses nothing: the edge particles put on it carry mass on a line of no area (a
+    spike of 0.5 on a unit square: 9.7 % of the mass outside the material)."""
+    from scipy.spatial import cKDTree
+    k = len(v)
+    tol = 1e-9 * float(np.ptp(v, axis=0).max())
+    for i, j in sorted(cKDTree(v).query_pairs(tol)):
+        at = tuple(map(float, v[j]))
+        if j - i == 1 or (i, j) == (0, k - 1):
+            raise ValueError(f"{name}: vertices {i} and {j} are the same point {at} (a "
+                             f"zero-length edge; a polygon closes itself, its last vertex "
+                             f"is not the first again): remove one of them")
+        raise ValueError(f"{name}: the polygon touches itself: vertex {j} {at} is vertex {i} "
+                         f"again (a zero-width spike or a pinch: its particles would carry "
+                         f"mass on a line of no area); remove the spike, or make two regions")
+    # a vertex on another edge: a cross of two tiny segments through it crosses that edge
+    # properly (not its own edges, which end at its centre)
+    crosses = np.concatenate([np.stack([v - (tol, 0.0), v + (tol, 0.0)], axis=1),
+                              np.stack([v - (0.0, tol), v + (0.0, tol)], axis=1)])
+    hits = crossing_edges(_edges(v), crosses)
+    if len(hits):
+        edge, vertex = int(hits[0, 0]), int(hits[0, 1]) % k
+        raise ValueError(f"{name}: the polygon touches itself: vertex {vertex} "
+                         f"{tuple(map(float, v[vertex]))} lies on edge {edge} (vertices "
+                         f"{edge} and {(edge + 1) % k}; a zero-width spike or a pinch: its "
+                         f"particles would carry mass on a line of no area); remove the "
+                         f"spike, or make two regions")
 
 
 def _inside(vertices, x, tol):
