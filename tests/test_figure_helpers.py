@@ -90,3 +90,13 @@ def test_counted_warnings_counts_one_kind_and_shows_the_others():
         warnings.simplefilter("always")
         warnings.warn("again", Accepted)       # outside the block: shown again
     assert len(after) == 1
+
+
+def test_a_summary_beside_the_figures_holds_arrays_as_lists(tmp_path):
+    import json
+
+    from pfem_skfem.harness.figures import write_summary
+
+    path = write_summary(tmp_path, {"x": np.arange(3), "v": np.float64(0.5), "p": tmp_path})
+    assert path == tmp_path / "summary.json"
+    assert json.loads(path.read_text()) == {"x": [0, 1, 2], "v": 0.5, "p": str(tmp_path)}

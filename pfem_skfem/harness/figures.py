@@ -230,6 +230,17 @@ def labelled(ax, xlabel, ylabel, title=None, *, legend=7, title_size=None):
     return ax
 
 
+def write_summary(folder, data, name="summary.json"):
+    """Write ``data`` beside the figures as ``folder / name``, indented JSON (arrays and
+    numpy numbers as lists and numbers, any other object as its string); returns the path."""
+    import json
+
+    path = Path(folder) / name
+    path.write_text(json.dumps(data, indent=1, default=lambda o: o.tolist()
+                               if hasattr(o, "tolist") else str(o)))
+    return path
+
+
 def save_figure(fig, path, dpi=120):
     """Lay out ``fig`` (unless it has a layout engine), write it to ``path`` and close it."""
     engine = getattr(fig, "get_layout_engine", lambda: None)()
