@@ -139,6 +139,126 @@ def _frame_cloud(ax, p, title):
         ax.set_title(title, fontsize=10)
 
 
+# -- particles and fields at several times, bounds of limit analysis -------------------
+def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
+                  axes=("x [m]", "y [m]"), colours=None, draw=None, limits=(None, None)):
+    """A grid of panels, one per snapshot, coloured by one field on one colour scale,
+    read by one colour bar.
+
+    Parameters
+    ----------
+    panels : dict
+        Panel title -> ``(points, values)`` (particles, a dot each, ``values`` one per
+        point) or ``(points, values, cells)`` (a triangle mesh, ``values`` one per cell).
+    label : the colour bar's label (the field and its unit).
+    title : the figure's title (``suptitle``).
+    ncols : panels per row.
+    size : (width of the figure, height of a row) in inches.
+    scale : lengths are shown divided by it (``axes`` then name the scaled lengths).
+    axes : (x label, y label), or None: ``draw`` labels them.
+    colours : keywords of the colour map, ``cmap`` (viridis), ``vmin`` (0) and ``vmax``
+        (default the largest value of every panel).
+    draw : ``draw(ax)`` called on each panel before its snapshot (a background, a frame).
+    limits : (xlim, ylim) in scaled lengths, None for either: matplotlib's.
+
+    Returns
+    -------
+    (figure, array of axes)
+    """
+    from matplotlib.tri import Triangulation
+
+    from .harness.figures import pyplot
+
+    colours = dict(colours or {})
+    top = max((float(np.max(p[1], initial=0.0)) for p in panels.values()), default=0.0)
+    colours.setdefault("cmap", "viridis")
+    colours.setdefault("vmin", 0.0)
+    colours.setdefault("vmax", top or 1.0)
+    nrow = -(-len(panels) // ncols)
+    fig, grid = pyplot().subplots(nrow, ncols, figsize=(size[0], size[1] * nrow + 1.0),
+                             squeeze=False, layout="constrained")
+    mappable = None
+    for ax, (name, (points, values, *cells)) in zip(grid.flat, panels.items()):
+        if draw is not None:
+            draw(ax)
+        x, y = (np.asarray(points, dtype=float) / scale).T
+        if cells:
+            mappable = ax.tripcolor(Triangulation(x, y, cells[0]),
+                                    facecolors=np.asarray(values, dtype=float), **colours)
+        else:
+            mappable = ax.scatter(x, y, c=values, s=2, **colours)
+        ax.set_aspect("equal")
+        ax.set_title(name, fontsize=9)
+        if limits[0] is not None:
+            ax.set_xlim(*limits[0])
+        if limits[1] is not None:
+            ax.set_ylim(*limits[1])
+        if axes is not None:
+            ax.set_xlabel(axes[0], fontsize=8)
+            ax.set_ylabel(axes[1], fontsize=8)
+        ax.tick_params(labelsize=8)
+    for ax in list(grid.flat)[len(panels):]:
+        ax.set_visible(False)
+    fig.suptitle(title, fontsize=10)
+    if mappable is not None:
+        fig.colorbar(mappable, ax=list(grid.flat), label=label, shrink=0.8)
+    return fig, grid
+
+
+def plot_bound_fields(axes, problem, lower, upper, what):
+    """The fields of a pair of limit bounds on one mesh: the upper bound's dissipation per
+    area (log colours, six decades) on ``axes[0]``, the lower bound's yield ratio (the
+    largest of each element's vertices, 1 at yield) on ``axes[1]``, each with its colour bar.
+
+    ``problem`` a :class:`~pfem_skfem.problems.bounds.LimitProblem`, ``lower`` and
+    ``upper`` its :func:`~pfem_skfem.problems.bounds.lower_bound` and
+    :func:`~pfem_skfem.problems.bounds.upper_bound`; ``what`` begins the panels' titles."""
+    from matplotlib.colors import LogNorm
+
+    from .discretisation.bounds import element_gradients
+
+    mesh = problem.mesh
+    x, y = mesh.p
+    density = np.maximum(upper.dissipation / element_gradients(mesh)[1], 1e-300)
+    top = density.max()
+    ratio = problem.criterion.yield_ratio(lower.sigma).reshape(-1, 3).max(axis=1)
+    for ax, values, kw, label in (
+            (axes[0], np.maximum(density, top * 1e-6),
+             dict(norm=LogNorm(top * 1e-6, top), cmap="magma"), "dissipation / area"),
+            (axes[1], np.minimum(ratio, 1.0), dict(vmin=0.0, vmax=1.0, cmap="viridis"),
+             "yield ratio (1 = at yield)")):
+        art = ax.tripcolor(x, y, mesh.t.T, facecolors=values, **kw)
+        ax.triplot(x, y, mesh.t.T, lw=0.1, color="0.6")
+        ax.figure.colorbar(art, ax=ax, label=label, shrink=0.8)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x")
+        ax.set_ylabel("y")
+    axes[0].set_title(f"{what}: upper bound, {mesh.t.shape[1]} el", fontsize=9)
+    axes[1].set_title(f"{what}: lower bound, max over vertices", fontsize=9)
+
+
+def plot_rounds(ax, rounds, scale=1.0, *, hollow=False, what=""):
+    """Lower (circles) and upper (squares) bounds against the elements of their meshes, on
+    a log axis with plain numbers: ``rounds`` of :func:`~pfem_skfem.drivers.bounds.adapt`
+    or :func:`~pfem_skfem.drivers.bounds.bracket_safety` (``elements``, ``lower``,
+    ``upper``), the bounds times ``scale``; ``hollow``: dashed, hollow marks (a second
+    series, e.g. uniform meshes), its labels ending with ``what``."""
+    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+    n = [r.elements for r in rounds]
+    style = dict(mfc="none", ls="--") if hollow else dict(ls="-")
+    for key, mark, colour in (("lower", "o", "C0"), ("upper", "s", "C3")):
+        ax.plot(n, [getattr(r, key) * scale for r in rounds], marker=mark, color=colour,
+                label=f"{key} bound{what}", **style)
+    ax.set_xscale("log")
+    lo, hi = ax.dataLim.intervalx
+    ax.set_xlim(min(lo, min(n)) / 1.3, max(hi, max(n)) * 1.3)
+    ax.xaxis.set_major_locator(LogLocator(subs=(1, 1.5, 2, 3, 5, 7)))
+    ax.xaxis.set_major_formatter(ScalarFormatter())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel("elements")
+
+
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
                show_edges=True, window_size=(1200, 800), timeout=300, title=None,
                bar_title=None, axes="m"):

@@ -515,3 +515,28 @@ def test_a_bound_the_chosen_solver_cannot_certify_is_given_by_the_fallback(verti
     assert r.lower == pytest.approx(lo.load, rel=1e-5)
     assert r.upper == pytest.approx(up.load, rel=1e-5)
     assert adapt(p, rounds=1).rounds[0].solvers == ("clarabel", "clarabel")
+
+
+@almost
+def test_bracket_is_the_round_of_both_bounds_and_its_json_scales_them(vertical_cut):
+    from pfem_skfem.drivers.bounds import bracket
+
+    problem, lo, up = vertical_cut
+    r = bracket(problem)
+    assert (r.elements, r.lower, r.upper) == (problem.mesh.t.shape[1], lo.load, up.load)
+    j = r.as_json(2.0)
+    assert (j["lower"], j["upper"], j["gap"]) == (2 * lo.load, 2 * up.load, r.gap)
+
+
+@almost
+def test_the_fields_of_a_pair_of_bounds_are_two_readable_panels(vertical_cut):
+    from pfem_skfem.harness.figures import figure_problems, pyplot
+    from pfem_skfem.viz import plot_bound_fields
+
+    problem, lo, up = vertical_cut
+    fig, axes = pyplot().subplots(1, 2, figsize=(10, 3.5))
+    plot_bound_fields(axes, problem, lo, up, "cut")
+    assert axes[0].get_title().startswith("cut: upper bound")
+    assert len(axes[1].collections[0].get_array()) == problem.mesh.t.shape[1]
+    assert figure_problems(fig) == []
+    pyplot().close(fig)

@@ -62,3 +62,24 @@ def test_the_energy_of_a_step_on_one_triangle_lifted_by_one():
     weight = 1000.0 * 0.5 * 10.0                     # rho A g, its centroid at y = 1/3
     np.testing.assert_allclose(mesh_energy(state, scene, record, result),
                                [3.0, weight / 3, weight * 4 / 3, 2.0], rtol=1e-15)
+
+
+def test_largest_gain_is_the_largest_rise_after_a_low():
+    from pfem_skfem.pfem.measure import largest_gain
+
+    assert largest_gain([3.0, 1.0, 2.5, 0.0, 1.0]) == 1.5
+    assert largest_gain([3.0, 2.0, 1.0]) == 0.0
+
+
+def test_an_energy_budget_splits_steps_and_remeshings():
+    from pfem_skfem.pfem.measure import energy_budget
+
+    energy = [[0.0, 10.0], [1.0, 8.0], [2.0, 7.5]]        # [kinetic, potential] a record
+    # [kinetic t_n+1, potential t_n, potential t_n+1, kinetic t_n] a step
+    mesh = [[1.0, 10.0, 8.0, 0.0], [2.0, 8.5, 7.0, 1.5]]
+    b = energy_budget(energy, mesh)
+    assert b["energy_change_end"] == -0.5 and b["energy_largest_rise"] == 0.5
+    assert b["energy_largest_gain"] == 0.5 and b["kinetic_peak"] == 2.0
+    assert b["mesh_energy_change_end"] == 0.0 and b["mesh_energy_largest_gain"] == 0.0
+    assert b["remeshing_potential"] == 0.5 and b["remeshing_kinetic"] == 0.5
+    assert b["steps_energy"] == (1 + 8 - 0 - 10) + (2 + 7 - 1.5 - 8.5)

@@ -69,7 +69,7 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_angle, positive_float, positive_int,
@@ -78,6 +78,7 @@ from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
+from pfem_skfem.viz import snapshot_grid
 
 QUICK = dict(h=0.016, L=0.5, s=0.05, steps=12, stability_steps=4, stability_layers=5)
 CONTACTS = {"coulomb": CoulombCones, "zero-dilation": LaggedFriction}
@@ -535,56 +536,33 @@ def run(args):
 
 def figures(args, stability, layer, increment_runs=()):
     """The stability test's plastic strain; Fig 6.10 snapshots, the wall force, the profile."""
-    from matplotlib.tri import Triangulation
     plt = pyplot()
     out = figure_dir(args, "accretionary_wedge")
     low, high = critical_taper(args.phi, args.base_friction)
-    fig, axes = plt.subplots(len(stability), 1, figsize=(10, 2.2 * len(stability) + 0.6),
-                             squeeze=False, layout="constrained")
-    for ax, r in zip(axes[:, 0], stability):
-        p, t, dep = r["last"]
-        pc = ax.tripcolor(Triangulation(p[:, 0], p[:, 1], t), facecolors=dep, cmap="viridis",
-                          vmin=0, vmax=max(DEFORMS, float(dep.max())))
-        ax.set_aspect("equal")
-        verdict = "stable" if low < r["taper"] < high else "below alpha_c"
-        ax.set_title(f"taper {r['taper']:g} deg ({verdict}; alpha_c = {low:.2f} deg): "
-                     f"max = {r['plastic_max']:.2g} du/H, wall force = "
-                     f"{r['wall_force_over_mu_b_W']:.3f} mu_b W", fontsize=9)
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        fig.colorbar(pc, ax=ax, label="plastic strain increment / (du/H)")
-    fig.savefig(out / "stability_test.png", dpi=120)
-    plt.close(fig)
+    fig, _ = snapshot_grid(
+        {f"taper {r['taper']:g} deg ({'stable' if low < r['taper'] < high else 'below alpha_c'}"
+         f"; alpha_c = {low:.2f} deg): max = {r['plastic_max']:.2g} du/H, wall force = "
+         f"{r['wall_force_over_mu_b_W']:.3f} mu_b W": (r["last"][0], r["last"][2], r["last"][1])
+         for r in stability}, label="plastic strain increment / (du/H)", size=(10, 2.2),
+        title="stability test: the plastic strain of the last step, on one scale",
+        colours=dict(vmax=max([DEFORMS] + [float(r["last"][2].max()) for r in stability])))
+    save_figure(fig, out / "stability_test.png")
     if layer is None:
         return
-    snaps = layer["snapshots"]
-    fig, axes = plt.subplots(len(snaps), 1, figsize=(12, 1.3 * len(snaps) + 1.0), squeeze=False,
-                             layout="constrained")
-    vmax = 0.003 * layer["du"] / 1.6e-4            # the thesis' scale at 0.016 cm a step
-    for ax, (s, snap) in zip(axes[:, 0], snaps.items()):
-        pts = snap["points"]
-        pc = ax.tripcolor(Triangulation(pts[:, 0], pts[:, 1], snap["cells"]),
-                          facecolors=np.asarray(snap["deps"]), cmap="jet", vmin=0, vmax=vmax)
-        ax.set_aspect("equal")
-        ax.set_xlim(0, args.L)
-        ax.set_ylim(0, 2.2 * args.h0)
-        ax.set_title(f"wall displacement {s * 100:g} cm", fontsize=9)
-        ax.set_ylabel("y [m]")
-    axes[-1, 0].set_xlabel("x [m]")
-    fig.colorbar(pc, ax=axes.ravel().tolist(), shrink=0.8,
-                 label="equivalent plastic strain increment per step [-]")
-    fig.suptitle("accretionary wedge (cf. Fig 6.10)")
-    fig.savefig(out / "snapshots.png", dpi=120)
-    plt.close(fig)
+    fig, _ = snapshot_grid(
+        {f"wall displacement {s * 100:g} cm": (snap["points"], snap["deps"], snap["cells"])
+         for s, snap in layer["snapshots"].items()}, size=(12, 1.3),
+        label="equivalent plastic strain increment per step [-]",
+        title="accretionary wedge (cf. Fig 6.10)", limits=((0, args.L), (0, 2.2 * args.h0)),
+        colours=dict(cmap="jet", vmax=0.003 * layer["du"] / 1.6e-4))   # the thesis' scale
+    save_figure(fig, out / "snapshots.png")
     fig, ax = plt.subplots(1, 2, figsize=(12, 4))
     ax[0].plot(layer["s"] * 100, layer["wall_force"], "-")
-    ax[0].set_xlabel("wall displacement s [cm]")
-    ax[0].set_ylabel("force on the wall per unit length [kN/m]")
-    ax[0].set_title("push on the wall")
     weight = args.rho * args.g * args.h0 * args.L
     ax[0].axhline(np.tan(np.radians(args.base_friction)) * weight, color="k", ls=":",
                   label="mu_b x weight of the whole layer (it would slide)")
-    ax[0].legend(fontsize=8)
+    labelled(ax[0], "wall displacement s [cm]", "force on the wall per unit length [kN/m]",
+             "push on the wall", legend=8)
     xc, top = layer["profile"]
     geo = layer["geometry"]
     ax[1].plot(xc * 100, top * 100, "k-", label="PFEM surface")
@@ -596,10 +574,9 @@ def figures(args, stability, layer, increment_runs=()):
         ax[1].plot(xx * 100, (args.h0 + L_w * np.tan(np.radians(alpha_)) * np.array([1, 0])) * 100,
                    style, label=f"mass balance, {label}")
     ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
-    ax[1].set_xlabel("x [cm]")
-    ax[1].set_ylabel("surface height [cm]")
-    ax[1].set_title(f"surface after s = {args.s * 100:g} cm: mean slope {geo['slope_deg']:.2f} deg")
-    ax[1].legend(fontsize=8)
+    labelled(ax[1], "x [cm]", "surface height [cm]",
+             f"surface after s = {args.s * 100:g} cm: mean slope {geo['slope_deg']:.2f} deg",
+             legend=8)
     save_figure(fig, out / "wall_force_profile.png")
     if len(increment_runs) < 2:
         return
@@ -610,17 +587,11 @@ def figures(args, stability, layer, increment_runs=()):
         xc, top = r["profile"]
         ax[1].plot(xc * 100, top * 100, "-", lw=1,
                    label=f"{label}: slope {r['geometry']['slope_deg']:.1f} deg")
-    ax[0].set_xlabel("wall displacement s [cm]")
-    ax[0].set_ylabel("force on the wall per unit length [kN/m]")
-    ax[0].set_title("increment study: push on the wall")
+    labelled(ax[0], "wall displacement s [cm]", "force on the wall per unit length [kN/m]",
+             "increment study: push on the wall", legend=8).grid(alpha=0.3)
     ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
-    ax[1].set_xlabel("x [cm]")
-    ax[1].set_ylabel("surface height [cm]")
-    ax[1].set_title(f"increment study: surface after s = {args.s * 100:g} cm "
-                    f"(alpha_c = {low:.2f} deg)")
-    for a in ax:
-        a.legend(fontsize=8)
-        a.grid(alpha=0.3)
+    labelled(ax[1], "x [cm]", "surface height [cm]", f"increment study: surface after s = "
+             f"{args.s * 100:g} cm (alpha_c = {low:.2f} deg)", legend=8).grid(alpha=0.3)
     save_figure(fig, out / "increment_study.png")
 
 

@@ -73,7 +73,7 @@ import time
 
 import numpy as np
 
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoint_options,
                                         in_range, material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, positive_int, time_options)
@@ -548,10 +548,7 @@ def figures(args, runs, studies, nye):
             scale = float(nye_height(0.0, r["x_nye"], r["k"], args.H0))
             ax[0].plot(r["xs"] / r["x_nye"], r["h"] / scale, "-.", lw=1,
                        label=f"{r['label']} (inertia), k = {r['k']:g}")
-    ax[0].set_xlabel("x / x_f (Nye)")
-    ax[0].set_ylabel("h / h_Nye(0)")
-    ax[0].set_title("deposits at rest")
-    ax[0].legend(fontsize=7)
+    labelled(ax[0], "x / x_f (Nye)", "h / h_Nye(0)", "deposits at rest")
     eps = np.array([r["eps"] for r in runs.values()])
     for material in args.materials:
         mine = [r for r in runs.values() if r["material"] == material]
@@ -560,10 +557,8 @@ def figures(args, runs, studies, nye):
     grid = np.geomspace(eps.min() / 1.3, eps.max() * 1.3, 20)
     ax[1].loglog(grid, args.tol * np.sqrt(grid), "k:", label=f"tolerance {args.tol:g} sqrt(eps)")
     ax[1].loglog(grid, grid, color="0.6", ls="--", label="eps")
-    ax[1].set_xlabel("aspect ratio eps = h(0) / x_f (Nye)")
-    ax[1].set_ylabel("excess of h over Nye, 0.2-0.8 x_f")
-    ax[1].set_title("the profile against h/L")
-    ax[1].legend(fontsize=7)
+    labelled(ax[1], "aspect ratio eps = h(0) / x_f (Nye)", "excess of h over Nye, 0.2-0.8 x_f",
+             "the profile against h/L")
     heaps = {"Nye's heap": list(nye.values()),
              **{f"{m} deposits": [{**r["alpha"], "eps": r["eps"]} for r in runs.values()
                                   if r["material"] == m] for m in args.materials}}
@@ -572,10 +567,8 @@ def figures(args, runs, studies, nye):
         lo, hi = np.array([b["lower"] for b in bs]), np.array([b["upper"] for b in bs])
         ax[2].errorbar(e, (lo + hi) / 2, yerr=(hi - lo) / 2, fmt="o", capsize=3, label=name)
     ax[2].axhline(1.0, color="k", ls=":", label="at its limit")
-    ax[2].set_xlabel("aspect ratio eps = h(0) / x_f (Nye)")
-    ax[2].set_ylabel("gravity carried, alpha_L to alpha_U")
-    ax[2].set_title("rigid-plastic heaps: certified limit bounds")
-    ax[2].legend(fontsize=7)
+    labelled(ax[2], "aspect ratio eps = h(0) / x_f (Nye)", "gravity carried, alpha_L to alpha_U",
+             "rigid-plastic heaps: certified limit bounds")
     save_figure(fig, figure_dir(args, "bingham_slump") / "bingham_slump.png")
 
 

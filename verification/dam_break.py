@@ -57,7 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, positive_float,
                                         positive_int, time_options)
@@ -301,10 +301,8 @@ def run(args):
         viscous = front_spread(base, runs["inviscid"])
         report.add_interval("viscosity_effect_over_discretisation", viscous / noise, 0.0, 1.0,
                             "mu = 1e-3 vs 0: front difference within the dt/2 and 1.5 nx spread")
-    report.extra = {"runs": {k: {kk: r[kk] for kk in ("T", "Z", "H", "nx", "steps", "mu",
-                                                       "mass_error", "area_change",
-                                                       "area_change_final", "elements",
-                                                       "iterations", "seconds_per_step")}
+    report.extra = {"runs": {k: {kk: v for kk, v in r.items()
+                                 if kk not in ("label", "points", "pvd")}
                              for k, r in runs.items()},
                     "front_rows": front, "height_rows": height, "shift_T": shift,
                     "pvd": base["pvd"], "hydrostatic_pressure_largest_error": p_largest,
@@ -335,21 +333,11 @@ def figures(args, runs, shift, n):
                label="Ritter, dZ/dT = 2")
     ax[0].set_xlim(0, runs["base"]["T"][-1] + shift + 0.2)
     ax[0].set_ylim(1, runs["base"]["Z"].max() + 0.5)
-    ax[0].set_xlabel("T = n t sqrt(g/a)")
-    ax[0].set_ylabel("surge front Z = z/a")
-    ax[0].set_title("surge front")
-    ax[0].legend(fontsize=7)
+    labelled(ax[0], "T = n t sqrt(g/a)", "surge front Z = z/a", "surge front")
     ax[1].set_xlim(0, (runs["base"]["T"][-1] + shift) / n + 0.2)
-    ax[1].set_xlabel("tau = t sqrt(g/a)")
-    ax[1].set_ylabel("height at the wall H = h/(n^2 a)")
-    ax[1].set_title("residual column")
-    ax[1].legend(fontsize=7)
-    x = runs["base"]["points"] / args.a
-    ax[2].plot(x[:, 0], x[:, 1], ".", ms=2)
-    ax[2].set_aspect("equal")
-    ax[2].set_xlabel("x / a")
-    ax[2].set_ylabel("y / a")
-    ax[2].set_title(f"particles at T = {args.T_end:g}")
+    labelled(ax[1], "tau = t sqrt(g/a)", "height at the wall H = h/(n^2 a)", "residual column")
+    ax[2].plot(*(runs["base"]["points"] / args.a).T, ".", ms=2)
+    labelled(ax[2], "x / a", "y / a", f"particles at T = {args.T_end:g}").set_aspect("equal")
     save_figure(fig, figure_dir(args, "dam_break") / "dam_break.png")
 
 

@@ -38,7 +38,7 @@ import sys
 import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
                                         positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
@@ -189,17 +189,12 @@ def figures(args, films, mud, ny, errors, order):
     ax[0].plot(r["u"], r["z"] / h, "s", ms=4, label=f"Bingham, ny = {ny[1]}")
     ax[0].axhline(yield_height(h, theta, rho, args.tau_y, g) / h, color="0.6", ls=":",
                   label="plug base z_y")
-    ax[0].set_xlabel("u [m/s]")
-    ax[0].set_ylabel("z / h")
-    ax[0].set_title("steady profiles")
-    ax[0].legend(fontsize=7)
+    labelled(ax[0], "u [m/s]", "z / h", "steady profiles")
     ax[1].loglog(ny, errors, "o-", label=f"Bingham, order {order:.2f}")
     ref = errors[0] * (np.asarray(ny) / ny[0]) ** -2.0
     ax[1].loglog(ny, ref, "--", color="0.5", label="slope 2")
-    ax[1].set_xlabel("elements through the depth, ny")
-    ax[1].set_ylabel("relative L2 error of u")
-    ax[1].set_title("Bingham profile against the mesh")
-    ax[1].legend(fontsize=7)
+    labelled(ax[1], "elements through the depth, ny", "relative L2 error of u",
+             "Bingham profile against the mesh")
     save_figure(fig, figure_dir(args, "fluid_films") / "fluid_films.png")
 
 

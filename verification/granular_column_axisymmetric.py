@@ -49,7 +49,6 @@ VTU/PVD (``--save-every``) hold r and z as x and y; to see the body of revolutio
 ParaView apply Transform (rotate 90 deg about x, so that z points up along the new z)
 and then Rotational Extrusion (360 deg).
 """
-import json
 import sys
 import time
 from pathlib import Path
@@ -63,7 +62,8 @@ from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot, save_figure,
+                                        write_summary)
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         friction_angle, in_range, material_options, opt,
                                         pfem_options, positive_float, solver_keyword,
@@ -73,6 +73,7 @@ from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.pfem.measure import deposit_extent, mass_moved, mass_within, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
+from pfem_skfem.viz import snapshot_grid
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
@@ -609,31 +610,12 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
     out = figure_dir(args, "granular_column_axisymmetric")
     rows = sorted(sweep, key=lambda r: r["a"])
     for r in rows:                       # Fig 7.5 / 7.7: the snapshots of a case
-        keys = [k for k in r["snapshots"]]
-        ncol = 4
-        nrow = -(-len(keys) // ncol)
-        fig, axes = plt.subplots(nrow, ncol, figsize=(12, 1.6 * nrow + 0.8), squeeze=False,
-                                 layout="constrained")      # room for the colour bar
-        width = 1.2 + max(r["runout_over_r0"], 0) + 0.2
-        # one colour scale for every snapshot, so that one colour bar reads them all
-        top = max((float(np.max(r["snapshots"][k]["speed"], initial=0.0)) for k in keys),
-                  default=0.0) or 1.0
-        for ax, k in zip(axes.flat, keys):
-            s = r["snapshots"][k]
-            dots = ax.scatter(s["points"][:, 0] / r["r0"], s["points"][:, 1] / r["r0"],
-                              c=s["speed"], s=2, cmap="viridis", vmin=0.0, vmax=top)
-            ax.set_aspect("equal")
-            ax.set_xlim(0, width)
-            ax.set_title("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}", fontsize=8)
-            ax.set_xlabel("r / r0", fontsize=8)
-            ax.set_ylabel("z / r0", fontsize=8)
-            ax.tick_params(labelsize=7)
-        for ax in list(axes.flat)[len(keys):]:
-            ax.axis("off")
-        fig.suptitle(f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
-                     fontsize=9)
-        if keys:
-            fig.colorbar(dots, ax=list(axes.flat), label="speed [m/s]", shrink=0.8)
+        fig, _ = snapshot_grid(
+            {("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}"): (s["points"], s["speed"])
+             for k, s in r["snapshots"].items()}, label="speed [m/s]",
+            title=f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
+            ncols=4, size=(12, 1.6), scale=r["r0"], axes=("r / r0", "z / r0"),
+            limits=((0, 1.4 + max(r["runout_over_r0"], 0)), None))
         save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
     a_fit = np.logspace(-1, np.log10(20), 200)
     r_fit, h_fit, _ = lube_2004(a_fit)
@@ -648,20 +630,15 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
             lab = f"PFEM, {g[0]['material']}, phi_g = {g[0]['phi']:g}"
             ax[0].loglog([r["a"] for r in g], [r["runout_over_r0"] for r in g], mark, label=lab)
             ax[1].loglog([r["a"] for r in g], [r["h_inf_over_r0"] for r in g], mark, label=lab)
-    ax[0].set_ylabel("(r_inf - r0) / r0")
-    ax[1].set_ylabel("h_inf / r0 (on the axis)")
-    for x in ax:
-        x.set_xlabel("a = h0 / r0")
-        x.legend(fontsize=7)
+    labelled(ax[0], "a = h0 / r0", "(r_inf - r0) / r0")
+    labelled(ax[1], "a = h0 / r0", "h_inf / r0 (on the axis)")
     fig.suptitle("final deposit vs aspect ratio, cf. Fig 7.8-7.9")
     save_figure(fig, out / "deposit_vs_a.png")
     fig, ax = plt.subplots(figsize=(6, 4))
     for r in rows:
         ax.plot(r["t_bar"], 100 * np.asarray(r["area_change"]), label=f"a = {r['a']:g}")
-    ax.set_xlabel("t / sqrt(h0/g)")
-    ax.set_ylabel("volume change (2 pi r dA) [%]")
-    ax.set_title("volume of the detected domain")
-    ax.legend(fontsize=7)
+    labelled(ax, "t / sqrt(h0/g)", "volume change (2 pi r dA) [%]",
+             "volume of the detected domain")
     save_figure(fig, out / "volume_change.png")
     for r in history:
         tr = r["track"]
@@ -670,10 +647,8 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
         ax.plot(tr["t_bar"], np.asarray(tr["r_over_r0"]) - 1, "--", label="(r(t) - r0)/r0 (PFEM)")
         ax.plot(tr["t_bar"], np.asarray(tr["h_over_r0"]) / np.asarray(tr["r_over_r0"]), "--",
                 label="h(t)/r(t) (PFEM)")
-        ax.set_xlabel("t / sqrt(h0/g)")
-        ax.set_ylabel("h / r0, (r - r0) / r0, h / r")
-        ax.set_title("a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", fontsize=9)
-        ax.legend(fontsize=7)
+        labelled(ax, "t / sqrt(h0/g)", "h / r0, (r - r0) / r0, h / r",
+                 "a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", title_size=9)
         save_figure(fig, out / "time_history.png")
     for name, key, rows_s in (("friction_study", "phi", friction), ("base_study", "phi_s", base)):
         if not rows_s:
@@ -685,23 +660,17 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
                        label=f"a = {a:g}")
             ax[1].plot([r[key] for r in rs], [r["h_inf_over_r0"] for r in rs], "o-",
                        label=f"a = {a:g}")
-        ax[0].set_ylabel("(r_inf - r0) / r0")
-        ax[1].set_ylabel("h_inf / r0")
-        for x in ax:
-            x.set_xlabel(f"{key} [deg]")
-            x.legend(fontsize=7)
+        labelled(ax[0], f"{key} [deg]", "(r_inf - r0) / r0")
+        labelled(ax[1], f"{key} [deg]", "h_inf / r0")
         fig.suptitle("friction study (cf. Fig 7.10)" if key == "phi"
                      else "base-friction study (cf. Fig 7.11)")
         save_figure(fig, out / f"{name}.png")
     kept = [r for r in base if "mass" in r["snapshots"]["rest"]]
     if kept:
         base_profiles(kept, out / "base_profiles.png")
-    (out / "summary.json").write_text(json.dumps(
-        {k: [_summary(r) for r in v] for k, v in dict(sweep=sweep, material=material,
-                                                       density=density, friction=friction,
-                                                       base=base, mesh=mesh,
-                                                       history=history).items()},
-        default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
+    write_summary(out, {k: [_summary(r) for r in v] for k, v in dict(
+        sweep=sweep, material=material, density=density, friction=friction, base=base,
+        mesh=mesh, history=history).items()})
 
 
 def base_profiles(rows, path):
@@ -719,13 +688,8 @@ def base_profiles(rows, path):
             ax[0, j].plot(x / r["r0"], z / r["r0"], ".", ms=2, label=label)
             radii, share = mass_within(x, m)
             ax[1, j].step(radii / r["r0"], share, where="post", label=label)
-        ax[0, j].set_title(f"a = {a:g}", fontsize=9)
-        ax[0, j].set_ylabel("z / r0")
-        ax[0, j].set_aspect("equal")
-        ax[1, j].set_ylabel("share of the mass within r")
-        for axis in ax[:, j]:
-            axis.set_xlabel("r / r0")
-            axis.legend(fontsize=7)
+        labelled(ax[0, j], "r / r0", "z / r0", f"a = {a:g}", title_size=9).set_aspect("equal")
+        labelled(ax[1, j], "r / r0", "share of the mass within r")
     fig.suptitle("base-friction study: the deposits at rest (cf. Fig 7.11)")
     fig.tight_layout()
     save_figure(fig, path)

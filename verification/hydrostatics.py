@@ -44,7 +44,7 @@ import sys
 
 import numpy as np
 
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
                                         positive_int, time_options)
 from pfem_skfem.harness.report import Report, script_main
@@ -222,9 +222,7 @@ def run(args):
                               "majority V / b h_b": ".4f"})
     if np.isfinite(order):
         print(f"error against b h_b: order {order:.2f} in h")
-    keys = ("n", "h", "V", "V_drawn", "V_record", "V_majority", "effective", "effective_force",
-            "water_effective", "under_over_weight", "walls", "still", "x", "effective_nodes")
-    report.extra = {"runs": [{k: r[k] for k in keys} for r in runs],
+    report.extra = {"runs": [{k: v for k, v in r.items() if k != "under"} for r in runs],
                     "drawn_block_error": nominal, "drawn_block_error_order": order}
     report.data = dict(runs=runs, nominal=nominal, order=order)
     return report
@@ -240,10 +238,8 @@ def figures(args, runs, nominal, order):
         ax[0].step(r["x"], np.cumsum(r["effective_nodes"]) / unit, where="post",
                    label=f"h = h_b / {r['n']}: V = {r['V'] / r['V_drawn']:.2f} b h_b")
     ax[0].axhline(1.0, color="0.3", ls="--", label="(rho_s - rho_w) g b h_b")
-    ax[0].set_xlabel("x [m]")
-    ax[0].set_ylabel("sum of R_i - p_f t_i to x / (rho_s - rho_w) g b h_b")
-    ax[0].set_title("floor's effective force, from the left wall")
-    ax[0].legend(fontsize=7)
+    labelled(ax[0], "x [m]", "sum of R_i - p_f t_i to x / (rho_s - rho_w) g b h_b",
+             "floor's effective force, from the left wall")
     hs = np.array([q["h"] for q in runs])
     ax[1].loglog(hs, np.maximum(nominal, 1e-16), "o-",       # round-off: no order
                  label=f"ours, order {order:.2f}" if np.isfinite(order) else "ours")
@@ -251,10 +247,8 @@ def figures(args, runs, nominal, order):
                  label="2 h^2 / (b h_b): the corner triangles")
     ax[1].loglog(hs, (2 * args.h_b + args.b) * hs / (2 * args.b * args.h_b), "--", color="0.5",
                  label="majority of the vertices (before): (2 h_b + b) h / (2 b h_b)")
-    ax[1].set_xlabel("particle spacing h [m]")
-    ax[1].set_ylabel("|effective / ((rho_s - rho_w) g b h_b) - 1|")
-    ax[1].set_title("against the drawn block")
-    ax[1].legend(fontsize=7)
+    labelled(ax[1], "particle spacing h [m]", "|effective / ((rho_s - rho_w) g b h_b) - 1|",
+             "against the drawn block")
     save_figure(fig, figure_dir(args, "hydrostatics") / "hydrostatics.png")
 
 

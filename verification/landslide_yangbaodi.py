@@ -63,7 +63,6 @@ Usage::
     python verification/landslide_yangbaodi.py --profile my_slope.csv --mu-study 8 12
     python verification/landslide_yangbaodi.py --help                        # every option
 """
-import json
 import os
 import sys
 import time
@@ -82,7 +81,8 @@ from pfem_skfem.pfem.measure import centre_of_mass, front                      #
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun  # noqa: E402
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure  # noqa: E402
+from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot,  # noqa: E402
+                                        save_figure, write_summary)
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options,
                                         nonnegative_float, opt, pfem_options, positive_angle,
                                         positive_float, solver_keyword, time_options)
@@ -91,6 +91,7 @@ from pfem_skfem.harness.report import Report, script_main  # noqa: E402
 from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
 from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
+from pfem_skfem.viz import snapshot_grid  # noqa: E402
 
 PROFILE = Path(__file__).resolve().parent / "data" / "yangbaodi_profile.csv"
 # A coarse mass (about 4 particles through its thickness) on the same profile; dt in
@@ -625,20 +626,12 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     plt = pyplot()
     out = figure_dir(args, "landslide_yangbaodi")
     xmax = _xmax([base] + mu_runs + rho_runs)
-    times = sorted(base["snapshots"])
-    fig, axes = plt.subplots(len(times), 1, figsize=(9, 1.9 * len(times) + 1.2), squeeze=False,
-                             layout="constrained")
-    vmax = max(max(float(np.max(s["speed"])) for s in base["snapshots"].values()), 1e-9)
-    for ax, tk in zip(axes[:, 0], times):
-        s = base["snapshots"][tk]
-        _ground(ax, base)
-        sc = ax.scatter(s["x"][:, 0], s["x"][:, 1], c=s["speed"], s=2, cmap="viridis",
-                        vmin=0, vmax=vmax)
-        _frame(ax, base, xmax)
-        ax.set_title(f"t = {tk:g} s after release", fontsize=9)
-    fig.suptitle(f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
-                 "(cf. Fig 8.9-8.10); dashed: the ground before failure", fontsize=9)
-    fig.colorbar(sc, ax=axes[:, 0].tolist(), label="speed [m/s]", shrink=0.8)
+    fig, _ = snapshot_grid(
+        {f"t = {t:g} s after release": (s["x"], s["speed"])
+         for t, s in sorted(base["snapshots"].items())}, label="speed [m/s]",
+        title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
+              "(cf. Fig 8.9-8.10); dashed: the ground before failure", size=(9, 1.9),
+        axes=None, draw=lambda ax: (_ground(ax, base), _frame(ax, base, xmax)))
     save_figure(fig, out / "snapshots.png")
 
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
@@ -649,20 +642,16 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
             ax0.plot(r["t"], r["front"], ":", label=f"mu = tan {r['mu_deg']:g} deg")
     ax0.plot([THESIS_FRONT_TIME], [THESIS_FRONT], "k*", ms=10,
              label="thesis: ~325 m at ~20 s (other geometry)")
-    ax0.set_xlabel("time after release [s]")
-    ax0.set_ylabel("front's horizontal position [m]")
-    ax0.set_title("the front against time (cf. Fig 8.5)", fontsize=9)
-    ax0.legend(fontsize=7)
+    labelled(ax0, "time after release [s]", "front's horizontal position [m]",
+             "the front against time (cf. Fig 8.5)", title_size=9)
     for r in mu_runs:
         ax1.semilogy(r["t"], np.maximum(r["ke"], 1e-30), label=f"mu = tan {r['mu_deg']:g} deg")
     ax1.axhline(args.rest * base["ke_peak"], color="k", lw=0.6, ls="--",
                 label=f"{args.rest:g} of the peak (mu = tan {base['mu_deg']:g})")
     ax1.axvline(THESIS_END, color="0.5", lw=0.8, ls=":", label="thesis: ended ~25 s")
     ax1.set_ylim(max(1e-6 * base["ke_peak"], 1e-30), 3 * base["ke_peak"])
-    ax1.set_xlabel("time after release [s]")
-    ax1.set_ylabel("kinetic energy [kJ/m]")
-    ax1.set_title("kinetic energy against time", fontsize=9)
-    ax1.legend(fontsize=7)
+    labelled(ax1, "time after release [s]", "kinetic energy [kJ/m]",
+             "kinetic energy against time", title_size=9)
     save_figure(fig, out / "front_and_energy.png")
 
     names = ("A (rear)", "B (middle)", "C (front)")
@@ -681,11 +670,9 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
         ax.plot(xs[:, 0], vs[:, 0], label="v_x")
         ax.plot(xs[:, 0], vs[:, 1], label="v_y")
         ax.axhline(0, color="k", lw=0.5)
-        ax.set_ylabel("velocity [m/s]")
-        ax.set_xlabel("x of the point [m]")
         ax.set_xlim(0, xmax)
-        ax.set_title(f"point {name}: velocity against its x (cf. Fig 8.7-8.8)", fontsize=9)
-        ax.legend(fontsize=7)
+        labelled(ax, "x of the point [m]", "velocity [m/s]",
+                 f"point {name}: velocity against its x (cf. Fig 8.7-8.8)", title_size=9)
     fig.tight_layout()
     save_figure(fig, out / "material_points.png")
 
@@ -708,14 +695,11 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
                 label=f"alpha fixed at {args.alpha:g}")
     ax.axhspan(-100 * MASS_TOLERANCE, 100 * MASS_TOLERANCE, color="k", alpha=0.08,
                label="thesis: within 2 %")
-    ax.set_xlabel("time after release [s]")
-    ax.set_ylabel("mass change [%]")
-    ax.set_title("mass (detected area) change, alpha_n = m0 alpha0 / m_n", fontsize=9)
-    ax.legend(fontsize=7)
+    labelled(ax, "time after release [s]", "mass change [%]",
+             "mass (detected area) change, alpha_n = m0 alpha0 / m_n", title_size=9)
     save_figure(fig, out / "mass_change.png")
-    (out / "summary.json").write_text(json.dumps(
-        [_summary(r) for r in [base] + mu_runs + rho_runs + ([fixed_run] if fixed_run else [])],
-        default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o), indent=1))
+    write_summary(out, [_summary(r) for r in [base] + mu_runs + rho_runs
+                        + ([fixed_run] if fixed_run else [])])
 
 
 if __name__ == "__main__":

@@ -45,20 +45,21 @@ from dataclasses import replace
 
 import numpy as np
 
-from pfem_skfem.discretisation.bounds import element_gradients
 from pfem_skfem.discretisation.meshes import (graded_rectangle_with_elements,
                                               triangulate_polygon)
-from pfem_skfem.drivers.bounds import adapt, bracket_safety, factor_of_safety, reduced
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.drivers.bounds import (adapt, bracket, bracket_safety, factor_of_safety,
+                                       reduced)
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, friction_angle,
                                         material_options, nonnegative_int, opt, positive_angle,
                                         positive_float)
 from pfem_skfem.harness.progress import progress_bar
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, counted_warnings, script_main
 from pfem_skfem.materials import MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import (LimitProblem, Punch, Support, kinematic,
                                         lower_bound, upper_bound)
 from pfem_skfem.problems.conic import AlmostSolvedWarning
+from pfem_skfem.viz import plot_bound_fields, plot_rounds
 
 QUICK = dict(target_gap=0.03, uniform=0, mc_rounds=3, mc_target_gap=0.06, cut_size=0.15,
              cut_rounds=3, tol_cut=0.08, slope_size=0.15, slope_rounds=1,
@@ -107,11 +108,6 @@ def gravity_problem(polygon, size, criterion, gamma, L):
                         supports=(Support(lambda x: x[1] < e, "xy"),
                                   Support(lambda x: x[0] > L - e, "x")),
                         body_live=(0.0, -gamma))
-
-
-def rounds_json(rounds, scale=1.0):
-    return [dict(elements=r.elements, lower=r.lower * scale, upper=r.upper * scale,
-                 gap=r.gap, seconds=r.seconds) for r in rounds]
 
 
 def check(args):
@@ -174,14 +170,9 @@ def build_parser():
 def run(args):
     """The six cases in turn; each adds its checks to one report. Clarabel's 'AlmostSolved'
     ends accepted by the library (a certified field) are counted, not printed."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", AlmostSolvedWarning)
+    with counted_warnings(AlmostSolvedWarning) as accepted:
         report = _run(args)
-    report.extra["almost_solved_accepted"] = sum(
-        issubclass(w.category, AlmostSolvedWarning) for w in caught)
-    for w in caught:
-        if not issubclass(w.category, AlmostSolvedWarning):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    report.extra["almost_solved_accepted"] = accepted.count
     return report
 
 
@@ -227,16 +218,12 @@ def _run(args):
         bar.set_description(f"Tresca footing, uniform {level}")
         if level:
             problem = problem.refined()
-        t0 = time.perf_counter()
-        lo, up = lower_bound(problem, solver=args.solver).load, upper_bound(
-            problem, solver=args.solver).load
-        uniform.append(dict(elements=problem.mesh.t.shape[1], lower=lo * nc, upper=up * nc,
-                            gap=2 * (up - lo) / (up + lo), seconds=time.perf_counter() - t0))
+        uniform.append(bracket(problem, solver=args.solver))
         bar.update(1)
-        bar.set_postfix_str(f"uniform: {uniform[-1]['elements']} el, gap "
-                            f"{100 * uniform[-1]['gap']:.2f} %")
+        bar.set_postfix_str(f"uniform: {uniform[-1].elements} el, gap "
+                            f"{100 * uniform[-1].gap:.2f} %")
     if args.uniform:
-        u = uniform[-1]
+        u = uniform[-1].as_json(nc)
         report.add_interval("footing_uniform_gap", u["gap"], 0.0, args.uniform_target_gap,
                             f"--uniform-target-gap: {args.uniform} uniform refinement(s), "
                             f"{u['elements']} elements", reference=0.0)
@@ -357,16 +344,17 @@ def _run(args):
     bar.close()
 
     report.extra = {
-        "footing_tresca": dict(rounds=rounds_json(tres.rounds, nc), uniform=uniform,
+        "footing_tresca": dict(rounds=[r.as_json(nc) for r in tres.rounds],
+                               uniform=[r.as_json(nc) for r in uniform],
                                Nc_lower=last.lower * nc, Nc_upper=last.upper * nc,
                                reference=pi2, mixed_Nc_first_mesh=mixed.load * nc,
                                mixed_solve_s=mixed.info.solve_time,
                                scaled_Nc=[lo_k * nc, up_k * nc]),
-        "footing_mohr_coulomb": dict(rounds=rounds_json(mc.rounds, nc), phi=args.phi,
+        "footing_mohr_coulomb": dict(rounds=[r.as_json(nc) for r in mc.rounds], phi=args.phi,
                                      Nc_lower=m.lower * nc, Nc_upper=m.upper * nc,
                                      reference=ref_mc, width=args.mc_width * reach,
                                      depth=args.mc_depth * depth),
-        "vertical_cut": dict(rounds=rounds_json(cut.rounds, gamma * H / c), N_lower=cl,
+        "vertical_cut": dict(rounds=[r.as_json(gamma * H / c) for r in cut.rounds], N_lower=cl,
                              N_upper=cu, reference=list(CUT_BOUNDS),
                              scaled_N_first_mesh=[cl_k, cu_k]),
         "slope": dict(rounds=[dict(elements=r.elements, F_lower=r.lower, F_upper=r.upper,
@@ -382,38 +370,12 @@ def _run(args):
     return report
 
 
-def _pair(plt, axes, problem, lower, upper, what):
-    """Dissipation per area of the upper bound (log) and yield ratio of the lower bound."""
-    from matplotlib.colors import LogNorm
-    mesh = problem.mesh
-    x, y = mesh.p
-    area = element_gradients(mesh)[1]
-    density = np.maximum(upper.dissipation / area, 1e-300)
-    top = density.max()
-    ratio = problem.criterion.yield_ratio(lower.sigma).reshape(-1, 3).max(axis=1)
-    for ax, values, kw, label in (
-            (axes[0], np.maximum(density, top * 1e-6), dict(norm=LogNorm(top * 1e-6, top),
-                                                            cmap="magma"),
-             "dissipation / area"),
-            (axes[1], np.minimum(ratio, 1.0), dict(vmin=0.0, vmax=1.0, cmap="viridis"),
-             "yield ratio (1 = at yield)")):
-        art = ax.tripcolor(x, y, mesh.t.T, facecolors=values, **kw)
-        ax.triplot(x, y, mesh.t.T, lw=0.1, color="0.6")
-        plt.colorbar(art, ax=ax, label=label, shrink=0.8)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
-    axes[0].set_title(f"{what}: upper bound, {mesh.t.shape[1]} el", fontsize=9)
-    axes[1].set_title(f"{what}: lower bound, max over vertices", fontsize=9)
-
-
 def figures(args, tres, mc, cut, slope, slope_last, uniform, nc, refs):
     """(a) the footing's fields, (b) the bounds against elements, (c) the slope's fields."""
-    from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
     plt = pyplot()
     out = figure_dir(args, "limit_bounds")
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
-    _pair(plt, axes, tres.problem, tres.lower, tres.upper, "Tresca footing")
+    plot_bound_fields(axes, tres.problem, tres.lower, tres.upper, "Tresca footing")
     save_figure(fig, out / "footing_fields.png")
 
     fig, axes = plt.subplots(2, 2, figsize=(10, 7))
@@ -425,30 +387,16 @@ def figures(args, tres, mc, cut, slope, slope_last, uniform, nc, refs):
                "3.772-3.786 (Pastor et al.)"),
               ("slope: factor of safety F", slope, 1.0, SLOPE_CHARTS, "1.38 charts")]
     for ax, (title, rounds, f, ref, ref_label) in zip(axes.ravel(), series):
-        n = [r.elements for r in rounds]
-        ax.plot(n, [r.lower * f for r in rounds], "o-", color="C0", label="lower bound")
-        ax.plot(n, [r.upper * f for r in rounds], "s-", color="C3", label="upper bound")
+        plot_rounds(ax, rounds, f)
         if title.startswith("Tresca") and len(uniform) > 1:
-            nu = [u["elements"] for u in uniform]
-            ax.plot(nu, [u["lower"] for u in uniform], "o--", color="C0", mfc="none",
-                    label="lower, uniform")
-            ax.plot(nu, [u["upper"] for u in uniform], "s--", color="C3", mfc="none",
-                    label="upper, uniform")
+            plot_rounds(ax, uniform, f, hollow=True, what=", uniform")
         if title.startswith("vertical"):
             ax.axhspan(*CUT_BOUNDS, color="0.8", label=ref_label)
         else:
             ax.axhline(ref, color="k", ls="--", lw=1, label=ref_label)
         if title.startswith("slope"):
             ax.axhline(SLOPE_FE, color="0.5", ls=":", lw=1, label="1.4 FE (G & L)")
-        ax.set_xscale("log")
-        ax.set_xlim(min(n) / 1.3, max(n) * 1.3)
-        ax.xaxis.set_major_locator(LogLocator(subs=(1, 1.5, 2, 3, 5, 7)))
-        ax.xaxis.set_major_formatter(ScalarFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.set_xlabel("elements")
-        ax.set_ylabel(title.split(": ")[1])
-        ax.set_title(title, fontsize=9)
-        ax.legend(fontsize=7)
+        labelled(ax, "elements", title.split(": ")[1], title, title_size=9)
     save_figure(fig, out / "bounds_vs_elements.png")
 
     F = 0.5 * (slope[-1].lower + slope[-1].upper)
@@ -458,7 +406,7 @@ def figures(args, tres, mc, cut, slope, slope_last, uniform, nc, refs):
         warnings.simplefilter("ignore", AlmostSolvedWarning)   # certified: counted in run
         fields = (lower_bound(at, solver=args.solver),
                   upper_bound(at, solver=args.solver))
-    _pair(plt, axes, at, *fields, f"slope at F = {F:.3f}")
+    plot_bound_fields(axes, at, *fields, f"slope at F = {F:.3f}")
     save_figure(fig, out / "slope_fields.png")
 
 

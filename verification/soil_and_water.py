@@ -84,12 +84,13 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
+from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, script_main
-from pfem_skfem.pfem.measure import height_at, mesh_energy, particle_energy, surface_level
+from pfem_skfem.pfem.measure import (energy_budget, height_at, mesh_energy, particle_energy,
+                                     surface_level)
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
 CLAY = 0                # the tank scene's regions: (clay, water)
@@ -150,12 +151,6 @@ def tank_level(area, L, beta):
     L l + l^2 / (2 tan beta)."""
     k = 1.0 / (2.0 * np.tan(np.radians(beta)))
     return (-L + np.sqrt(L * L + 4 * k * area)) / (2 * k)
-
-
-def largest_gain(energy):
-    """The largest rise of a series between two instants: max over t of E(t) - min_{s<=t} E(s)."""
-    energy = np.asarray(energy, dtype=float)
-    return float(np.max(energy - np.minimum.accumulate(energy)))
 
 
 def run_tank(args, out):
@@ -386,19 +381,11 @@ def run(args):
     rise = np.nanmax(series["gauges"], axis=0) - args.d
     report.add_interval("wave_at_gauges", float(rise.min() / args.h), 0.5, np.inf,
                         "the block's wave raised the surface at both gauges, in h")
-    energy = series["energy"].sum(axis=1) - series["energy"][0].sum()     # J/m, recorded
-    mesh = series["mesh_energy"]                         # kinetic, potential at t_n, t_n+1
-    own = mesh[:, 0] + mesh[:, 2] - mesh[0, 0] - mesh[0, 2]
-    energy_rise, own_rise = float(np.max(np.diff(energy))), float(np.max(np.diff(own)))
-    # an inviscid implicit step only loses energy: the most it gained between two instants
-    gain, own_gain = largest_gain(energy), largest_gain(own)
-    peak = float(series["energy"][:, 0].max())
+    budget = energy_budget(series["energy"], series["mesh_energy"])        # J/m
+    gain, peak = budget["energy_largest_gain"], budget["kinetic_peak"]
     report.add_interval("energy_gain_over_peak_kinetic", gain / peak if peak > 0 else np.inf,
                         0.0, args.tol_energy, "the particles' largest energy gain between two "
                         "instants / their peak kinetic energy")
-    remeshed = float(np.sum(mesh[1:, 1] - mesh[:-1, 2]))      # the remeshings' potential
-    mapped = float(np.sum(mesh[1:, 3] - mesh[:-1, 0]))        # and kinetic energy
-    stepped = float(np.sum(mesh[:, 0] + mesh[:, 2] - mesh[:, 3] - mesh[:, 1]))  # the steps
     # the fastest particle's motion in a step (the 99th percentile over the run), in h:
     # a long run needs it below about a half (book: Water and mud, the time step)
     motion = float(np.percentile(series["fastest"], 99) * args.t_end / args.steps / args.h)
@@ -421,14 +408,7 @@ def run(args):
                              "largest_rise": rise, "t_stop": t_stop,
                              "block_speed_at_end": float(series["block_speed"][-1]),
                              "shift_refused": refused, "step_motion_over_h": motion,
-                             "energy_change_end": float(energy[-1]),
-                             "energy_largest_rise": energy_rise,
-                             "mesh_energy_change_end": float(own[-1]),
-                             "mesh_energy_largest_rise": own_rise,
-                             "energy_largest_gain": gain, "mesh_energy_largest_gain": own_gain,
-                             "kinetic_peak": peak,
-                             "remeshing_potential": remeshed,
-                             "remeshing_kinetic": mapped, "steps_energy": stepped,
+                             **budget,
                              # the particles at the end, for a picture (mm)
                              "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
                     "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
@@ -440,11 +420,13 @@ def run(args):
           f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
           f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
           f"refused; the fastest particle moves {motion:.2f} h a step (99th percentile); the "
-          f"particles' energy {energy[-1]:+.0f} J/m by the end (largest rise in a "
-          f"step {energy_rise:+.1f}); the step's own (element masses) "
-          f"{own[-1]:+.0f} J/m from step 1 (largest rise {own_rise:+.1f}), the "
-          f"remeshings adding {remeshed:+.0f} J/m of potential energy and {mapped:+.0f} J/m "
-          f"of kinetic energy, the steps {stepped:+.0f} J/m")
+          f"particles' energy {budget['energy_change_end']:+.0f} J/m by the end (largest rise "
+          f"in a step {budget['energy_largest_rise']:+.1f}); the step's own (element masses) "
+          f"{budget['mesh_energy_change_end']:+.0f} J/m from step 1 (largest rise "
+          f"{budget['mesh_energy_largest_rise']:+.1f}), the remeshings adding "
+          f"{budget['remeshing_potential']:+.0f} J/m of potential energy and "
+          f"{budget['remeshing_kinetic']:+.0f} J/m of kinetic energy, the steps "
+          f"{budget['steps_energy']:+.0f} J/m")
     print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
     report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
                        expected=expected)
@@ -458,33 +440,20 @@ def figures(args, state, series, gauges, twins, expected):
     clay = state.region == CLAY
     ax[0].plot(state.x[~clay, 0], state.x[~clay, 1], ".", ms=2, label="water")
     ax[0].plot(state.x[clay, 0], state.x[clay, 1], ".", ms=3, color="saddlebrown", label="clay")
-    ax[0].set_aspect("equal")
-    ax[0].set_xlabel("x [m]")
-    ax[0].set_ylabel("y [m]")
-    ax[0].set_title(f"block into the tank, t = {args.t_end:g} s")
-    ax[0].legend(fontsize=7)
+    labelled(ax[0], "x [m]", "y [m]", f"block into the tank, t = {args.t_end:g} s"
+             ).set_aspect("equal")
     for k, xg in enumerate(gauges):
         ax[1].plot(series["t"], series["gauges"][:, k], lw=0.8, label=f"gauge x = {xg:.2f} m")
     ax[1].plot(series["t"], series["level"], "k", label="mean level")
     ax[1].axhline(expected, color="r", ls="--", label="level with the block in (area)")
     ax[1].axhline(args.d, color="grey", ls=":", label="still water before")
-    ax[1].set_xlabel("t [s]")
-    ax[1].set_ylabel("surface [m]")
-    ax[1].set_title("the water's surface")
-    ax[1].legend(fontsize=7)
+    labelled(ax[1], "t [s]", "surface [m]", "the water's surface")
     for name, tw in twins.items():
         ax[2].plot(tw["T"], tw["Z"], label=name)
         x = tw["points"] / args.a
         ax[3].plot(x[:, 0], x[:, 1], ".", ms=2, label=name)
-    ax[2].set_xlabel("T = t sqrt(2g/a)")
-    ax[2].set_ylabel("front Z = z/a")
-    ax[2].set_title("dam break: water and its granular twin")
-    ax[2].legend(fontsize=7)
-    ax[3].set_aspect("equal")
-    ax[3].set_xlabel("x / a")
-    ax[3].set_ylabel("y / a")
-    ax[3].set_title("the columns at T = 4")
-    ax[3].legend(fontsize=7)
+    labelled(ax[2], "T = t sqrt(2g/a)", "front Z = z/a", "dam break: water and its granular twin")
+    labelled(ax[3], "x / a", "y / a", "the columns at T = 4").set_aspect("equal")
     fig.tight_layout()
     save_figure(fig, figure_dir(args, "soil_and_water") / "soil_and_water.png")
 

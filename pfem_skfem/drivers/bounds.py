@@ -37,6 +37,19 @@ class Round:
         """(upper - lower) / (upper + lower) * 2: the relative width of the bracket."""
         return 2 * (self.upper - self.lower) / (self.upper + self.lower)
 
+    def as_json(self, scale=1.0):
+        """The round for a report: elements, the bounds times ``scale``, gap, seconds."""
+        return dict(elements=self.elements, lower=self.lower * scale,
+                    upper=self.upper * scale, gap=self.gap, seconds=self.seconds)
+
+
+def bracket(problem, **solver_settings):
+    """Both bounds of ``problem`` on its mesh as a :class:`Round` (no refinement)."""
+    t0 = time.perf_counter()
+    lower = lower_bound(problem, **solver_settings).load
+    upper = upper_bound(problem, **solver_settings).load
+    return Round(problem.mesh.t.shape[1], lower, upper, time.perf_counter() - t0)
+
 
 @dataclass
 class Adapted:

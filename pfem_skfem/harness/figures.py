@@ -217,6 +217,30 @@ def inspect_figures(script, argv, outdir):
     return report, found
 
 
+def labelled(ax, xlabel, ylabel, title=None, *, legend=7, title_size=None):
+    """Label a panel as :func:`figure_problems` wants it: its x and y labels, its title (of
+    ``title_size`` points, matplotlib's default if None) and, unless ``legend`` is None or
+    nothing drawn has a label, a legend of ``legend`` points. Returns ``ax``."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title is not None:
+        ax.set_title(title, fontsize=title_size)
+    if legend is not None and ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=legend)
+    return ax
+
+
+def write_summary(folder, data, name="summary.json"):
+    """Write ``data`` beside the figures as ``folder / name``, indented JSON (arrays and
+    numpy numbers as lists and numbers, any other object as its string); returns the path."""
+    import json
+
+    path = Path(folder) / name
+    path.write_text(json.dumps(data, indent=1, default=lambda o: o.tolist()
+                               if hasattr(o, "tolist") else str(o)))
+    return path
+
+
 def save_figure(fig, path, dpi=120):
     """Lay out ``fig`` (unless it has a layout engine), write it to ``path`` and close it."""
     engine = getattr(fig, "get_layout_engine", lambda: None)()

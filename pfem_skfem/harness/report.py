@@ -100,6 +100,7 @@ import json
 import math
 from pathlib import Path
 import sys
+import warnings
 
 import numpy as np
 
@@ -338,6 +339,31 @@ def thinned(case, histories, drop=(), entries=100):
     every = max(1, len(case[histories[0]]) // entries)
     kept = {k: v for k, v in case.items() if k not in tuple(drop) + tuple(histories)}
     return kept | {k: np.asarray(case[k])[::every].tolist() for k in histories}
+
+
+class counted_warnings:
+    """``with counted_warnings(category) as counted:`` the warnings of ``category`` (and its
+    subclasses) raised in the block are counted, ``counted.count``, not shown; the others
+    are shown as usual when the block ends (e.g. a solver's accepted near-solutions,
+    counted into the report)."""
+
+    def __init__(self, category):
+        self.category, self.count = category, 0
+
+    def __enter__(self):
+        self._catch = warnings.catch_warnings(record=True)
+        self._caught = self._catch.__enter__()
+        warnings.simplefilter("always", self.category)
+        return self
+
+    def __exit__(self, *exc):
+        self._catch.__exit__(*exc)
+        mine = [issubclass(w.category, self.category) for w in self._caught]
+        self.count = sum(mine)
+        for w, counted in zip(self._caught, mine):
+            if not counted:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return False
 
 
 def run_script(script, *argv):

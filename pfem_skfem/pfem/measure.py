@@ -153,3 +153,36 @@ def mesh_energy(state, scene, record, result):
     return [float(record["kinetic_energy"]),
             potential(result.disc.mesh.p.T, result.disc.mesh.t[:3].T),
             potential(state.mesh_p, state.mesh_t), float(record["start_kinetic_energy"])]
+
+
+def largest_gain(series):
+    """The largest rise of a series between two instants: max over t of E(t) - min_{s<=t} E(s)
+    (0 for a series that never rises)."""
+    series = np.asarray(series, dtype=float)
+    return float(np.max(series - np.minimum.accumulate(series)))
+
+
+def energy_budget(energy, mesh):
+    """Where a run's energy went, from its series of :func:`particle_energy` (one
+    [kinetic, potential] a record, the first at the start) and of :func:`mesh_energy` (one a
+    step). An inviscid implicit step only loses energy; what a remeshing adds is the next
+    step's energies at t_n less the previous step's at t_n+1.
+
+    Returns a dict: ``energy_change_end`` (the particles' total less its start),
+    ``energy_largest_rise`` (in one record), ``energy_largest_gain`` (:func:`largest_gain`),
+    the same three of the steps' own energies (``mesh_energy_*``, from the first step),
+    ``kinetic_peak`` (the particles'), ``remeshing_potential`` and ``remeshing_kinetic``
+    (summed over the remeshings) and ``steps_energy`` (what the steps changed, summed)."""
+    energy, mesh = np.asarray(energy, dtype=float), np.asarray(mesh, dtype=float)
+    total = energy.sum(axis=1) - energy[0].sum()
+    own = mesh[:, 0] + mesh[:, 2] - mesh[0, 0] - mesh[0, 2]
+    return {"energy_change_end": float(total[-1]),
+            "energy_largest_rise": float(np.max(np.diff(total))),
+            "energy_largest_gain": largest_gain(total),
+            "mesh_energy_change_end": float(own[-1]),
+            "mesh_energy_largest_rise": float(np.max(np.diff(own))),
+            "mesh_energy_largest_gain": largest_gain(own),
+            "kinetic_peak": float(energy[:, 0].max()),
+            "remeshing_potential": float(np.sum(mesh[1:, 1] - mesh[:-1, 2])),
+            "remeshing_kinetic": float(np.sum(mesh[1:, 3] - mesh[:-1, 0])),
+            "steps_energy": float(np.sum(mesh[:, 0] + mesh[:, 2] - mesh[:, 3] - mesh[:, 1]))}

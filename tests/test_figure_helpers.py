@@ -1,0 +1,102 @@
+"""The shared figure and study helpers of the verification scripts: a grid of snapshots on
+one colour scale (:func:`pfem_skfem.viz.snapshot_grid`), bounds against elements
+(:func:`pfem_skfem.viz.plot_rounds`), a labelled panel
+(:func:`pfem_skfem.harness.figures.labelled`), counted warnings
+(:class:`pfem_skfem.harness.report.counted_warnings`); each figure passes the checks of
+:func:`~pfem_skfem.harness.figures.figure_problems`."""
+from types import SimpleNamespace
+import warnings
+
+import numpy as np
+import pytest
+
+from pfem_skfem.harness.figures import figure_problems, labelled, pyplot
+from pfem_skfem.harness.report import counted_warnings
+from pfem_skfem.viz import plot_rounds, snapshot_grid
+
+
+def test_a_snapshot_grid_has_one_colour_scale_and_one_colour_bar():
+    rng = np.random.default_rng(0)
+    panels = {f"t = {t:g} s": (rng.random((20, 2)), t * rng.random(20)) for t in (1, 2, 3)}
+    fig, axes = snapshot_grid(panels, label="speed [m/s]", title="particles coloured by speed",
+                              ncols=2, scale=2.0, limits=((0, 0.5), None))
+    assert axes.shape == (2, 2) and not axes[1, 1].get_visible()      # the spare panel is off
+    scales = {ax.collections[0].get_clim() for ax in axes.flat[:3]}
+    top = max(float(p[1].max()) for p in panels.values())
+    assert scales == {(0.0, top)}
+    assert axes[0, 0].get_xlim() == (0, 0.5)
+    assert np.allclose(axes[0, 0].collections[0].get_offsets(), panels["t = 1 s"][0] / 2)
+    assert len([ax for ax in fig.axes if hasattr(ax, "_colorbar")]) == 1
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_a_snapshot_grid_colours_the_cells_of_a_mesh_and_calls_draw_first():
+    points = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float)
+    cells = np.array([[0, 1, 2], [0, 2, 3]])
+    drawn = []
+    fig, axes = snapshot_grid({"s = 1 cm": (points, [0.1, 0.2], cells)},
+                              label="strain [-]", title="a mesh",
+                              colours=dict(cmap="jet", vmax=1.0), draw=drawn.append)
+    assert drawn == [axes[0, 0]]
+    art = axes[0, 0].collections[0]
+    assert art.get_clim() == (0.0, 1.0) and art.get_cmap().name == "jet"
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_bounds_against_elements_on_a_log_axis_with_a_second_hollow_series():
+    fig, ax = pyplot().subplots(figsize=(6, 4))
+    rounds = [SimpleNamespace(elements=n, lower=1 - 1 / n, upper=1 + 1 / n) for n in (100, 400)]
+    plot_rounds(ax, rounds, 2.0)
+    plot_rounds(ax, [SimpleNamespace(elements=1600, lower=0.99, upper=1.01)], 2.0,
+                hollow=True, what=", uniform")
+    labelled(ax, "elements", "Nc", "bounds")
+    lines = ax.get_lines()
+    assert [line.get_label() for line in lines] == [
+        "lower bound", "upper bound", "lower bound, uniform", "upper bound, uniform"]
+    assert np.allclose(lines[1].get_ydata(), [2.02, 2.005])
+    assert ax.get_xscale() == "log" and ax.get_xlim()[1] >= 1600
+    assert lines[2].get_linestyle() == "--" and lines[2].get_markerfacecolor() == "none"
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_labelled_sets_the_labels_and_a_legend_only_for_labelled_artists():
+    fig, (a, b) = pyplot().subplots(1, 2, figsize=(8, 3))
+    a.plot([0, 1], [0, 1], label="ours")
+    b.plot([0, 1], [1, 0])
+    assert labelled(a, "x [m]", "y [m]", "one", title_size=9) is a
+    labelled(b, "t [s]", "h [m]")
+    assert (a.get_xlabel(), a.get_ylabel(), a.get_title()) == ("x [m]", "y [m]", "one")
+    assert a.title.get_fontsize() == 9
+    assert a.get_legend().get_texts()[0].get_fontsize() == 7
+    assert b.get_legend() is None and b.get_title() == ""
+    pyplot().close(fig)
+
+
+class Accepted(UserWarning):
+    pass
+
+
+def test_counted_warnings_counts_one_kind_and_shows_the_others():
+    with pytest.warns(RuntimeWarning, match="shown"):
+        with counted_warnings(Accepted) as counted:
+            for _ in range(3):
+                warnings.warn("accepted", Accepted)
+            warnings.warn("shown", RuntimeWarning)
+    assert counted.count == 3
+    with warnings.catch_warnings(record=True) as after:
+        warnings.simplefilter("always")
+        warnings.warn("again", Accepted)       # outside the block: shown again
+    assert len(after) == 1
+
+
+def test_a_summary_beside_the_figures_holds_arrays_as_lists(tmp_path):
+    import json
+
+    from pfem_skfem.harness.figures import write_summary
+
+    path = write_summary(tmp_path, {"x": np.arange(3), "v": np.float64(0.5), "p": tmp_path})
+    assert path == tmp_path / "summary.json"
+    assert json.loads(path.read_text()) == {"x": [0, 1, 2], "v": 0.5, "p": str(tmp_path)}
