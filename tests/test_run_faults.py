@@ -202,8 +202,11 @@ def test_a_polygon_that_touches_itself_is_refused_naming_the_region_and_the_vert
     with pytest.raises(ValueError, match=r"pinch: the polygon touches itself: vertex 4 "
                                          r"\(1.0, 0.0\) lies on edge 0 "):
         check_polygon(((0, 0), (2, 0), (2, 2), (1, 2), (1, 0), (0.5, 1)), "pinch")
-    with pytest.raises(ValueError, match=r"closed: vertices 0 and 4 are the same point"):
-        check_polygon(((0, 0), (1, 0), (1, 1), (0, 1), (0, 0)), "closed")
+    with pytest.raises(ValueError, match=r"twice: vertices 1 and 2 are the same point"):
+        check_polygon(((0, 0), (1, 0), (1, 0), (1, 1), (0, 1)), "twice")
+    # a ring written closed (its first vertex again, as GIS files write it) is the ring
+    assert check_polygon(((0, 0), (1, 0), (1, 1), (0, 1), (0, 0)), "closed").tolist() == [
+        [0, 0], [1, 0], [1, 1], [0, 1]]
 
 
 def test_a_small_body_buried_between_the_particles_is_refused_naming_it(tmp_path, capsys):

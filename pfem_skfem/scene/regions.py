@@ -111,7 +111,8 @@ def _edges(vertices):
 
 def check_polygon(vertices, name):
     """(k, 2) float vertices of a simple polygon with k >= 3 and non-zero area, or ValueError
-    naming ``name``."""
+    naming ``name``. A last vertex that is the first again (a ring written closed) is
+    dropped; any other repeated vertex is refused (:func:`_check_not_touching`)."""
     try:
         v = np.asarray(vertices, dtype=float)
     except (TypeError, ValueError) as err:              # ragged, None, text
@@ -121,6 +122,8 @@ def check_polygon(vertices, name):
                          f"{v.shape}")
     if not np.all(np.isfinite(v)):
         raise ValueError(f"{name}: polygon vertices must be finite")
+    if len(v) > 3 and np.all(np.abs(v[-1] - v[0]) <= 1e-9 * np.ptp(v, axis=0).max()):
+        v = v[:-1]                      # a closed ring (GIS, shapely): its first vertex again
     # before the area: a bowtie's area is zero, and it intersects itself
     pairs = crossing_edges(_edges(v), _edges(v))
     k = len(v)
@@ -149,8 +152,7 @@ def _check_not_touching(v, name):
         at = tuple(map(float, v[j]))
         if j - i == 1 or (i, j) == (0, k - 1):
             raise ValueError(f"{name}: vertices {i} and {j} are the same point {at} (a "
-                             f"zero-length edge; a polygon closes itself, its last vertex "
-                             f"is not the first again): remove one of them")
+                             f"zero-length edge): remove one of them")
         raise ValueError(f"{name}: the polygon touches itself: vertex {j} {at} is vertex {i} "
                          f"again (a zero-width spike or a pinch: its particles would carry "
                          f"mass on a line of no area); remove the spike, or make two regions")
