@@ -175,8 +175,10 @@ def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
     colours.setdefault("vmin", 0.0)
     colours.setdefault("vmax", top or 1.0)
     nrow = -(-len(panels) // ncols)
-    fig, grid = pyplot().subplots(nrow, ncols, figsize=(size[0], size[1] * nrow + 1.0),
-                             squeeze=False, layout="constrained")
+    # one row of a wide panel is a strip: at least a quarter as high as wide, a page reads it
+    height = max(size[1] * nrow + 1.0, size[0] / 4.0)
+    fig, grid = pyplot().subplots(nrow, ncols, figsize=(size[0], height), squeeze=False,
+                                  layout="constrained")
     mappable = None
     for ax, (name, (points, values, *cells)) in zip(grid.flat, panels.items()):
         if draw is not None:

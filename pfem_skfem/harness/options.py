@@ -12,8 +12,6 @@ import math
 import re
 from pathlib import Path
 
-from .store import output_path_problem
-
 
 class _DefaultsOnce(argparse.ArgumentDefaultsHelpFormatter):
     """argparse's "(default: ...)", once: not where the help states its default itself,
@@ -98,6 +96,7 @@ class ScriptParser(argparse.ArgumentParser):
                                  and getattr(parsed, "no_figures", False)
                                  and not getattr(parsed, "save_every", 0)):
                 continue                         # the default outdir, unused
+            from .store import output_path_problem      # numpy: not for --help and list
             problem = output_path_problem(value, kind)
             if problem:
                 self.error(f"argument --{dest.replace('_', '-')}: {problem}")
