@@ -55,3 +55,12 @@ def test_the_observed_order_is_the_slope_of_the_log_log_line():
     # bit for bit the scripts' own fit: -polyfit(log n, log e)
     e = np.array([0.3, 0.11, 0.04])
     assert observed_order(n, e, counts=True) == float(-np.polyfit(np.log(n), np.log(e), 1)[0])
+
+
+def test_a_case_thinned_for_the_json():
+    from pfem_skfem.harness.report import thinned
+    case = dict(label="a", t=np.arange(250.0), ke=np.arange(250.0) ** 2, x=1.5, points=None)
+    kept = thinned(case, ("t", "ke"), drop=("points",))
+    assert list(kept) == ["label", "x", "t", "ke"] and kept["t"] == list(np.arange(0.0, 250, 2))
+    # without histories: the case less the dropped keys, in its order
+    assert list(thinned(case, drop=("label", "points"))) == ["t", "ke", "x"]

@@ -355,10 +355,11 @@ def format_table(columns, rows, formats=None, title=None):
                      + [line(r) for r in cells])
 
 
-def thinned(case, histories, drop=(), entries=100):
+def thinned(case, histories=(), drop=(), entries=100):
     """A case for the JSON: without the keys ``drop``, its ``histories`` (sequences as
-    long as the first of them) thinned to about ``entries`` entries."""
-    every = max(1, len(case[histories[0]]) // entries)
+    long as the first of them) thinned to about ``entries`` entries; without histories,
+    the case less ``drop``, its keys in their order."""
+    every = max(1, len(case[histories[0]]) // entries) if histories else 1
     kept = {k: v for k, v in case.items() if k not in tuple(drop) + tuple(histories)}
     return kept | {k: np.asarray(case[k])[::every].tolist() for k in histories}
 
