@@ -77,7 +77,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoint_options,
                                         in_range, material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, positive_int, time_options)
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, script_main, thinned
 from pfem_skfem.harness.sweeps import run_groups
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
@@ -493,8 +493,7 @@ def run(args):
         report.add_interval("dynamic_tresca_runout", studies["dynamic tresca"]["x_f"]
                             / base["x_f"], 1.0, np.inf, "Tresca released dynamically: "
                             "farther than quasi-statically")
-    report.extra = {name: {k: {kk: v for kk, v in r.items() if kk not in ("label", "points")}
-                           for k, r in rs.items()}
+    report.extra = {name: {k: thinned(r, drop=("label", "points")) for k, r in rs.items()}
                     for name, rs in (("runs", runs), ("studies", studies))}
     report.extra["nye"] = {f"{k:g}": b for k, b in nye.items()}
     report.add_table(
