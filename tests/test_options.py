@@ -489,3 +489,18 @@ def test_progress_bars_in_a_log_are_plain_lines(monkeypatch):
     text = log.getvalue()
     assert "\x1b[" not in text and "\r" not in text
     assert any(line.startswith("case 0:") and "2/2" in line for line in text.splitlines())
+
+
+def test_a_bar_callback_counts_each_round_and_shows_the_latest(monkeypatch):
+    import io
+    from types import SimpleNamespace
+    log = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", log)
+    bar = progress.progress_bar(total=2, desc="rounds", unit="round", mininterval=0)
+    shown = progress.bar_callback(bar, lambda r: f"{r.elements} el")
+    for n in (100, 400):
+        shown(SimpleNamespace(elements=n))
+    assert bar.n == 2 and log.getvalue().splitlines()[-1].endswith("400 el]")
+    progress.bar_callback(bar)(None)                          # no postfix: counts only
+    assert bar.n == 3
+    bar.close()

@@ -34,3 +34,33 @@ def test_a_row_of_the_wrong_length_is_refused():
 def test_a_report_without_tables_writes_none():
     assert "tables" not in Report("case").as_json()
     assert format_table(["a"], [], title=None).splitlines() == ["a", "-"]
+
+
+def test_a_table_of_records_takes_each_cell_by_key_or_function(capsys):
+    report = Report("case")
+    runs = [dict(label="a", x=1.0, y=2.0), dict(label="b", x=3.0, y=4.0)]
+    table = report.add_table("runs", {"run": "label", "x": "x", "x/y": lambda r: r["x"] / r["y"]},
+                             runs, formats={"x/y": ".2f"})
+    assert table == {"columns": ["run", "x", "x/y"], "rows": [["a", 1.0, 0.5], ["b", 3.0, 0.75]]}
+    assert capsys.readouterr().out.splitlines()[3].split() == ["a", "1", "0.50"]
+
+
+def test_the_observed_order_is_the_slope_of_the_log_log_line():
+    from pfem_skfem.harness.report import observed_order
+    h = np.array([0.1, 0.05, 0.025])
+    assert observed_order(h, 3 * h ** 2) == pytest.approx(2.0)
+    assert observed_order(h, -3 * h ** 2) == pytest.approx(2.0)         # |error|
+    n = np.array([8, 16, 32])
+    assert observed_order(n, 5.0 / n, counts=True) == pytest.approx(1.0)
+    # bit for bit the scripts' own fit: -polyfit(log n, log e)
+    e = np.array([0.3, 0.11, 0.04])
+    assert observed_order(n, e, counts=True) == float(-np.polyfit(np.log(n), np.log(e), 1)[0])
+
+
+def test_a_case_thinned_for_the_json():
+    from pfem_skfem.harness.report import thinned
+    case = dict(label="a", t=np.arange(250.0), ke=np.arange(250.0) ** 2, x=1.5, points=None)
+    kept = thinned(case, ("t", "ke"), drop=("points",))
+    assert list(kept) == ["label", "x", "t", "ke"] and kept["t"] == list(np.arange(0.0, 250, 2))
+    # without histories: the case less the dropped keys, in its order
+    assert list(thinned(case, drop=("label", "points"))) == ["t", "ke", "x"]

@@ -9,7 +9,7 @@ import pytest
 from pfem_skfem.drivers.resumable import sitting
 from pfem_skfem.harness.options import base_parser, scheduler_address, sweep_options
 from pfem_skfem.harness.report import relative_error
-from pfem_skfem.harness.sweeps import SweepError, run_cases
+from pfem_skfem.harness.sweeps import SweepError, run_cases, run_groups
 from verification.granular_column_plane import run_case as column
 
 # two short columns (a few steps each, about 0.5 s): solves, remeshing, contact, histories
@@ -173,3 +173,17 @@ def test_a_case_s_next_bar_starts_its_count_and_rate_again(capsys):
     bars.end(0)
     bars((0.0, dict(count, n=3)))                              # late: the case ended
     assert not bars.bars
+
+
+def _power(x, p=1):
+    return x ** p
+
+
+def test_named_groups_run_as_one_sweep_and_come_back_under_their_names(tmp_path):
+    groups = {"main": dict(x=3), "squares": [dict(x=x, p=2) for x in (1, 2, 4)], "none": []}
+    assert run_groups(_power, groups) == {"main": 3, "squares": [1, 4, 16], "none": []}
+    # kept results too: the same answer, taken from --results-dir the second time
+    assert run_groups(_power, groups, results_dir=tmp_path) == run_groups(
+        _power, groups, results_dir=tmp_path) == {"main": 3, "squares": [1, 4, 16], "none": []}
+    with pytest.raises(SweepError, match="1 of 2 powers failed"):
+        run_groups(_power, {"a": dict(x=2), "b": [dict(x=0, p=-1)]}, desc="powers")

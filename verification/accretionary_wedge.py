@@ -75,7 +75,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         positive_angle, positive_float, positive_int,
                                         solver_keyword, sweep_options, time_options)
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, script_main, thinned
 from pfem_skfem.harness.sweeps import run_cases
 from pfem_skfem.scene import Body, ConstantVelocity, Geostatic, Region, Scene
 from pfem_skfem.viz import snapshot_grid
@@ -402,10 +402,10 @@ def add_stability(report, args, rows):
                                 f"outside the stable field {low:.2f}-{high:.2f} deg: deforms "
                                 f"(> {DEFORMS:g} du/H)")
     report.add_table(
-        "stability", ["taper", "stable?", "particles", "max dep/(du/H)", "mean", "F/(mu_b W)",
-                      "s"],
-        [[r["taper"], bool(low < r["taper"] < high), r["particles"], r["plastic_max"],
-          r["plastic_mean"], r["wall_force_over_mu_b_W"], r["seconds"]] for r in rows],
+        "stability", {"taper": "taper", "stable?": lambda r: bool(low < r["taper"] < high),
+                      "particles": "particles", "max dep/(du/H)": "plastic_max",
+                      "mean": "plastic_mean", "F/(mu_b W)": "wall_force_over_mu_b_W",
+                      "s": "seconds"}, rows,
         formats={"taper": "g", "max dep/(du/H)": ".3g", "mean": ".3g", "F/(mu_b W)": ".4f",
                  "s": ".1f"},
         title=f"\ncritical taper (phi = {args.phi:g}, phi_b = {args.base_friction:g}): "
@@ -489,8 +489,7 @@ def run(args):
             for t in args.taper]
     add_stability(report, args, rows)
     report.extra = {"critical_taper_deg": [low, high],
-                    "stability": [{k: v for k, v in r.items() if k not in ("x", "last")}
-                                  for r in rows]}
+                    "stability": [thinned(r, drop=("x", "last")) for r in rows]}
     report.data = dict(stability=rows, layer=None)
     if args.stability_test:
         return report

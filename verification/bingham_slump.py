@@ -77,7 +77,8 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoint_options,
                                         in_range, material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, positive_int, time_options)
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, script_main, thinned
+from pfem_skfem.harness.sweeps import run_groups
 
 QUICK = dict(k=[0.04, 0.02], n_h=3.5, studies=False, bound_rounds=4,
              bound_elements=3000, deposit_rounds=2)
@@ -311,8 +312,8 @@ def slump(k, material, args, *, n_h, cfl, mu, quasi_static, label, save_every=0)
                 largest=float(np.max(np.abs(ratio))), basal_stress_ratio=float(slope),
                 mass_error=float(np.max(np.abs(np.asarray(hist["mass"]) / hist["mass"][0] - 1))),
                 area_change=float(np.max(np.abs(hist["area_change"]))),
-                iterations=float(np.mean(hist["iterations"])), T=np.array(T),
-                x_front=np.array(X), xs=xs, h=h, points=state.x.copy(),
+                iterations=float(np.mean(hist["iterations"])), xs=xs, h=h, T=np.array(T),
+                x_front=np.array(X), points=state.x.copy(),
                 pvd=str(series.pvd_path) if series is not None else None)
 
 
@@ -385,26 +386,19 @@ def build_parser():
 
 
 def run(args):
-    slow = dict(n_h=args.n_h, cfl=args.cfl)
-    runs = {}
-    for material in args.materials:
-        for k in args.k:
-            label = f"{material}_k{k:g}"
-            runs[label] = slump(k, material, args, label=label,
-                                mu=args.mu if material == "bingham" else 0.0,
-                                quasi_static=material == "tresca",
-                                save_every=args.save_every, **slow)
-    studies = {}
-    if args.studies:
-        k = args.study_k
-        studies["tresca 1.4 n_h"] = slump(k, "tresca", args, n_h=1.4 * args.n_h, cfl=args.cfl,
-                                          mu=0.0, quasi_static=True, label="tresca_mesh")
-        studies["tresca cfl/2"] = slump(k, "tresca", args, n_h=args.n_h, cfl=args.cfl / 2,
-                                        mu=0.0, quasi_static=True, label="tresca_step")
-        studies["fast mud"] = slump(k, "bingham", args, mu=args.mu_fast, quasi_static=False,
-                                    label="bingham_fast", **slow)
-        studies["dynamic tresca"] = slump(k, "tresca", args, mu=0.0, quasi_static=False,
-                                          label="tresca_dynamic", **slow)
+    slow = dict(args=args, n_h=args.n_h, cfl=args.cfl)
+    runs = run_groups(slump, {f"{m}_k{k:g}": dict(
+        slow, k=k, material=m, label=f"{m}_k{k:g}", mu=args.mu if m == "bingham" else 0.0,
+        quasi_static=m == "tresca", save_every=args.save_every)
+        for m in args.materials for k in args.k}, desc="slumps")
+    tresca = dict(slow, k=args.study_k, material="tresca", mu=0.0, quasi_static=True)
+    studies = run_groups(slump, {
+        "tresca 1.4 n_h": dict(tresca, n_h=1.4 * args.n_h, label="tresca_mesh"),
+        "tresca cfl/2": dict(tresca, cfl=args.cfl / 2, label="tresca_step"),
+        "fast mud": dict(tresca, material="bingham", mu=args.mu_fast, quasi_static=False,
+                         label="bingham_fast"),
+        "dynamic tresca": dict(tresca, quasi_static=False, label="tresca_dynamic"),
+    } if args.studies else {}, desc="studies")
     # the deposits and Nye's heaps, how much gravity each can carry (certified bounds)
     for r in [*runs.values(), *studies.values()]:
         r["alpha"] = deposit_bracket(r, args)
@@ -499,15 +493,9 @@ def run(args):
         report.add_interval("dynamic_tresca_runout", studies["dynamic tresca"]["x_f"]
                             / base["x_f"], 1.0, np.inf, "Tresca released dynamically: "
                             "farther than quasi-statically")
-    keys = ("k", "material", "n_h", "cfl", "mu", "quasi_static", "spacing", "particles0",
-            "at_rest", "rest_measure", "steps", "T_rest", "seconds", "x_f", "x_nye", "eps",
-            "h_over_L", "excess", "rms", "largest", "basal_stress_ratio", "mass_error",
-            "area_change", "iterations", "xs", "h", "T", "x_front", "pvd")
-    report.extra = {"runs": {k: {**{kk: r[kk] for kk in keys}, "alpha": r["alpha"]}
-                             for k, r in runs.items()},
-                    "studies": {k: {**{kk: r[kk] for kk in keys}, "alpha": r["alpha"]}
-                                for k, r in studies.items()},
-                    "nye": {f"{k:g}": b for k, b in nye.items()}}
+    report.extra = {name: {k: thinned(r, drop=("label", "points")) for k, r in rs.items()}
+                    for name, rs in (("runs", runs), ("studies", studies))}
+    report.extra["nye"] = {f"{k:g}": b for k, b in nye.items()}
     report.add_table(
         "runs", ["run", "k", "n_h", "mu", "eps", "h/L", "excess", "rms", "x_f/Nye", "hh`/kH0",
                  "rest", "T_rest", "steps", "s"],

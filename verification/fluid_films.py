@@ -41,7 +41,7 @@ from pfem_skfem.drivers.strip import profile_weights, strip_flow
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
                                         positive_float, positive_int, slope_angle, time_options)
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, observed_order, script_main
 
 QUICK = dict(ny=[4, 8, 16])
 
@@ -67,11 +67,6 @@ def profile_error(z, u, exact):
     relative to the L2 norm of ``exact``."""
     w = profile_weights(z)
     return float(np.sqrt(w @ (u - exact) ** 2 / (w @ exact ** 2)))
-
-
-def observed_order(ny, errors):
-    """The least-squares slope of log(error) against log(ny)."""
-    return float(-np.polyfit(np.log(ny), np.log(errors), 1)[0])
 
 
 def check(args):
@@ -144,7 +139,7 @@ def run(args):
                "rho g sin(theta) z_y^2 / (2 mu)", args.tol)
     report.add_interval(f"bingham_profile_L2_error_ny{ny[-1]}", errors[-1], 0.0, args.tol,
                         "sheared parabola below z_y, rigid plug above")
-    order = observed_order(ny, errors)
+    order = observed_order(ny, errors, counts=True)
     report.add_interval("bingham_profile_order", order, 1.5, np.inf,
                         "L2 error ~ (h/ny)^order, the yield surface inside an element")
     # the plug: the nodes from the surface down whose velocity is the surface's to 1e-3

@@ -70,7 +70,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
                                         sweep_options, time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.sweeps import run_cases
+from pfem_skfem.harness.sweeps import run_groups
 from pfem_skfem.pfem.measure import deposit_extent, mass_moved, mass_within, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 from pfem_skfem.viz import snapshot_grid
@@ -403,13 +403,11 @@ def run(args):
     groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
     groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
                                history=True)] if args.history else [])
-    cases = [c for g in groups.values() for c in g]
     if args.progress:
-        progress(f"{len(cases)} case(s) on "
+        progress(f"{sum(map(len, groups.values()))} case(s) on "
                  f"{args.scheduler or str(args.workers) + ' worker(s)'}")
-    results = iter(run_cases(run_case, cases, args.workers, desc="columns of revolution",
-                             scheduler=args.scheduler, results_dir=args.results_dir))
-    res = {k: [next(results) for _ in g] for k, g in groups.items()}
+    res = run_groups(run_case, groups, args.workers, desc="columns of revolution",
+                     scheduler=args.scheduler, results_dir=args.results_dir)
     sweep = res["sweep"]
     by_a = {r["a"]: r for r in sweep}
     if args.friction_study:
@@ -560,10 +558,10 @@ def _studies(report, res, args):
     report.extra["base_friction_effect"] = [{"a": a, **v} for a, v in sorted(effect.items())]
     if res["mesh"]:
         report.add_table(
-            "mesh study", ["nr", "parts", "(r-r0)/r0", "h/r0", "t_rest", "|dV|max", "s/step"],
-            [[r["nr"], r["particles"], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"],
-              r["volume_change_max"], r["seconds_per_step"]]
-             for r in sorted(res["mesh"], key=lambda r: r["nr"])],
+            "mesh study", {"nr": "nr", "parts": "particles", "(r-r0)/r0": "runout_over_r0",
+                           "h/r0": "h_inf_over_r0", "t_rest": "t_rest",
+                           "|dV|max": "volume_change_max", "s/step": "seconds_per_step"},
+            sorted(res["mesh"], key=lambda r: r["nr"]),
             formats={"(r-r0)/r0": ".3f", "h/r0": ".3f", "t_rest": ".2f", "|dV|max": ".2%",
                      "s/step": ".2f"}, title="\nmesh study, a = 2")
     for k, r in enumerate(res["history"]):

@@ -47,7 +47,7 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
                                         positive_int, time_options)
-from pfem_skfem.harness.report import Report, script_main
+from pfem_skfem.harness.report import Report, observed_order, script_main
 
 QUICK = dict(n=[5, 10])
 
@@ -208,10 +208,9 @@ def run(args):
         report.add_interval(f"at_rest_n{n}", r["still"], 0.0, 1e-3,
                             "largest speed after the step / (g dt)")
     nominal = np.array([abs(r["effective_force"] / unit - 1) for r in runs])
-    hs = np.array([r["h"] for r in runs])
     order = np.nan                  # of the error against the drawn block, above round-off
     if len(runs) >= 2 and np.all(nominal > 1e-8):
-        order = float(np.polyfit(np.log(hs), np.log(nominal), 1)[0])
+        order = observed_order([r["h"] for r in runs], nominal)
     report.add_table("buoyancy", ["n", "h", "V / b h_b", "effective/(rs-rw)gV - 1",
                                   "against b h_b", "under/weight", "majority V / b h_b"],
                      [[r["n"], r["h"], r["V"] / r["V_drawn"], r["effective"], e,

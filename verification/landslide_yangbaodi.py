@@ -88,7 +88,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, materia
                                         positive_float, solver_keyword, time_options)
 from pfem_skfem.harness.progress import progress  # noqa: E402
 from pfem_skfem.harness.report import Report, script_main  # noqa: E402
-from pfem_skfem.harness.sweeps import run_cases  # noqa: E402
+from pfem_skfem.harness.sweeps import run_groups  # noqa: E402
 from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
 from pfem_skfem.viz import snapshot_grid  # noqa: E402
@@ -469,7 +469,7 @@ def build_parser():
 
 def _cases(args):
     """Main run first (it has the snapshots), then the friction sweep, the densities and
-    the run without adaptive alpha, as run_case keywords."""
+    the run without adaptive alpha, as run_case keywords: the groups of run_groups."""
     common = dict(profile_path=args.profile, h=args.h, rho=args.rho, phi=args.phi, c=args.c,
                   g=args.g, dt=args.dt, theta1=args.theta1, theta2=args.theta2,
                   alpha=args.alpha, adaptive_alpha=True, t_hold=args.t_hold, hold=args.hold,
@@ -488,7 +488,7 @@ def _cases(args):
             for r in args.rho_study if r != args.rho]
     fixed = [] if args.no_alpha_study else [dict(common, mu_deg=args.mu_deg, adaptive_alpha=False,
                                                  label=f"mu{args.mu_deg:g}_fixed_alpha")]
-    return main, sweep, rhos, fixed
+    return dict(main=[main], sweep=sweep, rhos=rhos, fixed=fixed)
 
 
 def front_difference(a, b):
@@ -500,30 +500,28 @@ def front_difference(a, b):
 
 def run(args):
     """The slides of ``args`` in parallel; their checks."""
-    main, sweep, rhos, fixed = _cases(args)
-    cases = [main] + sweep + rhos + fixed
+    groups = _cases(args)
     if args.progress:
-        progress(f"{len(cases)} landslide run(s) on {args.workers} worker(s)")
-    results = run_cases(run_case, cases, args.workers, desc="landslides")
+        progress(f"{sum(map(len, groups.values()))} landslide run(s) on {args.workers} "
+                 f"worker(s)")
+    res = run_groups(run_case, groups, args.workers, desc="landslides")
+    results = [r for group in res.values() for r in group]
     if args.keep_runs:                             # every history, to draw again later
         import pickle
         path = figure_dir(args, "landslide_yangbaodi") / "runs.pkl"
         path.write_bytes(pickle.dumps(results))
-    base = results[0]
-    by_label = dict(zip([c["label"] for c in cases], results))
-    mu_runs = sorted([base] + [by_label[c["label"]] for c in sweep], key=lambda r: r["mu"])
-    rho_runs = [by_label[c["label"]] for c in rhos]
-    fixed_run = by_label[fixed[0]["label"]] if fixed else None
+    base, rho_runs, fixed_run = res["main"][0], res["rhos"], (res["fixed"] or [None])[0]
+    mu_runs = sorted([base] + res["sweep"], key=lambda r: r["mu"])
 
     report = Report("landslide_yangbaodi", args, particles=base["particles0"],
                     elements=base["elements0"])
     report.add_table(
-        "cases", ["case", "mu", "rho", "alpha", "n0", "elem", "front max", "at t", "t rest",
-                  "mass chg", "travel", "ratio", "steps", "s/step"],
-        [[r["label"], r["mu"], r["rho"], "adapt" if r["adaptive_alpha"] else "fixed",
-          r["particles0"], r["elements0"], r["front_max"], r["t_front_max"], r["t_rest"],
-          r["mass_change_max"], r["travel_angle_deg"], r["energy_ratio"],
-          r["steps_after_release"], r["seconds_per_step"]] for r in results],
+        "cases", {"case": "label", "mu": "mu", "rho": "rho",
+                  "alpha": lambda r: "adapt" if r["adaptive_alpha"] else "fixed",
+                  "n0": "particles0", "elem": "elements0", "front max": "front_max",
+                  "at t": "t_front_max", "t rest": "t_rest", "mass chg": "mass_change_max",
+                  "travel": "travel_angle_deg", "ratio": "energy_ratio",
+                  "steps": "steps_after_release", "s/step": "seconds_per_step"}, results,
         formats={"mu": ".4f", "rho": ".2f", "front max": ".1f", "at t": ".2f", "t rest": ".2f",
                  "mass chg": ".2%", "travel": ".2f", "ratio": ".3f", "s/step": ".2f"})
     print(f"warning: {WARNING}")

@@ -53,7 +53,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, friction_angle,
                                         material_options, nonnegative_int, opt, positive_angle,
                                         positive_float)
-from pfem_skfem.harness.progress import progress_bar
+from pfem_skfem.harness.progress import bar_callback, progress_bar
 from pfem_skfem.harness.report import Report, counted_warnings, script_main
 from pfem_skfem.materials import MohrCoulomb, Tresca
 from pfem_skfem.problems.bounds import (LimitProblem, Punch, Support, kinematic,
@@ -185,12 +185,6 @@ def _run(args):
             + args.slope_rounds + 3)
     bar = progress_bar(total=work, args=args, desc="limit bounds", unit="round")
 
-    def step(label, fmt):
-        def show(r):
-            bar.update(1)
-            bar.set_postfix_str(f"{label}: {r.elements} el, " + fmt(r))
-        return show
-
     nc = 2.0 / (c * B)                         # Nc of the half model's punch force
     pi2 = prandtl_nc(0.0)
     # -- 1. Tresca footing: adaptive, then uniform --------------------------------------
@@ -198,8 +192,8 @@ def _run(args):
     first = footing_problem(Tresca(c), args.W, args.D, B, args.elements, args.ratio)
     tres = adapt(first, rounds=args.rounds, target_gap=args.target_gap,
                  max_elements=args.max_elements, theta=args.theta, solver=args.solver,
-                 progress=step("Tresca", lambda r: f"Nc in [{r.lower * nc:.4f}, "
-                                                    f"{r.upper * nc:.4f}]"))
+                 progress=bar_callback(bar, lambda r: f"Tresca: {r.elements} el, Nc in "
+                                    f"[{r.lower * nc:.4f}, {r.upper * nc:.4f}]"))
     last = tres.rounds[-1]
     src = "Prandtl Nc = 2 + pi"
     report.add_interval("footing_Nc_lower", last.lower * nc, -np.inf, pi2,
@@ -214,14 +208,13 @@ def _run(args):
                         "--target-elements: the adapted mesh that reached the gap",
                         reference=0.0)
     uniform, problem = [], first
+    shown = bar_callback(bar, lambda u: f"uniform: {u.elements} el, gap {100 * u.gap:.2f} %")
     for level in range(args.uniform + 1):
         bar.set_description(f"Tresca footing, uniform {level}")
         if level:
             problem = problem.refined()
         uniform.append(bracket(problem, solver=args.solver))
-        bar.update(1)
-        bar.set_postfix_str(f"uniform: {uniform[-1].elements} el, gap "
-                            f"{100 * uniform[-1].gap:.2f} %")
+        shown(uniform[-1])
     if args.uniform:
         u = uniform[-1].as_json(nc)
         report.add_interval("footing_uniform_gap", u["gap"], 0.0, args.uniform_target_gap,
@@ -264,8 +257,8 @@ def _run(args):
                                args.mc_depth * depth, B, args.mc_elements, args.mc_ratio),
                rounds=args.mc_rounds, target_gap=args.mc_target_gap,
                max_elements=args.max_elements, theta=args.mc_theta, solver=args.solver,
-               progress=step("Mohr-Coulomb", lambda r: f"Nc in [{r.lower * nc:.3f}, "
-                                                        f"{r.upper * nc:.3f}]"))
+               progress=bar_callback(bar, lambda r: f"Mohr-Coulomb: {r.elements} el, Nc in "
+                                    f"[{r.lower * nc:.3f}, {r.upper * nc:.3f}]"))
     m = mc.rounds[-1]
     src = f"(3.49) Prandtl-Reissner, phi = {args.phi:g}"
     report.add_interval("footing_MC_Nc_lower", m.lower * nc, -np.inf, ref_mc,
@@ -284,8 +277,8 @@ def _run(args):
     cut_first = gravity_problem(cut_poly, args.cut_size * H, Tresca(c), gamma, L)
     cut = adapt(cut_first, rounds=args.cut_rounds, target_gap=1e-6,
                 max_elements=args.max_elements, theta=args.cut_theta, solver=args.solver,
-                progress=step("cut", lambda r: f"gamma H / c in [{n_of(r.lower):.4f}, "
-                                               f"{n_of(r.upper):.4f}]"))
+                progress=bar_callback(bar, lambda r: f"cut: {r.elements} el, gamma H / c in "
+                                    f"[{n_of(r.lower):.4f}, {n_of(r.upper):.4f}]"))
     cl, cu = n_of(cut.rounds[-1].lower), n_of(cut.rounds[-1].upper)
     src = "Pastor, Thai & Francescato 2000 (quoted; not checked in the paper)"
     report.add_interval("cut_N_lower", cl, -np.inf, CUT_BOUNDS[1],
@@ -314,7 +307,8 @@ def _run(args):
         slope_first, rounds=args.slope_rounds, target_gap=args.slope_target_gap,
         max_elements=args.max_elements, theta=args.slope_theta, tol=args.fos_tol,
         solver=args.solver,
-        progress=step("slope", lambda r: f"F in [{r.lower:.4f}, {r.upper:.4f}]"))
+        progress=bar_callback(bar, lambda r: f"slope: {r.elements} el, F in [{r.lower:.4f}, "
+                                    f"{r.upper:.4f}]"))
     s = slope[-1]
     src = f"Griffiths & Lane 1999 ex. 1 ({s.elements} elements)"
     report.add_interval("slope_F_order", s.upper - s.lower, 0.0, np.inf,

@@ -1,5 +1,5 @@
 """Progress on stderr: one line (:func:`progress`), a bar (:func:`progress_bar`: tqdm, plain
-lines in a log), the bar of a sweep's case forwarded from its Dask worker and drawn by the
+lines in a log) and the callback that counts a driver's rounds on it (:func:`bar_callback`), the bar of a sweep's case forwarded from its Dask worker and drawn by the
 client (:class:`_CaseBars`), and the bar of a PFEM run's steps (:class:`StepBar`).
 """
 import functools
@@ -50,6 +50,18 @@ def progress_bar(iterable=None, *, args=None, total=None, desc=None, unit="case"
     return tqdm(iterable, total=total, desc=desc, unit=unit,
                 file=stream if terminal else _PlainLines(stream),
                 disable=disable, dynamic_ncols=terminal, **options)
+
+
+def bar_callback(bar, postfix=None):
+    """A ``progress`` callback for a driver that reports each of its rounds (``adapt``,
+    ``bracket_safety``), or for a loop's results: each call ``callback(item)`` counts one
+    on ``bar`` and shows ``postfix(item)`` after it (the latest result), e.g.
+    ``adapt(problem, progress=bar_callback(bar, lambda r: f"{r.elements} el"))``."""
+    def callback(item):
+        bar.update(1)
+        if postfix is not None:
+            bar.set_postfix_str(postfix(item))
+    return callback
 
 
 class _PlainLines:

@@ -95,6 +95,7 @@ validators above, the option groups), :mod:`.progress` (the bars), :mod:`.sweeps
 :mod:`.figures` (:func:`pyplot`, :func:`figure_dir`, :func:`save_figure`).
 """
 import argparse
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 import json
 import math
@@ -138,6 +139,17 @@ def relative_error(value, reference):
     if reference == 0:
         return abs(value - reference)
     return abs(value - reference) / abs(reference)
+
+
+def observed_order(sizes, errors, *, counts=False):
+    """The order p of a convergence study, error ~ size^p: the slope of the least-squares
+    line through (log size, log |error|).
+
+    ``counts``: the sizes are counts (elements, cells across, steps) of a size ~ 1/count:
+    p of error ~ count^-p, the slope's opposite (a positive p for an error that falls).
+    """
+    slope = np.polyfit(np.log(sizes), np.log(np.abs(errors)), 1)[0]
+    return float(-slope if counts else slope)
 
 
 HARNESS_OPTIONS = ("json", "outdir", "no_figures", "progress", "quiet", "workers",
@@ -230,7 +242,17 @@ class Report:
         ``columns`` : the column names;  ``rows`` : sequences of one value per column;
         ``formats`` : {column: format spec} (default: integers as they are, other numbers
         ``.4g``, the rest as text);  ``title`` : a line above it (default ``name``).
+
+        A table of records: ``columns`` a {column: key, or function of a record} mapping,
+        ``rows`` the records (the results of a study's cases, dicts), each cell
+        ``record[key]`` or ``function(record)``::
+
+            report.add_table("runs", {"run": "label", "mu": "mu",
+                                      "x_f/Nye": lambda r: r["x_f"] / r["x_nye"]}, runs)
         """
+        if isinstance(columns, Mapping):
+            rows = [[get(r) if callable(get) else r[get] for get in columns.values()]
+                    for r in rows]
         columns = [str(c) for c in columns]
         rows = [list(row) for row in rows]
         for row in rows:
@@ -333,10 +355,11 @@ def format_table(columns, rows, formats=None, title=None):
                      + [line(r) for r in cells])
 
 
-def thinned(case, histories, drop=(), entries=100):
+def thinned(case, histories=(), drop=(), entries=100):
     """A case for the JSON: without the keys ``drop``, its ``histories`` (sequences as
-    long as the first of them) thinned to about ``entries`` entries."""
-    every = max(1, len(case[histories[0]]) // entries)
+    long as the first of them) thinned to about ``entries`` entries; without histories,
+    the case less ``drop``, its keys in their order."""
+    every = max(1, len(case[histories[0]]) // entries) if histories else 1
     kept = {k: v for k, v in case.items() if k not in tuple(drop) + tuple(histories)}
     return kept | {k: np.asarray(case[k])[::every].tolist() for k in histories}
 

@@ -1,6 +1,7 @@
 """Independent cases on Dask (:func:`run_cases`): a local cluster or one at ``--scheduler``,
 the cases' bars forwarded, failures reported with their case (:class:`SweepError`), and
-the result cache of ``--results-dir`` (:func:`result_path`).
+the result cache of ``--results-dir`` (:func:`result_path`); a study's named groups of
+cases (its sweep, its variants) run as one sweep by :func:`run_groups`.
 """
 from pathlib import Path
 
@@ -97,6 +98,25 @@ def run_cases(function, cases, workers=1, *, desc="cases", scheduler=None, resul
                 bars.close()
     _raise_failures(desc, failures, results)
     return results
+
+
+def run_groups(function, groups, workers=1, *, desc="cases", scheduler=None,
+               results_dir=None):
+    """A study's named groups of cases as one sweep: :func:`run_cases` of every case in
+    turn, the results given back under their group's name.
+
+    ``groups``: {name: a case (a dict of ``function``'s keywords) or a list of cases}, e.g.
+    ``{"main": dict(base, mu=0.2), "friction": [dict(base, mu=m) for m in mus]}``; the
+    answer is {name: the case's result, or the list of its cases' results, in order}. All
+    the cases share the workers (a group of one case does not wait for another group), and
+    a failure is reported as :func:`run_cases` reports it (:class:`SweepError`).
+    """
+    single = {name: isinstance(cases, dict) for name, cases in groups.items()}
+    listed = {name: [cases] if single[name] else list(cases) for name, cases in groups.items()}
+    results = iter(run_cases(function, [c for cases in listed.values() for c in cases],
+                             workers, desc=desc, scheduler=scheduler, results_dir=results_dir))
+    out = {name: [next(results) for _ in cases] for name, cases in listed.items()}
+    return {name: rs[0] if single[name] else rs for name, rs in out.items()}
 
 
 def _call(function, keywords, forward=None):
