@@ -24,12 +24,12 @@ Units (Martin & Moyce's, for any n^2): the front Z = z / a against T = n t sqrt(
 against tau = t sqrt(g / a) = T / n. In these units Ritter's (1892) shallow-water front,
 dz/dt = 2 sqrt(g n^2 a), is dZ/dT = 2 whatever n^2 is.
 
-``--n2`` takes any column from n^2 = 0.5 to 4 (a square column, n^2 = 1, Martin & Moyce's
-Table 1, among them): at 0.5 the quick column (8 across) is still 4.5 spacings high, at 4 the
-base run holds 4x the particles of a square column and the quick suite's cost stays
-seconds; the collapse is the same problem throughout, and Ritter's bound holds in these
-units for each. Only n^2 = 2 has a measurement here to compare with: the fronts of the
-other columns (Table 1 for n^2 = 1) are not in this repository nor in
+``--n2`` takes any column from n^2 = 1 (a square, Martin & Moyce's Table 1) to 4: below 1
+the quick column (8 across) is under 7 spacings high and its thin layer does not keep its
+area (n^2 = 0.5: 8.7 %, the area check fails); at 4 the base run holds 4x the particles of
+a square column and its quick run still passes every check (Ritter: 0.40). Ritter's bound
+holds in these units for each. Only n^2 = 2 has a measurement here to compare with: the
+fronts of the other columns (Table 1 for n^2 = 1) are not in this repository nor in
 ``shared/research/``; the one public transcription of Table 1 found (an SPH project's
 test) is not usable (its T column holds Table 2's Z positions, its Z another
 normalisation, X / 2a). At any other n^2 the tables' checks are skipped, said in a line
@@ -46,10 +46,11 @@ speed of h / dt (at n^2 = 1, 16 across, 80 steps: 2.41, a jump of 0.12 a in a st
 position known to +-h/2 at either end of the window gives its slope to h / (a W): Ritter's
 bound is checked to that, dZ/dT <= 2 (1 + h / (2 a W)) (3.3 % at 16 across, 7.1 % at 8).
 Measured (n^2 = 1, base run, book/water_and_mud.md): the body's front 0.93 of Ritter's
-speed (quick), 0.99 (default); spray leaving the tip keeps the velocity it left with
-(a smooth floor) and runs at up to 1.05 of it: the particles' own velocities at the tip
-reach 1.07 (``largest_particle_speed_over_ritter`` in the JSON), with or without the
-volume correction (whose push at the tip is under 0.01 of the speed on the mean).
+speed (quick), 0.99 (default), 1.035 with the step halved (160 steps): spray leaving the
+tip keeps the velocity it left with (a smooth floor) and runs at up to 1.05 of it; the
+particles' own velocities at the tip reach 1.07 (``largest_particle_speed_over_ritter``
+in the JSON) at 8, 16 and 24 across, 1.06 without the volume correction: its push at the
+tip is under 0.01 of the speed on the mean, not what carries the front past the bound.
 
 Martin & Moyce could not time the release: they shifted each run's time so that T = 1.19
 at Z = 1.44. The same anchoring is applied to ours (the shift is reported), and the
@@ -62,9 +63,11 @@ the runs at a position is 0.1-0.3); the fall of the height at the wall: the time
 which it reaches Table 6's heights, less their mean offset (measured about 0.2 in tau: the
 table's time origin is not that of Table 2's anchor; reported), within --tol-T / n (the
 same tolerance in T); at every n^2 the front slower than Ritter's shallow-water bound
-2 sqrt(g n^2 a) (dZ/dT <= 2, over dT = 1 to h / (2 a dT), above); the mass of water (particles) to round-off and the water's area (the
-alpha-shape domain, with the move stage's volume correction) within 2 % (measured 1.0 % at
-T = 4 on the base run, 1.4 % with 1.5x the particles: the outline of the thin front).
+2 sqrt(g n^2 a) (dZ/dT <= 2, over dT = 1 to h / (2 a dT), above); the mass of water
+(particles) to round-off and the water's area (the alpha-shape domain, with the move
+stage's volume correction) within 2 % (n^2 = 2: measured 1.0 % at T = 4 on the base run,
+1.4 % with 1.5x the particles: the outline of the thin front; n^2 = 1, whose front is
+thinner at T = 4: 2.9 % at 16 across, a failure, 1.6 % quick).
 The full run adds the studies: the inviscid twin, the front within the discretisation's
 own spread (time step halved, 1.5x the particles across).
 
@@ -251,8 +254,8 @@ def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--a", type=positive_float, default=0.05715,
                    help="column width [m] (Martin & Moyce: 2.25 in)")
-    p.add_argument("--n2", type=in_range(0.5, 4.0, what="a height ratio in [0.5, 4]"),
-                   default=2.0, help="column height / width, n^2, in [0.5, 4] (Martin & "
+    p.add_argument("--n2", type=in_range(1.0, 4.0, what="a height ratio in [1, 4]"),
+                   default=2.0, help="column height / width, n^2, in [1, 4] (Martin & "
                                      "Moyce's tables here are of n^2 = 2: at another n^2 only "
                                      "Ritter's bound and the conservation are checked)")
     material_options(p, units="Pa", rho=1000.0, g=9.81)
