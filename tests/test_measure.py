@@ -5,8 +5,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pfem_skfem.pfem.measure import (front, height_at, mesh_energy, particle_energy,
-                                     surface_level)
+from pfem_skfem.pfem.measure import (front, front_speed, height_at, main_body, mesh_energy,
+                                     particle_energy, surface_level)
 
 
 def lattice(nx, ny, h):
@@ -31,6 +31,38 @@ def test_the_front_of_the_particles_takes_a_drop_the_mesh_leaves_out():
     cloud = SimpleNamespace(x=np.vstack([mesh_p, [[2.5, 0.3]]]), mesh_p=mesh_p)
     assert front(cloud) == 1.0
     assert front(cloud, mesh=False) == 2.5
+
+
+def test_the_front_of_the_main_body_leaves_out_a_drop_meshed_on_its_own():
+    """A unit square (two triangles), a triangle hanging on its vertex (1, 1) (joined: the
+    shared vertex moves both) and, ahead, a small triangle (a drop the alpha-shape meshed
+    on its own) and a particle off the mesh: the mesh's front is the drop's, the main
+    body's that of the hanging triangle."""
+    mesh_p = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0],          # the square
+                       [3.0, 0.0], [3.2, 0.0], [3.1, 0.1],                       # a drop
+                       [1.5, 1.0], [1.5, 1.2]])                # hanging on the vertex (1, 1)
+    mesh_t = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [2, 7, 8]])
+    cloud = SimpleNamespace(x=np.vstack([mesh_p, [[5.0, 0.3]]]), mesh_p=mesh_p, mesh_t=mesh_t)
+    assert main_body(mesh_p, mesh_t).tolist() == [0, 1, 2, 3, 7, 8]
+    assert front(cloud, main=True) == 1.5
+    assert front(cloud) == 3.2 and front(cloud, mesh=False) == 5.0
+    with pytest.raises(ValueError, match="mesh=True"):
+        front(cloud, mesh=False, main=True)
+
+
+def test_the_front_speed_over_a_window_is_the_slope_not_a_jump_of_one_particle():
+    """x = 2 t, each sample off by +-h/2 (a particle leaving the body and joining it again):
+    step to step the front runs at 2 + h / dt; over a window of 1 its slope is 2 within
+    h / window. A front speeding up from 1 to 3 at t = 2 runs at 3 over the last window."""
+    t = np.linspace(0.0, 4.0, 81)
+    h = 0.1
+    jumpy = 2 * t + np.where(np.arange(t.size) % 2, h / 2, -h / 2)
+    assert np.diff(jumpy).max() / (t[1] - t[0]) == pytest.approx(2 + h / (t[1] - t[0]))
+    assert abs(front_speed(t, jumpy, 1.0) - 2.0) < h / 1.0
+    assert front_speed(t, 2 * t, 1.0) == pytest.approx(2.0, rel=1e-12)
+    bent = np.where(t < 2, t, 2 + 3 * (t - 2))
+    assert front_speed(t, bent, 1.0) == pytest.approx(3.0, rel=1e-12)
+    assert np.isnan(front_speed(t, bent, 5.0))                 # no window of 5 in 0..4
 
 
 def test_the_surface_level_of_a_lattice_is_its_top_row():

@@ -8,11 +8,14 @@ revolution; the landslide; the dam break; the block into the tank); each takes a
 states what it measures, not how.
 """
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from .alpha_shape import alpha_shape, triangle_areas
 from .assemble import element_regions
 
 __all__ = ["deposit_extent", "height_at", "wall_height", "centre_of_mass", "front",
+           "front_speed", "main_body",
            "surface_height", "surface_level", "mass_within", "mass_moved", "particle_energy",
            "mesh_energy"]
 
@@ -67,13 +70,52 @@ def centre_of_mass(state):
     return state.mass @ state.x / state.mass.sum()
 
 
-def front(state, mesh=True):
+def main_body(points, triangles):
+    """The vertices (sorted indices into ``points``) of the largest body of a mesh: of the
+    sets of triangles joined through shared vertices, the one of largest area. Two triangles
+    that share a vertex share its velocity in a step, so they move as one; a drop meshed on
+    its own (a triangle or a few flying ahead) is another body, not this one. Points of no
+    triangle belong to none."""
+    t = np.asarray(triangles)
+    n = len(points)
+    a, b = np.concatenate([t[:, 0], t[:, 1], t[:, 2]]), np.concatenate([t[:, 1], t[:, 2],
+                                                                         t[:, 0]])
+    _, label = connected_components(coo_matrix((np.ones(a.size), (a, b)), shape=(n, n)),
+                                    directed=False)
+    area = np.bincount(label[t[:, 0]], np.abs(triangle_areas(np.asarray(points), t)),
+                       minlength=n)
+    return np.unique(t[label[t[:, 0]] == np.argmax(area)])
+
+
+def front(state, mesh=True, *, main=False):
     """The front: the largest x of the mesh's vertices (of the mass, not a flying particle);
-    with ``mesh=False`` of every particle, a drop flying ahead included (the tip of a surge
-    as a photograph shows it: Martin & Moyce's front of the dam break)."""
+    with ``main`` of the vertices of the mesh's largest body only (:func:`main_body`: a drop
+    meshed on its own is not the front of the water either); with ``mesh=False`` of every
+    particle, a drop flying ahead included (the tip of a surge with its spray)."""
     if not mesh:
+        if main:
+            raise ValueError("main=True measures the mesh's main body: it needs mesh=True")
         return float(state.x[:, 0].max())
+    if main:
+        return float(np.max(state.mesh_p[main_body(state.mesh_p, state.mesh_t), 0]))
     return float(np.max(state.mesh_p[:, 0]))
+
+
+def front_speed(t, x, window):
+    """The largest speed of a front x(t) over any stretch of ``window`` in t: the largest
+    slope of the least-squares lines through the samples within [t_i, t_i + window] for each
+    sample t_i whose window the series covers (nan if it covers none). A front measured on
+    particles is known to a particle spacing h: from one step to the next it jumps by up to
+    h as a particle leaves the body or joins it, which a step-to-step difference reads as a
+    speed of h / dt; over a window the error of the slope is of order h / window."""
+    t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+    best = np.nan
+    for i in range(len(t)):
+        j = np.searchsorted(t, t[i] + window * (1 - 1e-9), side="left")
+        if j >= len(t):
+            break
+        best = np.nanmax([best, np.polyfit(t[i:j + 1], x[i:j + 1], 1)[0]])
+    return float(best)
 
 
 def surface_height(state, x):
