@@ -56,16 +56,19 @@ class _Stop(Exception):
 
 
 def _cases(script, options, monkeypatch):
-    """The cases ``script.run`` hands to run_cases for ``options`` (nothing runs), and the
-    keywords of that call."""
+    """The cases ``script.run`` hands to run_cases (itself or through run_groups) for
+    ``options`` (nothing runs), and the keywords of that call."""
     got = {}
 
     def capture(function, cases, workers=1, **keywords):
         got.update(cases=[dict(c) for c in cases], keywords=keywords)
         raise _Stop
 
+    from pfem_skfem.harness import sweeps
     with monkeypatch.context() as m:
-        m.setattr(script, "run_cases", capture)
+        m.setattr(sweeps, "run_cases", capture)          # through sweeps.run_groups
+        if hasattr(script, "run_cases"):                 # or called by the script itself
+            m.setattr(script, "run_cases", capture)
         with pytest.raises(_Stop):
             script.run(script.build_parser().parse_args(shlex.split(options) + ["--quiet"]))
     return got["cases"], got["keywords"]
