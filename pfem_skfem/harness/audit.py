@@ -75,7 +75,7 @@ LEFT_OUT = {
 GIVEN = {
     ("buried_pipe", "dt"): (["--dt", "0.01"], "None: the quasi-static step; 0.01 s a "
                                               "dynamic one"),
-    ("cantilever", "steps"): (["--steps", "41"], "None: t_end / dt = 40 at --quick; +1"),
+    ("cantilever", "steps"): (["--steps", "101"], "None: t_end / dt = 100 at --quick; +1"),
     ("circular_footing", "tol"): (["--tol", "0.0375"], "None: 3 % at --quick; x 1.25"),
     ("inclined_rod", "tol"): (["--tol", "0.05"], "None: 4 % at --quick; x 1.25"),
     ("strip_footing", "tol_tresca"): (["--tol-tresca", "0.0625"],
