@@ -63,7 +63,7 @@ def test_the_rule():
     def move(name, dest):
         return audit.moved_argv(name, dest)
     assert move("sliding_box", "v0") == ["--v0", "1.225"]
-    assert move("sliding_box", "steps") == ["--steps", "10", "20", "40", "41"]   # 10 alone: no order
+    assert move("sliding_box", "steps") == ["--steps", "10", "20", "40", "41"]  # 10: no order
     assert move("sliding_box", "body") == ["--body", "fe"]
     assert move("thick_cylinder", "nr") == ["--nr", "4"]
     assert move("plastic_vibration", "nx") == ["--nx", "21"]
