@@ -14,7 +14,7 @@ and the script's cross-option check. Here:
   wall 4 min 49 s under load; the budget is 4 min of CPU).
 
 The audit of the other scripts runs offline (``python -m pfem_skfem.harness.audit --all``);
-its findings are in the book (``book/reliability.md``, "Options away from their defaults").
+its findings are in the book (``book/studies.md``, "Options away from their defaults").
 """
 import importlib
 
