@@ -48,7 +48,7 @@ CHECKS = {
     "effective_bounds": [(["--B", "13"], "--B"), (["--gamma", "9"], "--gamma"),
                          (["--y-w", "0.5", "0.3"], "--y-w"),
                          (["--Delta-h", "0.5", "0.3"], "--Delta-h")],
-    "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps")],
+    "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps"), (["--steps", "3"], "--steps")],
     "consolidation": [(["--b", "50"], "--b"), (["--h-min", "10"], "--h-min")],
     "cylinder_soil": [(["--h-fine", "0.5", "--h-coarse", "0.3"], "--h-fine")],
     "granular_column_mu_i": [(["--mu-2", "0.1"], "--mu-2"), (["--rho-axi", "3"], "--rho-axi"),

@@ -13,7 +13,12 @@ vertices of a mesh, ours are the vertices of two Triangle meshes: a regular
 polygon of radius R (a disc) and a rectangle, a gap g apart, meshed with target
 edge ``size * h``. The references are computed here: the exact area of the two
 polygons (what the "reasonable" boundaries enclose) and scipy's convex hull area.
-The checks are the thesis' qualitative intervals.
+The checks are the thesis' qualitative intervals. Its values of alpha are of its cloud:
+where ``--gap`` or ``--size`` moves ours, they follow it (the clusters join once alpha h
+reaches half the gap: the upper values x gap / 2.6; the voids and the disintegration come
+once alpha h falls below the circumradius of the cloud's triangles: the lower values x
+size / 0.8), and the convex hull is checked at an alpha above every hull triangle's
+circumradius (100, the thesis', at the default cloud).
 
 Run: ``python verification/alpha_shape.py [--quick] [--json out.json]``.
 
@@ -63,6 +68,18 @@ def two_clusters(h=1.0, radius=6.0, gap=2.6, size=0.8):
     return pts, polygon_area(disc) + polygon_area(rect)
 
 
+def _largest_circumradius(points):
+    """The largest circumradius of the Delaunay triangles of ``points`` that have an area
+    (a flat triangle of collinear points has none and adds none to the hull's)."""
+    from scipy.spatial import Delaunay
+    p = points[Delaunay(points).simplices]
+    a, b, c = (np.linalg.norm(p[:, i] - p[:, j], axis=1) for i, j in ((1, 2), (0, 2), (0, 1)))
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    solid = area > 1e-9 * area.max()
+    return float(((a * b * c)[solid] / (4 * area[solid])).max())
+
+
 def sweep(points, h, alphas):
     """Bodies, holes, area and free particles of the alpha-shape for each alpha."""
     rows = []
@@ -93,8 +110,20 @@ def run(args):
     h = args.h
     points, exact = two_clusters(h, args.radius * h, args.gap * h, args.size)
     hull = ConvexHull(points).volume
+    # the thesis' values of alpha are of its cloud; ours follow our cloud where it is moved
+    # (issue 56): the clusters join once alpha h reaches half the gap (the triangles across
+    # it), so the upper values scale with --gap / 2.6; voids and the disintegration come
+    # once alpha h falls below the circumradius of the cloud's triangles, edge --size h, so
+    # the lower values scale with --size / 0.8; the convex hull needs alpha h above the
+    # circumradius of every triangle of the hull (65 h at the default cloud, 100 of the
+    # thesis suffices; a larger --radius has one of 110 h)
+    up, down = args.gap / 2.6, args.size / 0.8
+    panels = dict(low=round(0.9 * down, 4), high=round(1.3 * up, 4), join=round(1.5 * up, 4),
+                  voids=round(0.5 * down, 4), apart=round(0.4 * down, 4),
+                  hull=max(100.0, float(np.ceil(1.01 * _largest_circumradius(points) / h))))
     alphas = np.round(np.concatenate([np.arange(0.3, 2.0 + 1e-9, args.alpha_step),
-                                      [0.4, 0.5, 0.9, 1.3, 1.5, 3.0, 5.0, 10.0, 100.0]]), 4)
+                                      [0.4, 0.5, 0.9, 1.3, 1.5, 3.0, 5.0, 10.0, 100.0],
+                                      list(panels.values())]), 4)
     alphas = np.unique(alphas)
     rows = sweep(points, h, alphas)
     if args.progress:
@@ -111,20 +140,26 @@ def run(args):
     lo = min((r["alpha"] for r in reasonable), default=np.nan)
     hi = max((r["alpha"] for r in reasonable), default=np.nan)
     contiguous = all(r in reasonable for r in rows if lo <= r["alpha"] <= hi)
-    report.add_interval("lowest alpha, 2 bodies", lo, 0.0, 0.9, SOURCE + ": 0.9 <= alpha")
-    report.add_interval("highest alpha, 2 bodies", hi, 1.3, 1.5, SOURCE + ": alpha <= 1.3")
+    scaled = "" if (up, down) == (1.0, 1.0) else " (scaled to our cloud: --gap, --size)"
+    report.add_interval("lowest alpha, 2 bodies", lo, 0.0, panels["low"],
+                        SOURCE + f": {panels['low']:g} <= alpha" + scaled)
+    report.add_interval("highest alpha, 2 bodies", hi, panels["high"], panels["join"],
+                        SOURCE + f": alpha <= {panels['high']:g}" + scaled)
     report.add("interval is contiguous", float(contiguous), 1.0, "same boundaries throughout", 0)
-    for a in (0.9, 1.3):
-        report.add(f"area at alpha={a}", by_alpha[a]["area"], exact,
+    for a in (panels["low"], panels["high"]):
+        report.add(f"area at alpha={a:g}", by_alpha[a]["area"], exact,
                    "exact area of the two polygons", 1e-9)
-    report.add_interval("holes at alpha=0.5 (voids)", by_alpha[0.5]["holes"], 1, np.inf,
-                        SOURCE + ": internal voids")
-    report.add_interval("bodies at alpha=0.5", by_alpha[0.5]["bodies"], 1, 2,
-                        SOURCE + ": outer boundaries intact")
-    report.add_interval("bodies at alpha=0.4", by_alpha[0.4]["bodies"], 3, np.inf,
-                        SOURCE + ": disintegration")
-    report.add("bodies at alpha=1.5", by_alpha[1.5]["bodies"], 1, SOURCE + ": coalescence", 0)
-    report.add("area at alpha=100", by_alpha[100.0]["area"], hull, "scipy ConvexHull", 1e-9)
+    report.add_interval(f"holes at alpha={panels['voids']:g} (voids)",
+                        by_alpha[panels["voids"]]["holes"], 1, np.inf,
+                        SOURCE + ": internal voids" + scaled)
+    report.add_interval(f"bodies at alpha={panels['voids']:g}", by_alpha[panels["voids"]]["bodies"],
+                        1, 2, SOURCE + ": outer boundaries intact" + scaled)
+    report.add_interval(f"bodies at alpha={panels['apart']:g}", by_alpha[panels["apart"]]["bodies"],
+                        3, np.inf, SOURCE + ": disintegration" + scaled)
+    report.add(f"bodies at alpha={panels['join']:g}", by_alpha[panels["join"]]["bodies"], 1,
+               SOURCE + ": coalescence" + scaled, 0)
+    report.add(f"area at alpha={panels['hull']:g}", by_alpha[panels["hull"]]["area"], hull,
+               "scipy ConvexHull (alpha above every hull triangle's circumradius / h)", 1e-9)
     report.extra["sweep"] = rows
     report.extra["exact_area"] = exact
     report.extra["hull_area"] = hull

@@ -129,6 +129,13 @@ def check(args):
         return f"--steps must be positive, got {time_steps(args)!r}"
     if args.g < 0:
         return f"--g must be >= 0, got {args.g!r}"
+    t_unload = 2 * args.t_ramp + args.t_hold
+    if time_steps(args) * args.dt < t_unload - 1e-9 * args.dt:
+        # the energy after unloading is checked: a run that ends before has none (issue 56:
+        # --steps 41 at --quick, 4.1 s, was a traceback)
+        return (f"--steps {time_steps(args)} x --dt {args.dt:g} = "
+                f"{time_steps(args) * args.dt:g} s ends before the unloading, at "
+                f"2 --t-ramp + --t-hold = {t_unload:g} s")
     return None
 
 
