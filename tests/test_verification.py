@@ -368,6 +368,19 @@ CASES = [
       # steady seepage from below (a Laplace solve): a higher head, a lower F
       **{f"seepage_F_{k}_falls_dh0.5": Between(0, np.inf) for k in ("lower", "upper")}},
      None),
+    # a smooth strip footing pushed into saturated soil (zero-dilation Mohr-Coulomb,
+    # phi' = 15, weightless) at V = v B / c_v (issue 54, item 5): q falls with V, from the
+    # drained collapse load (Radenkovic: Prandtl-Reissner of c' cos phi', atan(sin phi'),
+    # 10.31 c', to that of c', phi', 10.98 c') to the undrained (2 + pi) c' cos phi' =
+    # 4.97 c' (the quick mesh's element overshoots it by 2 %, the drainage at V = 100 by
+    # 2 % more), the halfway V inside the penetrometer literature's 0.1 - 30
+    ("penetration_rate", [],
+     {**{f"falls_V{a:g}_to_V{b:g}": Between(0, np.inf)
+         for a, b in ((0.01, 0.1), (0.1, 1), (1, 100))},
+      "drained_q": Between(0.95 * 10.31, 1.05 * prandtl_reissner(15)),
+      "undrained_q": Between(0.95 * (2 + np.pi) * np.cos(np.radians(15)),
+                             1.08 * (2 + np.pi) * np.cos(np.radians(15))),
+      "V50": Between(0.1, 30)}, None),
     ("strip_footing", ["--phi", "20"], {"Nc": approx(2 + np.pi, rel=0.05),
                                         "Nc_limit_analysis": approx(2 + np.pi, rel=0.05),
                                         "Nc_MC_phi20": approx(prandtl_reissner(20), rel=0.075)},
