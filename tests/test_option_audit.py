@@ -13,7 +13,7 @@ and the script's cross-option check. Here:
   This file takes 102 s of CPU (user + system, measured with --durations on 2 shared cores,
   wall 4 min 49 s under load; the budget is 4 min of CPU).
 
-The audit of the other scripts runs offline (``python -m pfem_skfem.harness.audit --all``);
+The audit of the other scripts runs offline (``python scripts/audit_options.py --all``);
 its findings are in the book (``book/studies.md``, "Options away from their defaults").
 """
 import importlib
