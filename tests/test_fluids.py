@@ -11,7 +11,8 @@ from pfem_skfem.materials import (BinghamFluid, BinghamFluidAxisymmetric, Newton
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.step_scaling import DynamicScales
 from pfem_skfem.problems.step_terms import step_terms
-from verification.fluid_films import bingham_velocity, film_velocity, profile_error
+from verification.fluid_films import (P2_KINK, bingham_velocity, film_velocity, kink_bound,
+                                      profile_error)
 
 RHO, G, H, THETA = 1000.0, 9.81, 0.02, 10.0
 SIN = np.sin(np.radians(THETA))
@@ -332,3 +333,20 @@ def test_the_dam_break_takes_columns_from_square_to_four_high(capsys):
             dam_break.build_parser().parse_args(["--n2", bad])
         assert exit_.value.code == 2
         assert "[1, 4]" in capsys.readouterr().err
+
+
+def test_the_bingham_tolerance_is_the_p2_kink_bound_in_elements_across_the_sheared_layer():
+    """issue 56: the tolerance of fluid_films follows B(m) = 2 c / m^2, m = z_y ny / h, c the
+    worst P2 interpolation error of a jump of u'' inside an element (recomputed here), not a
+    number tuned at z_y / h = 1/3: a thinner sheared layer (m = 2.7 at tau_y = 28.375) gets
+    its own bound, a quarter of the elements four times the error."""
+    x = np.linspace(0.0, 1.0, 4001)
+    worst = 0.0
+    for a in np.linspace(0.0, 1.0, 401):
+        f = np.maximum(x - a, 0.0) ** 2 / 2
+        nodes = np.maximum(np.array([0.0, 0.5, 1.0]) - a, 0.0) ** 2 / 2
+        p2 = np.polyval(np.polyfit([0.0, 0.5, 1.0], nodes, 2), x)
+        worst = max(worst, np.abs(f - p2).max())
+    assert worst == pytest.approx(P2_KINK, abs=5e-5)
+    assert kink_bound(1.0, 0.25, 8) == pytest.approx(2 * P2_KINK / 4)
+    assert kink_bound(1.0, 0.25, 4) == pytest.approx(4 * kink_bound(1.0, 0.25, 8))

@@ -41,7 +41,7 @@ SCRIPTS = sorted(p.stem for p in (ROOT / "verification").glob("*.py")
 # option the message must name), ...]
 CHECKS = {
     "bingham_slump": [(["--study-k", "0.03"], "--study-k")],
-    "buried_pipe": [(["--depth", "20"], "--depth")],
+    "buried_pipe": [(["--depth", "20"], "--depth"), (["--dt", "0.01"], "--dt")],
     "accretionary_wedge": [(["--base-friction", "40"], "--base-friction"),
                            (["--h", "0.05"], "--h"), (["--passes", "2"], "--passes")],
     "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
