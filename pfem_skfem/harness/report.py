@@ -143,7 +143,7 @@ def relative_error(value, reference):
 
 def observed_order(sizes, errors, *, counts=False):
     """The order p of a convergence study, error ~ size^p: the slope of the least-squares
-    line through (log size, log |error|).
+    line through (log size, log of the error's magnitude).
 
     ``counts``: the sizes are counts (elements, cells across, steps) of a size ~ 1/count:
     p of error ~ count^-p, the slope's opposite (a positive p for an error that falls).
