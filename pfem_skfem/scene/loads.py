@@ -185,6 +185,17 @@ def check_ramp_over(load, dt, t_end=None, *, start=0.0, steps=None, default_step
         load.factor(start + k * dt)
 
 
+def load_acceleration(scene):
+    """The acceleration the largest load gives a layer of the scene's density and length,
+    max |t| / (rho L) (0 without loads): a scale of the step
+    (:func:`~pfem_skfem.pfem.assemble.step_scales`), a ramp's factor not counted."""
+    if not scene.loads:
+        return 0.0
+    size = max(float(np.hypot(*load.traction)) if load.pressure is None else abs(load.pressure)
+               for load in scene.loads)
+    return size / (scene.rho * scene.length)
+
+
 def surface_loads(scene, disc, t_n, theta):
     """The step's surface load vector, theta1 F(t_{n+1}) + (1 - theta1) F(t_n) summed over
     the scene's loads on ``disc``'s mesh, and each load's resultant (Fx, Fy) of the step
