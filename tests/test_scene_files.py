@@ -25,6 +25,7 @@ from pfem_skfem.scene import (Body, ConstantVelocity, FunctionMotion, Geostatic,
                               Outlet, Output, Phase, PiecewiseLinear, PolygonZone, Region,
                               Scene)
 from pfem_skfem.scene import files
+from pfem_skfem.scene.loads import SurfaceLoad
 from pfem_skfem.scene.water import Drained, Water
 from pfem_skfem.scene.files import (EXAMPLES, SceneFileError, example_text, key_lines,
                                     scene_from_toml, scene_to_toml)
@@ -126,11 +127,16 @@ def make_scene(name):
                                Drained(PolygonZone(((-1, -1), (3, -1), (3, 0.1), (-1, 0.1))))))
         return replace(rich, gravity=(0.0, -9.81), water=water,
                        config=replace(rich.config, theta=ThetaMethod(0.01, 1.0, 0.75)))
+    if name == "loaded":          # a pressure on the cap's top, a traction on the hole's edges
+        loads = (SurfaceLoad(HalfPlane((0, 1.49), (0, 1)), pressure=2.5, name="top"),
+                 SurfaceLoad(PolygonZone(((0.4, 0.2), (0.8, 0.2), (0.8, 0.6), (0.4, 0.6))),
+                             traction=(0.5, -1.0), name="hole"))
+        return replace(rich, loads=loads)
     return scene_from_toml(EXAMPLE)
 
 
 ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "fluids",
-              "fluids_axisymmetric", "saturated", "softening", "softening_mc", "example")
+              "fluids_axisymmetric", "saturated", "softening", "softening_mc", "loaded", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -147,7 +153,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 38                      # HalfPlane, PolygonZone twice: outlets, drained
+    assert len(names) == 40       # HalfPlane, PolygonZone thrice: outlets, drained, loads
     for name in names:
         assert f'type = "{name}"' in text, name
 

@@ -45,6 +45,7 @@ from ..pfem.volume_projection import step_constraint
 from ..problems.contact import without_nodes
 from ..problems.nonassociated import lagged_step, StepStart
 from ..scene.bodies import check_motion_over
+from ..scene.loads import check_ramp_over, surface_loads
 
 __all__ = ["StepResult", "pfem_step", "run", "run_to_rest", "check_run", "config_summary"]
 
@@ -189,6 +190,9 @@ def pfem_step(state, scene):
     with timer("assemble"):
         regions = element_regions(state, pm)
         ops, f = assemble_operators(scene, disc, regions, theta)
+        if scene.loads:                              # the surface loads on this mesh
+            f_loads, load_resultants = surface_loads(scene, disc, state.time, theta)
+            f = f + f_loads
         bodies = scene.bodies_at(state.time, theta.dt)
         contacts, contact_bodies = contact_set(disc, bodies, config.search * h_median)
         phase = scene.phase_at(state.time)
@@ -254,6 +258,8 @@ def pfem_step(state, scene):
                       phase=phase, projected=projected, added=added, surface=surface,
                       thinned=thinned, held=len(fixed), discharged_now=out_now, shift=shift)
     record = step_record(scene, new, facts, timer, t_start)
+    if scene.loads:                  # each load's resultant in the step (theta-weighted)
+        record["loads"] = load_resultants
     if softens:                    # the step control's measure and the largest gamma^p
         record["softening_drop"], record["gamma_p_max"] = drop, float(gamma_p.max())
     return new, record, result
@@ -281,6 +287,8 @@ def free_flight(state, scene, timer, t_start, alpha, thinned):
     record = free_flight_record(scene, new, timer, t_start, alpha=alpha, projected=projected,
                                 moved_over_h=moved_over_h, thinned=thinned, phase=phase,
                                 discharged_now=out_now, start=state)
+    if scene.loads:                  # no mesh, no surface: no load
+        record["loads"] = {load.name: [0.0, 0.0] for load in scene.loads}
     return new, record, None
 
 
@@ -377,6 +385,8 @@ def check_run(state, scene, steps):
     for body in scene.bodies:       # the scene checked to t_end, or its first 1000 steps
         check_motion_over(body, scene.config.dt, start=state.time, first=state.step,
                           steps=int(steps))
+    for load in scene.loads:        # a ramp, likewise
+        check_ramp_over(load, scene.config.dt, start=state.time, steps=int(steps))
     return int(steps)
 
 

@@ -14,6 +14,7 @@ from ..discretisation.dynamic import gravity_vector
 from ..problems.contact import boundary_nodes, potential_contacts
 from ..discretisation.dynamic import dynamic_operators
 from ..problems.step_scaling import DynamicScales
+from ..scene.loads import load_acceleration
 
 
 def element_regions(state, pm):
@@ -95,8 +96,13 @@ def step_scales(previous, scene, dt):
     minutes to days), and g dt^2 is then millions of times the step's displacement, which
     a solver's tolerance of that unit leaves undetermined. With an elastic skeleton its
     floor is the smaller of g dt^2 and the oedometric settlement of the scene's stress over
-    its length, sigma_s L / E_oed, and its first step is scaled by these (not None)."""
-    floor = scene.g * dt ** 2
+    its length, sigma_s L / E_oed, and its first step is scaled by these (not None).
+
+    Surface loads (:mod:`pfem_skfem.scene.loads`) count as an acceleration q / (rho L) beside
+    g: a body pressed still by a load without gravity would otherwise have no floor at all
+    (a zero displacement scale, and Clarabel reports 'unbounded' in its second step)."""
+    accel = max(scene.g, load_acceleration(scene))  # g without loads
+    floor = accel * dt ** 2
     if scene.water is not None and scene.elastic is not None:
         elastic = scene.elastic
         settlement = scene.stress_scale * scene.length / (elastic.lame_lambda
@@ -108,4 +114,4 @@ def step_scales(previous, scene, dt):
     if previous is None:
         return None
     return DynamicScales(previous.stress, max(previous.displacement, floor),
-                         max(previous.dynamic_force, scene.rho * scene.g))
+                         max(previous.dynamic_force, scene.rho * accel))

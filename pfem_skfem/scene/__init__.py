@@ -1,4 +1,4 @@
-"""Scenes: the description of a PFEM problem (regions, bodies, outlets, phases).
+"""Scenes: the description of a PFEM problem (regions, bodies, outlets, phases, loads).
 
 A scene is handed whole to the engine (:mod:`pfem_skfem.drivers.pfem_loop`)::
 
@@ -16,6 +16,7 @@ from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region, fill_region, geostatic_stress, polygon_area
 from .scene import MAX_PARTICLES, Output, Phase, Scene, scene_digest
 from .water import Drained, Water
+from .loads import SurfaceLoad
 from .columns import column_scene
 from .files import SceneFileError, load_scene, scene_from_toml, scene_to_toml
 
@@ -23,4 +24,4 @@ __all__ = ["Body", "ConstantVelocity", "Fixed", "FunctionMotion", "Motion", "Pie
            "HalfPlane", "Outlet", "PolygonZone", "Geostatic", "Region", "fill_region",
            "geostatic_stress", "polygon_area", "Output", "Phase", "Scene", "SceneFileError",
            "load_scene", "scene_from_toml", "scene_to_toml", "scene_digest", "MAX_PARTICLES",
-           "column_scene", "Drained", "Water"]
+           "column_scene", "Drained", "Water", "SurfaceLoad"]

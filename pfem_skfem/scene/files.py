@@ -38,6 +38,8 @@ out takes the constructor's default (TOML has no null: a ``None`` is an omitted 
 A saturated scene (:mod:`pfem_skfem.scene.water`) has a ``[water]`` table (``k``,
 ``gamma_w``, ``M``, ``alpha``, ``table``) and its drained faces as ``[[water.drained]]``
 (``p``, and a ``[water.drained.zone]``; without a zone, the free surface);
+surface loads (:mod:`pfem_skfem.scene.loads`) are ``[[loads]]`` (``name``, ``traction`` or
+``pressure``, and a ``[loads.zone]``; constant in time: a ramp is Python only);
 
 so that ``scene_from_toml(scene_to_toml(scene)) == scene`` (a
 :class:`~pfem_skfem.scene.bodies.FunctionMotion`, a Python callable, has no TOML form).
@@ -78,6 +80,7 @@ from .outlets import HalfPlane, Outlet, PolygonZone
 from .regions import Geostatic, Region
 from .scene import Output, Phase, Scene
 from .key_lines import key_lines
+from .loads import SurfaceLoad
 from .water import Drained, Water
 
 __all__ = ["SceneFileError", "scene_from_toml", "scene_to_toml", "load_scene", "key_lines",
@@ -169,6 +172,19 @@ POINTS = _List(POINT, "a list of points [[x, y], ...]", least=1)
 POLYGONS = _List(POINTS, "a list of polygons [[[x, y], ...], ...]")
 
 
+class _NoForm:
+    """A key whose value is Python only (a function): refused when read and when written."""
+
+    def __init__(self, reason):
+        self.reason = reason
+
+    def load(self, value, path, ctx):
+        ctx.fail(path, self.reason)
+
+    def dump(self, value):
+        raise ValueError(self.reason)
+
+
 def _shown(value):
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
@@ -238,7 +254,10 @@ class Spec:
                 nested.append((key, kind, value))
             elif not (isinstance(value, tuple) and value == () and default == ()):
                 # (a numpy scalar == () is an empty array, not False)
-                body.append(f"{key} = {kind.dump(value)}")
+                try:
+                    body.append(f"{key} = {kind.dump(value)}")
+                except ValueError as err:            # a value with no TOML form
+                    raise ValueError(f"{header}.{key}: {err}") from None
         if header:
             out.append("")
             out.append(f"[[{header}]]" if array else f"[{header}]")
@@ -367,6 +386,10 @@ OUTLET = Spec(Outlet, {"name": STRING, "zone": ZONE})
 DRAINED = Spec(Drained, {"zone": ZONE, "p": NUMBER})
 WATER = Spec(Water, {"k": NUMBER, "gamma_w": NUMBER, "M": NUMBER, "alpha": NUMBER,
                      "table": NUMBER, "drained": Tables(DRAINED)})
+LOAD = Spec(SurfaceLoad, {"name": STRING, "zone": ZONE, "traction": POINT, "pressure": NUMBER,
+                          "ramp": _NoForm("ramp is a Python function of time, which a TOML "
+                                          "file cannot hold: give a constant traction or "
+                                          "pressure (or build the scene in Python)")})
 PHASE = Spec(Phase, {"name": STRING, "until": NUMBER, "hold": STRING})
 #: keys of [config] that earlier scene files used for the step's solver (PFEMConfig.solver)
 _EARLIER_KEYS = ("backend", "form")
@@ -404,7 +427,7 @@ SCHEMA = Spec(Scene, {
     "t_end": NUMBER, "gravity": POINT, "alpha": NUMBER, "adaptive_alpha": BOOLEAN,
     "length": NUMBER, "regions": Tables(REGION), "bodies": Tables(BODY),
     "outlets": Tables(OUTLET), "phases": Tables(PHASE), "config": Table(CONFIG),
-    "output": Table(OUTPUT), "geometry": STRING, "water": Table(WATER),
+    "output": Table(OUTPUT), "geometry": STRING, "water": Table(WATER), "loads": Tables(LOAD),
     "max_particles": INTEGER})
 
 

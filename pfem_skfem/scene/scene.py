@@ -22,6 +22,7 @@ from .bodies import MOTION_CHECK_STEPS, Body, check_motion_over, reach_into
 from .config import PFEMConfig, check_passes, legacy_keys
 from .crossing import check_no_crossing
 from .enclosure import check_room
+from .loads import check_loads, check_on_surface
 from .outlets import Outlet
 from .regions import Geostatic, Region, geostatic_stress, shapes_overlap, volume_shares
 from .water import Water
@@ -109,6 +110,9 @@ class Scene:
     water : None (a dry or single-phase scene) or :class:`~pfem_skfem.scene.water.Water`:
         every region is a saturated soil, the pore pressure a particle variable added to
         each step (:mod:`pfem_skfem.scene.water`).
+    loads : :class:`~pfem_skfem.scene.loads.SurfaceLoad` objects: tractions or pressures
+        on the free surface in their zones, found on each step's mesh
+        (:mod:`pfem_skfem.scene.loads`).
     """
 
     regions: tuple
@@ -124,6 +128,7 @@ class Scene:
     output: Output = field(default_factory=Output)
     geometry: str = "plane"
     water: Water = None
+    loads: tuple = ()
     max_particles: int = field(default=None, compare=False, repr=False)
 
     def __post_init__(self):
@@ -141,6 +146,7 @@ class Scene:
         object.__setattr__(self, "bodies", tuple(self.bodies))
         object.__setattr__(self, "outlets", tuple(self.outlets))
         object.__setattr__(self, "phases", tuple(self.phases))
+        object.__setattr__(self, "loads", check_loads(self.loads))
         self._check_names()
         for b in self.bodies:
             if not isinstance(b, Body):
@@ -203,6 +209,7 @@ class Scene:
         self._check_size()
         self._check_overlaps()
         self._check_particles()
+        check_on_surface(self)                # each load's zone on the surface at t = 0
         check_no_crossing(self.bodies, self.config.dt, self.t_end,
                           0.5 * min(r.h for r in regions), MOTION_CHECK_STEPS)
 
@@ -522,12 +529,14 @@ def _identity(value):
 def scene_digest(scene):
     """A stable hex digest (SHA-256) of what defines a scene's states: its regions
     (polygons, holes, materials, densities, spacings, initial stresses), bodies and their
-    motions, outlets, phases, gravity, alpha, length, geometry and numerical config.
+    motions, outlets, phases, gravity, alpha, length, geometry, numerical config, water and
+    surface loads (the last two only where the scene has them).
     Not ``t_end`` (a run may be extended), ``output`` nor ``max_particles``. The same scene
     gives the same digest in every process (a checkpoint can store it and refuse another
     scene's); a FunctionMotion is known by its function's qualified name only."""
     parts = {f.name: _identity(getattr(scene, f.name)) for f in fields(scene)
              if f.name not in _NOT_IDENTITY
-             and not (f.name == "water" and scene.water is None)}   # the digests before it
+             and not (f.name == "water" and scene.water is None)    # the digests before it
+             and not (f.name == "loads" and not scene.loads)}
     text = json.dumps(parts, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
