@@ -1,4 +1,4 @@
-"""The circular footing's Nc at every footing radius (issue 56, the option audit).
+"""The circular and strip footings' Nc at every footing size (issue 56, the option audit).
 
 The domain scales with R (5 R or Prandtl's mechanism); so must the mesh: Triangle's meshes
 are not scale-invariant in floating point, and ``--R 0.625`` used to get another mesh whose
@@ -28,3 +28,15 @@ def test_one_mesh_is_a_usage_error():
     with pytest.raises(SystemExit) as err:
         parser.parse_args(["--quick", "--elements", "200"])
     assert err.value.code == 2
+
+
+@pytest.mark.parametrize("B", [1.25, 3.0])
+def test_the_strip_footings_nc_is_the_same_at_every_width(B):
+    """The same for the strip footing's --B (it failed Nc_limit_109el at --B 1.25)."""
+    from pfem_skfem.materials import Tresca
+    from verification import strip_footing
+    base, moved = strip_footing.footing_model(100), strip_footing.footing_model(100, B=B)
+    assert moved["n_elements"] == base["n_elements"]
+    nc = [strip_footing.nc_limit(m, Tresca(100.0), c=100.0, B=b)[0]
+          for m, b in ((base, 1.0), (moved, B))]
+    assert nc[1] == pytest.approx(nc[0], rel=1e-7)
