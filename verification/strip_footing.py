@@ -32,6 +32,7 @@ import sys
 import time
 
 import numpy as np
+from skfem import MeshTri
 
 from pfem_skfem.drivers.incremental import displacement_control
 from pfem_skfem.materials import Elastic, MohrCoulomb, Tresca
@@ -78,11 +79,16 @@ def footing_model(n_elements, *, B=1.0, width=None, depth=None, phi=0.0, ratio=8
     Returns a dict with the discretisation, B operator, fixed dofs and footing dofs.
     The default domain holds Prandtl's mechanism for ``phi`` with a margin.
     """
-    extent, mdepth = prandtl_extent(phi, B)
-    width = width or max(5.0 * B, 1.6 * extent)
-    depth = depth or max(5.0 * B, 2.0 * mdepth)
-    mesh = graded_rectangle_with_elements(width, depth, (0.5 * B, 0.0), n_elements,
+    # the mesh is made for B = 1 and scaled by B: Triangle's meshes are not scale-invariant
+    # in floating point (--B 1.25 got another mesh, whose Nc differed), so Nc is the same at
+    # every B on the default domain, as it must be
+    extent, mdepth = prandtl_extent(phi, 1.0)
+    unit_width = width / B if width else max(5.0, 1.6 * extent)
+    unit_depth = depth / B if depth else max(5.0, 2.0 * mdepth)
+    unit = graded_rectangle_with_elements(unit_width, unit_depth, (0.5, 0.0), n_elements,
                                           ratio=ratio, growth=growth)
+    mesh = MeshTri(unit.p * B, unit.t)
+    width, depth = B * unit_width, B * unit_depth
     disc = discretise(mesh)
     eps = 1e-9 * width
     under = lambda x: (np.abs(x[1]) < eps) & (x[0] < 0.5 * B + eps)   # noqa: E731
