@@ -247,8 +247,9 @@ class Report:
         ``rows`` the records (the results of a study's cases, dicts), each cell
         ``record[key]`` or ``function(record)``::
 
+            front = lambda r: r["x_f"] / r["x_nye"]
             report.add_table("runs", {"run": "label", "mu": "mu",
-                                      "x_f/Nye": lambda r: r["x_f"] / r["x_nye"]}, runs)
+                                      "x_f/Nye": front}, runs)
         """
         if isinstance(columns, Mapping):
             rows = [[get(r) if callable(get) else r[get] for get in columns.values()]
