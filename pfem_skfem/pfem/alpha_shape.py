@@ -253,7 +253,7 @@ def _delaunay(points, unique):
     return tri, nb
 
 
-def _components(n, i, j):
+def components(n, i, j):
     """Connected-component labels of n nodes joined by the pairs (i, j)."""
     g = coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n))
     return connected_components(g, directed=False)
@@ -338,7 +338,7 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9, advected=None, alpha_advect
     other = nb[t_of, k_of]
     both = kept[t_of] & kept[other]
     new_index = np.cumsum(kept) - 1
-    n_bodies, body = _components(m, new_index[t_of[both]], new_index[other[both]]) \
+    n_bodies, body = components(m, new_index[t_of[both]], new_index[other[both]]) \
         if m else (0, np.empty(0, dtype=int))
 
     # boundary edges: edge k of a kept triangle is opposite vertex k; it is on the
@@ -352,7 +352,7 @@ def alpha_shape(points, h, alpha, *, merge_tol=1e-9, advected=None, alpha_advect
     # loops and their signed areas (shoelace over each loop's edges)
     if len(edges):
         nxt = _pair_edges(points, edges)
-        n_loops, edge_loop = _components(len(edges), np.arange(len(edges)), nxt)
+        n_loops, edge_loop = components(len(edges), np.arange(len(edges)), nxt)
         c = points.mean(axis=0)
         p, q = points[edges[:, 0]] - c, points[edges[:, 1]] - c
         loop_area = 0.5 * np.bincount(edge_loop, p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1],
@@ -383,7 +383,7 @@ def _hole_seeds(points, tri, nb, kept):
     t_of, k_of = np.nonzero(nb[removed] >= 0)
     other = local[nb[removed][t_of, k_of]]
     pair = other >= 0
-    n_c, label = _components(len(removed), t_of[pair], other[pair])
+    n_c, label = components(len(removed), t_of[pair], other[pair])
     on_hull = np.zeros(n_c, dtype=bool)
     on_hull[label[np.any(nb[removed] < 0, axis=1)]] = True
     area = triangle_areas(points, tri[removed])

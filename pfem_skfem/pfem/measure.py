@@ -8,10 +8,8 @@ revolution; the landslide; the dam break; the block into the tank); each takes a
 states what it measures, not how.
 """
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
-from .alpha_shape import alpha_shape, triangle_areas
+from .alpha_shape import alpha_shape, components, triangle_areas
 from .assemble import element_regions
 
 __all__ = ["deposit_extent", "height_at", "wall_height", "centre_of_mass", "front",
@@ -78,10 +76,7 @@ def main_body(points, triangles):
     triangle belong to none."""
     t = np.asarray(triangles)
     n = len(points)
-    a, b = np.concatenate([t[:, 0], t[:, 1], t[:, 2]]), np.concatenate([t[:, 1], t[:, 2],
-                                                                         t[:, 0]])
-    _, label = connected_components(coo_matrix((np.ones(a.size), (a, b)), shape=(n, n)),
-                                    directed=False)
+    _, label = components(n, t.ravel(), np.roll(t, -1, axis=1).ravel())   # the edges
     area = np.bincount(label[t[:, 0]], np.abs(triangle_areas(np.asarray(points), t)),
                        minlength=n)
     return np.unique(t[label[t[:, 0]] == np.argmax(area)])

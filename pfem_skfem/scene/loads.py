@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import FacetBasis, LinearForm
 
+from ..pfem.surface import axis_vertices
+
 #: how far (in units of the smallest spacing h) a midpoint may lie outside a zone and count
 ZONE_TOL = 1e-6
 
@@ -93,8 +95,7 @@ class SurfaceLoad:
         facets = mesh.boundary_facets()
         ends = mesh.p[:, mesh.facets[:, facets]]             # (2, 2, n): coordinate, end, facet
         keep = self.zone.contains(ends.mean(axis=1).T, tol=tol)
-        if disc.geometry.axisymmetric:
-            keep &= ~np.all(np.abs(ends[0]) <= 1e-12 * max(float(np.ptp(mesh.p)), 1.0), axis=0)
+        keep &= ~np.all(axis_vertices(disc)[mesh.facets[:, facets]], axis=0)
         return facets[keep]
 
     def vector(self, disc, tol):
