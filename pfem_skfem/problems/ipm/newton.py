@@ -134,15 +134,18 @@ class Newton:
                for d, G in self.st.G.items()}
         return dx, dy, dzt
 
-    def _residual(self, bx, by, bzt, dx, dy, dzt):
-        """The residual of (N), unregularised, and its largest entry."""
+    def _residual(self, bx, by, bzt, dx, dy, dzt, third=False):
+        """The residual of (N), unregularised, and its largest entry. Its third row
+        holds by construction (dzt = W^-1 G dx - bzt, refinement included: round-off),
+        so it is computed only when asked (``third``: a check), else zero."""
         st = self.st
         rx = bx - st.P @ dx - st.ET @ dy
         rz = {}
         for d, G in st.G.items():
             w = self.W[d]
             rx -= st.GT[d] @ w.inverse(dzt[d]).ravel()
-            rz[d] = bzt[d] - w.inverse((G @ dx).reshape(-1, d)) + dzt[d]
+            rz[d] = bzt[d] - w.inverse((G @ dx).reshape(-1, d)) + dzt[d] if third \
+                else np.zeros_like(bzt[d])
         ry = by - st.E @ dx
         rx[st.dead] = 0.0                       # a dead variable's row is empty
         norm = max(np.abs(rx).max(initial=0), np.abs(ry).max(initial=0),

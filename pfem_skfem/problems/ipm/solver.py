@@ -122,11 +122,12 @@ class _Problem:
         dobj = -0.5 * xPx - bz
         gap_abs = abs(pobj - dobj)
         ry, rz = self.split(r_prim)
+        inf_x = _inf(x)
         return dict(
             pobj=pobj, dobj=dobj, gap_abs=gap_abs,
             gap_rel=gap_abs / max(1.0, min(abs(pobj), abs(dobj))),
-            res_primal=_inf(r_prim) / max(1.0, self.norm_b + _inf(x) + _inf(s)),
-            res_dual=_inf(rx) / max(1.0, self.norm_c + _inf(x) + _inf(z)),
+            res_primal=_inf(r_prim) / max(1.0, self.norm_b + inf_x + _inf(s)),
+            res_dual=_inf(rx) / max(1.0, self.norm_c + inf_x + _inf(z)),
             rx=rx, ry=ry, rz=rz, Px=Px, Ax=Ax, ATz=ATz, bz=bz, cx=cx)
 
     def done(self, m, reduced=False):
@@ -206,6 +207,8 @@ def _direction(pb, newton, W, lam, m, scale, comp, refine=True, tol=0.0):
     bzt = {d: -scale * W[d].inverse(m["rz"][d]) - q[d] for d in lam}
     dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt, refine, tol)
     ds_t = {d: q[d] - dz_t[d] for d in lam}
+    if not refine:                      # the predictor: only the scaled ones are used
+        return None, None, None, ds_t, dz_t
     dz, ds = np.zeros(pb.b.size), np.zeros(pb.b.size)
     dz[st.zero_at] = dy
     for d, at in st.group_at.items():
