@@ -47,3 +47,17 @@ def test_a_row_refuses_what_its_validator_refuses(argv, capsys):
     with pytest.raises(SystemExit) as exit_:
         parser().parse_args(argv)
     assert exit_.value.code == 2 and argv[0] in capsys.readouterr().err
+
+
+def test_the_keywords_of_a_case_are_its_options_and_what_is_given():
+    from types import SimpleNamespace
+
+    from pfem_skfem.harness.declare import keywords_of
+
+    def run_case(a, n2, *, rho, mu=1e-3, label, outdir=None, **more):
+        return a, n2, rho, mu, label, outdir, more
+
+    args = SimpleNamespace(a=0.05, n2=2.0, rho=1000.0, mu=0.0, outdir="results", nx=16)
+    keywords = keywords_of(run_case, args, label="base", outdir=None)
+    assert keywords == dict(a=0.05, n2=2.0, rho=1000.0, mu=0.0, outdir=None, label="base")
+    assert run_case(**keywords) == (0.05, 2.0, 1000.0, 0.0, "base", None, {})

@@ -34,3 +34,17 @@ def own_options(parser, **options):
                        if getattr(o, k) is not None})
         parser.add_argument(option_name(name), **kwargs)
     return parser
+
+
+def keywords_of(function, args, **given):
+    """The keywords of ``function`` that are options of ``args`` (a parsed namespace, one
+    dest a keyword: the options are named after the quantities), with ``given`` beside
+    (replacing or adding): the keywords of a case of a study from its command line.
+
+    ``run_case(**keywords_of(run_case, args, label="base"))``
+    """
+    import inspect
+
+    names = [n for n, p in inspect.signature(function).parameters.items()
+             if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and hasattr(args, n)]
+    return {n: getattr(args, n) for n in names} | given
