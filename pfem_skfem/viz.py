@@ -244,12 +244,15 @@ def plot_bound_fields(axes, problem, lower, upper, what):
     axes[1].set_title(f"{what}: lower bound, max over vertices", fontsize=9)
 
 
-def plot_rounds(ax, rounds, scale=1.0, *, hollow=False, what=""):
+def plot_rounds(ax, rounds, scale=1.0, *, hollow=False, what="", reference=None,
+                label=None):
     """Lower (circles) and upper (squares) bounds against the elements of their meshes, on
     a log axis with plain numbers: ``rounds`` of :func:`~pfem_skfem.drivers.bounds.adapt`
     or :func:`~pfem_skfem.drivers.bounds.bracket_safety` (``elements``, ``lower``,
     ``upper``), the bounds times ``scale``; ``hollow``: dashed, hollow marks (a second
-    series, e.g. uniform meshes), its labels ending with ``what``."""
+    series, e.g. uniform meshes), its labels ending with ``what``. The value they bracket,
+    ``reference`` (a number: a dashed line; (low, high): a grey band), is drawn with its
+    ``label``."""
     from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
 
     n = [r.elements for r in rounds]
@@ -257,6 +260,10 @@ def plot_rounds(ax, rounds, scale=1.0, *, hollow=False, what=""):
     for key, mark, colour in (("lower", "o", "C0"), ("upper", "s", "C3")):
         ax.plot(n, [getattr(r, key) * scale for r in rounds], marker=mark, color=colour,
                 label=f"{key} bound{what}", **style)
+    if np.ndim(reference) == 1:
+        ax.axhspan(*reference, color="0.8", label=label)
+    elif reference is not None:
+        ax.axhline(reference, color="k", ls="--", lw=1, label=label)
     ax.set_xscale("log")
     lo, hi = ax.dataLim.intervalx
     ax.set_xlim(min(lo, min(n)) / 1.3, max(hi, max(n)) * 1.3)
@@ -264,6 +271,17 @@ def plot_rounds(ax, rounds, scale=1.0, *, hollow=False, what=""):
     ax.xaxis.set_major_formatter(ScalarFormatter())
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("elements")
+
+
+def plot_order(ax, sizes, errors, label, *, slope=None):
+    """A convergence study on log axes: ``errors`` against ``sizes`` (an element count, a
+    spacing) marked and joined, with its ``label`` (its observed order, say); ``slope``: the
+    line error ~ size^slope through the first point, dashed grey, for the order expected."""
+    ax.loglog(sizes, errors, "o-", label=label)
+    if slope is not None:
+        sizes = np.asarray(sizes, dtype=float)
+        ax.loglog(sizes, errors[0] * (sizes / sizes[0]) ** slope, "--", color="0.5",
+                  label=f"slope {abs(slope):g}")
 
 
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,

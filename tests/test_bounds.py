@@ -540,3 +540,30 @@ def test_the_fields_of_a_pair_of_bounds_are_two_readable_panels(vertical_cut):
     assert len(axes[1].collections[0].get_array()) == problem.mesh.t.shape[1]
     assert figure_problems(fig) == []
     pyplot().close(fig)
+
+
+@almost
+def test_uniform_refinement_brackets_each_mesh_from_the_first(vertical_cut):
+    from pfem_skfem.drivers.bounds import bracket, refine_uniformly
+
+    problem, lo, up = vertical_cut
+    seen = []
+    rounds = refine_uniformly(problem, 1, progress=seen.append)
+    assert seen == rounds and len(rounds) == 2
+    assert (rounds[0].lower, rounds[0].upper) == (lo.load, up.load)    # the first mesh's
+    assert rounds[1].elements == 4 * rounds[0].elements               # red refinement
+    assert lo.load <= rounds[1].lower <= rounds[1].upper <= up.load    # nested meshes
+    only = refine_uniformly(problem, 0)                               # no refinement
+    assert [(r.elements, r.lower) for r in only] == [(bracket(problem).elements, lo.load)]
+
+
+@almost
+def test_the_bounds_at_a_factor_are_those_of_the_reduced_strength(vertical_cut):
+    from pfem_skfem.drivers.bounds import bounds_at
+
+    problem, lo, up = vertical_cut
+    at, lower, upper = bounds_at(problem, 2.0)
+    assert at.criterion.c == problem.criterion.c / 2 and at.mesh is problem.mesh
+    # a Tresca cut: its gravity multiplier gamma H / c at collapse is proportional to c
+    assert lower.load == pytest.approx(lo.load / 2, rel=1e-6)
+    assert upper.load == pytest.approx(up.load / 2, rel=1e-6)

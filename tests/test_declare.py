@@ -1,14 +1,42 @@
-"""A script's own options as a table (:func:`pfem_skfem.harness.declare.own_options`): each row
-is the option argparse would get from its ``add_argument``, in the one spelling."""
+"""A script's own options declared as a table (:func:`pfem_skfem.harness.declare.own_options`)
+and a case's keywords read back from them (:func:`~pfem_skfem.harness.declare.option_values`,
+:func:`~pfem_skfem.harness.declare.keywords_of`); a row (validator, default, help), a switch
+and a list of choices each the option argparse would get from its ``add_argument``."""
 import argparse
 
 import pytest
 
-from pfem_skfem.harness.declare import own_options
-from pfem_skfem.harness.options import in_range, opt, positive_float, positive_int
+from pfem_skfem.harness.declare import option_values, own_options
+from pfem_skfem.harness.options import (in_range, nonnegative_int, opt, positive_float,
+                                        positive_int)
 
 
-def parser():
+def test_own_options_are_spelt_with_hyphens_and_validated():
+    parser = argparse.ArgumentParser()
+    own_options(parser, B=opt(1.0, "footing width"),
+                mc_width=opt(1.2, "half-width", why="over the mechanism's reach"),
+                uniform=opt(2, "refinements", type=nonnegative_int),
+                ny=opt([4, 8], "elements through the depth", nargs="+"))
+    helps = {a.dest: (a.option_strings, a.help) for a in parser._actions}
+    assert helps["mc_width"] == (["--mc-width"], "half-width; over the mechanism's reach")
+    assert helps["B"] == (["--B"], "footing width")
+    args = parser.parse_args(["--mc-width", "2", "--ny", "3", "5"])
+    assert (args.B, args.mc_width, args.uniform, args.ny) == (1.0, 2.0, 2, [3, 5])
+    for bad in (["--B", "0"], ["--uniform", "-1"]):       # positive_float by default
+        with pytest.raises(SystemExit):
+            parser.parse_args(bad)
+    with pytest.raises(TypeError, match="--B|B needs"):
+        own_options(argparse.ArgumentParser(), B=1.0)
+
+
+def test_option_values_are_a_case_s_keywords():
+    args = argparse.Namespace(nr=10, steps=400, floor=0.005)
+    assert option_values(args, "nr", "steps", k_min="floor") == \
+        dict(nr=10, steps=400, k_min=0.005)
+    assert list(option_values(args, "steps", "nr")) == ["steps", "nr"]
+
+
+def table_parser():
     p = argparse.ArgumentParser()
     return own_options(
         p, mu_f=(positive_float, 5.0, "friction coefficient of the floor"),
@@ -23,7 +51,7 @@ def parser():
 
 
 def test_each_row_is_an_option_of_its_name_default_validator_and_help():
-    p = parser()
+    p = table_parser()
     actions = {a.dest: a for a in p._actions if a.option_strings}
     assert [a.option_strings for a in actions.values()][1:] == [
         ["--mu-f"], ["--contact"], ["--studies", "--no-studies"], ["--keep-runs"], ["--k"],
@@ -45,7 +73,7 @@ def test_each_row_is_an_option_of_its_name_default_validator_and_help():
                                   ["--steps", "1.5"]])
 def test_a_row_refuses_what_its_validator_refuses(argv, capsys):
     with pytest.raises(SystemExit) as exit_:
-        parser().parse_args(argv)
+        table_parser().parse_args(argv)
     assert exit_.value.code == 2 and argv[0] in capsys.readouterr().err
 
 

@@ -112,3 +112,32 @@ def test_a_summary_beside_the_figures_holds_arrays_as_lists(tmp_path):
     path = write_summary(tmp_path, {"x": np.arange(3), "v": np.float64(0.5), "p": tmp_path})
     assert path == tmp_path / "summary.json"
     assert json.loads(path.read_text()) == {"x": [0, 1, 2], "v": 0.5, "p": str(tmp_path)}
+
+
+def test_the_value_the_rounds_bracket_is_a_line_or_a_band():
+    fig, ax = pyplot().subplots(1, 2, figsize=(10, 4))
+    rounds = [SimpleNamespace(elements=n, lower=1 - 1 / n, upper=1 + 1 / n) for n in (100, 400)]
+    plot_rounds(ax[0], rounds, reference=1.0, label="exact")
+    plot_rounds(ax[1], rounds, reference=(0.99, 1.01), label="published bounds")
+    for a in ax:
+        labelled(a, "elements", "load", "bounds")
+    assert ax[0].get_lines()[-1].get_label() == "exact"
+    assert list(ax[0].get_lines()[-1].get_ydata()) == [1.0, 1.0]
+    assert [p.get_label() for p in ax[1].patches] == ["published bounds"]
+    assert len(ax[1].get_lines()) == 2                       # no line for a band
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_a_convergence_study_with_the_slope_expected():
+    from pfem_skfem.viz import plot_order
+
+    fig, ax = pyplot().subplots(figsize=(6, 4))
+    plot_order(ax, [4, 8, 16], [1e-2, 2.6e-3, 6e-4], "ours, order 2.03", slope=-2.0)
+    labelled(ax, "elements", "error", "convergence")
+    ours, expected = ax.get_lines()
+    assert (ours.get_label(), expected.get_label()) == ("ours, order 2.03", "slope 2")
+    assert np.allclose(expected.get_ydata(), [1e-2, 2.5e-3, 6.25e-4])
+    assert ax.get_xscale() == ax.get_yscale() == "log"
+    assert figure_problems(fig) == []
+    pyplot().close(fig)

@@ -22,7 +22,7 @@ from pfem_skfem.problems.conic import SOLVERS
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.ipm import cones as K, solve
 from pfem_skfem.problems.ipm.cholesky import Cholesky
-from pfem_skfem.problems.ipm.newton import Newton
+from pfem_skfem.problems.ipm.newton import Newton, upper_inverse
 from pfem_skfem.problems.ipm.structure import Structure
 from pfem_skfem.problems.static import limit_analysis, static_increment
 from verification import strip_footing
@@ -111,6 +111,38 @@ def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
     *_, norm = newton._residual(bx, by, bzt, dx, dy, dzt)
     assert norm <= 1e-10 * max(1.0, np.abs(bx).max(), np.abs(by).max())
     assert newton.residual <= 1e-10
+
+
+@pytest.mark.parametrize("size", [1, 2, 3, 6, 20])
+def test_the_batched_triangular_inverse_is_the_inverse(size):
+    """upper_inverse's back substitution against LAPACK's inverse (and past its largest
+    size, LAPACK itself): R X = I to round-off on well-conditioned upper triangles."""
+    rng = np.random.default_rng(size)
+    R = np.triu(rng.standard_normal((50, size, size))) + 3.0 * np.eye(size)
+    X = upper_inverse(R)
+    assert np.abs(R @ X - np.eye(size)).max() <= 1e-13
+    assert np.all(np.tril(X, -1) == 0.0)
+
+
+def test_an_inexact_direction_meets_the_residual_it_asked_for(monkeypatch):
+    """A Newton solve refined only to ``tol`` (an inexact direction, far from the solution)
+    stops at or below that residual, and a tighter one ends no higher."""
+    P, c, A, b, cones = standard_form(*captured_step(), monkeypatch)
+    st = Structure(P, A, cones)
+    rng = np.random.default_rng(1)
+    W = {d: K.Scaling(interior(rng, *r.shape), interior(rng, *r.shape))
+         for d, r in st.groups.items()}
+    newton = Newton(st, W, Cholesky(st.S_rows, st.S_cols, st.E.shape[0]))
+    bx = rng.standard_normal(P.shape[0])
+    bx[st.dead] = 0.0
+    by = rng.standard_normal(st.E.shape[0])
+    bzt = {d: rng.standard_normal(r.shape) for d, r in st.groups.items()}
+    solves = []
+    for tol in (1e-3, 1e-10):
+        newton.solve(bx, by, bzt, tol=tol)
+        assert newton.residual <= tol
+        solves.append(newton.residual)
+    assert solves[1] <= solves[0]
 
 
 # -- statuses ---------------------------------------------------------------------------------

@@ -64,3 +64,16 @@ def test_a_case_thinned_for_the_json():
     assert list(kept) == ["label", "x", "t", "ke"] and kept["t"] == list(np.arange(0.0, 250, 2))
     # without histories: the case less the dropped keys, in its order
     assert list(thinned(case, drop=("label", "points"))) == ["t", "ke", "x"]
+
+
+def test_a_bracket_is_a_lower_and_an_upper_bound_on_either_side_of_the_reference():
+    report = Report("case")
+    lower, upper = report.add_bracket("Nc", 5.0, 5.2, 2 + np.pi, "Prandtl; {bound} (9 el)")
+    assert (lower.name, lower.lower, lower.upper, lower.reference) == \
+        ("Nc_lower", -np.inf, 2 + np.pi, 2 + np.pi)
+    assert (upper.name, upper.lower, upper.upper) == ("Nc_upper", 2 + np.pi, np.inf)
+    assert (lower.source, upper.source) == ("Prandtl; a lower bound (9 el)",
+                                            "Prandtl; an upper bound (9 el)")
+    assert report.passed
+    report.add_bracket("wrong", 5.2, 5.0, 2 + np.pi, "{bound}")   # on the wrong sides
+    assert [q.passed for q in report.quantities[2:]] == [False, False]

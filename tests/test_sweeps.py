@@ -187,3 +187,18 @@ def test_named_groups_run_as_one_sweep_and_come_back_under_their_names(tmp_path)
         _power, groups, results_dir=tmp_path) == {"main": 3, "squares": [1, 4, 16], "none": []}
     with pytest.raises(SweepError, match="1 of 2 powers failed"):
         run_groups(_power, {"a": dict(x=2), "b": [dict(x=0, p=-1)]}, desc="powers")
+
+
+def test_a_study_runs_its_groups_with_the_sweep_options_and_says_where(tmp_path, capsys):
+    from pfem_skfem.harness.sweeps import run_study
+
+    parser = sweep_options(argparse.ArgumentParser())
+    parser.add_argument("--progress", action="store_true")
+    args = parser.parse_args(["--workers", "1", "--results-dir", str(tmp_path), "--progress"])
+    groups = {"main": dict(x=3), "squares": [dict(x=x, p=2) for x in (1, 2)]}
+    assert run_study(_power, groups, args, desc="powers") == {"main": 3, "squares": [1, 4]}
+    assert "3 case(s) on 1 worker(s)" in capsys.readouterr().err
+    assert len(list(tmp_path.glob("powers-*.result.pkl"))) == 3      # --results-dir kept them
+    args.progress = False
+    assert run_study(_power, groups, args, desc="powers") == {"main": 3, "squares": [1, 4]}
+    assert "case(s) on" not in capsys.readouterr().err

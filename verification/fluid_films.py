@@ -50,10 +50,12 @@ import sys
 import numpy as np
 
 from pfem_skfem.drivers.strip import profile_weights, strip_flow
+from pfem_skfem.harness.declare import own_options
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, material_options, nonnegative_float, opt,
-                                        positive_float, positive_int, slope_angle, time_options)
+                                        positive_int, slope_angle, time_options)
 from pfem_skfem.harness.report import Report, observed_order, script_main
+from pfem_skfem.viz import plot_order
 
 QUICK = dict(ny=[4, 8, 16])
 #: the worst max error of the P2 interpolant (nodes 0, 1/2, 1) of (x - a)_+^2 / 2 on [0, 1]
@@ -84,11 +86,27 @@ def bingham_velocity(z, h, theta, rho, tau_y, mu, g):
     return rho * g * np.sin(np.radians(theta)) * (zy * zz - zz ** 2 / 2) / mu
 
 
+def exact_profiles(args):
+    """The film's and the mud's exact u(z) at the options' h, theta, rho, mu, tau_y and g,
+    and the mud's z_y."""
+    h, theta, rho, mu, g = args.h, args.theta, args.rho, args.mu, args.g
+    return (lambda z: film_velocity(z, h, theta, rho, mu, g),
+            lambda z: bingham_velocity(z, h, theta, rho, args.tau_y, mu, g),
+            yield_height(h, theta, rho, args.tau_y, g))
+
+
 def profile_error(z, u, exact):
     """Discrete L2 distance of u from ``exact`` at the sorted heights z (trapezoid weights),
     relative to the L2 norm of ``exact``."""
     w = profile_weights(z)
     return float(np.sqrt(w @ (u - exact) ** 2 / (w @ exact ** 2)))
+
+
+def plug_base(z, u):
+    """The height of the plug's base in a profile u(z) (z sorted): the lowest of the nodes
+    from the surface down whose velocity is the surface's to 1e-3."""
+    moving = np.flatnonzero(np.abs(u - u[-1]) > 1e-3 * abs(u[-1]))
+    return z[moving[-1] + 1 if moving.size else 0]
 
 
 def check(args):
@@ -99,67 +117,57 @@ def check(args):
                 f"tau_y_stop is the no-flow case")
     if not args.tau_y_stop > load:
         return f"--tau-y-stop must exceed rho g h sin(theta) = {load:.4g} Pa (no flow)"
-    if len(args.ny) < 2:
-        return "--ny needs two meshes at least (a convergence order)"
-    return None
+    return "--ny needs two meshes at least (a convergence order)" if len(args.ny) < 2 else None
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--theta", type=slope_angle, default=10.0, help="slope angle [deg]")
-    p.add_argument("--h", type=positive_float, default=0.02, help="layer depth [m]")
     material_options(p, units="Pa", rho=1000.0, g=9.81)
-    p.add_argument("--mu", type=positive_float, default=1.0,
-                   help="viscosity [Pa s] of the film and plastic viscosity of the mud")
-    p.add_argument("--tau-y", type=nonnegative_float, default=22.7,
-                   help="yield stress of the mud [Pa] (default: z_y near h/3)")
-    p.add_argument("--tau-y-stop", type=positive_float, default=42.6,
-                   help="a yield stress above rho g h sin(theta) [Pa]: no flow")
-    p.add_argument("--ny", type=positive_int, nargs="+", default=[4, 8, 16, 32, 64],
-                   help="elements through the depth, one Bingham run each")
     time_options(p, steps=opt(40, "steps of each run"))
-    p.add_argument("--T", type=positive_float, default=10.0,
-                   help="run time in units of h^2 / nu (nu = mu / rho)")
-    p.add_argument("--tol", type=positive_float, default=1.5,
-                   help="the Bingham plug's and profile's tolerance on the finest mesh, as a "
-                        "factor on the P2 bound 2 c / m^2 (m = z_y ny / h the elements "
-                        "across the sheared layer, c = 0.01883; see the docstring)")
-    return p
+    return own_options(
+        p, theta=opt(10.0, "slope angle [deg]", type=slope_angle), h=opt(0.02, "layer depth [m]"),
+        mu=opt(1.0, "viscosity [Pa s] of the film and plastic viscosity of the mud"),
+        tau_y=opt(22.7, "yield stress of the mud [Pa] (default: z_y near h/3)",
+                  type=nonnegative_float),
+        tau_y_stop=opt(42.6, "a yield stress above rho g h sin(theta) [Pa]: no flow"),
+        ny=opt([4, 8, 16, 32, 64], "elements through the depth, one Bingham run each",
+               type=positive_int, nargs="+"),
+        T=opt(10.0, "run time in units of h^2 / nu (nu = mu / rho)"),
+        tol=opt(1.5, "the Bingham plug's and profile's tolerance on the finest mesh, as a factor "
+                     "on the P2 bound 2 c / m^2 (m = z_y ny / h the elements across the "
+                     "sheared layer, c = 0.01883; see the docstring)"))
+
+
+def flows(args):
+    """The steady layers on the strip: the film on the two coarsest meshes ({ny: result}),
+    the mud on each, the mud too strong to flow (--tau-y-stop) and the mud of rho, tau_y and
+    mu doubled, both on the coarsest."""
+    from pfem_skfem.materials import BinghamFluid, NewtonianFluid
+
+    common = dict(steps=args.steps, t_end=args.T * args.h ** 2 * args.rho / args.mu, g=args.g,
+                  passes=1, verbose=args.progress, solver=args.solver)
+
+    def layer(fluid, n, rho=args.rho):
+        return strip_flow(args.theta, args.h, fluid, rho, ny=n, **common)
+    ny, mu, tau_y = sorted(args.ny), args.mu, args.tau_y
+    return ({n: layer(NewtonianFluid(mu), n) for n in ny[:2]},
+            {n: layer(BinghamFluid(tau_y, mu), n) for n in ny},
+            layer(BinghamFluid(args.tau_y_stop, mu), ny[0]),
+            layer(BinghamFluid(2 * tau_y, 2 * mu), ny[0], 2 * args.rho))
 
 
 def run(args):
-    """The film on the two coarsest meshes, the mud on each, the stop, the doubled run."""
-    from pfem_skfem.materials import BinghamFluid, NewtonianFluid
-
-    h, theta, rho, mu, g = args.h, args.theta, args.rho, args.mu, args.g
-    t_end = args.T * h ** 2 * rho / mu
-    common = dict(steps=args.steps, t_end=t_end, g=g, passes=1, verbose=args.progress,
-                  solver=args.solver)
-    ny = sorted(args.ny)
-    films = {n: strip_flow(theta, h, NewtonianFluid(mu), rho, ny=n, **common) for n in ny[:2]}
-    mud = {n: strip_flow(theta, h, BinghamFluid(args.tau_y, mu), rho, ny=n, **common)
-           for n in ny}
-    stop = strip_flow(theta, h, BinghamFluid(args.tau_y_stop, mu), rho, ny=ny[0], **common)
-    doubled = strip_flow(theta, h, BinghamFluid(2 * args.tau_y, 2 * mu), 2 * rho, ny=ny[0],
-                         **common)
-
-    u_film = float(film_velocity(h, h, theta, rho, mu, g))
-    zy = yield_height(h, theta, rho, args.tau_y, g)
-    u_plug = float(bingham_velocity(h, h, theta, rho, args.tau_y, mu, g))
+    """The film and the mud against their exact profiles, the stop, the doubled run."""
+    (films, mud, stop, doubled), (film, bingham, zy) = flows(args), exact_profiles(args)
+    ny, h, u_film, u_plug = sorted(args.ny), args.h, float(film(args.h)), float(bingham(args.h))
     report = Report("fluid_films", args, z_y=zy, u_film=u_film, u_plug=u_plug)
     for n, r in films.items():
         report.add(f"film_surface_velocity_ny{n}", r["u"][-1], u_film,
                    "rho g sin(theta) h^2 / (2 mu) (Nusselt)", 1e-6)
-        report.add_interval(f"film_profile_L2_error_ny{n}",
-                            profile_error(r["z"], r["u"], film_velocity(r["z"], h, theta, rho,
-                                                                        mu, g)),
-                            0.0, 1e-6, "the parabola, held exactly by P2 velocities")
-    errors = []
-    for n, r in mud.items():
-        errors.append(profile_error(r["z"], r["u"], bingham_velocity(r["z"], h, theta, rho,
-                                                                     args.tau_y, mu, g)))
-    fine = mud[ny[-1]]
-    tol = args.tol * kink_bound(h, zy, ny[-1])
+        report.add_interval(f"film_profile_L2_error_ny{n}", profile_error(r["z"], r["u"],
+                            film(r["z"])), 0.0, 1e-6, "the parabola, held exactly by P2 velocities")
+    errors = [profile_error(r["z"], r["u"], bingham(r["z"])) for r in mud.values()]
+    fine, tol = mud[ny[-1]], args.tol * kink_bound(h, zy, ny[-1])
     layer = f"; tolerance {args.tol:g} x 2 c / m^2, m = {zy * ny[-1] / h:.3g} elements across z_y"
     report.add(f"plug_velocity_ny{ny[-1]}", fine["u"][-1], u_plug,
                "rho g sin(theta) z_y^2 / (2 mu)" + layer, tol)
@@ -168,12 +176,8 @@ def run(args):
     order = observed_order(ny, errors, counts=True)
     report.add_interval("bingham_profile_order", order, 1.5, np.inf,
                         "L2 error ~ (h/ny)^order, the yield surface inside an element")
-    # the plug: the nodes from the surface down whose velocity is the surface's to 1e-3
-    z, u = fine["z"], fine["u"]
-    moving = np.flatnonzero(np.abs(u - u[-1]) > 1e-3 * abs(u[-1]))
-    first = moving[-1] + 1 if moving.size else 0
-    spacing = h / (2 * ny[-1])
-    report.add_interval("plug_base_height_error", abs(z[first] - zy) / spacing, 0.0, 3.0,
+    report.add_interval("plug_base_height_error",
+                        abs(plug_base(fine["z"], fine["u"]) - zy) / (h / (2 * ny[-1])), 0.0, 3.0,
                         "the plug's base z_y, in node spacings (h / 2 ny); the 1e-3 "
                         "velocity criterion reaches below z_y by O(spacing)")
     report.add_interval("no_flow_speed_ratio", np.abs(stop["u"]).max() / u_film, 0.0, 1e-6,
@@ -181,17 +185,14 @@ def run(args):
     report.add_interval("doubled_density_difference",
                         float(np.abs(doubled["u"] - mud[ny[0]]["u"]).max()), 0.0, 0.0,
                         "rho, tau_y, mu x 2: the same velocities bit for bit")
-    report.extra = {"ny": ny, "bingham_L2_errors": errors, "order": order,
-                    "iterations": {f"bingham_ny{n}": float(r["iterations"].mean())
-                                   for n, r in mud.items()},
-                    "profiles": {f"film_ny{ny[0]}": {"z": films[ny[0]]["z"],
-                                                     "u": films[ny[0]]["u"]},
-                                 **{f"bingham_ny{n}": {"z": r["z"], "u": r["u"]}
-                                    for n, r in mud.items()}}}
+    profiles = {f"film_ny{ny[0]}": films[ny[0]], **{f"bingham_ny{n}": r for n, r in mud.items()}}
+    report.extra = {"ny": ny, "bingham_L2_errors": errors, "order": order, "iterations": {
+        f"bingham_ny{n}": float(r["iterations"].mean()) for n, r in mud.items()},
+        "profiles": {k: {"z": r["z"], "u": r["u"]} for k, r in profiles.items()}}
     report.add_table("bingham", ["ny", "Bingham L2 error", "iterations/step"],
                      [[n, e, mud[n]["iterations"].mean()] for n, e in zip(ny, errors)],
-                     formats={"Bingham L2 error": ".3e", "iterations/step": ".1f"})
-    print(f"observed order {order:.2f}")
+                     formats={"Bingham L2 error": ".3e", "iterations/step": ".1f"},
+                     title=f"bingham (observed order {order:.2f})")
     report.data = dict(films=films, mud=mud, ny=ny, errors=errors, order=order)
     return report
 
@@ -199,21 +200,14 @@ def run(args):
 def figures(args, films, mud, ny, errors, order):
     """The profiles beside the exact ones, and the Bingham error against the mesh."""
     fig, ax = pyplot().subplots(1, 2, figsize=(11, 4.2))
-    h, theta, rho, mu, g = args.h, args.theta, args.rho, args.mu, args.g
-    zz = np.linspace(0.0, h, 300)
-    ax[0].plot(film_velocity(zz, h, theta, rho, mu, g), zz / h, "-", label="Newtonian, exact")
-    r = films[ny[0]]
-    ax[0].plot(r["u"], r["z"] / h, "o", ms=4, label=f"Newtonian, ny = {ny[0]}")
-    ax[0].plot(bingham_velocity(zz, h, theta, rho, args.tau_y, mu, g), zz / h, "-",
-               label="Bingham, exact")
-    r = mud[ny[1]]
-    ax[0].plot(r["u"], r["z"] / h, "s", ms=4, label=f"Bingham, ny = {ny[1]}")
-    ax[0].axhline(yield_height(h, theta, rho, args.tau_y, g) / h, color="0.6", ls=":",
-                  label="plug base z_y")
+    (film, bingham, zy), zz = exact_profiles(args), np.linspace(0.0, args.h, 300)
+    for what, exact, n, r, mark in (("Newtonian", film, ny[0], films, "o"),
+                                    ("Bingham", bingham, ny[1], mud, "s")):
+        ax[0].plot(exact(zz), zz / args.h, "-", label=f"{what}, exact")
+        ax[0].plot(r[n]["u"], r[n]["z"] / args.h, mark, ms=4, label=f"{what}, ny = {n}")
+    ax[0].axhline(zy / args.h, color="0.6", ls=":", label="plug base z_y")
     labelled(ax[0], "u [m/s]", "z / h", "steady profiles")
-    ax[1].loglog(ny, errors, "o-", label=f"Bingham, order {order:.2f}")
-    ref = errors[0] * (np.asarray(ny) / ny[0]) ** -2.0
-    ax[1].loglog(ny, ref, "--", color="0.5", label="slope 2")
+    plot_order(ax[1], ny, errors, f"Bingham, order {order:.2f}", slope=-2.0)
     labelled(ax[1], "elements through the depth, ny", "relative L2 error of u",
              "Bingham profile against the mesh")
     save_figure(fig, figure_dir(args, "fluid_films") / "fluid_films.png")

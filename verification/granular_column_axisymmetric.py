@@ -62,15 +62,15 @@ from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
+from pfem_skfem.harness.declare import option_values, own_options
 from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot, save_figure,
                                         write_summary)
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         friction_angle, in_range, material_options, opt,
-                                        pfem_options, positive_float, solver_keyword,
+                                        pfem_options, solver_keyword,
                                         sweep_options, time_options)
-from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.sweeps import run_groups
+from pfem_skfem.harness.sweeps import run_study
 from pfem_skfem.pfem.measure import deposit_extent, mass_moved, mass_within, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 from pfem_skfem.viz import snapshot_grid
@@ -317,42 +317,38 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    p.add_argument("--a", type=positive_float, nargs="+", default=list(ASPECTS),
-                   help="aspect ratios a = h0/r0")
+    own_options(p, a=opt(list(ASPECTS), "aspect ratios a = h0/r0", nargs="+"))
     material_options(p, phi=opt(30.0, "friction angle phi_g of the material [deg]",
                                 type=cohesionless_angle),
                      rho=2.0, g=9.8)
-    p.add_argument("--phi-s", type=friction_angle, default=None,
-                   help="base friction angle phi_s [deg], mu = tan phi_s (default phi_g)")
-    p.add_argument("--r0", type=positive_float, default=1.0, help="initial radius [m]")
-    p.add_argument("--nr", type=PARTICLES_ACROSS, default=10,
-                   help="particles across the radius r0, or across the height h0 where it is "
-                        "smaller (a < 1)")
+    own_options(
+        p, phi_s=opt(None, "base friction angle phi_s [deg], mu = tan phi_s (default phi_g)",
+                     type=friction_angle),
+        r0=opt(1.0, "initial radius [m]"),
+        nr=opt(10, "particles across the radius r0, or across the height h0 where it is smaller "
+                   "(a < 1)", type=PARTICLES_ACROSS))
     time_options(p, steps=opt(400, "time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = "
                                    "0.01)"),
                  settle=opt(4.0, "after t/sqrt(h0/g) = 4 go on for at most this long until at "
                                  "rest"),
                  save_every=opt(0, why="a PVD per case"))
-    p.add_argument("--courant", type=positive_float, default=None,
-                   help="at least the steps that hold sqrt(2 g h0) dt / h to this (tall "
-                        "columns: the volume error grows with it); default: --steps only")
+    own_options(p, courant=opt(None, "at least the steps that hold sqrt(2 g h0) dt / h to this "
+                                     "(tall columns: the volume error grows with it); default: "
+                                     "--steps only"))
     p.add_argument("--material", choices=tuple(MATERIALS), default="dp",
                    help="dp: the (7.10) cone, zero dilation; mc: Mohr-Coulomb, 3 cones")
-    p.add_argument("--compare-mc", type=positive_float, nargs="*", default=[],
-                   help="aspect ratios also run with the other material (compared once)")
-    p.add_argument("--density", type=positive_float, nargs="*", default=[],
-                   help="densities for the invariance check (c = 0), at the first a")
-    p.add_argument("--friction-study", type=cohesionless_angle, nargs="*",
-                   default=[],
-                   help="phi_g values (mu = tan phi_g) for Fig 7.10, at every a of --friction-a")
-    p.add_argument("--base-study", type=friction_angle, nargs="*", default=[],
-                   help="phi_s values for Fig 7.11, at every a of --base-a")
-    p.add_argument("--friction-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
-                   help="aspect ratios of the friction study")
-    p.add_argument("--base-a", type=positive_float, nargs="*", default=[0.5, 4.0, 8.0],
-                   help="aspect ratios of the base-friction study")
-    p.add_argument("--mesh-study", type=PARTICLES_ACROSS, nargs="*", default=[],
-                   help="particles across r0 for the mesh study at a = 2, e.g. 6 10 14")
+    own_options(
+        p, compare_mc=opt([], "aspect ratios also run with the other material (compared once)",
+                          nargs="*"),
+        density=opt([], "densities for the invariance check (c = 0), at the first a", nargs="*"),
+        friction_study=opt([], "phi_g values (mu = tan phi_g) for Fig 7.10, at every a of "
+                               "--friction-a", type=cohesionless_angle, nargs="*"),
+        base_study=opt([], "phi_s values for Fig 7.11, at every a of --base-a",
+                       type=friction_angle, nargs="*"),
+        friction_a=opt([0.5, 4.0, 8.0], "aspect ratios of the friction study", nargs="*"),
+        base_a=opt([0.5, 4.0, 8.0], "aspect ratios of the base-friction study", nargs="*"),
+        mesh_study=opt([], "particles across r0 for the mesh study at a = 2, e.g. 6 10 14",
+                       type=PARTICLES_ACROSS, nargs="*"))
     p.add_argument("--history", action="store_true",
                    help="the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
     p.add_argument("--no-fit-gates", action="store_true",
@@ -372,20 +368,28 @@ def build_parser():
     return p
 
 
-def _dev(value, ref):
-    return value / ref - 1 if np.isfinite(ref) else np.nan
+def against_fits(r):
+    """The fits at a case's a, (7.31)-(7.32) of Lube et al. and (7.34) of Lajeunesse et al.,
+    and its deposit's deviations from them (value / fit - 1, nan where a fit has no value):
+    (reference, deviation)."""
+    r_ref, h_ref, in_range = (v.item() for v in lube_2004(r["a"]))
+    _, h_laj = (float(v) for v in lajeunesse_2004(r["a"]))
+    dev = lambda value, ref: value / ref - 1 if np.isfinite(ref) else np.nan   # noqa: E731
+    return ({"runout_lube": r_ref, "h_lube": h_ref, "h_lube_in_range": in_range,
+             "h_lajeunesse": h_laj},
+            {"runout_lube": dev(r["runout_over_r0"], r_ref),
+             "h_lube": dev(r["h_inf_over_r0"], h_ref),
+             "h_lajeunesse": dev(r["h_inf_over_r0"], h_laj)})
 
 
 def run(args):
     """The sweep and the studies of ``args``; the Report of their checks."""
     out = Path(args.outdir) / "granular_column_axisymmetric"
-    base = dict(nr=args.nr, steps=args.steps, phi=args.phi, phi_s=args.phi_s, rho=args.rho,
-                g=args.g, r0=args.r0, material=args.material, passes=args.passes,
-                alpha=args.alpha, floor=args.floor, settle=args.settle, courant=args.courant,
-                outdir=out if args.save_every else None, save_every=args.save_every,
-                volume_correction=args.volume_correction == "on",
-                adaptive_alpha=args.adaptive_alpha, alpha_advected=args.alpha_advected,
-                verbose=args.progress) | solver_keyword(args)
+    base = option_values(args, "nr", "steps", "phi", "phi_s", "rho", "g", "r0", "material",
+                         "passes", "alpha", "floor", "settle", "courant", "save_every",
+                         "adaptive_alpha", "alpha_advected", verbose="progress") | dict(
+        outdir=out if args.save_every else None,
+        volume_correction=args.volume_correction == "on") | solver_keyword(args)
     if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
         base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
@@ -403,11 +407,7 @@ def run(args):
     groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
     groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
                                history=True)] if args.history else [])
-    if args.progress:
-        progress(f"{sum(map(len, groups.values()))} case(s) on "
-                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
-    res = run_groups(run_case, groups, args.workers, desc="columns of revolution",
-                     scheduler=args.scheduler, results_dir=args.results_dir)
+    res = run_study(run_case, groups, args, desc="columns of revolution")
     sweep = res["sweep"]
     by_a = {r["a"]: r for r in sweep}
     if args.friction_study:
@@ -418,21 +418,9 @@ def run(args):
                         if (args.phi_s or args.phi) in args.base_study and a in by_a]
 
     report = Report("granular_column_axisymmetric", args)
-    table = []
     for r in sweep:
-        r_ref, h_ref, in_range = (v.item() for v in lube_2004(r["a"]))
-        _, h_laj = (float(v) for v in lajeunesse_2004(r["a"]))
-        r["reference"] = {"runout_lube": r_ref, "h_lube": h_ref, "h_lube_in_range": in_range,
-                          "h_lajeunesse": h_laj}
-        r["deviation"] = {"runout_lube": _dev(r["runout_over_r0"], r_ref),
-                          "h_lube": _dev(r["h_inf_over_r0"], h_ref),
-                          "h_lajeunesse": _dev(r["h_inf_over_r0"], h_laj)}
-        d = r["deviation"]
-        table.append([r["a"], r["runout_over_r0"], r_ref, d["runout_lube"], r["h_inf_over_r0"],
-                      h_ref, "" if in_range else "*", d["h_lube"], h_laj, r["t_rest"],
-                      r["runout_t4_over_r0"], r["h_t4_over_r0"], r["volume_change_max"],
-                      r["particles"], r["seconds_per_step"]])
-        tag = f"a{r['a']:g}"
+        r["reference"], r["deviation"] = against_fits(r)
+        r_ref, h_ref, tag = r["reference"]["runout_lube"], r["reference"]["h_lube"], f"a{r['a']:g}"
         if r["a"] <= 0.5:           # every source: a short column keeps its top
             report.add_interval(f"{tag}_h_inf_over_h0", r["h_inf_over_r0"] / r["a"], 1.0, 1.0,
                                 f"the top on the axis keeps h0 ((7.32), (7.34)), to "
@@ -456,19 +444,22 @@ def run(args):
                             "particle masses sum to rho V (passed on, never made)")
         report.add_interval(f"{tag}_axis_particles_kept", r["axis_particles_kept"], 1, 1,
                             "particles on the axis at t = 0 are on it at the end (u_r = 0)")
+    fit, dev = (lambda k: lambda r: r["reference"][k]), (lambda k: lambda r: r["deviation"][k])
     report.add_table(
-        "deposits", ["a", "(r-r0)/r0", "(7.31)", "dev", "h/r0", "(7.32)", "*", "dev'", "(7.34)",
-                     "t_rest", "run4", "h4/r0", "|dV|max", "parts", "s/step"], table,
+        "deposits", {"a": "a", "(r-r0)/r0": "runout_over_r0", "(7.31)": fit("runout_lube"),
+                     "dev": dev("runout_lube"), "h/r0": "h_inf_over_r0", "(7.32)": fit("h_lube"),
+                     "*": lambda r: "" if r["reference"]["h_lube_in_range"] else "*",
+                     "dev'": dev("h_lube"), "(7.34)": fit("h_lajeunesse"), "t_rest": "t_rest",
+                     "run4": "runout_t4_over_r0", "h4/r0": "h_t4_over_r0",
+                     "|dV|max": "volume_change_max", "parts": "particles",
+                     "s/step": "seconds_per_step"}, sweep,
         formats={"a": ".2g", "(r-r0)/r0": ".3f", "(7.31)": ".3f", "dev": "+.1%", "h/r0": ".3f",
                  "(7.32)": ".3f", "dev'": "+.1%", "(7.34)": ".3f", "t_rest": ".2f",
                  "run4": ".3f", "h4/r0": ".3f", "|dV|max": ".2%", "s/step": ".2f"},
         title="final deposit (at rest) against Lube et al. 2004 (7.31)-(7.32) and Lajeunesse "
-              "et al. 2004 (7.34) (*: a beyond the range of (7.32)'s fit); then the deposit at "
-              "t/sqrt(h0/g) = 4 (run4, h4), where the thesis stops")
-    tall = [r for r in sweep if r["a"] > 6]
-    if tall:
-        print("a > 6, the thesis: heights below (7.32): " + ", ".join(
-            f"a = {r['a']:g}: {r['deviation']['h_lube']:+.1%}" for r in tall))
+              "et al. 2004 (7.34) (*: a beyond the range of (7.32)'s fit; for a > 6 the thesis "
+              "finds the heights below (7.32), dev' < 0); then the deposit at t/sqrt(h0/g) = 4 "
+              "(run4, h4), where the thesis stops")
     if len(sweep) > 1:
         rs = sorted(sweep, key=lambda r: r["a"])
         report.add_interval("runout_increment_min", np.diff([r["runout_over_r0"]
@@ -483,12 +474,12 @@ def run(args):
 def _studies(report, res, args):
     """Print and check the material comparison, density invariance and the studies."""
     sweep = {r["a"]: r for r in res["sweep"]}
-    for r in res["material"]:
-        s = sweep.get(r["a"])
-        if s is not None:
-            print(f"\nmaterial at a = {r['a']:g}: {s['material']} (r-r0)/r0 = "
-                  f"{s['runout_over_r0']:.3f}, h/r0 = {s['h_inf_over_r0']:.3f}; {r['material']} "
-                  f"{r['runout_over_r0']:.3f}, {r['h_inf_over_r0']:.3f}")
+    pairs = [x for r in res["material"] if r["a"] in sweep for x in (sweep[r["a"]], r)]
+    if pairs:
+        report.add_table("material", {"a": "a", "material": "material", "(r-r0)/r0":
+                                      "runout_over_r0", "h/r0": "h_inf_over_r0"}, pairs,
+                         formats={"a": "g", "(r-r0)/r0": ".3f", "h/r0": ".3f"},
+                         title="\nthe material at each a of --compare-mc")
     for r in res["density"]:
         s = sweep[sorted(sweep)[0]]
         if r.get("sitting") is None or r.get("sitting") != s.get("sitting"):
@@ -572,10 +563,10 @@ def _studies(report, res, args):
             "time history" + (f" {k}" if k else ""), ["t/sqrt(h0/g)", "h/r0", "(r-r0)/r0"],
             [[tr["t_bar"][i], tr["h_over_r0"][i], tr["r_over_r0"][i] - 1] for i in shown],
             formats={"t/sqrt(h0/g)": ".2f", "h/r0": ".3f", "(r-r0)/r0": ".3f"},
-            title="\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
-        print(f"  at rest: (r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31) at a = 3.6: "
-              f"{float(lube_2004(3.6)[0]):.3f}); the thesis: the experiment lags the "
-              f"simulation, whose final radius is slightly larger")
+            title="\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg; at rest "
+                  f"(r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31): "
+                  f"{float(lube_2004(3.6)[0]):.3f}); the thesis: the experiment lags the "
+                  "simulation, whose final radius is slightly larger")
 
 
 def _mass_moved(lo, hi):

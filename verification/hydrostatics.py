@@ -44,9 +44,10 @@ import sys
 
 import numpy as np
 
+from pfem_skfem.harness.declare import option_values, own_options
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
-from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_float,
-                                        positive_int, time_options)
+from pfem_skfem.harness.options import (base_parser, material_options, opt, positive_int,
+                                        time_options)
 from pfem_skfem.harness.report import Report, observed_order, script_main
 
 QUICK = dict(n=[5, 10])
@@ -148,35 +149,39 @@ def buoyancy(L, H, b, h_b, n, *, rho_w, rho_s, c, g, dt, block_first=True, solve
                 effective_nodes=effective[line][order], under=under[line][order])
 
 
+def drawn_block_error(runs, unit):
+    """Each run's |effective force / unit - 1| against the drawn block, unit = (rho_s -
+    rho_w) g b h_b, and their order in h (nan for one run, or an error at round-off, 1e-8)."""
+    nominal = np.array([abs(r["effective_force"] / unit - 1) for r in runs])
+    fit = len(runs) >= 2 and np.all(nominal > 1e-8)
+    return nominal, observed_order([r["h"] for r in runs], nominal) if fit else np.nan
+
+
 def check(args):
-    h = [args.h_b / n for n in args.n]
     if not (args.b < args.L and args.h_b < args.H):
         return "--b and --h-b: the block must be narrower than the tank (--L) and below " \
                "the water (--H)"
     for length, name in ((args.b, "--b"), ((args.L - args.b) / 2, "(--L - --b) / 2"),
                          (args.H, "--H")):
-        for hh, n in zip(h, args.n):
+        for n, hh in ((n, args.h_b / n) for n in args.n):
             if abs(length / hh - round(length / hh)) > 1e-9 * length / hh:
                 return (f"--n {n}: {name} = {length:g} is not a whole number of spacings "
                         f"--h-b / --n = {hh:g} (block and water share one square lattice)")
-    if args.rho_s <= args.rho_w:
-        return "--rho-s must exceed --rho-w (a block lighter than the water floats)"
-    return None
+    return ("--rho-s must exceed --rho-w (a block lighter than the water floats)"
+            if args.rho_s <= args.rho_w else None)
 
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--L", type=positive_float, default=0.6, help="tank width [m]")
-    p.add_argument("--H", type=positive_float, default=0.2, help="water depth [m]")
-    p.add_argument("--b", type=positive_float, default=0.2, help="block width [m]")
-    p.add_argument("--h-b", type=positive_float, default=0.1, help="block height [m]")
-    p.add_argument("--rho-w", type=positive_float, default=1000.0, help="water density [kg/m3]")
-    p.add_argument("--rho-s", type=positive_float, default=2000.0, help="block density [kg/m3]")
+    own_options(p, L=opt(0.6, "tank width [m]"), H=opt(0.2, "water depth [m]"),
+                b=opt(0.2, "block width [m]"), h_b=opt(0.1, "block height [m]"),
+                rho_w=opt(1000.0, "water density [kg/m3]"),
+                rho_s=opt(2000.0, "block density [kg/m3]"))
     material_options(p, units="Pa", g=9.81,
                      c=opt(1.0e4, "the block's undrained strength [Pa] (Tresca)"))
     time_options(p, dt=opt(0.01, "the one step [s]"))
-    p.add_argument("--n", type=positive_int, nargs="+", default=[5, 10, 20],
-                   help="particle spacings across the block's height (h = h_b / n)")
+    own_options(p, n=opt([5, 10, 20], "particle spacings across the block's height (h = h_b / n)",
+                         type=positive_int, nargs="+"))
     p.add_argument("--block-first", action=__import__("argparse").BooleanOptionalAction,
                    default=True, help="declare the block before the water (its particles "
                                       "keep the interface; after: it loses its corner triangles)")
@@ -184,17 +189,16 @@ def build_parser():
 
 
 def run(args):
-    common = dict(rho_w=args.rho_w, rho_s=args.rho_s, c=args.c, g=args.g, dt=args.dt,
-                  block_first=args.block_first, solver=args.solver)
+    common = option_values(args, "rho_w", "rho_s", "c", "g", "dt", "block_first", "solver")
     runs = [buoyancy(args.L, args.H, args.b, args.h_b, n, **common) for n in args.n]
     report = Report("hydrostatics", args)
-    unit = (args.rho_s - args.rho_w) * args.g * args.b * args.h_b     # the drawn block's
-    for r in runs:
+    nominal, order = drawn_block_error(runs, (args.rho_s - args.rho_w) * args.g * args.b * args.h_b)
+    for r, error in zip(runs, nominal):
         n, h = r["n"], r["h"]
         report.add(f"buoyant_weight_n{n}", r["effective"] + 1, 1.0,
                    "floor under the block less p_f t_i = (rho_s - rho_w) g V, the weighed V",
                    1e-6)
-        report.add_interval(f"drawn_block_n{n}", abs(r["effective_force"] / unit - 1), 0.0,
+        report.add_interval(f"drawn_block_n{n}", error, 0.0,
                             2 * h ** 2 / (args.b * args.h_b) + 1e-6,
                             "Archimedes with the drawn block, (rho_s - rho_w) g b h_b, "
                             "within 2 h^2 / (b h_b): the corner triangles")
@@ -207,10 +211,6 @@ def run(args):
             report.add(f"{side}_wall_force_n{n}", ratio, 1.0, "rho_w g H^2 / 2", 1e-6)
         report.add_interval(f"at_rest_n{n}", r["still"], 0.0, 1e-3,
                             "largest speed after the step / (g dt)")
-    nominal = np.array([abs(r["effective_force"] / unit - 1) for r in runs])
-    order = np.nan                  # of the error against the drawn block, above round-off
-    if len(runs) >= 2 and np.all(nominal > 1e-8):
-        order = observed_order([r["h"] for r in runs], nominal)
     report.add_table("buoyancy", ["n", "h", "V / b h_b", "effective/(rs-rw)gV - 1",
                                   "against b h_b", "under/weight", "majority V / b h_b"],
                      [[r["n"], r["h"], r["V"] / r["V_drawn"], r["effective"], e,
@@ -218,9 +218,8 @@ def run(args):
                       for r, e in zip(runs, nominal)],
                      formats={"h": ".4f", "V / b h_b": ".4f", "effective/(rs-rw)gV - 1": ".2e",
                               "against b h_b": ".2e", "under/weight": ".4f",
-                              "majority V / b h_b": ".4f"})
-    if np.isfinite(order):
-        print(f"error against b h_b: order {order:.2f} in h")
+                              "majority V / b h_b": ".4f"},
+                     title=f"buoyancy; order in h against b h_b: {order:.2f} (nan: round-off)")
     report.extra = {"runs": [{k: v for k, v in r.items() if k != "under"} for r in runs],
                     "drawn_block_error": nominal, "drawn_block_error_order": order}
     report.data = dict(runs=runs, nominal=nominal, order=order)

@@ -51,6 +51,27 @@ def bracket(problem, **solver_settings):
     return Round(problem.mesh.t.shape[1], lower, upper, time.perf_counter() - t0)
 
 
+def refine_uniformly(problem, levels, *, progress=None, **solver_settings):
+    """:func:`bracket` of ``problem`` and of each of ``levels`` uniform refinements of its
+    mesh, in turn: the rounds an adaptive refinement (:func:`adapt`) of the same first mesh
+    is measured against. ``progress(round)`` is called after each."""
+    rounds = []
+    for level in range(levels + 1):
+        if level:
+            problem = problem.refined()
+        rounds.append(bracket(problem, **solver_settings))
+        if progress is not None:
+            progress(rounds[-1])
+    return rounds
+
+
+def bounds_at(problem, F, **solver_settings):
+    """``problem`` with its strength reduced by ``F`` (:func:`reduced`), and its lower and
+    upper bounds there: the fields of a slope at (a bracket of) its factor of safety."""
+    at = replace(problem, criterion=reduced(problem.criterion, F))
+    return at, lower_bound(at, **solver_settings), upper_bound(at, **solver_settings)
+
+
 @dataclass
 class Adapted:
     """The result of :func:`adapt`: its rounds, the last problem and its two bounds."""

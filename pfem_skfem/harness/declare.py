@@ -1,39 +1,53 @@
-"""A script's own options, declared as a table: one row an option (its validator, default and
-help), in the one spelling of :data:`.options.OPTION_SPELLING`; the options several scripts
-share are declared through their groups of :mod:`.options` instead.
+"""A script's options as a table of keywords, and its cases' keywords read back from them.
+
+:func:`own_options` declares the options of a script that belong to no group of
+:mod:`.options` (a footing's width ``--B``, a study's ``--mc-width``) as the groups do:
+one keyword each, its default or an :class:`~.options.opt`, the name spelt with hyphens
+(:func:`~.options.option_name`). :func:`option_values` gives back the values of the
+options named, as the keywords of a case (``run_case(a, **option_values(args, "nr",
+"steps"))``); :func:`keywords_of`, those of a case's function that are options.
 """
 import argparse
 
-from .options import opt, option_name
+from .options import opt, option_name, positive_float
 
 
-def own_options(parser, **options):
-    """Add a script's own options to ``parser`` (or an argument group), in the order given.
+def own_options(parser, type=positive_float, **options):
+    """Add a script's own options: each keyword an option (``mc_width`` -> ``--mc-width``,
+    ``args.mc_width``), its value an :class:`~.options.opt` (default, help, and where it
+    differs the validator ``type``, ``nargs``, ``dest``, ``metavar``) or a row
+    ``(validator, default, help)``; ``type`` is the validator of the others (default
+    :func:`~.options.positive_float`). A validator may be a list or tuple of choices, or
+    ``bool`` for a switch (default False: ``--name`` sets it; True: ``--name`` /
+    ``--no-name``). Returns ``parser``.
 
-    Each keyword is an option's name, its dest (``mu_f``: ``--mu-f``, ``args.mu_f``;
-    :func:`.options.option_name`), and its row: ``(validator, default, help)``, or an
-    :class:`.options.opt` (``type=`` the validator) where it also needs ``nargs``, ``dest`` or
-    ``metavar``. The validator is an argparse type of :mod:`.options` (``positive_float``,
-    ``in_range(...)``), a list or tuple of choices, or ``bool`` for a switch: default False,
-    ``--name`` sets it; default True, ``--name`` / ``--no-name``. Returns ``parser``::
-
-        own_options(p, mu_f=(nonnegative_float, 5.0, "friction coefficient of the floor"),
-                    studies=(bool, True, "the mesh and step twins"),
-                    k=opt([0.04, 0.02], "yield numbers", type=yield_number, nargs="+"))
+    ``own_options(g, B=opt(1.0, "footing width"), uniform=opt(2, "...", type=nonnegative_int))``
     """
-    for name, row in options.items():
-        o = row if isinstance(row, opt) else opt(row[1], row[2], type=row[0])
+    for name, o in options.items():
+        if isinstance(o, tuple) and len(o) == 3:
+            o = opt(o[1], o[2], type=o[0])
+        if not isinstance(o, opt):
+            raise TypeError(f"own_options: {name} needs an opt(default, help), got {o!r}")
+        validator = o.type or type
         kwargs = dict(default=o.default, help=(o.help or "") + (f"; {o.why}" if o.why else ""))
-        if o.type is bool:
+        if validator is bool:
             kwargs["action"] = argparse.BooleanOptionalAction if o.default else "store_true"
-        elif isinstance(o.type, (list, tuple)):
-            kwargs["choices"] = o.type
+        elif isinstance(validator, (list, tuple)):
+            kwargs["choices"] = validator
         else:
-            kwargs["type"] = o.type
-        kwargs.update({k: getattr(o, k) for k in ("nargs", "dest", "metavar")
-                       if getattr(o, k) is not None})
+            kwargs["type"] = validator
+        kwargs.update({key: getattr(o, key) for key in ("nargs", "dest", "metavar")
+                       if getattr(o, key) is not None})
         parser.add_argument(option_name(name), **kwargs)
     return parser
+
+
+def option_values(args, *names, **renamed):
+    """{name: ``args.name``} for each of ``names``, and {keyword: ``args.option``} for each
+    ``keyword=option`` of ``renamed``: a case's keywords read from the parsed options, in
+    that order."""
+    return {**{name: getattr(args, name) for name in names},
+            **{key: getattr(args, name) for key, name in renamed.items()}}
 
 
 def keywords_of(function, args, **given):

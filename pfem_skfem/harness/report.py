@@ -235,6 +235,18 @@ class Report:
         self.quantities.append(q)
         return q
 
+    def add_bracket(self, name, lower, upper, reference, source):
+        """A strict lower and a strict upper bound of a quantity known to be ``reference``:
+        ``name_lower`` checked in [-inf, reference] and ``name_upper`` in [reference, inf],
+        each citing ``source``, in which ``{bound}`` reads 'a lower bound' or 'an upper
+        bound'. Returns the two quantities."""
+        return (self.add_interval(f"{name}_lower", lower, -math.inf, reference,
+                                  source.replace("{bound}", "a lower bound"),
+                                  reference=reference),
+                self.add_interval(f"{name}_upper", upper, reference, math.inf,
+                                  source.replace("{bound}", "an upper bound"),
+                                  reference=reference))
+
     def add_table(self, name, columns, rows, *, formats=None, title=None, show=True):
         """A table of results: printed now (``show``), and written to the JSON
         (``tables[name]``: its ``columns`` and ``rows``).

@@ -119,6 +119,17 @@ def run_groups(function, groups, workers=1, *, desc="cases", scheduler=None,
     return {name: rs[0] if single[name] else rs for name, rs in out.items()}
 
 
+def run_study(function, groups, args, *, desc="cases"):
+    """:func:`run_groups` of ``groups`` with the options of :func:`~.options.sweep_options`
+    in ``args`` (``--workers``, ``--scheduler``, ``--results-dir``), saying first, with
+    ``--progress``, how many cases run where."""
+    if getattr(args, "progress", False):
+        progress(f"{sum(1 if isinstance(c, dict) else len(c) for c in groups.values())} "
+                 f"case(s) on {args.scheduler or str(args.workers) + ' worker(s)'}")
+    return run_groups(function, groups, args.workers, desc=desc, scheduler=args.scheduler,
+                      results_dir=args.results_dir)
+
+
 def _call(function, keywords, forward=None):
     """``function(**keywords)`` on a sweep's worker; ``forward``: where its progress bars
     send their counts (:func:`progress_bar`), None for no progress."""

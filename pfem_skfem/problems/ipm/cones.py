@@ -72,6 +72,9 @@ class Scaling:
         v[:, 0] += 1.0
         v /= np.sqrt(2.0 * (w[:, :1] + 1.0))
         self.beta, self.v = np.sqrt(ns / nz), v
+        self._jv = v.copy()                       # J v, and 1 / beta, for W^-1
+        self._jv[:, 1:] *= -1.0
+        self._inv_beta = 1.0 / self.beta
         self.lam = self.apply(z)                  # W z = W^-1 s
 
     def apply(self, u):
@@ -84,20 +87,18 @@ class Scaling:
 
     def inverse(self, u):
         """W^-1 u of each row: W^-1 = (2 J v v^T J - J) / beta."""
-        jv = self.v.copy()
-        jv[:, 1:] *= -1.0
-        out = 2.0 * jv * np.einsum("ij,ij->i", jv, u)[:, None]
-        out[:, 0] -= u[:, 0]
-        out[:, 1:] += u[:, 1:]
-        return out / self.beta[:, None]
+        jv, ib = self._jv, self._inv_beta
+        out = jv * (2.0 * ib * np.einsum("ij,ij->i", jv, u))[:, None]
+        out[:, 0] -= ib * u[:, 0]
+        out[:, 1:] += ib[:, None] * u[:, 1:]
+        return out
 
     def inverse_matrix(self):
         """W^-1 of each cone, shape (m, d, d)."""
         m, d = self.v.shape
-        jv = self.v.copy()
-        jv[:, 1:] *= -1.0
+        jv = self._jv
         J = np.diag(np.r_[1.0, -np.ones(d - 1)])
-        return (2.0 * jv[:, :, None] * jv[:, None, :] - J) / self.beta[:, None, None]
+        return (2.0 * jv[:, :, None] * jv[:, None, :] - J) * self._inv_beta[:, None, None]
 
 
 def max_step(u, du):

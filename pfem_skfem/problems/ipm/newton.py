@@ -42,9 +42,27 @@ PENALTY = 1e10
 DOF_REGULARISATION = 1e-14
 
 #: the most refinement steps of a Newton solve, and the residual of (N), relative to its
-#: right-hand side, that stops them (as does a step that gains less than half)
+#: right-hand side, that stops them (as does a step that gains less than half); a solve may
+#: ask for less (``tol``: an inexact Newton direction, far from the solution)
 REFINE_STEPS = 10
 REFINE_TOL = 1e-8
+
+
+def upper_inverse(R):
+    """The inverses of a stack (m, s, s) of upper triangular matrices: back substitution
+    vectorised over the stack, a row at a time (LAPACK's general inverse costs four times
+    more on the 3 x 3 blocks of a stress point, by its call per matrix)."""
+    m, s, _ = R.shape
+    if s > 16:
+        return np.linalg.inv(R)
+    diag = np.arange(s)
+    d = 1.0 / R[:, diag, diag]
+    X = np.zeros_like(R)
+    X[:, diag, diag] = d
+    for i in range(s - 2, -1, -1):          # X_i,i+1: = -R_i,i+1: X_i+1:,i+1: / R_ii
+        X[:, i, i + 1:] = -d[:, i, None] * np.einsum("mj,mjk->mk", R[:, i, i + 1:],
+                                                      X[:, i + 1:, i + 1:])
+    return X
 
 
 class Newton:
@@ -55,23 +73,22 @@ class Newton:
     def __init__(self, structure, scalings, cholesky):
         st = self.st = structure
         self.W = scalings
-        M = {size: np.zeros((len(st.P_blocks[size]), st.M_rows[size], size))
-             for size in st.coned}
-        for size in M:
-            M[size][:, :size] = st.P_roots[size]
-        for d, cones_k, size, blk, dense, offset in st.cone_parts:
-            rows = scalings[d].inverse_matrix()[cones_k] @ dense
-            M[size][blk[:, None], offset[:, None] + np.arange(d)] = rows
-        self.Hinv, values = dict(st.Hinv_fixed), st.S_fixed.copy()
-        for size, Mb in M.items():
-            # the range's columns first (eigh sorted the null ones, the smallest, first):
-            # M V_r = Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
-            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1 (V_r's null columns are zero)
-            Vr = st.range_[size][:, :, ::-1]
-            null = st.null[size][1][:, ::-1]
-            R = np.linalg.qr(Mb @ Vr, mode="r")
-            R[:, np.arange(size), np.arange(size)] += null          # R_22 = I
-            U = Vr @ np.linalg.inv(R)
+        MV = {size: st.MV_fixed[size].copy() for size in st.coned}      # M V_r
+        for d, cones_k, size, blk, dense_V, offset, whole in st.cone_parts_V:
+            Wi = scalings[d].inverse_matrix()
+            if whole:                       # each block's one cone, in order
+                MV[size][:, offset[0]:offset[0] + d] = Wi @ dense_V
+            else:
+                MV[size][blk[:, None], offset[:, None] + np.arange(d)] = Wi[cones_k] @ dense_V
+        self.Hinv, values = {}, st.S_fixed.copy()
+        for size, MVb in MV.items():
+            # V_r: the range's columns first (the null ones last, zero columns): M V_r =
+            # Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
+            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1
+            Vr = st.Vr[size]
+            R = np.linalg.qr(MVb, mode="r")
+            R[:, np.arange(size), np.arange(size)] += st.null_last[size]   # R_22 = I
+            U = Vr @ upper_inverse(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
             values += st.scatter(size, U)
         self.Hmat = st.block_matrix(self.Hinv)
@@ -91,16 +108,17 @@ class Newton:
         st = self.st
         rN = st.NT @ rx
         dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
-        dx = np.zeros_like(rx)
+        dx = np.zeros_like(rx) if st.free.size else None
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
             dx[st.free] = dxf
         p = self.gamma * (rN - st.EN.T @ dy)
-        dxb = self.Hmat @ (rx - st.ET @ dy) + st.N @ p
-        dx[st.blocked] = dxb[st.blocked]
-        return dx, dy
+        dxb = self.Hmat @ (rx - st.ET @ dy) + st.N @ p      # zero off the blocks
+        if st.free.size:
+            dxb[st.free] = dx[st.free]
+        return dxb, dy
 
     def _rhs_x(self, bx, bzt):
         """bx + G^T W^-1 bzt."""
@@ -131,9 +149,11 @@ class Newton:
                    *(np.abs(r).max(initial=0) for r in rz.values()))
         return rx, ry, rz, norm
 
-    def solve(self, bx, by, bzt, refine=True):
-        """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`, :data:`REFINE_TOL`), or
-        not (``refine=False``: the predictor's direction sets only the centring)."""
+    def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
+        """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
+        (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
+        predictor's direction sets only the centring)."""
+        tol = max(tol, REFINE_TOL)
         dx, dy, dzt = self._once(bx, by, bzt)
         if not refine:
             return dx, dy, dzt
@@ -141,7 +161,7 @@ class Newton:
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
         ex, ey, ez, norm = self._residual(bx, by, bzt, dx, dy, dzt)
         for _ in range(REFINE_STEPS):
-            if norm <= REFINE_TOL * scale:
+            if norm <= tol * scale:
                 break
             cx, cy, cz = self._once(ex, ey, ez)
             new = (dx + cx, dy + cy, {d: dzt[d] + cz[d] for d in dzt})

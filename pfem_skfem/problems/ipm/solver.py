@@ -28,7 +28,8 @@ iterate with ||A^T z|| <= tol_infeas_rel (-b^T z) certifies primal infeasibility
 The reduced Newton system is the normal equations of the cones: its condition number
 grows as the gap closes, and near a gap of 1e-8 (1e-9 to 1e-10 in mu) it can pass what
 double precision resolves. The solve watches the residual of each Newton solve
-(after refinement); once it exceeds :data:`TRUST` the direction is not taken, and the
+(after refinement, which stops early far from the solution: :data:`INEXACT`); once it
+exceeds :data:`TRUST` the direction is not taken, and the
 solve ends at its best iterate: 'Solved' when that meets the full tolerances,
 'AlmostSolved' (Clarabel's reduced tolerances) or 'NumericalError' otherwise. The same
 best iterate answers an iteration limit ('MaxIterations') or a stall
@@ -54,6 +55,12 @@ DEFAULTS = dict(tol_gap_abs=1e-8, tol_gap_rel=1e-8, tol_feas=1e-8, tol_infeas_re
 #: a Newton solve whose residual (relative to its right-hand side, after refinement) is
 #: above this is not trusted: its direction is not taken and the solve ends
 TRUST = 1e-6
+
+#: an inexact Newton direction: its residual (relative to its right-hand side) need only be
+#: this fraction of how far the iterate is from solved (its relative residuals and gap, at
+#: most one); the refinement stops there, never below ``newton.REFINE_TOL``, and such a
+#: direction is trusted
+INEXACT = 1e-3
 
 
 class _Identity:
@@ -89,15 +96,16 @@ class _Problem:
         self.st = st = _structure(P, A, cones)
         self.A, self.AT = st.A, st.AT
         self.P, self.c, self.b = st.P, c, b
-        self.b_E = b[st.zero]
-        self.h = {d: b[rows] for d, rows in st.groups.items()}
+        self.b_E = b[st.zero_at]
+        self.h = self.split(b)[1]
         self.nu = max(sum(rows.shape[0] for rows in st.groups.values()), 1)
         self.opts = opts
         self.norm_b, self.norm_c = _inf(b), _inf(c)
 
     def split(self, v):
         """A row-length vector as (its zero rows, {d: its cone groups (m, d)})."""
-        return v[self.st.zero], {d: v[rows] for d, rows in self.st.groups.items()}
+        st = self.st
+        return v[st.zero_at], {d: v[at].reshape(-1, d) for d, at in st.group_at.items()}
 
     def measures(self, x, z, s):
         """Clarabel's measures of the iterate (x, z, s) (z, s of the row length) and the
@@ -139,7 +147,7 @@ class _Problem:
             return "PrimalInfeasible"
         if m["cx"] < 0:
             Ax_s = m["Ax"] + s
-            Ax_s[self.st.zero] = m["Ax"][self.st.zero]          # E x (s = 0 there)
+            Ax_s[self.st.zero_at] = m["Ax"][self.st.zero_at]    # E x (s = 0 there)
             if max(_inf(m["Px"]), _inf(Ax_s)) <= tol * -m["cx"]:
                 return "DualInfeasible"
         return None
@@ -163,9 +171,18 @@ def _structure(P, A, cones):
         _LAST.clear()
         st = Structure(P, A, cones)
         st.A, st.AT = A.tocsr(), A.T.tocsr()
+        st.zero_at = _place(st.zero)
+        st.group_at = {d: _place(rows.ravel()) for d, rows in st.groups.items()}
         st.cholesky = Cholesky(st.S_rows, st.S_cols, st.E.shape[0])   # its analysis
         _LAST[key] = st
     return _LAST[key]
+
+
+def _place(rows):
+    """A slice where the rows are consecutive (a view, no gather), else the rows."""
+    if rows.size and np.array_equal(rows, np.arange(rows[0], rows[0] + rows.size)):
+        return slice(int(rows[0]), int(rows[0]) + rows.size)
+    return rows
 
 
 def _step(lam, ds_t, dz_t):
@@ -178,7 +195,7 @@ def _step(lam, ds_t, dz_t):
     return a
 
 
-def _direction(pb, newton, W, lam, m, scale, comp, refine=True):
+def _direction(pb, newton, W, lam, m, scale, comp, refine=True, tol=0.0):
     """The Newton direction for the residuals times ``scale`` and the complementarity
     right-hand sides ``comp``: (dx, dz, ds) of the row length and the scaled (W^-1 ds,
     W dz) per group. From lambda o (W dz + W^-1 ds) = comp: W^-1 ds = q - W dz with
@@ -187,13 +204,13 @@ def _direction(pb, newton, W, lam, m, scale, comp, refine=True):
     st = pb.st
     q = {d: K.divide(lam[d], comp[d]) for d in lam}
     bzt = {d: -scale * W[d].inverse(m["rz"][d]) - q[d] for d in lam}
-    dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt, refine)
+    dx, dy, dz_t = newton.solve(-scale * m["rx"], -scale * m["ry"], bzt, refine, tol)
     ds_t = {d: q[d] - dz_t[d] for d in lam}
     dz, ds = np.zeros(pb.b.size), np.zeros(pb.b.size)
-    dz[st.zero] = dy
-    for d, rows in st.groups.items():
-        dz[rows] = W[d].inverse(dz_t[d])
-        ds[rows] = W[d].apply(ds_t[d])
+    dz[st.zero_at] = dy
+    for d, at in st.group_at.items():
+        dz[at] = W[d].inverse(dz_t[d]).ravel()
+        ds[at] = W[d].apply(ds_t[d]).ravel()
     return dx, dz, ds, ds_t, dz_t
 
 
@@ -225,10 +242,10 @@ def _solve(P, c, A, b, cones, settings=None):
     newton = Newton(st, {d: _Identity(*r.shape) for d, r in st.groups.items()}, chol)
     x, y, zt = newton.solve(-pb.c, pb.b_E, pb.h)
     z, s = np.zeros(rows), np.zeros(rows)
-    z[st.zero] = y
-    for d, r in st.groups.items():
-        z[r] = K.shift_inside(zt[d])
-        s[r] = K.shift_inside(-zt[d])
+    z[st.zero_at] = y
+    for d, at in st.group_at.items():
+        z[at] = K.shift_inside(zt[d]).ravel()
+        s[at] = K.shift_inside(-zt[d]).ravel()
     status, best, stall, it = None, None, 0, 0
     for it in range(opts["max_iter"] + 1):
         m = pb.measures(x, z, s)
@@ -257,8 +274,10 @@ def _solve(P, c, A, b, cones, settings=None):
         sigma = (1.0 - a_aff) ** 3
         comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])
                 + sigma * mu * K.identity(*lam[d].shape) for d in lam}
-        dx, dz, ds, ds_t, dz_t = _direction(pb, newton, W, lam, m, 1.0 - sigma, comp)
-        if newton.residual > TRUST:                  # the reduced system ran out of digits
+        tol = INEXACT * min(1.0, max(m["res_primal"], m["res_dual"], m["gap_rel"]))
+        dx, dz, ds, ds_t, dz_t = _direction(pb, newton, W, lam, m, 1.0 - sigma, comp,
+                                            tol=tol)
+        if newton.residual > max(TRUST, tol):        # the reduced system ran out of digits
             status = "NumericalError"
             break
         a = min(1.0, opts["step_fraction"] * _step(lam, ds_t, dz_t))

@@ -108,6 +108,7 @@ class Structure:
         self._blocks(label, n)
         self._pieces()
         self._null_spaces()
+        self._rotated()
         self._pattern()
         self._operators()
 
@@ -132,7 +133,8 @@ class Structure:
                                               np.tile(np.arange(size), len(first))]
 
     def _pieces(self):
-        """P's blocks and their square roots L (P_b = L^T L); each cone's rows on its block
+        """P's blocks and their square roots L (P_b = L^T L, no rows where every block of the
+        size has P_b = 0); each cone's rows on its block
         (per cone dimension and block size: cones, blocks, dense rows, and the rows'
         place in the block's stacked M = [L; W^-1 G_b])."""
         self.P_blocks, self.P_roots, count = {}, {}, {}
@@ -145,9 +147,11 @@ class Structure:
                            self.where[Pc.col[on], 2]), Pc.data[on])
             lam, U = np.linalg.eigh(pb)
             self.P_blocks[size] = pb
-            self.P_roots[size] = np.sqrt(np.clip(lam, 0, None))[:, :, None] * \
-                np.swapaxes(U, 1, 2)
-            count[size] = np.full(vars_.shape[0], size)
+            root = np.sqrt(np.clip(lam, 0, None))[:, :, None] * np.swapaxes(U, 1, 2)
+            # M's first rows are L; none where no block of the size has a quadratic
+            # (a rigid-plastic stress point): M is then the cone rows alone
+            self.P_roots[size] = root if root.any() else root[:, :0]
+            count[size] = np.full(vars_.shape[0], self.P_roots[size].shape[1])
         self.cone_parts = []
         for d, rows in self.groups.items():
             inc = self._incidence[d]
@@ -173,7 +177,9 @@ class Structure:
                 offset[order] = count[size][sb] + rank * d
                 np.add.at(count[size], blk, d)
                 self.cone_parts.append((d, cones_k, size, blk, dense, offset))
-        self.M_rows = {size: int(c.max()) for size, c in count.items()}
+        # at least square (zero rows below: R is then square for a block of fewer rows)
+        self.M_rows = {size: max(int(c.max()), size) for size, c in count.items()}
+        self.coned = {size for _, _, size, _, _, _ in self.cone_parts}
 
     def _null_spaces(self):
         """Each block's range and null directions (constant: W^-2 is positive definite),
@@ -194,6 +200,30 @@ class Structure:
             n_p += int(null.sum())
             self.pressure[size] = index
         self.n_p = n_p
+
+    def _rotated(self):
+        """M V_r's constant parts, V_r the range's directions, null ones last (eigh sorts
+        them first): ``MV_fixed`` {size: (m, rows, size)} with L V_r on top, and each cone
+        part's G_b V_r (``cone_parts_V``: (d, cones, size, blocks, G_b V_r, offset, whole),
+        whole when its cones are the group's and fill the same rows of every block, in
+        order: a slice, not a gather). The iteration adds W^-1 G_b V_r."""
+        self.Vr = {size: np.ascontiguousarray(self.range_[size][:, :, ::-1])
+                   for size in self.coned}
+        self.null_last = {size: self.null[size][1][:, ::-1] for size in self.coned}
+        self.MV_fixed = {}
+        for size in self.coned:
+            MV = np.zeros((len(self.P_blocks[size]), self.M_rows[size], size))
+            roots = self.P_roots[size]
+            MV[:, :roots.shape[1]] = roots @ self.Vr[size]
+            self.MV_fixed[size] = MV
+        self.cone_parts_V = []
+        for d, cones_k, size, blk, dense, offset in self.cone_parts:
+            m = len(self.P_blocks[size])
+            whole = (cones_k.size == self.groups[d].shape[0] == m
+                     and np.array_equal(cones_k, np.arange(m))
+                     and np.array_equal(blk, np.arange(m)) and np.all(offset == offset[0]))
+            self.cone_parts_V.append((d, cones_k, size, blk, dense @ self.Vr[size][blk],
+                                      offset, whole))
 
     def _dense_rows(self, size):
         """E on each block of ``size``: dense (m, r, size) and its rows (m, r), -1 padded."""
@@ -260,7 +290,6 @@ class Structure:
             key = C.row.astype(np.int64) * nE + C.col
             slot = np.searchsorted(uniq, key)    # within the blocks' pattern: each
             np.add.at(self.S_pressures, slot, C.data)   # pressure's rows are its block's
-        self.coned = {size for _, _, size, _, _, _ in self.cone_parts}
         self.Hinv_fixed = {}
         for size, p in self.P_blocks.items():
             if size in self.coned:
@@ -301,9 +330,15 @@ class Structure:
         r_ = np.concatenate(r_) if r_ else np.zeros(0, int)
         c_ = np.concatenate(c_) if c_ else np.zeros(0, int)
         perm = np.lexsort((c_, r_))                 # CSR order: by row, then column
-        self.H_perm = perm
         self.H_indices = c_[perm].astype(np.int32)
         self.H_indptr = np.r_[0, np.cumsum(np.bincount(r_, minlength=n))].astype(np.int32)
+        place = np.empty_like(perm)                 # each block entry's place in CSR order
+        place[perm] = np.arange(perm.size)
+        self.H_places, self.H_fixed = {}, np.zeros(perm.size)
+        for size, first in zip(self.blocks, order):
+            self.H_places[size] = place[first]
+            if size in self.Hinv_fixed:             # the blocks no cone touches: constant
+                self.H_fixed[self.H_places[size]] = self.Hinv_fixed[size].ravel()
 
 
     def scatter(self, size, U):
@@ -321,8 +356,11 @@ class Structure:
                            minlength=self.S_nnz)
 
     def block_matrix(self, mats):
-        """The block-diagonal sparse matrix of the blocks' dense ``mats`` {size: (m, s, s)}."""
-        data = np.concatenate([mats[size].ravel() for size in self.blocks])[self.H_perm]
+        """The block-diagonal sparse matrix of H^+: the constant blocks
+        (:attr:`Hinv_fixed`) and the coned blocks' dense ``mats`` {size: (m, s, s)}."""
+        data = self.H_fixed.copy()
+        for size, mat in mats.items():
+            data[self.H_places[size]] = mat.ravel()
         n = self.where.shape[0]
         return sp.csr_matrix((data, self.H_indices, self.H_indptr), shape=(n, n))
 
