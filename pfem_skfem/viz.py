@@ -141,7 +141,8 @@ def _frame_cloud(ax, p, title):
 
 # -- particles and fields at several times, bounds of limit analysis -------------------
 def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
-                  axes=("x [m]", "y [m]"), colours=None, draw=None, limits=(None, None)):
+                  axes=("x [m]", "y [m]"), colours=None, draw=None, limits=(None, None),
+                  dots="C0"):
     """A grid of panels, one per snapshot, coloured by one field on one colour scale,
     read by one colour bar.
 
@@ -149,8 +150,9 @@ def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
     ----------
     panels : dict
         Panel title -> ``(points, values)`` (particles, a dot each, ``values`` one per
-        point) or ``(points, values, cells)`` (a triangle mesh, ``values`` one per cell).
-    label : the colour bar's label (the field and its unit).
+        point; None: the particles alone, dots of the colour ``dots``) or
+        ``(points, values, cells)`` (a triangle mesh, ``values`` one per cell).
+    label : the colour bar's label (the field and its unit); None where no panel has values.
     title : the figure's title (``suptitle``).
     ncols : panels per row.
     size : (width of the figure, height of a row) in inches.
@@ -170,7 +172,8 @@ def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
     from .harness.figures import pyplot
 
     colours = dict(colours or {})
-    top = max((float(np.max(p[1], initial=0.0)) for p in panels.values()), default=0.0)
+    top = max((float(np.max(p[1], initial=0.0)) for p in panels.values() if p[1] is not None),
+              default=0.0)
     colours.setdefault("cmap", "viridis")
     colours.setdefault("vmin", 0.0)
     colours.setdefault("vmax", top or 1.0)
@@ -184,7 +187,9 @@ def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
         if draw is not None:
             draw(ax)
         x, y = (np.asarray(points, dtype=float) / scale).T
-        if cells:
+        if values is None:
+            ax.plot(x, y, ".", ms=2, color=dots)
+        elif cells:
             mappable = ax.tripcolor(Triangulation(x, y, cells[0]),
                                     facecolors=np.asarray(values, dtype=float), **colours)
         else:

@@ -1,5 +1,5 @@
 """The shared figure and study helpers of the verification scripts: a grid of snapshots on
-one colour scale (:func:`pfem_skfem.viz.snapshot_grid`), bounds against elements
+one colour scale, or of bare particles (:func:`pfem_skfem.viz.snapshot_grid`), bounds against elements
 (:func:`pfem_skfem.viz.plot_rounds`), a labelled panel
 (:func:`pfem_skfem.harness.figures.labelled`), counted warnings
 (:class:`pfem_skfem.harness.report.counted_warnings`); each figure passes the checks of
@@ -41,6 +41,18 @@ def test_a_snapshot_grid_colours_the_cells_of_a_mesh_and_calls_draw_first():
     assert drawn == [axes[0, 0]]
     art = axes[0, 0].collections[0]
     assert art.get_clim() == (0.0, 1.0) and art.get_cmap().name == "jet"
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_a_snapshot_grid_of_points_without_values_draws_dots_and_no_colour_bar():
+    rng = np.random.default_rng(1)
+    panels = {f"run {k}": (rng.random((30, 2)), None) for k in (1, 2)}
+    fig, axes = snapshot_grid(panels, label=None, title="final deposits", dots="C3")
+    dots = axes[0, 0].get_lines()[0]
+    assert dots.get_marker() == "." and dots.get_color() == "C3"
+    assert np.allclose(dots.get_xydata(), panels["run 1"][0])
+    assert not axes[1, 0].collections and not any(hasattr(ax, "_colorbar") for ax in fig.axes)
     assert figure_problems(fig) == []
     pyplot().close(fig)
 

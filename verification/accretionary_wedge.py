@@ -69,6 +69,7 @@ from pfem_skfem.materials import ZeroDilationMohrCoulomb
 from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
+from pfem_skfem.harness.declare import own_options
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
@@ -324,12 +325,13 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
     first = min(snapshots)
     pop = popup(snapshots[first]["points"], snapshots[first]["cells"],
                 np.asarray(snapshots[first]["deps"]), h0, first)
+    push = {"s": np.arange(1, steps + 1) * du,
+            "wall_force": -np.array([f["wall"][0] for f in hist["forces"]])}
     return {"du": du, "steps": steps, "h": h,
             "profile": (xc, top), "geometry": wedge_geometry(xc, top, s, h0, h),
-            "popup": pop, "popup_at": first,
-            "s": np.arange(1, steps + 1) * du,
-            "wall_force": -np.array([f["wall"][0] for f in hist["forces"]]),
+            "popup": pop, "popup_at": first, **push, "wall_force_late": late_wall_force(push),
             "area_change": np.asarray(hist["area_change"]),
+            "area_change_max": float(np.abs(hist["area_change"]).max()),
             "status": list(hist["status"]),
             "snapshots": snapshots,
             "seconds": time.perf_counter() - t0,
@@ -341,10 +343,8 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
 
 # -- the script --------------------------------------------------------------------------------
 def check(args):
-    if not 0 <= args.base_friction < args.phi:
+    if args.base_friction >= args.phi:
         return "--base-friction must lie in [0, --phi)"
-    if args.steps < 1 or args.stability_steps < 2:
-        return "--steps must be >= 1 and --stability-steps >= 2"
     if args.h > args.h0 / 3:
         return "--h must be at most h0 / 3 (three particles through the layer)"
     if args.contact == "zero-dilation" and args.passes < 3:
@@ -355,32 +355,29 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--h0", type=positive_float, default=0.08, help="layer height [m]")
-    p.add_argument("--L", type=positive_float, default=1.4, help="layer length [m]")
     material_options(p, phi=opt(30.0, type=positive_angle("the critical taper (Dahlen 1984) "
                                                           "divides by sin phi")),
                      rho=2.0, g=9.8)
-    p.add_argument("--mu-wall", type=nonnegative_float, default=float(np.tan(np.radians(30.0))),
-                   help="friction of the pushing wall (tan 30 deg)")
-    p.add_argument("--base-friction", type=in_range(0, 90, high_open=True, unit="degrees"),
-                   default=15.0,
-                   help="base friction angle phi_b [deg] (mu_b = tan phi_b)")
-    p.add_argument("--s", type=positive_float, default=0.16, help="wall displacement [m]")
     time_options(p, steps=opt(1000, "steps for the wall displacement"), dt=0.16, save_every=0)
     pfem_options(p, h=0.01, alpha=1.4, k_min=opt(0.005, why="a fraction of rho g h0"),
                  passes=3)
-    p.add_argument("--contact", choices=sorted(CONTACTS), default="zero-dilation",
-                   help="contact rule at base and wall")
-    p.add_argument("--stability-test", action="store_true",
-                   help="only the critical-taper stability test on a pre-built wedge")
-    p.add_argument("--taper", type=float, nargs="+", default=[15.0, 3.0],
-                   help="surface slopes [deg] of the stability test's wedges")
-    p.add_argument("--stability-steps", type=in_range(2, integer=True), default=6, help="push steps of the test")
-    p.add_argument("--stability-layers", type=positive_int, default=8,
-                   help="particles through the height of the test wedge")
-    p.add_argument("--increment-study", type=positive_int, nargs="+", default=[], metavar="N",
-                   help="also shorten the layer by --s in N steps each (same spacing); the "
-                        "slope, length and wall force checked against the run of most steps")
+    own_options(
+        p, h0=(positive_float, 0.08, "layer height [m]"),
+        L=(positive_float, 1.4, "layer length [m]"),
+        mu_wall=(nonnegative_float, float(np.tan(np.radians(30.0))),
+                 "friction of the pushing wall (tan 30 deg)"),
+        base_friction=(in_range(0, 90, high_open=True, unit="degrees"), 15.0,
+                       "base friction angle phi_b [deg] (mu_b = tan phi_b)"),
+        s=(positive_float, 0.16, "wall displacement [m]"),
+        contact=(sorted(CONTACTS), "zero-dilation", "contact rule at base and wall"),
+        stability_test=(bool, False, "only the critical-taper stability test on a pre-built wedge"),
+        taper=opt([15.0, 3.0], "surface slopes [deg] of the stability test's wedges", type=float,
+                  nargs="+"),
+        stability_steps=(in_range(2, integer=True), 6, "push steps of the test"),
+        stability_layers=(positive_int, 8, "particles through the height of the test wedge"),
+        increment_study=opt([], "also shorten the layer by --s in N steps each (same spacing); "
+                            "the slope, length and wall force checked against the run of most "
+                            "steps", type=positive_int, nargs="+", metavar="N"))
     sweep_options(p, default_workers=1, what="the layer runs")
     checkpoint_options(p, "layer run")
     return p
@@ -389,18 +386,16 @@ def build_parser():
 def add_stability(report, args, rows):
     low, high = critical_taper(args.phi, args.base_friction)
     for r in rows:
-        stable = low < r["taper"] < high
-        tag = f"taper{r['taper']:g}"
-        if stable:
-            report.add_interval(f"{tag}_plastic_max", r["plastic_max"], 0.0, RIGID,
+        if low < r["taper"] < high:
+            report.add_interval(f"taper{r['taper']:g}_plastic_max", r["plastic_max"], 0.0, RIGID,
                                 f"inside the stable field {low:.2f}-{high:.2f} deg: slides "
                                 f"undeformed (< {RIGID:g} du/H)")
-            report.add(f"{tag}_wall_force_over_mu_b_W", r["wall_force_over_mu_b_W"], 1.0,
-                       "slides as one block: the wall pushes mu_b W", 0.01)
+            report.add(f"taper{r['taper']:g}_wall_force_over_mu_b_W", r["wall_force_over_mu_b_W"],
+                       1.0, "slides as one block: the wall pushes mu_b W", 0.01)
         else:
-            report.add_interval(f"{tag}_plastic_max", r["plastic_max"], DEFORMS, np.inf,
-                                f"outside the stable field {low:.2f}-{high:.2f} deg: deforms "
-                                f"(> {DEFORMS:g} du/H)")
+            report.add_interval(f"taper{r['taper']:g}_plastic_max", r["plastic_max"], DEFORMS,
+                                np.inf, f"outside the stable field {low:.2f}-{high:.2f} deg: "
+                                f"deforms (> {DEFORMS:g} du/H)")
     report.add_table(
         "stability", {"taper": "taper", "stable?": lambda r: bool(low < r["taper"] < high),
                       "particles": "particles", "max dep/(du/H)": "plastic_max",
@@ -421,8 +416,8 @@ def layer_checks(report, args, r, prefix):
     """The checks of issue 15 on one shortened layer (names prefixed by ``prefix``)."""
     low, high = critical_taper(args.phi, args.base_friction)
     geo, pop, first = r["geometry"], r["popup"], r["popup_at"]
-    report.add_interval(f"{prefix}area_change_max", float(np.abs(r["area_change"]).max()), 0.0,
-                        0.03, "the layer keeps its area (issue 15: < 3 %)")
+    report.add_interval(f"{prefix}area_change_max", r["area_change_max"], 0.0, 0.03,
+                        "the layer keeps its area (issue 15: < 3 %)")
     report.add_interval(f"{prefix}steps_failed",
                         float(sum(st not in ("optimal", "optimal_inaccurate") for st in r["status"])),
                         0.0, 0.0, "every step solved ('optimal', or Clarabel's 'AlmostSolved')")
@@ -433,8 +428,8 @@ def layer_checks(report, args, r, prefix):
     report.add_interval(f"{prefix}surface_slope_deg", geo["slope_deg"], low - 2.0, high,
                         f"critical taper (Dahlen 1984, Lehner 1986): stable field from "
                         f"alpha_c = {low:.2f} deg (less 2 deg) to {high:.2f}", reference=low)
-    predicted = wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5))
-    report.add(f"{prefix}wedge_length_vs_mass_balance", geo["length"], predicted,
+    report.add(f"{prefix}wedge_length_vs_mass_balance", geo["length"],
+               wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5)),
                "mass balance: L_w = sqrt(2 A_up / tan alpha) at the measured slope", 0.3)
 
 
@@ -443,14 +438,9 @@ def increment_checks(report, args, runs):
     rate-independent, so only the displacement a step may matter): the slopes within
     INCREMENT_SLOPE deg (the taper gate's own margin), the wedge's length and the late wall
     force within INCREMENT_TOLERANCE."""
-    if len(runs) < 2:
-        return
     best = max(runs, key=lambda x: x["steps"])
-    n0 = best["steps"]
-    for r in runs:
-        if r is best:
-            continue
-        n = r["steps"]
+    for r in [x for x in runs if x is not best]:
+        n, n0 = r["steps"], best["steps"]
         report.add_interval(f"slope_n{n}_minus_n{n0}_deg",
                             abs(r["geometry"]["slope_deg"] - best["geometry"]["slope_deg"]), 0.0,
                             INCREMENT_SLOPE, f"increment study: |slope - slope of {n0} steps| "
@@ -458,22 +448,17 @@ def increment_checks(report, args, runs):
         report.add(f"wedge_length_n{n}_vs_n{n0}", r["geometry"]["length"],
                    best["geometry"]["length"], f"increment study: within "
                    f"{INCREMENT_TOLERANCE:.0%} of {n0} steps", INCREMENT_TOLERANCE)
-        report.add(f"wall_force_late_n{n}_vs_n{n0}", late_wall_force(r), late_wall_force(best),
+        report.add(f"wall_force_late_n{n}_vs_n{n0}", r["wall_force_late"], best["wall_force_late"],
                    f"increment study: mean wall force over the last quarter within "
                    f"{INCREMENT_TOLERANCE:.0%} of {n0} steps", INCREMENT_TOLERANCE)
 
 
-def layer_summary(r, steps):
-    """What the JSON keeps of a layer run (histories thinned to about 100 entries)."""
+def layer_summary(r):
+    """What the JSON keeps of a layer run: its push thinned to about 100 entries, the surface."""
     xc, top = r["profile"]
-    every = max(1, steps // 100)
-    return {"steps": steps, "du": r["du"], "h": r["h"], "particles": r["particles"],
-            "elements": r["elements"], "seconds": r["seconds"],
-            "seconds_per_step": r["seconds_per_step"], "geometry": r["geometry"],
-            "popup": r["popup"], "area_change_max": float(np.abs(r["area_change"]).max()),
-            "wall_force_late": late_wall_force(r),
-            "s": r["s"][::every].tolist(), "wall_force": r["wall_force"][::every].tolist(),
-            "profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()}, "pvd": r["pvd"]}
+    return thinned(r, ("s", "wall_force"), drop=("profile", "popup_at", "area_change", "status",
+                                                 "snapshots", "config")) \
+        | {"profile": {"x": xc.tolist(), "top": np.nan_to_num(top).tolist()}}
 
 
 def run(args):
@@ -493,11 +478,10 @@ def run(args):
     report.data = dict(stability=rows, layer=None)
     if args.stability_test:
         return report
-    common = dict(h0=args.h0, L=args.L, h=args.h, phi=args.phi, rho=args.rho, g=args.g,
-                  mu_wall=args.mu_wall, phi_b=args.base_friction, s=args.s, dt=args.dt,
-                  alpha=args.alpha, k_min=args.k_min, contact=args.contact, passes=args.passes,
-                  verbose=args.progress, checkpoint_dir=args.checkpoint_dir,
-                  checkpoint_every=args.checkpoint_every) | solver_keyword(args)
+    common = {k: getattr(args, k) for k in ("h0", "L", "h", "phi", "rho", "g", "mu_wall", "s",
+                                            "dt", "alpha", "k_min", "contact", "passes",
+                                            "checkpoint_dir", "checkpoint_every")} \
+        | dict(phi_b=args.base_friction, verbose=args.progress) | solver_keyword(args)
     cases = [dict(common, steps=args.steps, outdir=Path(args.outdir) / "accretionary_wedge",
                   save_every=args.save_every)]
     cases += [dict(common, steps=n) for n in args.increment_study if n != args.steps]
@@ -506,36 +490,32 @@ def run(args):
     for k, r in enumerate(runs):
         layer_checks(report, args, r, "" if k == 0 else f"n{r['steps']}_")
     increment_checks(report, args, runs)
-    table = []
-    for r in runs:
-        geo = r["geometry"]
-        table.append([r["steps"], r["du"] * 100, r["particles"], r["elements"], geo["slope_deg"],
-                     geo["length"] * 100,
-                     wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5)) * 100,
-                     geo["area_up"] * 1e4, np.abs(r["area_change"]).max(), late_wall_force(r),
-                     bool(r["popup"]["is_popup"]), r["seconds_per_step"], r["seconds"]])
+    geo = lambda key, scale=100: lambda r: r["geometry"][key] * scale       # noqa: E731
     report.add_table(
-        "layers", ["steps", "du [cm]", "particles", "elems", "slope", "L_w", "L_mass", "A_up",
-                   "|dA|max", "F_late", "pop-up", "s/step", "total s"], table,
-        formats={"du [cm]": ".3g", "slope": ".2f", "L_w": ".1f", "L_mass": ".1f",
-                 "A_up": ".1f", "|dA|max": ".2%", "F_late": ".4f", "s/step": ".2f",
-                 "total s": ".0f"}, title="\nlayers")
-    print("(slope [deg] away from the wall, L_w wedge length [cm] and L_mass from mass balance at "
-          "that slope, A_up uplift [cm2], F_late mean wall force over the last quarter [kN/m])")
-    r = runs[0]
-    geo = r["geometry"]
-    print(f"wedge ({args.steps} steps): front {geo['front'] * 100:.1f} cm, at alpha_c the mass "
-          f"balance gives {wedge_length(args.s * args.h0, low) * 100:.1f} cm; crest "
-          f"{geo['crest'] * 100:.2f} cm; s h0 = {args.s * args.h0 * 1e4:.1f} cm2")
-    report.extra |= {"layer": layer_summary(r, args.steps),
-                     "increment_study": [layer_summary(x, x["steps"]) for x in runs[1:]]}
-    report.data = dict(stability=rows, layer=r, increment_runs=runs)
+        "layers", {"steps": "steps", "du [cm]": lambda r: r["du"] * 100, "particles": "particles",
+                   "elems": "elements", "slope": geo("slope_deg", 1), "L_w": geo("length"),
+                   "L_mass": lambda r: wedge_length(r["geometry"]["area_up"],
+                                                    max(r["geometry"]["slope_deg"], 0.5)) * 100,
+                   "A_up": geo("area_up", 1e4), "front": geo("front"), "crest": geo("crest"),
+                   "|dA|max": "area_change_max", "F_late": "wall_force_late",
+                   "pop-up": lambda r: bool(r["popup"]["is_popup"]),
+                   "s/step": "seconds_per_step", "total s": "seconds"}, runs,
+        formats={"du [cm]": ".3g", "slope": ".2f", "L_w": ".1f", "L_mass": ".1f", "A_up": ".1f",
+                 "front": ".1f", "crest": ".2f", "|dA|max": ".2%", "F_late": ".4f",
+                 "s/step": ".2f", "total s": ".0f"},
+        title="\nlayers (slope [deg] away from the wall, L_w wedge length [cm] and L_mass from "
+              "mass balance at that slope, A_up uplift [cm2], front and crest [cm], F_late mean "
+              "wall force over the last quarter [kN/m]); at alpha_c the mass balance gives "
+              f"{wedge_length(args.s * args.h0, low) * 100:.1f} cm, s h0 = "
+              f"{args.s * args.h0 * 1e4:.1f} cm2")
+    report.extra |= {"layer": layer_summary(runs[0]),
+                     "increment_study": [layer_summary(x) for x in runs[1:]]}
+    report.data = dict(stability=rows, layer=runs[0], increment_runs=runs)
     return report
 
 
 def figures(args, stability, layer, increment_runs=()):
     """The stability test's plastic strain; Fig 6.10 snapshots, the wall force, the profile."""
-    plt = pyplot()
     out = figure_dir(args, "accretionary_wedge")
     low, high = critical_taper(args.phi, args.base_friction)
     fig, _ = snapshot_grid(
@@ -555,43 +535,41 @@ def figures(args, stability, layer, increment_runs=()):
         title="accretionary wedge (cf. Fig 6.10)", limits=((0, args.L), (0, 2.2 * args.h0)),
         colours=dict(cmap="jet", vmax=0.003 * layer["du"] / 1.6e-4))   # the thesis' scale
     save_figure(fig, out / "snapshots.png")
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4))
-    ax[0].plot(layer["s"] * 100, layer["wall_force"], "-")
-    weight = args.rho * args.g * args.h0 * args.L
-    ax[0].axhline(np.tan(np.radians(args.base_friction)) * weight, color="k", ls=":",
-                  label="mu_b x weight of the whole layer (it would slide)")
-    labelled(ax[0], "wall displacement s [cm]", "force on the wall per unit length [kN/m]",
-             "push on the wall", legend=8)
-    xc, top = layer["profile"]
-    geo = layer["geometry"]
-    ax[1].plot(xc * 100, top * 100, "k-", label="PFEM surface")
-    x_wall = args.s
+    fig, ax = _push_and_surface(args, [layer], "",
+                                f": mean slope {layer['geometry']['slope_deg']:.2f} deg")
+    ax[0].axhline(np.tan(np.radians(args.base_friction)) * args.rho * args.g * args.h0 * args.L,
+                  color="k", ls=":", label="mu_b x weight of the whole layer (it would slide)")
     for alpha_, style, label in ((low, "--", f"critical taper {low:.2f} deg"),
                                  (low - 2, ":", f"{low - 2:.2f} deg (accepted from)")):
-        L_w = wedge_length(geo["area_up"], alpha_)
-        xx = np.array([x_wall, x_wall + L_w])
-        ax[1].plot(xx * 100, (args.h0 + L_w * np.tan(np.radians(alpha_)) * np.array([1, 0])) * 100,
+        L_w = wedge_length(layer["geometry"]["area_up"], alpha_)
+        ax[1].plot(np.array([args.s, args.s + L_w]) * 100,
+                   (args.h0 + L_w * np.tan(np.radians(alpha_)) * np.array([1, 0])) * 100,
                    style, label=f"mass balance, {label}")
-    ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
-    labelled(ax[1], "x [cm]", "surface height [cm]",
-             f"surface after s = {args.s * 100:g} cm: mean slope {geo['slope_deg']:.2f} deg",
-             legend=8)
+    for a in ax:
+        a.legend(fontsize=8)
     save_figure(fig, out / "wall_force_profile.png")
-    if len(increment_runs) < 2:
-        return
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4))
-    for r in sorted(increment_runs, key=lambda x: x["steps"]):
+    if len(increment_runs) >= 2:
+        fig, _ = _push_and_surface(args, sorted(increment_runs, key=lambda x: x["steps"]),
+                                   "increment study: ", f" (alpha_c = {low:.2f} deg)")
+        save_figure(fig, out / "increment_study.png")
+
+
+def _push_and_surface(args, runs, what, after):
+    """Two panels: the push on the wall against its displacement, and the surface after it
+    (``what`` begins their titles, ``after`` ends the second's), a line for each of ``runs``."""
+    fig, ax = pyplot().subplots(1, 2, figsize=(12, 4))
+    for r in runs:
         label = f"{r['steps']} steps of {r['du'] * 100:.3g} cm"
         ax[0].plot(r["s"] * 100, r["wall_force"], "-", lw=1, label=label)
         xc, top = r["profile"]
         ax[1].plot(xc * 100, top * 100, "-", lw=1,
                    label=f"{label}: slope {r['geometry']['slope_deg']:.1f} deg")
     labelled(ax[0], "wall displacement s [cm]", "force on the wall per unit length [kN/m]",
-             "increment study: push on the wall", legend=8).grid(alpha=0.3)
+             f"{what}push on the wall", legend=8).grid(alpha=0.3)
     ax[1].axhline(args.h0 * 100, color="0.6", lw=0.8)
-    labelled(ax[1], "x [cm]", "surface height [cm]", f"increment study: surface after s = "
-             f"{args.s * 100:g} cm (alpha_c = {low:.2f} deg)", legend=8).grid(alpha=0.3)
-    save_figure(fig, out / "increment_study.png")
+    labelled(ax[1], "x [cm]", "surface height [cm]",
+             f"{what}surface after s = {args.s * 100:g} cm{after}", legend=8).grid(alpha=0.3)
+    return fig, ax
 
 
 def main(argv=None):

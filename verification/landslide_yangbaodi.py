@@ -64,6 +64,7 @@ Usage::
     python verification/landslide_yangbaodi.py --help                        # every option
 """
 import os
+import pickle
 import sys
 import time
 from dataclasses import dataclass
@@ -81,13 +82,13 @@ from pfem_skfem.pfem.measure import centre_of_mass, front                      #
 from pfem_skfem.problems.contact import RigidPolyline                         # noqa: E402
 from pfem_skfem.discretisation import ThetaMethod                           # noqa: E402
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun  # noqa: E402
+from pfem_skfem.harness.declare import keywords_of, own_options  # noqa: E402
 from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot,  # noqa: E402
                                         save_figure, write_summary)
-from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options,
-                                        nonnegative_float, opt, pfem_options, positive_angle,
-                                        positive_float, solver_keyword, time_options)
-from pfem_skfem.harness.progress import progress  # noqa: E402
-from pfem_skfem.harness.report import Report, script_main  # noqa: E402
+from pfem_skfem.harness.options import (base_parser, checkpoint_options,  # noqa: E402
+                                        material_options, nonnegative_float, opt, pfem_options,
+                                        positive_angle, positive_float, time_options)
+from pfem_skfem.harness.report import Report, script_main, thinned  # noqa: E402
 from pfem_skfem.harness.sweeps import run_groups  # noqa: E402
 from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
@@ -108,6 +109,11 @@ DENSITY_TOLERANCE = 0.02        # rho = 0.5 against 1.25, relative to the front'
 HOLD_STILL = 1e-9               # largest displacement in the held phase, in spacings h
 WARNING = ("the profile is reconstructed from the thesis' text and axes (not digitised): "
            "compare reach and times with the thesis' only as an indication")
+#: the base run beside the thesis (Fig 8.5, Section 8.3): reach [m], its time, the end [s]
+THESIS = {"front_max": THESIS_FRONT, "t_front_max": THESIS_FRONT_TIME, "t_rest": THESIS_END}
+#: a run's histories, thinned to about 200 entries in the JSON; what the JSON leaves out
+HISTORIES = ("t", "front", "ke", "area_change", "alpha")
+LEFT_OUT = ("cm", "points", "track_x", "track_v", "x_end", "x0", "snapshots", "profile", "config")
 
 
 # -- the profile ---------------------------------------------------------------------------
@@ -422,20 +428,7 @@ def check(args):
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
-    p.add_argument("--profile", default=str(PROFILE),
-                   help="slope profile CSV (x,z_slip,z_surface; comments '#'); the default "
-                        "is the reconstruction of Fig 8.3")
     material_options(p, rho=1.25, phi=28.0, c=opt(0.0, type=nonnegative_float), g=9.8)
-    p.add_argument("--mu-deg", type=positive_angle("the energy bound divides by mu"), default=10.0,
-                   help="basal friction angle [deg] of the main run, mu = tan(mu_deg) "
-                        "(thesis: tan 10 deg)")
-    p.add_argument("--mu-study", type=positive_angle("the energy bound divides by mu"),
-                   nargs="*", default=[8.0, 10.0, 12.0],
-                   help="basal friction angles [deg] of the back-analysis (Fig 8.4)")
-    p.add_argument("--rho-study", type=positive_float, nargs="*", default=[0.5, 2.5],
-                   help="further densities [t/m3] at --mu-deg (Fig 8.5-8.6)")
-    p.add_argument("--no-alpha-study", action="store_true",
-                   help="skip the run without adaptive alpha (mass change reported beside)")
     time_options(p, dt=0.05, theta1=1.0, theta2=1.0,
                  save_every=opt(0, why="of each run, and a PVD per run"))
     pfem_options(p, h=opt(0.95, why="0.95: about 2,000 elements on the default profile"),
@@ -446,70 +439,77 @@ def build_parser():
                  alpha_advected=opt(3.0, why="3: the thin front keeps its triangles (medium "
                                              "size, mass change 0.27-0.65 %% against "
                                              "1.2-5.9 %% with 0; see the book)"))
-    p.add_argument("--t-hold", type=nonnegative_float, default=10.0,
-                   help="held phase [s]: every boundary node held still (builds the stress)")
-    p.add_argument("--hold", choices=("boundary", "free_surface"), default="boundary",
-                   help="what the held phase holds: every boundary node, or those not on the "
-                        "slip surface")
-    p.add_argument("--t-after", type=positive_float, default=30.0,
-                   help="longest time [s] after release (600 steps of 0.05 s)")
-    p.add_argument("--rest", type=positive_float, default=1e-3,
-                   help="at rest when the kinetic energy is below this fraction of its peak "
-                        "and the centre of mass has moved at least --h (a mass that never "
-                        "moves runs to --t-after)")
-    p.add_argument("--snapshot-every", type=nonnegative_float, default=5.0,
-                   help="snapshots every this many seconds after release (Fig 8.9-8.10)")
+    friction = positive_angle("the energy bound divides by mu")
+    own_options(
+        p, profile=(str, str(PROFILE), "slope profile CSV (x,z_slip,z_surface; comments '#'); "
+                                       "the default is the reconstruction of Fig 8.3"),
+        mu_deg=(friction, 10.0, "basal friction angle [deg] of the main run, mu = tan(mu_deg) "
+                                "(thesis: tan 10 deg)"),
+        mu_study=opt([8.0, 10.0, 12.0], "basal friction angles [deg] of the back-analysis "
+                     "(Fig 8.4)", type=friction, nargs="*"),
+        rho_study=opt([0.5, 2.5], "further densities [t/m3] at --mu-deg (Fig 8.5-8.6)",
+                      type=positive_float, nargs="*"),
+        no_alpha_study=(bool, False, "skip the run without adaptive alpha (mass change reported "
+                                     "beside)"),
+        t_hold=(nonnegative_float, 10.0, "held phase [s]: every boundary node held still (builds "
+                                         "the stress)"),
+        hold=(("boundary", "free_surface"), "boundary", "what the held phase holds: every "
+              "boundary node, or those not on the slip surface"),
+        t_after=(positive_float, 30.0, "longest time [s] after release (600 steps of 0.05 s)"),
+        rest=(positive_float, 1e-3, "at rest when the kinetic energy is below this fraction of "
+                                    "its peak and the centre of mass has moved at least --h (a "
+                                    "mass that never moves runs to --t-after)"),
+        snapshot_every=(nonnegative_float, 5.0, "snapshots every this many seconds after "
+                                                "release (Fig 8.9-8.10)"),
+        keep_runs=(bool, False, "pickle every run's histories to "
+                                "OUTDIR/landslide_yangbaodi/runs.pkl"),
+        workers=(worker_count, min(2, os.cpu_count() or 1), "parallel processes for the runs"))
     checkpoint_options(p, "slide")
-    p.add_argument("--keep-runs", action="store_true",
-                   help="pickle every run's histories to OUTDIR/landslide_yangbaodi/runs.pkl")
-    p.add_argument("--workers", type=worker_count, default=min(2, os.cpu_count() or 1),
-                   help="parallel processes for the runs")
     return p
 
 
 def _cases(args):
     """Main run first (it has the snapshots), then the friction sweep, the densities and
     the run without adaptive alpha, as run_case keywords: the groups of run_groups."""
-    common = dict(profile_path=args.profile, h=args.h, rho=args.rho, phi=args.phi, c=args.c,
-                  g=args.g, dt=args.dt, theta1=args.theta1, theta2=args.theta2,
-                  alpha=args.alpha, adaptive_alpha=True, t_hold=args.t_hold, hold=args.hold,
-                  floor=args.floor, passes=args.passes, t_after=args.t_after, rest=args.rest,
-                  volume_correction=args.volume_correction == "on",
-                  alpha_advected=args.alpha_advected, verbose=args.progress,
-                  checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every,
-                  save_every=args.save_every,
-                  outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None,
-                  **solver_keyword(args))
+    common = keywords_of(
+        run_case, args, profile_path=args.profile, adaptive_alpha=True, snapshot_every=0.0,
+        verbose=args.progress, volume_correction=args.volume_correction == "on",
+        outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
     main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",
                 snapshot_every=args.snapshot_every)
     sweep = [dict(common, mu_deg=m, label=f"mu{m:g}") for m in args.mu_study
              if m != args.mu_deg]
     rhos = [dict(common, mu_deg=args.mu_deg, rho=r, label=f"mu{args.mu_deg:g}_rho{r:g}")
             for r in args.rho_study if r != args.rho]
-    fixed = [] if args.no_alpha_study else [dict(common, mu_deg=args.mu_deg, adaptive_alpha=False,
+    fixed = [] if args.no_alpha_study else [dict(common, mu_deg=args.mu_deg,
+                                                 adaptive_alpha=False,
                                                  label=f"mu{args.mu_deg:g}_fixed_alpha")]
     return dict(main=[main], sweep=sweep, rhos=rhos, fixed=fixed)
 
 
-def front_difference(a, b):
-    """Largest |front_a - front_b| over the common steps, over the front's travel in a."""
-    n = min(len(a["front"]), len(b["front"]))
-    travel = max(float(np.max(a["front"]) - a["front0"]), 1e-300)
-    return float(np.max(np.abs(a["front"][:n] - b["front"][:n]))) / travel
+def density_twin(base, r):
+    """How run ``r``, at another density, repeats ``base`` (c = 0: every force scales with
+    rho): 'exact', whether the densities' ratio is a power of two (then every floating-point
+    number scales exactly, and the run must be the same bit for bit); 'same', whether its
+    front history and its last positions are; 'difference', the largest |front_r - front_base|
+    over the common steps, over the front's travel in ``base``."""
+    ratio = r["rho"] / base["rho"]
+    n = min(len(base["front"]), len(r["front"]))
+    travel = max(float(np.max(base["front"]) - base["front0"]), 1e-300)
+    return dict(exact=np.log2(ratio) == round(np.log2(ratio)),
+                same=(len(r["front"]) == len(base["front"])
+                      and np.array_equal(r["front"], base["front"])
+                      and np.array_equal(r["x_end"], base["x_end"])),
+                difference=float(np.max(np.abs(base["front"][:n] - r["front"][:n]))) / travel)
 
 
 def run(args):
     """The slides of ``args`` in parallel; their checks."""
-    groups = _cases(args)
-    if args.progress:
-        progress(f"{sum(map(len, groups.values()))} landslide run(s) on {args.workers} "
-                 f"worker(s)")
-    res = run_groups(run_case, groups, args.workers, desc="landslides")
+    res = run_groups(run_case, _cases(args), args.workers, desc="landslides")
     results = [r for group in res.values() for r in group]
     if args.keep_runs:                             # every history, to draw again later
-        import pickle
-        path = figure_dir(args, "landslide_yangbaodi") / "runs.pkl"
-        path.write_bytes(pickle.dumps(results))
+        (figure_dir(args, "landslide_yangbaodi") / "runs.pkl").write_bytes(
+            pickle.dumps(results))
     base, rho_runs, fixed_run = res["main"][0], res["rhos"], (res["fixed"] or [None])[0]
     mu_runs = sorted([base] + res["sweep"], key=lambda r: r["mu"])
 
@@ -524,7 +524,6 @@ def run(args):
                   "steps": "steps_after_release", "s/step": "seconds_per_step"}, results,
         formats={"mu": ".4f", "rho": ".2f", "front max": ".1f", "at t": ".2f", "t rest": ".2f",
                  "mass chg": ".2%", "travel": ".2f", "ratio": ".3f", "s/step": ".2f"})
-    print(f"warning: {WARNING}")
     report.add_interval("hold_max_displacement_over_h", base["hold_max_displacement_over_h"],
                         0.0, HOLD_STILL, "the held phase keeps every particle still")
     for r in results:
@@ -553,32 +552,24 @@ def run(args):
                             "(largest change of the reach between neighbouring mu, < 0)",
                             reference=-1.0)
     for r in rho_runs:
-        ratio = r["rho"] / base["rho"]
-        exact = np.log2(ratio) == round(np.log2(ratio))
-        diff = front_difference(base, r)
-        if exact:
-            same = (len(r["front"]) == len(base["front"]) and np.array_equal(r["front"], base["front"])
-                    and np.array_equal(r["x_end"], base["x_end"]))
-            report.add_interval(f"rho{r['rho']:g}_bit_identical", float(same), 1.0, 1.0,
+        twin = density_twin(base, r)
+        if twin["exact"]:
+            report.add_interval(f"rho{r['rho']:g}_bit_identical", float(twin["same"]), 1.0, 1.0,
                                 "c = 0: a density 2^k times gives the same run bit for bit")
-        report.add_interval(f"rho{r['rho']:g}_front_difference", diff, 0.0,
-                            0.0 if exact else DENSITY_TOLERANCE,
+        report.add_interval(f"rho{r['rho']:g}_front_difference", twin["difference"], 0.0,
+                            0.0 if twin["exact"] else DENSITY_TOLERANCE,
                             "c = 0: the front history does not depend on rho (thesis Fig 8.5: "
                             "little difference); relative to the front's travel")
-    if fixed_run is not None:
+    if fixed_run is not None:              # its mass change beside adaptive alpha's: "cases"
         report.extra["mass_change_max_fixed_alpha"] = fixed_run["mass_change_max"]
-        print(f"mass change, largest: {base['mass_change_max']:.2%} with adaptive alpha, "
-              f"{fixed_run['mass_change_max']:.2%} with alpha fixed at {args.alpha:g}")
-    report.extra["thesis_comparison"] = {
-        "warning": WARNING,
-        "front_max": [base["front_max"], THESIS_FRONT],
-        "t_front_max": [base["t_front_max"], THESIS_FRONT_TIME],
-        "t_rest": [base["t_rest"], THESIS_END]}
-    print(f"front reach {base['front_max']:.1f} m at {base['t_front_max']:.2f} s after release, "
-          f"at rest at {base['t_rest']:.2f} s (thesis: ~{THESIS_FRONT:g} m at ~"
-          f"{THESIS_FRONT_TIME:g} s, ended ~{THESIS_END:g} s)")
-    report.extra["cases"] = [_summary(r) for r in results]
-    report.data = dict(base=base, mu_runs=mu_runs, rho_runs=rho_runs, fixed_run=fixed_run)
+    report.extra["thesis_comparison"] = {"warning": WARNING} | {
+        k: [base[k], thesis] for k, thesis in THESIS.items()}
+    report.add_table("beside the thesis", ["base run", "ours", "thesis"],
+                     [(k, base[k], thesis) for k, thesis in THESIS.items()],
+                     formats={"ours": ".2f"}, title=f"warning: {WARNING}")
+    report.extra["cases"] = [thinned(r, HISTORIES, LEFT_OUT, entries=200) for r in results]
+    report.data = dict(base=base, mu_runs=mu_runs, rho_runs=rho_runs, fixed_run=fixed_run,
+                       cases=report.extra["cases"])
     return report
 
 
@@ -586,58 +577,39 @@ def main(argv=None):
     return script_main(build_parser, run, figures, argv)
 
 
-def _summary(r):
-    """A run's scalars and its front / energy / mass histories thinned to about 200 entries."""
-    every = max(1, len(r["t"]) // 200)
-    keep = {k: v for k, v in r.items() if np.isscalar(v) or isinstance(v, (str, type(None)))}
-    return keep | {k: np.asarray(r[k])[::every].tolist()
-                   for k in ("t", "front", "ke", "area_change", "alpha")} \
-        | {"cm0": r["cm0"], "cm_end": r["cm_end"], "hold_sigma_m_changes": r["hold_sigma_m_changes"]}
-
-
 # -- figures -------------------------------------------------------------------------------
-def _ground(ax, r, outline=True):
+def _ground(ax, r, xmax):
+    """The profile under the particles: the ground below the slip surface (grey), the ground
+    before failure (dashed); the frame from 0 to ``xmax``, lengths at one scale."""
     p = r["profile"]
     ax.fill_between(p["x"], p["z_slip"], min(p["z_slip"]) - 10, color="0.85", lw=0)
     ax.plot(p["x"], p["z_slip"], "k-", lw=1)
-    if outline:
-        ax.plot(p["x"], p["z_surface"], color="0.5", lw=0.8, ls="--")
-
-
-def _frame(ax, r, xmax):
-    p = r["profile"]
+    ax.plot(p["x"], p["z_surface"], color="0.5", lw=0.8, ls="--")
     ax.set_xlim(0, xmax)
-    ax.set_xlabel("horizontal distance x [m]")
     ax.set_ylim(min(p["z_slip"]) - 8, max(np.max(p["z_surface"][p["x"] <= xmax]), 0) + 8)
-    ax.set_aspect("equal")
-    ax.set_ylabel("elevation [m]")
+    labelled(ax, "horizontal distance x [m]", "elevation [m]", legend=None).set_aspect("equal")
 
 
-def _xmax(runs):
-    return max(350.0, 10 * np.ceil(max(np.max(r["x_end"][:, 0]) for r in runs) / 10 + 1))
-
-
-def figures(args, base, mu_runs, rho_runs, fixed_run):
+def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
     """Snapshots coloured by speed (Fig 8.9-8.10); the front and the kinetic energy against
     time (Fig 8.5); the material points A, B, C (Fig 8.7-8.8); the final deposits of the
     friction sweep (Fig 8.4); the mass change with and without adaptive alpha."""
     plt = pyplot()
     out = figure_dir(args, "landslide_yangbaodi")
-    xmax = _xmax([base] + mu_runs + rho_runs)
+    xmax = max(350.0, 10 * np.ceil(max(np.max(r["x_end"][:, 0])
+                                       for r in [base] + mu_runs + rho_runs) / 10 + 1))
     fig, _ = snapshot_grid(
         {f"t = {t:g} s after release": (s["x"], s["speed"])
          for t, s in sorted(base["snapshots"].items())}, label="speed [m/s]",
         title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
               "(cf. Fig 8.9-8.10); dashed: the ground before failure", size=(9, 1.9),
-        axes=None, draw=lambda ax: (_ground(ax, base), _frame(ax, base, xmax)))
+        axes=None, draw=lambda ax: _ground(ax, base, xmax))
     save_figure(fig, out / "snapshots.png")
-
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
     for r in [base] + rho_runs:
         ax0.plot(r["t"], r["front"], label=f"rho = {r['rho']:g} t/m3")
-    for r in mu_runs:
-        if r is not base:
-            ax0.plot(r["t"], r["front"], ":", label=f"mu = tan {r['mu_deg']:g} deg")
+    for r in [r for r in mu_runs if r is not base]:
+        ax0.plot(r["t"], r["front"], ":", label=f"mu = tan {r['mu_deg']:g} deg")
     ax0.plot([THESIS_FRONT_TIME], [THESIS_FRONT], "k*", ms=10,
              label="thesis: ~325 m at ~20 s (other geometry)")
     labelled(ax0, "time after release [s]", "front's horizontal position [m]",
@@ -651,41 +623,29 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     labelled(ax1, "time after release [s]", "kinetic energy [kJ/m]",
              "kinetic energy against time", title_size=9)
     save_figure(fig, out / "front_and_energy.png")
-
-    names = ("A (rear)", "B (middle)", "C (front)")
     fig, axes = plt.subplots(3, 2, figsize=(11, 8.5))
-    for k, name in enumerate(names):
+    for k, (name, (ax, av)) in enumerate(zip(("A (rear)", "B (middle)", "C (front)"), axes)):
         xs, vs = base["track_x"][:, k], base["track_v"][:, k]
-        ax = axes[k, 0]
-        _ground(ax, base)
-        ax.plot(base["x0"][:, 0], base["x0"][:, 1], ".", color="0.6", ms=1)
-        ax.plot(base["x_end"][:, 0], base["x_end"][:, 1], ".", color="0.4", ms=1)
+        _ground(ax, base, xmax)
+        for x, shade in ((base["x0"], "0.6"), (base["x_end"], "0.4")):
+            ax.plot(x[:, 0], x[:, 1], ".", color=shade, ms=1)
         ax.plot(xs[:, 0], xs[:, 1], "r-", lw=1)
         ax.plot(*base["x0"][base["points"][k]], "ro", ms=4)
-        _frame(ax, base, xmax)
         ax.set_title(f"point {name}: its trace (red), the mass at start and at rest", fontsize=9)
-        ax = axes[k, 1]
-        ax.plot(xs[:, 0], vs[:, 0], label="v_x")
-        ax.plot(xs[:, 0], vs[:, 1], label="v_y")
-        ax.axhline(0, color="k", lw=0.5)
-        ax.set_xlim(0, xmax)
-        labelled(ax, "x of the point [m]", "velocity [m/s]",
+        av.plot(xs[:, 0], vs[:, 0], label="v_x")
+        av.plot(xs[:, 0], vs[:, 1], label="v_y")
+        av.axhline(0, color="k", lw=0.5)
+        av.set_xlim(0, xmax)
+        labelled(av, "x of the point [m]", "velocity [m/s]",
                  f"point {name}: velocity against its x (cf. Fig 8.7-8.8)", title_size=9)
-    fig.tight_layout()
     save_figure(fig, out / "material_points.png")
-
-    fig, axes = plt.subplots(len(mu_runs), 1, figsize=(9, 2.1 * len(mu_runs) + 0.8),
-                             squeeze=False, layout="constrained")
-    for ax, r in zip(axes[:, 0], mu_runs):
-        _ground(ax, r)
-        ax.plot(r["x_end"][:, 0], r["x_end"][:, 1], ".", ms=2, color="C3")
-        _frame(ax, r, xmax)
-        ax.set_title(f"mu = tan {r['mu_deg']:g} deg: reach {r['front_max']:.0f} m, travel "
-                     f"angle {r['travel_angle_deg']:.1f} deg (bound {r['mu_deg']:g} deg)",
-                     fontsize=9)
-    fig.suptitle("final deposits of the friction back-analysis (cf. Fig 8.4)", fontsize=9)
+    fig, _ = snapshot_grid(
+        {f"mu = tan {r['mu_deg']:g} deg: reach {r['front_max']:.0f} m, travel angle "
+         f"{r['travel_angle_deg']:.1f} deg (bound {r['mu_deg']:g} deg)": (r["x_end"], None)
+         for r in mu_runs}, label=None, size=(9, 2.1), axes=None, dots="C3",
+        title="final deposits of the friction back-analysis (cf. Fig 8.4)",
+        draw=lambda ax: _ground(ax, base, xmax))
     save_figure(fig, out / "deposits.png")
-
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.plot(base["t"], 100 * base["area_change"], label="adaptive alpha")
     if fixed_run is not None:
@@ -696,8 +656,7 @@ def figures(args, base, mu_runs, rho_runs, fixed_run):
     labelled(ax, "time after release [s]", "mass change [%]",
              "mass (detected area) change, alpha_n = m0 alpha0 / m_n", title_size=9)
     save_figure(fig, out / "mass_change.png")
-    write_summary(out, [_summary(r) for r in [base] + mu_runs + rho_runs
-                        + ([fixed_run] if fixed_run else [])])
+    write_summary(out, cases)
 
 
 if __name__ == "__main__":

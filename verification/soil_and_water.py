@@ -94,6 +94,11 @@ from pfem_skfem.pfem.measure import (energy_budget, height_at, mesh_energy, part
 
 QUICK = dict(nx=8, twin_steps=40, h=0.08, steps=100, t_end=3.0)
 CLAY = 0                # the tank scene's regions: (clay, water)
+#: the tank's measures printed beside the checks (all in the JSON's extra "tank")
+SHOWN = ("edge", "t_stop", "block_speed_at_end", "largest_rise", "level_mean", "level_expected",
+         "shift_refused", "step_motion_over_h", "energy_change_end", "energy_largest_rise",
+         "mesh_energy_change_end", "mesh_energy_largest_rise", "remeshing_potential",
+         "remeshing_kinetic", "steps_energy")
 
 def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, dt,
                keep_area=True, thin=0.4, spread_mass=False, alpha_advected=0.0,
@@ -154,8 +159,9 @@ def tank_level(area, L, beta):
 
 
 def run_tank(args, out):
-    """The block into the tank to --t-end: the series at each step and the books
-    (checkpointed in --checkpoint-dir, and resumed from there)."""
+    """The block into the tank to --t-end (checkpointed in --checkpoint-dir, and resumed from
+    there): the last state, and the series at each step with what they measure: the books,
+    the levels, the block's rest, the energies (:func:`~pfem_skfem.pfem.measure.energy_budget`)."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
     state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
@@ -212,10 +218,29 @@ def run_tank(args, out):
         series["fastest"].append(float(np.linalg.norm(state.v, axis=1).max()))
 
     run.advance(lambda run: run.state.step >= args.steps or run.state.n == 0, measure)
-    state, series = run.state, run.kept
+    state, series = run.state, {k: np.asarray(v) for k, v in run.kept.items()}
     books = region_books(scene, state0, state.history)
     first_area = float(state.history["area"][0])
-    return state, {k: np.asarray(v) for k, v in series.items()}, books, gauges, geo, first_area
+    stop = np.flatnonzero((series["block_x"] > geo["edge"])
+                          & (series["block_speed"] < args.rest_speed * np.sqrt(args.g * args.d)))
+    return state, {
+        **series, "gauges_x": gauges, "edge": geo["edge"], "foot": geo["foot"], "books": books,
+        "first_area": first_area, "level_expected": tank_level(first_area, args.L, args.beta),
+        "level_mean": float(np.nanmean(series["level"][series["t"] >= 0.5 * args.t_end])),
+        "level_without_block": tank_level(first_area - books["clay"]["area_first"], args.L,
+                                          args.beta),
+        "largest_rise": np.nanmax(series["gauges"], axis=0) - args.d,
+        "t_stop": float(series["t"][stop[0]]) if stop.size else np.nan,
+        "block_speed_at_end": float(series["block_speed"][-1]),
+        # steps whose volume projection failed (bounded_shift): kept unshifted, counted
+        "shift_refused": int(np.sum(state.history["volume_shift_refused"])),
+        # the fastest particle's motion in a step (the 99th percentile over the run), in h:
+        # a long run needs it below about a half (book: Water and mud, the time step)
+        "step_motion_over_h": float(np.percentile(series["fastest"], 99) * args.t_end
+                                    / args.steps / args.h),
+        **energy_budget(series["energy"], series["mesh_energy"]),           # J/m
+        # the particles at the end, for a picture (mm)
+        "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY}
 
 
 def twin_scene(material, rho, a, nx, *, mu_floor, g, dt, solver="clarabel"):
@@ -349,91 +374,58 @@ def run_twins(args, out):
 
 def run(args):
     out = Path(args.outdir) / "soil_and_water"
-    state, series, books, gauges, geo, first_area = run_tank(args, out)
+    state, tank = run_tank(args, out)
     twins = run_twins(args, out)
-
     report = Report("soil_and_water", args, particles=int(state.n),
                     clay_particles=int(np.sum(state.region == CLAY)))
+    books = tank["books"]
     for region in ("water", "clay"):
         report.add_interval(f"tank_{region}_mass_change", books[region]["mass"], 0.0, 1e-12,
                             "the particles carry each region's mass")
     report.add_interval("tank_area_change", books["all"]["area"], 0.0, args.tol_area_tank,
                         "the tank's area (its alpha-shape domain) kept")
-    report.add_interval("block_in_water", series["block_x"][-1] - geo["edge"], 0.0, np.inf,
+    report.add_interval("block_in_water", tank["block_x"][-1] - tank["edge"], 0.0, np.inf,
                         "the block's centre beyond the water's edge [m]")
-    u = np.sqrt(args.g * args.d)
-    inside = series["block_x"] > geo["edge"]
-    stop = np.flatnonzero(inside & (series["block_speed"] < args.rest_speed * u))
-    t_stop = float(series["t"][stop[0]]) if stop.size else np.nan
-    report.add_interval("block_stopped", float(series["block_speed"][inside].min() / u)
-                        if inside.any() else np.inf, 0.0, args.rest_speed,
+    report.add_interval("block_stopped", float(np.min(tank["block_speed"][
+                            tank["block_x"] > tank["edge"]], initial=np.inf)
+                            / np.sqrt(args.g * args.d)), 0.0, args.rest_speed,
                         "the block came to rest in the water: its least speed (of its centre "
                         "of mass) / sqrt(g d)")
-    # steps whose volume projection failed (bounded_shift): kept unshifted, counted
-    refused = int(np.sum(state.history["volume_shift_refused"]))
     # no particle can outrun a fall from the slope's top (1 m): a faster one is a blow-up
-    fastest = float(np.max(state.history["max_speed"]))
-    report.add_interval("fastest_over_free_fall", fastest / np.sqrt(2 * args.g * 1.0), 0.0,
-                        args.tol_speed, "the fastest vertex of any step against sqrt(2 g) "
-                        "(a fall from the slope's top)")
-    report.add_interval("projections_refused", refused / args.steps, 0.0, args.tol_refused,
+    report.add_interval("fastest_over_free_fall", float(np.max(state.history["max_speed"]))
+                        / np.sqrt(2 * args.g * 1.0), 0.0, args.tol_speed,
+                        "the fastest vertex of any step against sqrt(2 g) (a fall from the "
+                        "slope's top)")
+    report.add_interval("projections_refused", tank["shift_refused"] / args.steps, 0.0,
+                        args.tol_refused,
                         "the fraction of steps whose volume projection failed (bounded_shift)")
-    rise = np.nanmax(series["gauges"], axis=0) - args.d
-    report.add_interval("wave_at_gauges", float(rise.min() / args.h), 0.5, np.inf,
-                        "the block's wave raised the surface at both gauges, in h")
-    budget = energy_budget(series["energy"], series["mesh_energy"])        # J/m
-    gain, peak = budget["energy_largest_gain"], budget["kinetic_peak"]
+    report.add_interval("wave_at_gauges", float(tank["largest_rise"].min() / args.h), 0.5,
+                        np.inf, "the block's wave raised the surface at both gauges, in h")
+    gain, peak = tank["energy_largest_gain"], tank["kinetic_peak"]
     report.add_interval("energy_gain_over_peak_kinetic", gain / peak if peak > 0 else np.inf,
                         0.0, args.tol_energy, "the particles' largest energy gain between two "
                         "instants / their peak kinetic energy")
-    # the fastest particle's motion in a step (the 99th percentile over the run), in h:
-    # a long run needs it below about a half (book: Water and mud, the time step)
-    motion = float(np.percentile(series["fastest"], 99) * args.t_end / args.steps / args.h)
-    late = series["t"] >= 0.5 * args.t_end
-    level = float(np.nanmean(series["level"][late]))
-    expected = tank_level(first_area, args.L, args.beta)
     for name, tw in twins.items():
         report.add_interval(f"{name}_mass_change", tw["books"]["column"]["mass"], 0.0, 1e-12,
                             "the particles carry the column's mass")
         report.add_interval(f"{name}_area_change", tw["books"]["all"]["area"], 0.0,
                             args.tol_area, "the column's area (its alpha-shape domain) kept")
-    granular, water = twins["granular"], twins["water"]
-    report.add_interval("water_over_granular_front", water["Z"][-1] / granular["Z"][-1], 1.0,
-                        np.inf, "water (no strength) runs further than phi = 30")
-    report.extra = {"tank": {**series, "gauges_x": gauges, "edge": geo["edge"],
-                             "foot": geo["foot"], "books": books, "first_area": first_area,
-                             "level_expected": expected, "level_mean": level,
-                             "level_without_block": tank_level(first_area - books[
-                                 "clay"]["area_first"], args.L, args.beta),
-                             "largest_rise": rise, "t_stop": t_stop,
-                             "block_speed_at_end": float(series["block_speed"][-1]),
-                             "shift_refused": refused, "step_motion_over_h": motion,
-                             **budget,
-                             # the particles at the end, for a picture (mm)
-                             "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY},
-                    "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
-                              for k, v in twins.items()}}
-    print(f"block: centre x {series['block_x'][0]:.3f} -> {series['block_x'][-1]:.3f} m "
-          f"(the water's edge {geo['edge']:.3f}), at rest at t = {t_stop:.2f} s, its speed at "
-          f"the end {series['block_speed'][-1]:.3f} m/s; the surface at the gauges rose at most "
-          f"{rise[0]:.3f}, {rise[1]:.3f} m; mean level over the second half {level:.4f} m "
-          f"(still, with the block in: {expected:.4f}; before {args.d:g}); the clay's own "
-          f"area {books['clay']['area_final']:+.1%} at the end; {refused} volume shift(s) "
-          f"refused; the fastest particle moves {motion:.2f} h a step (99th percentile); the "
-          f"particles' energy {budget['energy_change_end']:+.0f} J/m by the end (largest rise "
-          f"in a step {budget['energy_largest_rise']:+.1f}); the step's own (element masses) "
-          f"{budget['mesh_energy_change_end']:+.0f} J/m from step 1 (largest rise "
-          f"{budget['mesh_energy_largest_rise']:+.1f}), the remeshings adding "
-          f"{budget['remeshing_potential']:+.0f} J/m of potential energy and "
-          f"{budget['remeshing_kinetic']:+.0f} J/m of kinetic energy, the steps "
-          f"{budget['steps_energy']:+.0f} J/m")
-    print(f"twins at T = 4: water Z = {water['Z'][-1]:.2f}, granular Z = {granular['Z'][-1]:.2f}")
-    report.data = dict(state=state, series=series, gauges=gauges, twins=twins,
-                       expected=expected)
+    report.add_interval("water_over_granular_front", twins["water"]["Z"][-1]
+                        / twins["granular"]["Z"][-1], 1.0, np.inf,
+                        "water (no strength) runs further than phi = 30")
+    report.extra = {"tank": tank, "twins": {k: {kk: v[kk] for kk in ("T", "Z", "speed", "books")}
+                                            for k, v in twins.items()}}
+    report.add_table("the tank", ["measure", "value"],
+                     [("block_x at the start, at the end", np.round(tank["block_x"][[0, -1]], 3)),
+                      ("clay's own area change at the end", books["clay"]["area_final"]),
+                      *((k, tank[k]) for k in SHOWN)])
+    report.add_table("the twins at T = 4", ["twin", "front Z"],
+                     [(k, tw["Z"][-1]) for k, tw in twins.items()])
+    report.data = dict(state=state, tank=tank, twins=twins)
     return report
 
 
-def figures(args, state, series, gauges, twins, expected):
+def figures(args, state, tank, twins):
     """The tank at the end, its surface against time, the twins' fronts and particles."""
     fig, ax = pyplot().subplots(2, 2, figsize=(12, 8))
     ax = ax.ravel()
@@ -442,19 +434,18 @@ def figures(args, state, series, gauges, twins, expected):
     ax[0].plot(state.x[clay, 0], state.x[clay, 1], ".", ms=3, color="saddlebrown", label="clay")
     labelled(ax[0], "x [m]", "y [m]", f"block into the tank, t = {args.t_end:g} s"
              ).set_aspect("equal")
-    for k, xg in enumerate(gauges):
-        ax[1].plot(series["t"], series["gauges"][:, k], lw=0.8, label=f"gauge x = {xg:.2f} m")
-    ax[1].plot(series["t"], series["level"], "k", label="mean level")
-    ax[1].axhline(expected, color="r", ls="--", label="level with the block in (area)")
+    for k, xg in enumerate(tank["gauges_x"]):
+        ax[1].plot(tank["t"], tank["gauges"][:, k], lw=0.8, label=f"gauge x = {xg:.2f} m")
+    ax[1].plot(tank["t"], tank["level"], "k", label="mean level")
+    ax[1].axhline(tank["level_expected"], color="r", ls="--",
+                  label="level with the block in (area)")
     ax[1].axhline(args.d, color="grey", ls=":", label="still water before")
     labelled(ax[1], "t [s]", "surface [m]", "the water's surface")
     for name, tw in twins.items():
         ax[2].plot(tw["T"], tw["Z"], label=name)
-        x = tw["points"] / args.a
-        ax[3].plot(x[:, 0], x[:, 1], ".", ms=2, label=name)
+        ax[3].plot(*(tw["points"] / args.a).T, ".", ms=2, label=name)
     labelled(ax[2], "T = t sqrt(2g/a)", "front Z = z/a", "dam break: water and its granular twin")
     labelled(ax[3], "x / a", "y / a", "the columns at T = 4").set_aspect("equal")
-    fig.tight_layout()
     save_figure(fig, figure_dir(args, "soil_and_water") / "soil_and_water.png")
 
 
