@@ -40,3 +40,20 @@ def test_the_strip_footings_nc_is_the_same_at_every_width(B):
     nc = [strip_footing.nc_limit(m, Tresca(100.0), c=100.0, B=b)[0]
           for m, b in ((base, 1.0), (moved, B))]
     assert nc[1] == pytest.approx(nc[0], rel=1e-7)
+
+
+def test_a_strip_footing_run_on_one_coarse_mesh_is_checked_as_a_coarse_mesh(tmp_path):
+    """``strip_footing --elements 100`` (the option audit's shortened list): its finest mesh
+    is a coarse one, which overshoots Prandtl's Nc by several per cent (115 elements: 7 %,
+    above the quick 5 %), so its checks take the coarse meshes' tolerance, not the fine's;
+    a mesh of the thesis' middle size keeps the fine tolerance."""
+    from verification import strip_footing
+    out = tmp_path / "strip.json"
+    code = strip_footing.main(["--quick", "--elements", "100", "--increments", "5", "--phi",
+                               "--no-figures", "--quiet", "--json", str(out)])
+    assert code == 0
+    import json
+    rows = {q["name"]: q for q in json.loads(out.read_text())["quantities"]}
+    assert rows["Nc_limit_analysis"]["rel_error"] > 0.05            # it does overshoot
+    assert rows["Nc_limit_analysis"]["tolerance"] == strip_footing.COARSE_TOL
+    assert strip_footing.COARSE <= 400          # the quick finest mesh keeps its 5 %

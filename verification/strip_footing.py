@@ -46,6 +46,11 @@ from pfem_skfem.harness.options import (base_parser, element_count, material_opt
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
+#: meshes coarser than the thesis' middle one (390 elements) overshoot Prandtl's Nc by
+#: several per cent (Fig 3.4, 3.6; measured here: 7.2 % at 115 elements, 3.2 % at 227, 0.6 %
+#: at 414): their checks take COARSE_TOL, whatever their rank in --elements
+COARSE, COARSE_TOL = 390, 0.10
+
 QUICK = dict(elements=[100, 400], increments=[5, 10], phi=[10, 30], mc_elements=400,
              mc_increments=10)
 
@@ -182,14 +187,19 @@ def run(args):
 
     finest = max(args.elements), max(args.increments)
     tol = args.tol_tresca if args.tol_tresca is not None else (0.05 if args.quick else 0.01)
+    if finest[0] < COARSE:          # the finest mesh is itself a coarse one: it overshoots
+        tol, note = max(tol, COARSE_TOL), f"; under {COARSE} elements: overshoots"
+    else:
+        note = ""
     src = "Prandtl Nc = 2 + pi"
-    report.add("Nc", curves[finest][1][-1], nc_ref, src + " (finest mesh, most increments)", tol)
-    report.add("Nc_limit_analysis", limits[max(args.elements)], nc_ref, src + " (finest mesh)",
-               tol)
+    report.add("Nc", curves[finest][1][-1], nc_ref,
+               src + " (finest mesh, most increments" + note + ")", tol)
+    report.add("Nc_limit_analysis", limits[max(args.elements)], nc_ref,
+               src + " (finest mesh" + note + ")", tol)
     for n_el in sorted(args.elements)[:-1]:
         # coarser meshes: the thesis reports overshoot of a few percent (Fig 3.4, 3.6)
         report.add(f"Nc_limit_{models[n_el]['n_elements']}el", limits[n_el], nc_ref,
-                   src + " (coarser mesh; thesis: overshoots)", 0.10)
+                   src + " (coarser mesh; thesis: overshoots)", COARSE_TOL)
 
     mc = {}
     if args.phi:
