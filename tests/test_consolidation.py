@@ -315,3 +315,21 @@ def test_a_drained_step_is_the_static_step(criterion):
         assert state.sigma == approx(ref.sigma, abs=1e-6 * np.abs(ref.sigma).max())
         assert state.reactions == approx(ref.reactions, abs=1e-6 * np.abs(ref.reactions).max())
         assert np.abs(state.p).max() < 1e-9 * np.abs(ref.sigma).max()
+
+
+def test_the_undrained_references_hold_for_a_compressible_fluid():
+    """``consolidation --M-inv`` away from 0 (the option audit): the first step of the strip
+    load matches the P2/P1 mixed solve with the storage block M_p / M (1e-5, as at 1/M = 0),
+    and Skempton's B and nu_u go from (1, 1/2) at 1/M = 0 to (0, nu') as 1/M grows."""
+    from verification import consolidation as script
+    args = script.build_parser().parse_args(["--quick", "--M-inv", "1e-4"])
+    du_err, p_err = script.undrained_strip(args)
+    assert du_err <= 1e-5 and p_err <= 1e-5
+    B, nu_u = script.undrained_moduli(args)
+    K = args.E / (3 * (1 - 2 * args.nu))
+    assert B == approx(1e4 / (K + 1e4), rel=1e-12)                  # M / (K + M)
+    assert args.nu < nu_u < 0.5
+    assert script.undrained_moduli(script.build_parser().parse_args(["--quick"])) == (1.0, 0.5)
+    soft = script.build_parser().parse_args(["--quick", "--M-inv", "1e6"])
+    assert script.undrained_moduli(soft)[0] < 1e-9
+    assert script.undrained_moduli(soft)[1] == approx(soft.nu, abs=1e-6)
