@@ -1,7 +1,9 @@
 """Independent cases on Dask (:func:`run_cases`): a local cluster or one at ``--scheduler``,
 the cases' bars forwarded, failures reported with their case (:class:`SweepError`), and
 the result cache of ``--results-dir`` (:func:`result_path`); a study's named groups of
-cases (its sweep, its variants) run as one sweep by :func:`run_groups`.
+cases (its sweep, its variants) run as one sweep by :func:`run_groups`, their results
+by group (:func:`grouped`) and whether kept results were made in one sitting
+(:func:`one_sitting`).
 """
 from pathlib import Path
 
@@ -128,6 +130,29 @@ def run_study(function, groups, args, *, desc="cases"):
                  f"case(s) on {args.scheduler or str(args.workers) + ' worker(s)'}")
     return run_groups(function, groups, args.workers, desc=desc, scheduler=args.scheduler,
                       results_dir=args.results_dir)
+
+
+def grouped(rows, by, order=None):
+    """A study's results by group: {value of ``by``, increasing: the rows (dicts) that have
+    it, in increasing ``order`` (a key of the rows; None: as given)}, e.g. the cases of a
+    friction study at each aspect ratio, from the least angle to the largest."""
+    groups = {}
+    for row in rows:
+        groups.setdefault(row[by], []).append(row)
+    return {value: rows if order is None else sorted(rows, key=lambda row: row[order])
+            for value, rows in sorted(groups.items())}
+
+
+def one_sitting(what, *results):
+    """Whether ``results`` (of :func:`run_cases`, each with its ``sitting``, None if
+    unknown) were made in one sitting; if not, says so: a pair compared to round-off taken
+    from --results-dir may come from two machines or versions, and would measure them."""
+    sittings = [r.get("sitting") for r in results]
+    same = None not in sittings and len(set(sittings)) == 1
+    if not same:
+        print(f"\nthe {what} may come from two sittings ({'; '.join(map(str, sittings))}): "
+              "if it differs, run both again in one sitting")
+    return same
 
 
 def _call(function, keywords, forward=None):
