@@ -224,3 +224,22 @@ def test_a_pair_from_two_sittings_is_said_to_be(capsys):
     assert "density pair may come from two sittings (m 1; m 2)" in capsys.readouterr().out
     assert not one_sitting("pair", {"sitting": None}, {"sitting": None})     # unknown: said
     assert "(None; None)" in capsys.readouterr().out
+
+
+def test_a_case_listed_in_two_groups_runs_once(capsys):
+    from pfem_skfem.harness.options import sweep_options
+    from pfem_skfem.harness.sweeps import run_study
+
+    calls = []
+    sweep = [dict(x=x, calls=calls) for x in (1, 2)]
+    groups = {"sweep": sweep, "study": [dict(x=3, calls=calls), sweep[1]], "one": sweep[0]}
+    args = sweep_options(argparse.ArgumentParser()).parse_args(["--workers", "1"])
+    args.progress = True
+    assert run_study(_counted, groups, args) == {"sweep": [1, 4], "study": [9, 4], "one": 1}
+    assert sorted(calls) == [1, 2, 3]                          # each object once
+    assert "3 case(s) on 1 worker(s)" in capsys.readouterr().err
+
+
+def _counted(x, calls):
+    calls.append(x)
+    return x * x

@@ -394,29 +394,25 @@ def run(args):
     if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
         base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
+    sweep = {case["a"]: case for case in groups["sweep"]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
-    a_first = sorted(args.a)[0]
-    groups["density"] = [dict(base, a=a_first, rho=r) for r in args.density if r != args.rho]
-    # a study's case equal to a sweep case is not run twice (it is taken from the sweep)
-    same_base = args.phi_s is None or args.phi_s == args.phi
+    groups["density"] = [dict(base, a=min(args.a), rho=r) for r in args.density if r != args.rho]
+    # a study's case equal to a sweep case is the sweep's, listed last (run once: run_groups)
+    same_base, phi_s = args.phi_s is None or args.phi_s == args.phi, args.phi_s or args.phi
     groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
                           for p in args.friction_study
-                          if not (p == args.phi and same_base and a in args.a)]
+                          if not (p == args.phi and same_base and a in sweep)] + [
+        sweep[a] for a in args.friction_a if args.phi in args.friction_study and same_base
+        and a in sweep]
     groups["base"] = [dict(base, a=a, phi_s=p) for a in args.base_a for p in args.base_study
-                      if not (p == (args.phi_s or args.phi) and a in args.a)]
+                      if not (p == phi_s and a in sweep)] + [
+        sweep[a] for a in args.base_a if phi_s in args.base_study and a in sweep]
     groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
     groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
                                history=True)] if args.history else [])
     res = run_study(run_case, groups, args, desc="columns of revolution")
     sweep = res["sweep"]
-    by_a = {r["a"]: r for r in sweep}
-    if args.friction_study:
-        res["friction"] += [by_a[a] for a in args.friction_a
-                            if args.phi in args.friction_study and same_base and a in by_a]
-    if args.base_study:
-        res["base"] += [by_a[a] for a in args.base_a
-                        if (args.phi_s or args.phi) in args.base_study and a in by_a]
 
     report = Report("granular_column_axisymmetric", args)
     for r in sweep:

@@ -111,14 +111,24 @@ def run_groups(function, groups, workers=1, *, desc="cases", scheduler=None,
     ``{"main": dict(base, mu=0.2), "friction": [dict(base, mu=m) for m in mus]}``; the
     answer is {name: the case's result, or the list of its cases' results, in order}. All
     the cases share the workers (a group of one case does not wait for another group), and
-    a failure is reported as :func:`run_cases` reports it (:class:`SweepError`).
+    a failure is reported as :func:`run_cases` reports it (:class:`SweepError`). A case
+    listed in several groups (the same dict: a sweep's case that a study takes as one of
+    its own) runs once, its result given to each.
     """
     single = {name: isinstance(cases, dict) for name, cases in groups.items()}
     listed = {name: [cases] if single[name] else list(cases) for name, cases in groups.items()}
-    results = iter(run_cases(function, [c for cases in listed.values() for c in cases],
-                             workers, desc=desc, scheduler=scheduler, results_dir=results_dir))
-    out = {name: [next(results) for _ in cases] for name, cases in listed.items()}
+    cases = _distinct(listed)
+    results = dict(zip(map(id, cases), run_cases(function, cases, workers, desc=desc,
+                                                 scheduler=scheduler, results_dir=results_dir)))
+    out = {name: [results[id(c)] for c in cases] for name, cases in listed.items()}
     return {name: rs[0] if single[name] else rs for name, rs in out.items()}
+
+
+def _distinct(groups):
+    """The cases of ``groups`` ({name: a case or a list of cases}), each object once, in the
+    order first listed."""
+    listed = ([cases] if isinstance(cases, dict) else cases for cases in groups.values())
+    return list({id(c): c for cases in listed for c in cases}.values())
 
 
 def run_study(function, groups, args, *, desc="cases"):
@@ -126,8 +136,8 @@ def run_study(function, groups, args, *, desc="cases"):
     in ``args`` (``--workers``, ``--scheduler``, ``--results-dir``), saying first, with
     ``--progress``, how many cases run where."""
     if getattr(args, "progress", False):
-        progress(f"{sum(1 if isinstance(c, dict) else len(c) for c in groups.values())} "
-                 f"case(s) on {args.scheduler or str(args.workers) + ' worker(s)'}")
+        progress(f"{len(_distinct(groups))} case(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     return run_groups(function, groups, args.workers, desc=desc, scheduler=args.scheduler,
                       results_dir=args.results_dir)
 
