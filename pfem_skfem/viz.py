@@ -284,6 +284,63 @@ def plot_order(ax, sizes, errors, label, *, slope=None):
                   label=f"slope {abs(slope):g}")
 
 
+def plot_groups(axes, series, x, ys, *, curves=(), log=False, labels=None):
+    """Groups of cases beside curves (fits), one quantity a panel: the figure of a study
+    that compares measured points with a formula, or cases along a parameter.
+
+    ``series``: (label, rows, format) each, ``rows`` dicts drawn as their ``x`` against their
+    ``ys[i]`` on ``axes[i]`` in increasing ``x`` (a group without rows is left out);
+    ``curves``: (panel, x values, y values, format, label) each, drawn first; ``log``:
+    log-log axes; ``labels``: (x label, the y label of each panel[, a title for every
+    panel]) labels the panels and draws their legends (:func:`~pfem_skfem.harness.figures
+    .labelled`). Returns ``axes``."""
+    from .harness.figures import labelled
+
+    def draw(ax, *line, **keywords):
+        return (ax.loglog if log else ax.plot)(*line, **keywords)
+
+    for panel, cx, cy, fmt, label in curves:
+        draw(axes[panel], cx, cy, fmt, label=label)
+    for label, rows, fmt in series:
+        rows = sorted(rows, key=lambda r: r[x])
+        for ax, y in zip(axes, ys if rows else ()):
+            draw(ax, [r[x] for r in rows], [r[y] for r in rows], fmt, label=label)
+    for ax, ylabel in zip(axes, labels[1] if labels else ()):
+        labelled(ax, labels[0], ylabel, *labels[2:], title_size=9)
+    return axes
+
+
+def groups_figure(path, title, series, x, ys, **panels):
+    """One row of :func:`plot_groups` panels (5 x 4 inches each), titled ``title``, saved at
+    ``path`` (the keywords ``panels`` are :func:`plot_groups`'); returns ``path``."""
+    from .harness.figures import pyplot, save_figure
+
+    fig, axes = pyplot().subplots(1, len(ys), figsize=(5 * len(ys), 4), squeeze=False)
+    plot_groups(axes[0], series, x, ys, **panels)
+    fig.suptitle(title)
+    save_figure(fig, path)
+    return path
+
+
+def plot_mass_profiles(axes, deposits, *, scale=1.0, title=None):
+    """Deposits compared as their particles and as their mass by radius, on a pair of
+    panels: the particles, r and z over ``scale``, on ``axes[0]`` (with ``title``), and the
+    share of the mass within each radius (:func:`~pfem_skfem.pfem.measure.mass_within`) on
+    ``axes[1]``, whose largest difference between two deposits is
+    :func:`~pfem_skfem.pfem.measure.mass_moved`. ``deposits``: (label, points, masses) each."""
+    from .harness.figures import labelled
+    from .pfem.measure import mass_within
+
+    for label, points, mass in deposits:
+        r, z = np.asarray(points, dtype=float)[:, 0], np.asarray(points, dtype=float)[:, 1]
+        axes[0].plot(r / scale, z / scale, ".", ms=2, label=label)
+        radii, share = mass_within(r, mass)
+        axes[1].step(radii / scale, share, where="post", label=label)
+    labelled(axes[0], "r / r0", "z / r0", title, title_size=9).set_aspect("equal")
+    labelled(axes[1], "r / r0", "share of the mass within r")
+    return axes
+
+
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,
                show_edges=True, window_size=(1200, 800), timeout=300, title=None,
                bar_title=None, axes="m"):

@@ -141,3 +141,42 @@ def test_a_convergence_study_with_the_slope_expected():
     assert ax.get_xscale() == ax.get_yscale() == "log"
     assert figure_problems(fig) == []
     pyplot().close(fig)
+
+
+def test_groups_of_cases_beside_their_fits_one_quantity_a_panel(tmp_path):
+    from pfem_skfem.viz import groups_figure, plot_groups
+
+    fig, ax = pyplot().subplots(1, 2, figsize=(10, 4))
+    a = np.array([0.5, 1.0, 2.0])
+    rows = [dict(a=2.0, r=3.0, h=1.1), dict(a=0.5, r=0.6, h=0.5)]     # drawn in increasing a
+    plot_groups(ax, [("PFEM", rows, "o"), ("none", [], "s")], "a", ("r", "h"), log=True,
+                curves=[(0, a, 1.2 * a, "k-", "fit")],
+                labels=("a", ("run-out", "height"), "columns"))
+    fit, ours = ax[0].get_lines()
+    assert fit.get_label() == "fit" and ours.get_label() == "PFEM"
+    assert list(ours.get_xdata()) == [0.5, 2.0] and list(ours.get_ydata()) == [0.6, 3.0]
+    assert list(ax[1].get_lines()[0].get_ydata()) == [0.5, 1.1]
+    assert "none" not in [line.get_label() for a_ in ax for line in a_.get_lines()]
+    assert ax[0].get_xscale() == "log" and ax[1].get_title() == "columns"
+    assert ax[1].get_ylabel() == "height" and ax[0].get_legend() is not None
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+    path = groups_figure(tmp_path / "study.png", "a study", [("a = 1", rows, "o-")], "a",
+                         ("r", "h"), labels=("a", ("run-out", "height")))
+    assert path.is_file()
+
+
+def test_deposits_compared_by_their_particles_and_their_mass_within_a_radius():
+    from pfem_skfem.viz import plot_mass_profiles
+
+    fig, ax = pyplot().subplots(2, 1, figsize=(5, 6))
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 1.0]])
+    plot_mass_profiles(ax, [("rough", points, np.ones(3)), ("smooth", 2 * points, np.ones(3))],
+                       scale=2.0, title="a = 1")
+    rough = ax[0].get_lines()[0]
+    assert list(rough.get_xdata()) == [0.0, 0.5, 1.0] and list(rough.get_ydata()) == [0, 0, 0.5]
+    share = ax[1].get_lines()[1].get_ydata()
+    assert share[-1] == pytest.approx(1.0) and np.all(np.diff(share) >= 0)
+    assert ax[0].get_title() == "a = 1" and ax[0].get_aspect() == 1.0
+    assert figure_problems(fig) == []
+    pyplot().close(fig)

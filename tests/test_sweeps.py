@@ -202,3 +202,44 @@ def test_a_study_runs_its_groups_with_the_sweep_options_and_says_where(tmp_path,
     args.progress = False
     assert run_study(_power, groups, args, desc="powers") == {"main": 3, "squares": [1, 4]}
     assert "case(s) on" not in capsys.readouterr().err
+
+
+def test_a_study_s_results_by_group_in_increasing_order():
+    from pfem_skfem.harness.sweeps import grouped
+
+    rows = [dict(a=4.0, phi=30), dict(a=0.5, phi=35), dict(a=4.0, phi=25), dict(a=0.5, phi=20)]
+    by_a = grouped(rows, "a", "phi")
+    assert list(by_a) == [0.5, 4.0]
+    assert [r["phi"] for r in by_a[0.5]] == [20, 35] and [r["phi"] for r in by_a[4.0]] == [25, 30]
+    assert [r["phi"] for r in grouped(rows, "a")[4.0]] == [30, 25]      # no order: as given
+    assert grouped([], "a") == {}
+
+
+def test_a_pair_from_two_sittings_is_said_to_be(capsys):
+    from pfem_skfem.harness.sweeps import one_sitting
+
+    assert one_sitting("density pair", {"sitting": "m 1"}, {"sitting": "m 1"})
+    assert capsys.readouterr().out == ""
+    assert not one_sitting("density pair", {"sitting": "m 1"}, {"sitting": "m 2"})
+    assert "density pair may come from two sittings (m 1; m 2)" in capsys.readouterr().out
+    assert not one_sitting("pair", {"sitting": None}, {"sitting": None})     # unknown: said
+    assert "(None; None)" in capsys.readouterr().out
+
+
+def test_a_case_listed_in_two_groups_runs_once(capsys):
+    from pfem_skfem.harness.options import sweep_options
+    from pfem_skfem.harness.sweeps import run_study
+
+    calls = []
+    sweep = [dict(x=x, calls=calls) for x in (1, 2)]
+    groups = {"sweep": sweep, "study": [dict(x=3, calls=calls), sweep[1]], "one": sweep[0]}
+    args = sweep_options(argparse.ArgumentParser()).parse_args(["--workers", "1"])
+    args.progress = True
+    assert run_study(_counted, groups, args) == {"sweep": [1, 4], "study": [9, 4], "one": 1}
+    assert sorted(calls) == [1, 2, 3]                          # each object once
+    assert "3 case(s) on 1 worker(s)" in capsys.readouterr().err
+
+
+def _counted(x, calls):
+    calls.append(x)
+    return x * x

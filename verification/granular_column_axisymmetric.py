@@ -70,10 +70,10 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
                                         pfem_options, solver_keyword,
                                         sweep_options, time_options)
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.sweeps import run_study
-from pfem_skfem.pfem.measure import deposit_extent, mass_moved, mass_within, wall_height
+from pfem_skfem.harness.sweeps import grouped, one_sitting, run_study
+from pfem_skfem.pfem.measure import deposit_extent, mass_moved, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
-from pfem_skfem.viz import snapshot_grid
+from pfem_skfem.viz import groups_figure, plot_mass_profiles, snapshot_grid
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
@@ -96,6 +96,7 @@ RUNOUT_GATED = (0.5, 1.0, 2.0, 4.0, 8.0)
 HEIGHT_GATED = (2.0, 6.0)
 MATERIALS = {"dp": ZeroDilationDruckerPrager, "mc": ZeroDilationMohrCoulombAxisymmetric}
 PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
+DEPOSIT = ("runout_over_r0", "h_inf_over_r0")      # the deposit at rest, as a case holds it
 
 
 def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
@@ -393,29 +394,25 @@ def run(args):
     if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
         base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
     groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
+    sweep = {case["a"]: case for case in groups["sweep"]}
     other = "mc" if args.material == "dp" else "dp"
     groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
-    a_first = sorted(args.a)[0]
-    groups["density"] = [dict(base, a=a_first, rho=r) for r in args.density if r != args.rho]
-    # a study's case equal to a sweep case is not run twice (it is taken from the sweep)
-    same_base = args.phi_s is None or args.phi_s == args.phi
+    groups["density"] = [dict(base, a=min(args.a), rho=r) for r in args.density if r != args.rho]
+    # a study's case equal to a sweep case is the sweep's, listed last (run once: run_groups)
+    same_base, phi_s = args.phi_s is None or args.phi_s == args.phi, args.phi_s or args.phi
     groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
                           for p in args.friction_study
-                          if not (p == args.phi and same_base and a in args.a)]
+                          if not (p == args.phi and same_base and a in sweep)] + [
+        sweep[a] for a in args.friction_a if args.phi in args.friction_study and same_base
+        and a in sweep]
     groups["base"] = [dict(base, a=a, phi_s=p) for a in args.base_a for p in args.base_study
-                      if not (p == (args.phi_s or args.phi) and a in args.a)]
+                      if not (p == phi_s and a in sweep)] + [
+        sweep[a] for a in args.base_a if phi_s in args.base_study and a in sweep]
     groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
     groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
                                history=True)] if args.history else [])
     res = run_study(run_case, groups, args, desc="columns of revolution")
     sweep = res["sweep"]
-    by_a = {r["a"]: r for r in sweep}
-    if args.friction_study:
-        res["friction"] += [by_a[a] for a in args.friction_a
-                            if args.phi in args.friction_study and same_base and a in by_a]
-    if args.base_study:
-        res["base"] += [by_a[a] for a in args.base_a
-                        if (args.phi_s or args.phi) in args.base_study and a in by_a]
 
     report = Report("granular_column_axisymmetric", args)
     for r in sweep:
@@ -466,7 +463,7 @@ def run(args):
                                                              for r in rs]).min(), 0.0, np.inf,
                             "run-out grows with a (Lube et al. 2004)")
     _studies(report, res, args)
-    report.extra = {**{k: [_summary(r) for r in v] for k, v in res.items()}, **report.extra}
+    report.extra = {**_summaries(res), **report.extra}
     report.data = res
     return report
 
@@ -482,11 +479,7 @@ def _studies(report, res, args):
                          title="\nthe material at each a of --compare-mc")
     for r in res["density"]:
         s = sweep[sorted(sweep)[0]]
-        if r.get("sitting") is None or r.get("sitting") != s.get("sitting"):
-            # kept results of two sittings: round-off grows through remeshing, so the pair
-            # would measure the machines, not the physics (runs/README.md)
-            print(f"\nthe density pair may come from two sittings ({s.get('sitting')}; "
-                  f"{r.get('sitting')}): if it differs, run both again in one sitting")
+        one_sitting("density pair", s, r)    # round-off grows through remeshing (runs/README.md)
         for key in ("runout_over_r0", "h_inf_over_r0"):
             report.add(f"density_rho{r['rho']:g}_{key}", r[key], s[key],
                        f"c = 0: the deposit of rho = {s['rho']:g} (every force scales with rho)",
@@ -495,43 +488,34 @@ def _studies(report, res, args):
     for name, title, key, rows in (
             ("friction study", "friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
             ("base-friction study", "base-friction study (Fig 7.11)", "phi_s", res["base"])):
-        if not rows:
-            continue
-        table, changes = [], []
-        for a in sorted({r["a"] for r in rows}):
-            rs = sorted((r for r in rows if r["a"] == a), key=lambda r: r[key])
-            table += [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
-                      for r in rs]
-            if len(rs) < 2:
-                continue
-            lo, hi = rs[0], rs[-1]
+        by_a = grouped(rows, "a", key)
+        changes = [[a, rs[0][key], rs[-1][key], *deposit_change(rs[0], rs[-1], key == "phi_s")]
+                   for a, rs in by_a.items() if len(rs) > 1]
+        for a, _, _, dh, dr, change, *moved in changes:
             tag = f"{'friction' if key == 'phi' else 'base'}_a{a:g}"
-            dh = hi["h_inf_over_r0"] - lo["h_inf_over_r0"]
-            dr = hi["runout_over_r0"] - lo["runout_over_r0"]
-            change = abs(dr) / max(abs(lo["runout_over_r0"]), 1e-12)
-            changes.append([a, lo[key], hi[key], dh, dr, change])
             if key == "phi":
                 report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
                                     "Fig 7.10: a larger phi_g gives a shorter deposit")
                 if a > 0.74:       # a short column keeps its top whatever phi_g
                     report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
                                         "Fig 7.10: a larger phi_g gives a higher deposit")
+                continue
+            effect[a] = {"runout_relative_change": change, "mass_moved": moved[0]}
+            if a <= 0.5:           # the profile, not the end of its thin tail (book)
+                report.add_interval(f"{tag}_mass_moved", moved[0], 0.0, 0.05,
+                                    "Fig 7.11: little effect of phi_s on the deposit at "
+                                    "a = 0.5 (below 5 % of the mass)")
             else:
-                moved = _mass_moved(lo, hi)
-                effect[a] = {"runout_relative_change": change, "mass_moved": moved}
-                changes[-1].append(moved)
-                if a <= 0.5:       # the profile, not the end of its thin tail (book)
-                    report.add_interval(f"{tag}_mass_moved", moved, 0.0, 0.05,
-                                        "Fig 7.11: little effect of phi_s on the deposit at "
-                                        "a = 0.5 (below 5 % of the mass)")
-                else:
-                    report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
-                                        "Fig 7.11: a rougher base gives a shorter deposit")
-                    report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
-                                        "Fig 7.11: a rougher base gives a higher deposit")
-        report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"], table,
-                         formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
-                                  "t_rest": ".2f"}, title="\n" + title)
+                report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
+                                    "Fig 7.11: a rougher base gives a shorter deposit")
+                report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
+                                    "Fig 7.11: a rougher base gives a higher deposit")
+        if rows:
+            report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"],
+                             [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
+                              for a, rs in by_a.items() for r in rs],
+                             formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
+                                      "t_rest": ".2f"}, title="\n" + title)
         if changes:
             report.add_table(f"{name}, changes",
                              ["a", f"{key} from", "to", "dh/r0", "d(r-r0)/r0", "relative"]
@@ -569,6 +553,16 @@ def _studies(report, res, args):
                   "simulation, whose final radius is slightly larger")
 
 
+def deposit_change(lo, hi, mass=False):
+    """How the deposit at rest changes from case ``lo`` to case ``hi`` (two friction angles,
+    say): [dh/r0, d(r - r0)/r0, the run-out's relative change |d(r - r0)| / (r - r0) of
+    ``lo``], and with ``mass`` the mass moved across a radius (:func:`_mass_moved`)."""
+    dr = hi["runout_over_r0"] - lo["runout_over_r0"]
+    change = abs(dr) / max(abs(lo["runout_over_r0"]), 1e-12)
+    return [hi["h_inf_over_r0"] - lo["h_inf_over_r0"], dr, change] + (
+        [_mass_moved(lo, hi)] if mass else [])
+
+
 def _mass_moved(lo, hi):
     """:func:`mass_moved` between the deposits at rest of two cases (nan, said, for a
     kept result made before the rest state kept its masses: run it again)."""
@@ -587,14 +581,16 @@ def main(argv=None):
 HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
 
 
-def _summary(r):
-    """A case without its snapshots, its histories thinned."""
-    return thinned(r, HISTORIES, drop=("snapshots", "track"))
+def _summaries(groups):
+    """The cases of each group without their snapshots, their histories thinned."""
+    return {k: [thinned(r, HISTORIES, drop=("snapshots", "track")) for r in v]
+            for k, v in groups.items()}
 
 
 def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(), history=()):
     """Velocity snapshots (Fig 7.5, 7.7), run-out and height against a with the fits
-    (Fig 7.8-7.9), the volume change, the time history (Fig 7.6), the studies (7.10-7.11)."""
+    (Fig 7.8-7.9), the volume change, the time history (Fig 7.6), the studies (7.10-7.11)
+    and the base-friction study's deposits at rest, their mass by radius (Fig 7.11)."""
     plt = pyplot()
     out = figure_dir(args, "granular_column_axisymmetric")
     rows = sorted(sweep, key=lambda r: r["a"])
@@ -607,22 +603,15 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
             limits=((0, 1.4 + max(r["runout_over_r0"], 0)), None))
         save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
     a_fit = np.logspace(-1, np.log10(20), 200)
-    r_fit, h_fit, _ = lube_2004(a_fit)
-    _, h_laj = lajeunesse_2004(a_fit)
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-    ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2004 (7.31)")
-    ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2004 (7.32)")
-    ax[1].loglog(a_fit, h_laj, "k--", label="Lajeunesse et al. 2004 (7.34)")
-    for group, mark in ((rows, "o"), (list(material), "s")):
-        if group:
-            g = sorted(group, key=lambda r: r["a"])
-            lab = f"PFEM, {g[0]['material']}, phi_g = {g[0]['phi']:g}"
-            ax[0].loglog([r["a"] for r in g], [r["runout_over_r0"] for r in g], mark, label=lab)
-            ax[1].loglog([r["a"] for r in g], [r["h_inf_over_r0"] for r in g], mark, label=lab)
-    labelled(ax[0], "a = h0 / r0", "(r_inf - r0) / r0")
-    labelled(ax[1], "a = h0 / r0", "h_inf / r0 (on the axis)")
-    fig.suptitle("final deposit vs aspect ratio, cf. Fig 7.8-7.9")
-    save_figure(fig, out / "deposit_vs_a.png")
+    (r_fit, h_fit, _), (_, h_laj) = lube_2004(a_fit), lajeunesse_2004(a_fit)
+    groups_figure(out / "deposit_vs_a.png", "final deposit vs aspect ratio, cf. Fig 7.8-7.9",
+                  [(f"PFEM, {g[0]['material']}, phi_g = {g[0]['phi']:g}", g, mark)
+                   for g, mark in ((rows, "o"), (list(material), "s")) if g],
+                  "a", DEPOSIT, log=True,
+                  curves=[(0, a_fit, r_fit, "k-", "Lube et al. 2004 (7.31)"),
+                          (1, a_fit, h_fit, "k-", "Lube et al. 2004 (7.32)"),
+                          (1, a_fit, h_laj, "k--", "Lajeunesse et al. 2004 (7.34)")],
+                  labels=("a = h0 / r0", ("(r_inf - r0) / r0", "h_inf / r0 (on the axis)")))
     fig, ax = plt.subplots(figsize=(6, 4))
     for r in rows:
         ax.plot(r["t_bar"], 100 * np.asarray(r["area_change"]), label=f"a = {r['a']:g}")
@@ -630,58 +619,31 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
              "volume of the detected domain")
     save_figure(fig, out / "volume_change.png")
     for r in history:
-        tr = r["track"]
+        t, h, toe = (np.asarray(r["track"][k]) for k in ("t_bar", "h_over_r0", "r_over_r0"))
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(tr["t_bar"], tr["h_over_r0"], "--", label="h(t)/r0 (PFEM)")
-        ax.plot(tr["t_bar"], np.asarray(tr["r_over_r0"]) - 1, "--", label="(r(t) - r0)/r0 (PFEM)")
-        ax.plot(tr["t_bar"], np.asarray(tr["h_over_r0"]) / np.asarray(tr["r_over_r0"]), "--",
-                label="h(t)/r(t) (PFEM)")
+        for y, label in ((h, "h(t)/r0"), (toe - 1, "(r(t) - r0)/r0"), (h / toe, "h(t)/r(t)")):
+            ax.plot(t, y, "--", label=f"{label} (PFEM)")
         labelled(ax, "t / sqrt(h0/g)", "h / r0, (r - r0) / r0, h / r",
                  "a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", title_size=9)
         save_figure(fig, out / "time_history.png")
-    for name, key, rows_s in (("friction_study", "phi", friction), ("base_study", "phi_s", base)):
-        if not rows_s:
-            continue
-        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-        for a in sorted({r["a"] for r in rows_s}):
-            rs = sorted((r for r in rows_s if r["a"] == a), key=lambda r: r[key])
-            ax[0].plot([r[key] for r in rs], [r["runout_over_r0"] for r in rs], "o-",
-                       label=f"a = {a:g}")
-            ax[1].plot([r[key] for r in rs], [r["h_inf_over_r0"] for r in rs], "o-",
-                       label=f"a = {a:g}")
-        labelled(ax[0], f"{key} [deg]", "(r_inf - r0) / r0")
-        labelled(ax[1], f"{key} [deg]", "h_inf / r0")
-        fig.suptitle("friction study (cf. Fig 7.10)" if key == "phi"
-                     else "base-friction study (cf. Fig 7.11)")
-        save_figure(fig, out / f"{name}.png")
-    kept = [r for r in base if "mass" in r["snapshots"]["rest"]]
-    if kept:
-        base_profiles(kept, out / "base_profiles.png")
-    write_summary(out, {k: [_summary(r) for r in v] for k, v in dict(
-        sweep=sweep, material=material, density=density, friction=friction, base=base,
-        mesh=mesh, history=history).items()})
-
-
-def base_profiles(rows, path):
-    """The deposits at rest of the base-friction study (cf. Fig 7.11), one column per a:
-    the particles (top) and the share of the mass within each radius (bottom), whose
-    largest difference is :func:`mass_moved`."""
-    plt = pyplot()
-    aspects = sorted({r["a"] for r in rows})
-    fig, ax = plt.subplots(2, len(aspects), figsize=(4.2 * len(aspects), 6), squeeze=False)
-    for j, a in enumerate(aspects):
-        for r in sorted((r for r in rows if r["a"] == a), key=lambda r: r["phi_s"]):
-            rest = r["snapshots"]["rest"]
-            x, z, m = rest["points"][:, 0], rest["points"][:, 1], rest["mass"]
-            label = f"phi_s = {r['phi_s']:g} deg"
-            ax[0, j].plot(x / r["r0"], z / r["r0"], ".", ms=2, label=label)
-            radii, share = mass_within(x, m)
-            ax[1, j].step(radii / r["r0"], share, where="post", label=label)
-        labelled(ax[0, j], "r / r0", "z / r0", f"a = {a:g}", title_size=9).set_aspect("equal")
-        labelled(ax[1, j], "r / r0", "share of the mass within r")
-    fig.suptitle("base-friction study: the deposits at rest (cf. Fig 7.11)")
-    fig.tight_layout()
-    save_figure(fig, path)
+    for name, key, cases, title in (("friction", "phi", friction, "friction study (cf. Fig 7.10)"),
+                                    ("base", "phi_s", base, "base-friction study (cf. Fig 7.11)")):
+        if cases:
+            groups_figure(out / f"{name}_study.png", title,
+                          [(f"a = {a:g}", rs, "o-") for a, rs in grouped(cases, "a").items()],
+                          key, DEPOSIT,
+                          labels=(f"{key} [deg]", ("(r_inf - r0) / r0", "h_inf / r0")))
+    kept = grouped([r for r in base if "mass" in r["snapshots"]["rest"]], "a", "phi_s")
+    if kept:                             # one column per a (the mass moved: mass_moved)
+        fig, ax = plt.subplots(2, len(kept), figsize=(4.2 * len(kept), 6), squeeze=False)
+        for j, (a, rs) in enumerate(kept.items()):
+            rest = [(f"phi_s = {r['phi_s']:g} deg", r["snapshots"]["rest"]) for r in rs]
+            plot_mass_profiles(ax[:, j], [(k, s["points"], s["mass"]) for k, s in rest],
+                               scale=rs[0]["r0"], title=f"a = {a:g}")
+        fig.suptitle("base-friction study: the deposits at rest (cf. Fig 7.11)")
+        save_figure(fig, out / "base_profiles.png")
+    write_summary(out, _summaries(dict(sweep=sweep, material=material, density=density,
+                                       friction=friction, base=base, mesh=mesh, history=history)))
 
 
 if __name__ == "__main__":

@@ -69,6 +69,7 @@ from pfem_skfem.harness.options import (base_parser, cohesionless_angle, in_rang
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
+from pfem_skfem.viz import plot_groups
 
 if __package__ in (None, ""):                     # run as a file: the repository's root
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -371,30 +372,21 @@ def figures(args, rows):
         a_fit = np.logspace(np.log10(0.3), np.log10(max(r["a"] for r in rs) * 1.3), 200)
         if geometry == "plane":
             h_fit, r_fit = plane.lube_thesis(a_fit)
-            ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2005 (thesis 6.6)")
-            ax[0].loglog(a_fit, plane.lube_lagree(a_fit), "k--",
-                         label="Lube et al. (Lagree et al.)")
-            ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2005 (thesis 6.5)")
+            curves = [(0, a_fit, r_fit, "k-", "Lube et al. 2005 (thesis 6.6)"),
+                      (0, a_fit, plane.lube_lagree(a_fit), "k--", "Lube et al. (Lagree et al.)"),
+                      (1, a_fit, h_fit, "k-", "Lube et al. 2005 (thesis 6.5)")]
             unit = "d0"
         else:
             r_fit, h_fit, _ = axi.lube_2004(a_fit)
-            ax[0].loglog(a_fit, r_fit, "k-", label="Lube et al. 2004 (7.31)")
-            ax[1].loglog(a_fit, h_fit, "k-", label="Lube et al. 2004 (7.32)")
-            ax[1].loglog(a_fit, axi.lajeunesse_2004(a_fit)[1], "k--",
-                         label="Lajeunesse et al. 2004 (7.34)")
+            curves = [(0, a_fit, r_fit, "k-", "Lube et al. 2004 (7.31)"),
+                      (1, a_fit, h_fit, "k-", "Lube et al. 2004 (7.32)"),
+                      (1, a_fit, axi.lajeunesse_2004(a_fit)[1], "k--",
+                       "Lajeunesse et al. 2004 (7.34)")]
             unit = "r0"
-        for law in LAWS:
-            g = sorted((r for r in rs if r["law"] == law), key=lambda r: r["a"])
-            if g:
-                a = [r["a"] for r in g]
-                ax[0].loglog(a, [r["runout"] for r in g], MARKS[law], label=f"PFEM, {law}")
-                ax[1].loglog(a, [r["height"] for r in g], MARKS[law], label=f"PFEM, {law}")
-        ax[0].set_ylabel(f"run-out / {unit}")
-        ax[1].set_ylabel(f"final height / {unit}")
-        for x in ax:
-            x.set_xlabel(f"a = h0 / {unit}")
-            x.set_title(f"{geometry} columns", fontsize=9)
-            x.legend(fontsize=7)
+        plot_groups(ax, [(f"PFEM, {law}", [r for r in rs if r["law"] == law], MARKS[law])
+                         for law in LAWS], "a", ("runout", "height"), log=True, curves=curves,
+                    labels=(f"a = h0 / {unit}", (f"run-out / {unit}", f"final height / {unit}"),
+                            f"{geometry} columns"))
     fig.tight_layout()
     save_figure(fig, figure_dir(args, "granular_column_mu_i") / "deposit_vs_a.png")
 

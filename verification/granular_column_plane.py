@@ -55,8 +55,9 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
                                         sweep_options, time_options)
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.sweeps import run_cases
+from pfem_skfem.harness.sweeps import grouped, run_cases
 from pfem_skfem.scene import Geostatic, column_scene
+from pfem_skfem.viz import groups_figure
 
 ASPECTS = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0)
 QUICK = dict(a=[1.0], nx=10, steps=100)
@@ -504,22 +505,13 @@ def figures(args, sweep, dt_study, mesh_study=()):
 
     a_fit = np.linspace(0.2, 8, 200)
     h_fit, r_fit = lube_thesis(a_fit)
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-    ax[0].plot(a_fit, h_fit, "k-", label="Lube et al. (thesis 6.5)")
-    ax[1].plot(a_fit, r_fit, "k-", label="Lube et al. (thesis 6.6)")
-    ax[1].plot(a_fit, lube_lagree(a_fit), "k--", label="Lube et al. (Lagree et al. 2011)")
-    for phi in sorted({r["phi"] for r in sweep}):
-        rs = sorted((r for r in sweep if r["phi"] == phi), key=lambda r: r["a"])
-        a = [r["a"] for r in rs]
-        ax[0].plot(a, [r["h_inf_over_d0"] for r in rs], "o", label=f"PFEM, phi = {phi:g}")
-        ax[1].plot(a, [r["runout_over_d0"] for r in rs], "o", label=f"PFEM, phi = {phi:g}")
-    ax[0].set_ylabel("h_inf / d0")
-    ax[1].set_ylabel("(d_inf - d0) / d0")
-    for x in ax:
-        x.set_xlabel("a = h0 / d0")
-        x.legend(fontsize=8)
-    fig.suptitle("final deposit vs aspect ratio, cf. Fig 6.13")
-    save_figure(fig, out / "deposit_vs_a.png")
+    groups_figure(out / "deposit_vs_a.png", "final deposit vs aspect ratio, cf. Fig 6.13",
+                  [(f"PFEM, phi = {phi:g}", rs, "o") for phi, rs in grouped(sweep, "phi").items()],
+                  "a", ("h_inf_over_d0", "runout_over_d0"),
+                  curves=[(0, a_fit, h_fit, "k-", "Lube et al. (thesis 6.5)"),
+                          (1, a_fit, r_fit, "k-", "Lube et al. (thesis 6.6)"),
+                          (1, a_fit, lube_lagree(a_fit), "k--", "Lube et al. (Lagree et al. 2011)")],
+                  labels=("a = h0 / d0", ("h_inf / d0", "(d_inf - d0) / d0")))
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     for r in (dt_study or rows):

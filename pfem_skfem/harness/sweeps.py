@@ -1,7 +1,9 @@
 """Independent cases on Dask (:func:`run_cases`): a local cluster or one at ``--scheduler``,
 the cases' bars forwarded, failures reported with their case (:class:`SweepError`), and
 the result cache of ``--results-dir`` (:func:`result_path`); a study's named groups of
-cases (its sweep, its variants) run as one sweep by :func:`run_groups`.
+cases (its sweep, its variants) run as one sweep by :func:`run_groups`, their results
+by group (:func:`grouped`) and whether kept results were made in one sitting
+(:func:`one_sitting`).
 """
 from pathlib import Path
 
@@ -109,14 +111,24 @@ def run_groups(function, groups, workers=1, *, desc="cases", scheduler=None,
     ``{"main": dict(base, mu=0.2), "friction": [dict(base, mu=m) for m in mus]}``; the
     answer is {name: the case's result, or the list of its cases' results, in order}. All
     the cases share the workers (a group of one case does not wait for another group), and
-    a failure is reported as :func:`run_cases` reports it (:class:`SweepError`).
+    a failure is reported as :func:`run_cases` reports it (:class:`SweepError`). A case
+    listed in several groups (the same dict: a sweep's case that a study takes as one of
+    its own) runs once, its result given to each.
     """
     single = {name: isinstance(cases, dict) for name, cases in groups.items()}
     listed = {name: [cases] if single[name] else list(cases) for name, cases in groups.items()}
-    results = iter(run_cases(function, [c for cases in listed.values() for c in cases],
-                             workers, desc=desc, scheduler=scheduler, results_dir=results_dir))
-    out = {name: [next(results) for _ in cases] for name, cases in listed.items()}
+    cases = _distinct(listed)
+    results = dict(zip(map(id, cases), run_cases(function, cases, workers, desc=desc,
+                                                 scheduler=scheduler, results_dir=results_dir)))
+    out = {name: [results[id(c)] for c in cases] for name, cases in listed.items()}
     return {name: rs[0] if single[name] else rs for name, rs in out.items()}
+
+
+def _distinct(groups):
+    """The cases of ``groups`` ({name: a case or a list of cases}), each object once, in the
+    order first listed."""
+    listed = ([cases] if isinstance(cases, dict) else cases for cases in groups.values())
+    return list({id(c): c for cases in listed for c in cases}.values())
 
 
 def run_study(function, groups, args, *, desc="cases"):
@@ -124,10 +136,33 @@ def run_study(function, groups, args, *, desc="cases"):
     in ``args`` (``--workers``, ``--scheduler``, ``--results-dir``), saying first, with
     ``--progress``, how many cases run where."""
     if getattr(args, "progress", False):
-        progress(f"{sum(1 if isinstance(c, dict) else len(c) for c in groups.values())} "
-                 f"case(s) on {args.scheduler or str(args.workers) + ' worker(s)'}")
+        progress(f"{len(_distinct(groups))} case(s) on "
+                 f"{args.scheduler or str(args.workers) + ' worker(s)'}")
     return run_groups(function, groups, args.workers, desc=desc, scheduler=args.scheduler,
                       results_dir=args.results_dir)
+
+
+def grouped(rows, by, order=None):
+    """A study's results by group: {value of ``by``, increasing: the rows (dicts) that have
+    it, in increasing ``order`` (a key of the rows; None: as given)}, e.g. the cases of a
+    friction study at each aspect ratio, from the least angle to the largest."""
+    groups = {}
+    for row in rows:
+        groups.setdefault(row[by], []).append(row)
+    return {value: rows if order is None else sorted(rows, key=lambda row: row[order])
+            for value, rows in sorted(groups.items())}
+
+
+def one_sitting(what, *results):
+    """Whether ``results`` (of :func:`run_cases`, each with its ``sitting``, None if
+    unknown) were made in one sitting; if not, says so: a pair compared to round-off taken
+    from --results-dir may come from two machines or versions, and would measure them."""
+    sittings = [r.get("sitting") for r in results]
+    same = None not in sittings and len(set(sittings)) == 1
+    if not same:
+        print(f"\nthe {what} may come from two sittings ({'; '.join(map(str, sittings))}): "
+              "if it differs, run both again in one sitting")
+    return same
 
 
 def _call(function, keywords, forward=None):
