@@ -32,6 +32,8 @@ class Cholesky:
         # the values are handed over in place, in the matrix's compressed-column order
         # (by column, then row), not rebuilt from triplets (a sort) each iteration
         self._order = np.lexsort((np.asarray(rows), np.asarray(cols)))
+        if np.array_equal(self._order, np.arange(self._order.size)):
+            self._order = None                       # given in that order already
 
     def factor(self, values):
         """The numeric factorisation with the lower triangle's ``values`` (in the order of
@@ -39,7 +41,8 @@ class Cholesky:
         self.factorisations += 1
         if self.n == 0:
             return
-        self._A.V = self._matrix(np.asarray(values, dtype=float)[self._order])
+        values = np.asarray(values, dtype=float)
+        self._A.V = self._matrix(values if self._order is None else values[self._order])
         try:
             self._cholmod.numeric(self._A, self._F)
         except ArithmeticError as error:

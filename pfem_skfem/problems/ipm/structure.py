@@ -250,6 +250,7 @@ class Structure:
         pressure alone, whose H^+ is constant)."""
         nE = self.E.shape[0]
         self.E_parts, keys, self.S_mask, self.S_groups = {}, [], {}, {}
+        self.E_grouped = {}
         en = [], [], []
         for size in self.blocks:
             dense, rows = self._dense_rows(size)
@@ -259,12 +260,18 @@ class Structure:
             if self.S_groups[size] is not None:       # one E_g H_g^+ E_g^T per group
                 order, group = self.S_groups[size]
                 on = rows[order[::group]]
+                m, r, s = dense.shape                 # E_g = [E_1 .. E_k], side by side
+                self.E_grouped[size] = np.ascontiguousarray(
+                    dense[order].reshape(m // group, group, r, s).transpose(0, 2, 1, 3)
+                    .reshape(m // group, r, group * s))
             i, k = on[:, :, None], on[:, None, :]
             ok = np.broadcast_to((i >= 0) & (k >= 0) & (i >= k),
                                  (on.shape[0], on.shape[1], on.shape[1]))
             self.S_mask[size] = ok
-            keys.append(np.broadcast_to(i, ok.shape)[ok].astype(np.int64) * nE
-                        + np.broadcast_to(k, ok.shape)[ok])
+            # keyed by (column, row): S's lower triangle in compressed-column order,
+            # the order CHOLMOD takes its values in
+            keys.append(np.broadcast_to(k, ok.shape)[ok].astype(np.int64) * nE
+                        + np.broadcast_to(i, ok.shape)[ok])
             Vn, null = self.null[size]
             if null.any():
                 EN = dense @ Vn
@@ -278,7 +285,7 @@ class Structure:
         self.EN = sp.csr_matrix((en_vals, (en_rows, en_cols)), shape=(nE, self.n_p))
         diag = np.arange(nE, dtype=np.int64) * (nE + 1)
         uniq, inverse = np.unique(np.concatenate(keys + [diag]), return_inverse=True)
-        self.S_rows, self.S_cols, self.S_nnz = uniq // nE, uniq % nE, uniq.size
+        self.S_rows, self.S_cols, self.S_nnz = uniq % nE, uniq // nE, uniq.size
         start, self.S_slots = 0, {}
         for size, key in zip(self.blocks, keys):
             self.S_slots[size] = inverse[start:start + key.size]
@@ -287,7 +294,7 @@ class Structure:
         self.S_fixed, self.S_pressures = np.zeros(self.S_nnz), np.zeros(self.S_nnz)
         if self.n_p:                     # the pressures' E_N E_N^T (times 1 / delta)
             C = sp.tril(self.EN @ self.EN.T).tocoo()
-            key = C.row.astype(np.int64) * nE + C.col
+            key = C.col.astype(np.int64) * nE + C.row
             slot = np.searchsorted(uniq, key)    # within the blocks' pattern: each
             np.add.at(self.S_pressures, slot, C.data)   # pressure's rows are its block's
         self.Hinv_fixed = {}
@@ -345,12 +352,16 @@ class Structure:
         """The blocks' E_b H_b^+ E_b^T of ``size`` in S's values, H_b^+ = U_b U_b^T;
         blocks on the same rows of E (an element's stress points) summed first, as
         [F_1 .. F_k] [F_1 .. F_k]^T: a third of the entries to scatter."""
-        F = self.E_parts[size][0] @ U
-        if self.S_groups[size] is not None:   # the blocks on the same rows side by side
+        if self.S_groups[size] is None:
+            F = self.E_parts[size][0] @ U
+        else:                                 # F_g = [E_1 U_1 .. E_k U_k], side by side
             order, k = self.S_groups[size]
-            m, r, s = F.shape
-            F = F[order].reshape(m // k, k, r, s).transpose(0, 2, 1, 3).reshape(
-                m // k, r, k * s)
+            Eg = self.E_grouped[size]
+            m, s = U.shape[0], U.shape[2]
+            Uo = U[order].reshape(m // k, k, s, s)
+            F = np.empty((m // k, Eg.shape[1], k * s))
+            for j in range(k):
+                np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * s:(j + 1) * s])
         S_b = F @ np.swapaxes(F, 1, 2)
         return np.bincount(self.S_slots[size], weights=S_b[self.S_mask[size]],
                            minlength=self.S_nnz)
