@@ -34,7 +34,7 @@ def test_a_wrong_permeability_moves_U_off_terzaghi():
     """1.1 k in the scene, the series of k: U leaves the band of 0.01 (the right k: inside,
     the quick run)."""
     args = script.build_parser().parse_args(["--quick"])
-    e_U, _ = script.errors(script.swell(args, k=1.1 * args.k))
+    e_U, _ = script.errors(script.consolidate(args, k=1.1 * args.k))
     assert e_U > script.BAND
 
 
@@ -42,7 +42,7 @@ def test_the_axisymmetric_column_meets_the_same_band():
     """The column as a cylinder about x = 0 (2 pi r in every integral, u_r = 0 on the axis):
     the same one-dimensional consolidation, U and p(base) within 0.01 of the series."""
     args = script.build_parser().parse_args(["--quick", "--axisymmetric"])
-    assert max(script.errors(script.swell(args))) <= script.BAND
+    assert max(script.errors(script.consolidate(args))) <= script.BAND
 
 
 def test_the_particles_carry_p_and_the_vtu_and_checkpoint_hold_it(tmp_path):
@@ -207,3 +207,15 @@ def test_a_drained_free_surface_is_the_boundary_that_touches_no_body():
     np.testing.assert_allclose(result.pore_pressure[top & ~corner], 100.0, rtol=1e-8)
     assert result.pore_pressure[corner].max() < 99.0
     assert result.pore_pressure[~top].max() < 99.0
+
+
+def test_terzaghi_under_a_surface_load_settles_by_q_h_over_e_oed():
+    """``--loading load``: Terzaghi's load q on the drained top (a SurfaceLoad, no rise of p):
+    at T_v = 3 the excess pore pressure is gone (below 0.005 q) and the column has settled by
+    q H / E_oed (U = 1 within 0.005; 60 remeshed steps of dT_v = 0.05)."""
+    args = script.build_parser().parse_args(["--quick", "--loading", "load", "--dTv", "0.05",
+                                             "--Tv-end", "3"])
+    result = script.consolidate(args)
+    assert abs(result["U"][-1] - 1.0) <= 0.005
+    assert abs(result["excess"][-1]) <= 0.005
+    assert result["excess"][1] > 0.9              # the undrained first step: the water takes q

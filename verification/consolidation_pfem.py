@@ -74,6 +74,7 @@ def column_scene(args, k=None):
     from pfem_skfem.problems.contact import CoulombCones, RigidSegment
     from pfem_skfem.scene import Body, Geostatic, HalfPlane, Region, Scene
     from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene.loads import SurfaceLoad
     from pfem_skfem.scene.water import Drained, Water
 
     H, W = args.H, args.W
@@ -90,18 +91,24 @@ def column_scene(args, k=None):
               Body("right", RigidSegment((W, -h), (W, far), 0.0)))            # soil left
     if args.axisymmetric:                  # x = r: the axis holds u_r = 0, no left wall
         bodies = bodies[:1] + bodies[2:]
-    top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=args.q)          # p = q there
+    rise = args.loading == "rise"
+    top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=args.q if rise else 0.0)
     water = Water(k=args.k if k is None else k, gamma_w=args.gamma_w, drained=(top,))
+    # Terzaghi's load q on the top's edges (a zone above the sides' top midpoints, H - h / 2)
+    loads = () if rise else (SurfaceLoad(HalfPlane((0.0, H - h / 4), (0.0, 1.0)),
+                                         traction=(0.0, -args.q), name="q"),)
     config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
                         remesh_interval=1, solver=args.solver)
     scene = Scene(regions=(soil,), bodies=bodies, gravity=(0.0, -args.g), length=H,
-                  config=config, water=water,
+                  config=config, water=water, loads=loads,
                   geometry="axisymmetric" if args.axisymmetric else "plane")
     return scene.initial_state(), scene
 
 
-def swell(args, k=None):
-    """The column from rest to T_v = 1 (and T_v-end): T_v, U and p(base) after each step."""
+def consolidate(args, k=None):
+    """The column from rest to T_v = 1 (and T_v-end): T_v, U, p(base) / q and Terzaghi's
+    excess after each step (U: the settlement under the load, the heave under the rise; the
+    excess: p(base) / q under the load, (q - p(base)) / q under the rise)."""
     from pfem_skfem.drivers.resumable import Checkpoints, ResumableRun
 
     state, scene = column_scene(args, k)
@@ -110,16 +117,18 @@ def swell(args, k=None):
     e_oed, _ = oedometric(args)
     heave_inf = args.q * args.H / e_oed
     steps = int(round(args.Tv_end / args.dTv))
+    sign = 1.0 if args.loading == "rise" else -1.0         # heave / settlement
     kept = {"Tv": [0.0], "U": [0.0], "p_base": [0.0], "remeshed": 0}
 
     def observe(run, snapshots):
         s = run.state
         kept["Tv"].append(s.step * args.dTv)
-        kept["U"].append(float(s.x[top, 1].mean() - args.H) / heave_inf)
+        kept["U"].append(sign * float(s.x[top, 1].mean() - args.H) / heave_inf)
         kept["p_base"].append(float(s.pore_pressure[base].mean()) / args.q)
         kept["remeshed"] += run.record["t_detect"] > 0          # the domain detected anew
 
-    keys = dict(axisymmetric=args.axisymmetric, H=args.H, W=args.W, n=args.n, q=args.q,
+    keys = dict(axisymmetric=args.axisymmetric, loading=args.loading, H=args.H, W=args.W,
+                n=args.n, q=args.q,
                 k=args.k if k is None else k, gamma_w=args.gamma_w, E=args.E, nu=args.nu,
                 rho=args.rho, g=args.g, c=args.c, dTv=args.dTv)
     run = ResumableRun.open(scene, state, kept,
@@ -127,19 +136,21 @@ def swell(args, k=None):
                                                     keys, args.checkpoint_every))
     run.advance(lambda r: r.state.step >= steps, observe)
     kept = run.kept
-    return {"Tv": np.array(kept["Tv"]), "U": np.array(kept["U"]),
-            "p_base": np.array(kept["p_base"]), "remeshed": int(kept["remeshed"]),
+    p_base = np.array(kept["p_base"])
+    return {"Tv": np.array(kept["Tv"]), "U": np.array(kept["U"]), "p_base": p_base,
+            "excess": 1 - p_base if args.loading == "rise" else p_base,
+            "remeshed": int(kept["remeshed"]),
             "steps": steps, "particles": state.n}
 
 
 def errors(result):
-    """max |U - series| and max |(q - p_base) / q - series| over the report times."""
+    """max |U - series| and max |p_base excess / q - series| over the report times."""
     e_U = e_p = 0.0
     for r in REPORT_TV:
         i = int(np.argmin(abs(result["Tv"] - r)))
         U_ex, p_ex = terzaghi(r)
         e_U = max(e_U, abs(result["U"][i] - U_ex))
-        e_p = max(e_p, abs(1 - result["p_base"][i] - p_ex))
+        e_p = max(e_p, abs(result["excess"][i] - p_ex))
     return e_U, e_p
 
 
@@ -159,7 +170,8 @@ def build_parser():
     p.add_argument("--W", type=positive_float, default=0.2, help="column width W [m]")
     p.add_argument("--n", type=positive_int, default=20,
                    help="particle spacings over the height (h = H / n)")
-    saturated_options(p, q=opt(100.0, "rise q of the top's pore pressure at t = 0 [kPa]"),
+    saturated_options(p, q=opt(100.0, "the load q on the top at t = 0 (--loading rise: the "
+                                      "rise of the top's pore pressure) [kPa]"),
                       k=1e-8, gamma_w=9.81, dTv=0.0025, Tv_end=1.0)
     material_options(p, E=opt(1e5, "Young's modulus E of the skeleton [kPa] (q / E_oed small: "
                                    "Terzaghi's small strains)"),
@@ -170,18 +182,22 @@ def build_parser():
     p.add_argument("--axisymmetric", action=argparse.BooleanOptionalAction, default=False,
                    help="the column as a cylinder of radius W about x = 0 (a smooth wall at "
                         "r = W; the material the axisymmetric Mohr-Coulomb with phi = 0)")
+    p.add_argument("--loading", choices=("rise", "load"), default="rise",
+                   help="load: Terzaghi's load q on the drained top (a surface load); rise: "
+                        "the top's pore pressure raised by q, no load (the same diffusion, "
+                        "the column swells)")
     checkpoint_options(p, "column")
     return p
 
 
 def run(args):
-    result = swell(args)
+    result = consolidate(args)
     report = Report("consolidation_pfem", args)
     rows = []
     for r in REPORT_TV:
         i = int(np.argmin(abs(result["Tv"] - r)))
         U_ex, p_ex = terzaghi(r)
-        U, p = result["U"][i], 1 - result["p_base"][i]
+        U, p = result["U"][i], result["excess"][i]
         report.add_interval(f"U_Tv{r:g}", U, U_ex - BAND, U_ex + BAND,
                             f"Terzaghi's series, +-{BAND:g} (remeshed every step)",
                             reference=U_ex)
@@ -189,7 +205,7 @@ def run(args):
                             f"Terzaghi's series at the impermeable base, +-{BAND:g}",
                             reference=p_ex)
         rows.append([r, U, U_ex, U - U_ex, p, p_ex, p - p_ex])
-    report.add_table("terzaghi", ["T_v", "U", "U series", "error", "(q - p_base)/q", "series",
+    report.add_table("terzaghi", ["T_v", "U", "U series", "error", "excess p_base/q", "series",
                                   "error "], rows,
                      formats={"error": ".1e", "error ": ".1e"})
     report.extra.update({"Tv": result["Tv"], "U": result["U"], "p_base": result["p_base"],
