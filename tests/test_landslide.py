@@ -111,7 +111,7 @@ def test_a_profile_of_ones_own_runs(tmp_path):
         "--profile", str(path), "--h", "1", "--rho", "2", "--phi", "30", "--dt", "0.1",
         "--t-hold", "0.2", "--t-after", "0.5", "--volume-correction", "off",
         "--alpha-advected", "0", "--quiet"])
-    r = slide.run_case(args, label="mine", mu_deg=20.0)
+    r = slide.run_case(args, mu_deg=20.0)
     assert r["hold_max_displacement_over_h"] < slide.HOLD_STILL
     assert r["front_max"] > r["front0"]                    # released, it moves downhill
 
@@ -122,14 +122,15 @@ def test_a_slide_stopped_and_resumed_from_its_checkpoint_is_the_same_slide(tmp_p
     histories bit for bit."""
     def case(t_after, *kept):
         args = slide.build_parser().parse_args([
-            "--h", "4", "--dt", "0.2", "--t-hold", "0.6", "--t-after", t_after, "--quiet",
+            "--h", "4", "--dt", "0.2", "--t-hold", "0.6", "--quiet",
             *(("--checkpoint-dir", str(tmp_path), "--checkpoint-every", "2") if kept else ())])
-        return slide.run_case(args, label="cut", mu_deg=14.0)
+        args.t_after = t_after           # 0.2, one step after release: shorter than --t-after takes
+        return slide.run_case(args, mu_deg=14.0)
 
-    whole = case("0.8")
-    cut = case("0.2", "kept")
+    whole = case(0.8)
+    cut = case(0.2, "kept")
     assert cut["steps_after_release"] == 1
-    resumed = case("0.8", "kept")
+    resumed = case(0.8, "kept")
     assert resumed["steps_after_release"] == whole["steps_after_release"] == 4
     for key in ("t", "front", "ke", "area_change", "track_x", "track_v", "x_end"):
         assert np.array_equal(resumed[key], whole[key]), key

@@ -273,12 +273,14 @@ def energy_ratio(H, L, mu, travel, h):
     return float(H / (mu * L))
 
 
-def run_case(args, *, label, mu_deg, rho=None, adaptive_alpha=True, snapshot_every=0.0):
+def run_case(args, *, mu_deg, rho=None, adaptive_alpha=True, snapshot_every=0.0):
     """One slide of the options ``args`` (profile, mesh, material, steps, ``--rest``,
     output, checkpoints) at the basal friction angle ``mu_deg``, the density ``rho``
     (None: ``--rho``) and with or without adaptive alpha: the held phase, then free motion
     until the kinetic energy is below ``--rest`` times its peak (after the peak) or
     ``--t-after`` after release; snapshots every ``snapshot_every`` seconds (0: none).
+    Its label (its checks, checkpoint and frames) says what differs from a base slide:
+    ``mu10``, ``mu10_rho2.5``, ``mu10_fixed_alpha``.
 
     With ``--checkpoint-dir`` the state and the measurements so far are saved there every
     ``--checkpoint-every`` steps and at the end
@@ -287,6 +289,8 @@ def run_case(args, *, label, mu_deg, rho=None, adaptive_alpha=True, snapshot_eve
     checkpoint and goes on from it, the same steps bit for bit (a slide of the thesis'
     size takes hours here). Snapshots are taken only in the steps run this time."""
     profile, h, dt = read_profile(args.profile), args.h, args.dt
+    label = (f"mu{mu_deg:g}" + (f"_rho{rho:g}" if rho is not None else "")
+             + ("" if adaptive_alpha else "_fixed_alpha"))
     rho = args.rho if rho is None else rho
     mu = float(np.tan(np.radians(mu_deg)))
     scene_keys = keywords_of(landslide, args, profile=profile, mu=mu, rho=rho,
@@ -417,9 +421,8 @@ def check(args):
         return f"--t-after {args.t_after:g} is shorter than two steps --dt {args.dt:g}"
     if args.snapshot_every and args.snapshot_every < args.dt:
         return f"--snapshot-every {args.snapshot_every:g} is shorter than one step --dt"
-    if args.phi == 0 and args.c == 0:
-        return "--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
-    return None
+    return ("--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
+            if args.phi == 0 and args.c == 0 else None)
 
 
 def build_parser():
@@ -436,9 +439,8 @@ def build_parser():
                                              "size, mass change 0.27-0.65 %% against "
                                              "1.2-5.9 %% with 0; see the book)"))
     friction = positive_angle("the energy bound divides by mu")
-    own_options(
-        p, profile=(str, str(PROFILE), "slope profile CSV (x,z_slip,z_surface; comments '#'); "
-                                       "the default is the reconstruction of Fig 8.3"),
+    own_options(p, profile=(str, str(PROFILE), "slope profile CSV (x,z_slip,z_surface; "
+                            "comments '#'); the default is the reconstruction of Fig 8.3"),
         mu_deg=(friction, 10.0, "basal friction angle [deg] of the main run, mu = tan(mu_deg) "
                                 "(thesis: tan 10 deg)"),
         mu_study=opt([8.0, 10.0, 12.0], "basal friction angles [deg] of the back-analysis "
@@ -468,13 +470,10 @@ def _cases(args):
     """Main run first (it has the snapshots), then the friction sweep, the densities and
     the run without adaptive alpha, as run_case keywords: the groups of run_groups."""
     mu = dict(args=args, mu_deg=args.mu_deg)
-    return dict(main=[dict(mu, label=f"mu{args.mu_deg:g}", snapshot_every=args.snapshot_every)],
-                sweep=[dict(args=args, mu_deg=m, label=f"mu{m:g}") for m in args.mu_study
-                       if m != args.mu_deg],
-                rhos=[dict(mu, rho=r, label=f"mu{args.mu_deg:g}_rho{r:g}")
-                      for r in args.rho_study if r != args.rho],
-                fixed=[] if args.no_alpha_study else [
-                    dict(mu, adaptive_alpha=False, label=f"mu{args.mu_deg:g}_fixed_alpha")])
+    return dict(main=[dict(mu, snapshot_every=args.snapshot_every)],
+                sweep=[dict(args=args, mu_deg=m) for m in args.mu_study if m != args.mu_deg],
+                rhos=[dict(mu, rho=r) for r in args.rho_study if r != args.rho],
+                fixed=[] if args.no_alpha_study else [dict(mu, adaptive_alpha=False)])
 
 
 def density_twin(base, r):
@@ -498,11 +497,9 @@ def run(args):
     res = run_groups(run_case, _cases(args), args.workers, desc="landslides")
     results = [r for group in res.values() for r in group]
     if args.keep_runs:                             # every history, to draw again later
-        (figure_dir(args, "landslide_yangbaodi") / "runs.pkl").write_bytes(
-            pickle.dumps(results))
+        (figure_dir(args, "landslide_yangbaodi") / "runs.pkl").write_bytes(pickle.dumps(results))
     base, rho_runs, fixed_run = res["main"][0], res["rhos"], (res["fixed"] or [None])[0]
     mu_runs = sorted([base] + res["sweep"], key=lambda r: r["mu"])
-
     report = Report("landslide_yangbaodi", args, particles=base["particles0"],
                     elements=base["elements0"])
     report.add_table(
@@ -575,13 +572,13 @@ def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
     plt, out, p = pyplot(), figure_dir(args, "landslide_yangbaodi"), base["profile"]
     xmax = max(350.0, 10 * np.ceil(max(np.max(r["x_end"][:, 0])
                                        for r in [base] + mu_runs + rho_runs) / 10 + 1))
-    ground = lambda ax: plot_ground(ax, p["x"], p["z_slip"], p["z_surface"], xlim=(0, xmax))
-    fig, _ = snapshot_grid(
-        {f"t = {t:g} s after release": (s["x"], s["speed"])
-         for t, s in sorted(base["snapshots"].items())}, label="speed [m/s]",
-        title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
-              "(cf. Fig 8.9-8.10); dashed: the ground before failure", size=(9, 1.9),
-        axes=None, draw=ground)
+    ground = lambda ax: plot_ground(ax, p["x"], p["z_slip"], p["z_surface"],  # noqa: E731
+                                    xlim=(0, xmax))
+    fig, _ = snapshot_grid({f"t = {t:g} s after release": (s["x"], s["speed"]) for t, s in
+                            sorted(base["snapshots"].items())}, label="speed [m/s]",
+                           title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles "
+                           "coloured by speed (cf. Fig 8.9-8.10); dashed: the ground before "
+                           "failure", size=(9, 1.9), axes=None, draw=ground)
     save_figure(fig, out / "snapshots.png")
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
     plot_histories(ax0, [base] + rho_runs, "t", "front", "rho = {rho:g} t/m3")
@@ -608,8 +605,7 @@ def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
         ax.plot(xs[:, 0], xs[:, 1], "r-", lw=1)
         ax.plot(*base["x0"][base["points"][k]], "ro", ms=4)
         ax.set_title(f"point {name}: its trace (red), the mass at start and at rest", fontsize=9)
-        av.plot(xs[:, 0], vs[:, 0], label="v_x")
-        av.plot(xs[:, 0], vs[:, 1], label="v_y")
+        av.plot(xs[:, 0], vs, label=["v_x", "v_y"])
         av.axhline(0, color="k", lw=0.5)
         av.set_xlim(0, xmax)
         labelled(av, "x of the point [m]", "velocity [m/s]",
