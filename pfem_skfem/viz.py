@@ -212,6 +212,39 @@ def snapshot_grid(panels, *, label, title, ncols=1, size=(9.0, 2.0), scale=1.0,
     return fig, grid
 
 
+def plot_histories(ax, runs, x, y, label, *, style="-", scale=1.0, floor=None, log=False):
+    """One line per run of a study, so that runs read side by side: ``run[y]`` times
+    ``scale`` (no lower than ``floor`` if given, for a log axis) against ``run[x]``, in the
+    ``style`` of :meth:`~matplotlib.axes.Axes.plot`; each labelled by ``label``, a format of
+    the run's keys (``"mu = {mu:g}"``) or a function of the run. ``log``: a log y axis."""
+    if log:
+        ax.set_yscale("log")
+    for r in runs:
+        values = scale * np.asarray(r[y], dtype=float)
+        ax.plot(r[x], values if floor is None else np.maximum(values, floor), style,
+                label=label(r) if callable(label) else label.format(**r))
+
+
+def plot_ground(ax, x, z_ground, z_before=None, *, xlim=None,
+                axes=("horizontal distance x [m]", "elevation [m]")):
+    """A ground profile under particles, lengths at one scale: the ground below
+    ``z_ground(x)`` grey under its line, the ground before a failure ``z_before(x)``
+    dashed; the frame ``xlim`` (default the profile's) and 8 below the ground, 8 above the
+    highest surface in it, labelled ``axes`` (a slide, a deposit drawn where it lies)."""
+    from .harness.figures import labelled
+
+    x, z_ground = np.asarray(x, dtype=float), np.asarray(z_ground, dtype=float)
+    xlim = (x[0], x[-1]) if xlim is None else xlim
+    ax.fill_between(x, z_ground, min(z_ground) - 10, color="0.85", lw=0)
+    ax.plot(x, z_ground, "k-", lw=1)
+    top = z_ground if z_before is None else np.asarray(z_before, dtype=float)
+    if z_before is not None:
+        ax.plot(x, top, color="0.5", lw=0.8, ls="--")
+    ax.set_xlim(*xlim)
+    ax.set_ylim(min(z_ground) - 8, np.max(top[(x >= xlim[0]) & (x <= xlim[1])]) + 8)
+    labelled(ax, *axes, legend=None).set_aspect("equal")
+
+
 def plot_bound_fields(axes, problem, lower, upper, what):
     """The fields of a pair of limit bounds on one mesh: the upper bound's dissipation per
     area (log colours, six decades) on ``axes[0]``, the lower bound's yield ratio (the

@@ -57,6 +57,42 @@ def test_a_snapshot_grid_of_points_without_values_draws_dots_and_no_colour_bar()
     pyplot().close(fig)
 
 
+def test_histories_draw_a_labelled_line_per_run_scaled_and_floored():
+    from pfem_skfem.viz import plot_histories
+
+    runs = [dict(t=[0, 1, 2], ke=[1.0, 0.0, 0.5], mu=m) for m in (0.2, 0.3)]
+    fig, (a, b) = pyplot().subplots(1, 2, figsize=(10, 4))
+    plot_histories(a, runs, "t", "ke", "mu = {mu:g}", scale=100, style=":")
+    plot_histories(b, runs, "t", "ke", lambda r: f"run {r['mu']}", floor=1e-3, log=True)
+    labelled(a, "t [s]", "ke [%]", "scaled")
+    labelled(b, "t [s]", "ke", "floored")
+    assert [line.get_label() for line in a.get_lines()] == ["mu = 0.2", "mu = 0.3"]
+    assert list(a.get_lines()[0].get_ydata()) == [100.0, 0.0, 50.0]
+    assert a.get_lines()[0].get_linestyle() == ":" and a.get_yscale() == "linear"
+    assert list(b.get_lines()[1].get_ydata()) == [1.0, 1e-3, 0.5]
+    assert b.get_lines()[1].get_label() == "run 0.3" and b.get_yscale() == "log"
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
+def test_a_ground_profile_under_the_particles_frames_its_surface_at_one_scale():
+    from pfem_skfem.viz import plot_ground
+
+    x, slip = np.array([0.0, 50, 100, 200]), np.array([60.0, 30, 10, 10])
+    fig, (a, b) = pyplot().subplots(2, 1, figsize=(8, 6))
+    plot_ground(a, x, slip, slip + [0, 15, 0, 0], xlim=(0, 150))
+    plot_ground(b, x, slip)
+    assert a.get_xlim() == (0, 150) and a.get_ylim() == (2.0, 68.0)
+    assert b.get_xlim() == (0, 200) and a.get_aspect() == 1.0
+    assert [line.get_linestyle() for line in a.get_lines()] == ["-", "--"]
+    assert len(b.get_lines()) == 1 and len(a.collections) == 1       # the grey ground
+    assert a.get_xlabel() == "horizontal distance x [m]" and a.get_legend() is None
+    b.set_title("bare")
+    a.set_title("before and after")
+    assert figure_problems(fig) == []
+    pyplot().close(fig)
+
+
 def test_bounds_against_elements_on_a_log_axis_with_a_second_hollow_series():
     fig, ax = pyplot().subplots(figsize=(6, 4))
     rounds = [SimpleNamespace(elements=n, lower=1 - 1 / n, upper=1 + 1 / n) for n in (100, 400)]

@@ -107,10 +107,11 @@ def test_a_profile_of_ones_own_runs(tmp_path):
     path = tmp_path / "mine.csv"
     path.write_text("x,z_slip,z_surface\n" + "\n".join(
         f"{a},{b},{c}" for a, b, c in zip(x, z_slip, z_surface)))
-    r = slide.run_case(label="mine", profile_path=path, h=1.0, rho=2.0, phi=30.0, c=0.0,
-                       mu_deg=20.0, g=9.8, dt=0.1, theta1=1.0, theta2=1.0, alpha=1.6,
-                       adaptive_alpha=True, t_hold=0.2, hold="boundary", floor=0.005,
-                       passes=2, t_after=0.5, rest=1e-3)
+    args = slide.build_parser().parse_args([
+        "--profile", str(path), "--h", "1", "--rho", "2", "--phi", "30", "--dt", "0.1",
+        "--t-hold", "0.2", "--t-after", "0.5", "--volume-correction", "off",
+        "--alpha-advected", "0", "--quiet"])
+    r = slide.run_case(args, mu_deg=20.0)
     assert r["hold_max_displacement_over_h"] < slide.HOLD_STILL
     assert r["front_max"] > r["front0"]                    # released, it moves downhill
 
@@ -119,15 +120,17 @@ def test_a_slide_stopped_and_resumed_from_its_checkpoint_is_the_same_slide(tmp_p
     """--checkpoint-dir: a slide cut one step after its release and run again goes on
     from its checkpoint (state and measurements) and gives the uninterrupted slide's
     histories bit for bit."""
-    case = dict(label="cut", profile_path=slide.PROFILE, h=4.0, rho=1.25, phi=28.0,
-                c=0.0, mu_deg=14.0, g=9.8, dt=0.2, theta1=1.0, theta2=1.0, alpha=1.6,
-                adaptive_alpha=True, t_hold=0.6, hold="boundary", floor=0.005, passes=2,
-                rest=1e-3, volume_correction=True, alpha_advected=3.0)
-    whole = slide.run_case(**case, t_after=0.8)
-    cut = slide.run_case(**case, t_after=0.2, checkpoint_dir=tmp_path, checkpoint_every=2)
+    def case(t_after, *kept):
+        args = slide.build_parser().parse_args([
+            "--h", "4", "--dt", "0.2", "--t-hold", "0.6", "--quiet",
+            *(("--checkpoint-dir", str(tmp_path), "--checkpoint-every", "2") if kept else ())])
+        args.t_after = t_after           # 0.2, one step after release: shorter than --t-after takes
+        return slide.run_case(args, mu_deg=14.0)
+
+    whole = case(0.8)
+    cut = case(0.2, "kept")
     assert cut["steps_after_release"] == 1
-    resumed = slide.run_case(**case, t_after=0.8, checkpoint_dir=tmp_path,
-                             checkpoint_every=2)
+    resumed = case(0.8, "kept")
     assert resumed["steps_after_release"] == whole["steps_after_release"] == 4
     for key in ("t", "front", "ke", "area_change", "track_x", "track_v", "x_end"):
         assert np.array_equal(resumed[key], whole[key]), key

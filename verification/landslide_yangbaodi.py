@@ -86,13 +86,14 @@ from pfem_skfem.harness.declare import keywords_of, own_options  # noqa: E402
 from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot,  # noqa: E402
                                         save_figure, write_summary)
 from pfem_skfem.harness.options import (base_parser, checkpoint_options,  # noqa: E402
-                                        material_options, nonnegative_float, opt, pfem_options,
-                                        positive_angle, positive_float, time_options)
+                                        in_range, material_options, nonnegative_float, opt,
+                                        pfem_options, positive_angle, positive_float,
+                                        time_options)
 from pfem_skfem.harness.report import Report, script_main, thinned  # noqa: E402
 from pfem_skfem.harness.sweeps import run_groups  # noqa: E402
 from pfem_skfem.harness.options import workers as worker_count  # noqa: E402
 from pfem_skfem.scene import Body, Phase, Region, Scene                       # noqa: E402
-from pfem_skfem.viz import snapshot_grid  # noqa: E402
+from pfem_skfem.viz import plot_ground, plot_histories, snapshot_grid  # noqa: E402
 
 PROFILE = Path(__file__).resolve().parent / "data" / "yangbaodi_profile.csv"
 # A coarse mass (about 4 particles through its thickness) on the same profile; dt in
@@ -272,30 +273,34 @@ def energy_ratio(H, L, mu, travel, h):
     return float(H / (mu * L))
 
 
-def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, theta2, alpha,
-             adaptive_alpha, t_hold, hold, floor, passes, t_after, rest, snapshot_every=0.0,
-             outdir=None, save_every=0, verbose=False, volume_correction=False,
-             alpha_advected=0.0, checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
-    """One slide: the held phase, then free motion until the kinetic energy is below
-    ``rest`` times its peak (after the peak) or ``t_after`` after release.
+def run_case(args, *, mu_deg, rho=None, adaptive_alpha=True, snapshot_every=0.0):
+    """One slide of the options ``args`` (profile, mesh, material, steps, ``--rest``,
+    output, checkpoints) at the basal friction angle ``mu_deg``, the density ``rho``
+    (None: ``--rho``) and with or without adaptive alpha: the held phase, then free motion
+    until the kinetic energy is below ``--rest`` times its peak (after the peak) or
+    ``--t-after`` after release; snapshots every ``snapshot_every`` seconds (0: none).
+    Its label (its checks, checkpoint and frames) says what differs from a base slide:
+    ``mu10``, ``mu10_rho2.5``, ``mu10_fixed_alpha``.
 
-    With ``checkpoint_dir`` the state and the measurements so far are saved there every
-    ``checkpoint_every`` steps and at the end
+    With ``--checkpoint-dir`` the state and the measurements so far are saved there every
+    ``--checkpoint-every`` steps and at the end
     (:class:`~pfem_skfem.drivers.resumable.ResumableRun`),
     under the label and a digest of the slide's parameters and profile; a run finds its own
     checkpoint and goes on from it, the same steps bit for bit (a slide of the thesis'
     size takes hours here). Snapshots are taken only in the steps run this time."""
-    profile = read_profile(profile_path)
+    profile, h, dt = read_profile(args.profile), args.h, args.dt
+    label = (f"mu{mu_deg:g}" + (f"_rho{rho:g}" if rho is not None else "")
+             + ("" if adaptive_alpha else "_fixed_alpha"))
+    rho = args.rho if rho is None else rho
     mu = float(np.tan(np.radians(mu_deg)))
-    state, scene = landslide(profile, h=h, rho=rho, phi=phi, c=c, mu=mu, g=g, dt=dt,
-                             theta1=theta1, theta2=theta2, alpha=alpha,
-                             adaptive_alpha=adaptive_alpha, t_hold=t_hold, hold=hold,
-                             floor=floor, passes=passes, volume_correction=volume_correction,
-                             alpha_advected=alpha_advected, solver=solver)
+    scene_keys = keywords_of(landslide, args, profile=profile, mu=mu, rho=rho,
+                             adaptive_alpha=adaptive_alpha,
+                             volume_correction=args.volume_correction == "on")
+    state, scene = landslide(**scene_keys)
     x0, n0 = state.x.copy(), state.n
     points = material_points(state, profile)
-    n_hold = int(round(t_hold / dt))
-    n_after = int(round(t_after / dt))
+    n_hold = int(round(args.t_hold / dt))
+    n_after = int(round(args.t_after / dt))
     snap_every = int(round(snapshot_every / dt)) if snapshot_every else 0
     t_release = n_hold * dt
     cm0 = centre_of_mass(state)
@@ -305,20 +310,17 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
                                      "sigma_m_min")},
                 track={"x": [], "v": []}, snaps={0.0: {"x": x0, "speed": np.zeros(n0)}},
                 hold_moved=0.0, hold_changes=[], sigma_m_held=None, at_rest=False, peak=0.0)
-    keys = dict(h=h, rho=rho, phi=phi, c=c, mu_deg=mu_deg, g=g, dt=dt, theta1=theta1,
-                theta2=theta2, alpha=alpha, adaptive_alpha=adaptive_alpha,
-                t_hold=t_hold, hold=hold, floor=floor, passes=passes,
-                volume_correction=volume_correction, alpha_advected=alpha_advected,
-                profile=[profile.x.tolist(), profile.z_slip.tolist(),
-                         profile.z_surface.tolist()])
+    keys = {k: v for k, v in scene_keys.items() if k not in ("mu", "solver")} | dict(
+        mu_deg=mu_deg, profile=[profile.x.tolist(), profile.z_slip.tolist(),
+                                profile.z_surface.tolist()])
     t0 = time.perf_counter()
     run = ResumableRun.open(
         scene, state, loop,
-        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"landslide_{label}", keys=keys,
-                                every=checkpoint_every),
-        frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="landslide",
-                      every=save_every),
-        bar=Bar(total=n_hold + n_after, desc=f"landslide ({label})", verbose=verbose))
+        checkpoints=Checkpoints(directory=args.checkpoint_dir, label=f"landslide_{label}",
+                                keys=keys, every=args.checkpoint_every),
+        frames=Frames(directory=Path(args.outdir) / "landslide_yangbaodi" / label
+                      if args.save_every else None, name="landslide", every=args.save_every),
+        bar=Bar(total=n_hold + n_after, desc=f"landslide ({label})", verbose=args.progress))
     loop = run.kept
     rec, track, snaps = loop["rec"], loop["track"], loop["snaps"]
 
@@ -350,7 +352,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
         loop["peak"] = max(loop["peak"], rec["ke"][-1])
         travel = float(np.linalg.norm(rec["cm"][-1] - cm0))
         loop["at_rest"] = came_to_rest(rec["ke"][-1], loop["peak"], rec["ke"][0], travel, h,
-                                       rest)
+                                       args.rest)
 
     run.advance(lambda run: run.state.step >= n_hold + n_after or loop["at_rest"], observe,
                 postfix=lambda run: f"t = {run.state.time:.2f} s, "
@@ -370,7 +372,7 @@ def run_case(*, label, profile_path, h, rho, phi, c, mu_deg, g, dt, theta1, thet
     hist = state.history
     return {
         "label": label, "mu_deg": mu_deg, "mu": mu, "rho": rho, "h": h, "dt": dt,
-        "adaptive_alpha": adaptive_alpha, "t_hold": n_hold * dt, "hold": hold,
+        "adaptive_alpha": adaptive_alpha, "t_hold": n_hold * dt, "hold": args.hold,
         "particles0": n0, "elements0": int(hist["elements"][0]),
         "elements_mean": float(np.mean(hist["elements"])),
         "area0": float(scene.regions[0].area), "stress_scale": scene.stress_scale,
@@ -419,11 +421,8 @@ def check(args):
         return f"--t-after {args.t_after:g} is shorter than two steps --dt {args.dt:g}"
     if args.snapshot_every and args.snapshot_every < args.dt:
         return f"--snapshot-every {args.snapshot_every:g} is shorter than one step --dt"
-    if args.phi == 0 and args.c == 0:
-        return "--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
-    if not 0 < args.rest < 1:
-        return f"--rest must lie in (0, 1), got {args.rest:g}"
-    return None
+    return ("--phi 0 with --c 0 is a material without strength: give --c > 0 or --phi > 0"
+            if args.phi == 0 and args.c == 0 else None)
 
 
 def build_parser():
@@ -440,9 +439,8 @@ def build_parser():
                                              "size, mass change 0.27-0.65 %% against "
                                              "1.2-5.9 %% with 0; see the book)"))
     friction = positive_angle("the energy bound divides by mu")
-    own_options(
-        p, profile=(str, str(PROFILE), "slope profile CSV (x,z_slip,z_surface; comments '#'); "
-                                       "the default is the reconstruction of Fig 8.3"),
+    own_options(p, profile=(str, str(PROFILE), "slope profile CSV (x,z_slip,z_surface; "
+                            "comments '#'); the default is the reconstruction of Fig 8.3"),
         mu_deg=(friction, 10.0, "basal friction angle [deg] of the main run, mu = tan(mu_deg) "
                                 "(thesis: tan 10 deg)"),
         mu_study=opt([8.0, 10.0, 12.0], "basal friction angles [deg] of the back-analysis "
@@ -456,9 +454,9 @@ def build_parser():
         hold=(("boundary", "free_surface"), "boundary", "what the held phase holds: every "
               "boundary node, or those not on the slip surface"),
         t_after=(positive_float, 30.0, "longest time [s] after release (600 steps of 0.05 s)"),
-        rest=(positive_float, 1e-3, "at rest when the kinetic energy is below this fraction of "
-                                    "its peak and the centre of mass has moved at least --h (a "
-                                    "mass that never moves runs to --t-after)"),
+        rest=(in_range(0, 1, low_open=True, high_open=True), 1e-3, "at rest when the kinetic "
+              "energy is below this fraction of its peak and the centre of mass has moved at "
+              "least --h (a mass that never moves runs to --t-after)"),
         snapshot_every=(nonnegative_float, 5.0, "snapshots every this many seconds after "
                                                 "release (Fig 8.9-8.10)"),
         keep_runs=(bool, False, "pickle every run's histories to "
@@ -471,20 +469,11 @@ def build_parser():
 def _cases(args):
     """Main run first (it has the snapshots), then the friction sweep, the densities and
     the run without adaptive alpha, as run_case keywords: the groups of run_groups."""
-    common = keywords_of(
-        run_case, args, profile_path=args.profile, adaptive_alpha=True, snapshot_every=0.0,
-        verbose=args.progress, volume_correction=args.volume_correction == "on",
-        outdir=(Path(args.outdir) / "landslide_yangbaodi") if args.save_every else None)
-    main = dict(common, mu_deg=args.mu_deg, label=f"mu{args.mu_deg:g}",
-                snapshot_every=args.snapshot_every)
-    sweep = [dict(common, mu_deg=m, label=f"mu{m:g}") for m in args.mu_study
-             if m != args.mu_deg]
-    rhos = [dict(common, mu_deg=args.mu_deg, rho=r, label=f"mu{args.mu_deg:g}_rho{r:g}")
-            for r in args.rho_study if r != args.rho]
-    fixed = [] if args.no_alpha_study else [dict(common, mu_deg=args.mu_deg,
-                                                 adaptive_alpha=False,
-                                                 label=f"mu{args.mu_deg:g}_fixed_alpha")]
-    return dict(main=[main], sweep=sweep, rhos=rhos, fixed=fixed)
+    mu = dict(args=args, mu_deg=args.mu_deg)
+    return dict(main=[dict(mu, snapshot_every=args.snapshot_every)],
+                sweep=[dict(args=args, mu_deg=m) for m in args.mu_study if m != args.mu_deg],
+                rhos=[dict(mu, rho=r) for r in args.rho_study if r != args.rho],
+                fixed=[] if args.no_alpha_study else [dict(mu, adaptive_alpha=False)])
 
 
 def density_twin(base, r):
@@ -508,11 +497,9 @@ def run(args):
     res = run_groups(run_case, _cases(args), args.workers, desc="landslides")
     results = [r for group in res.values() for r in group]
     if args.keep_runs:                             # every history, to draw again later
-        (figure_dir(args, "landslide_yangbaodi") / "runs.pkl").write_bytes(
-            pickle.dumps(results))
+        (figure_dir(args, "landslide_yangbaodi") / "runs.pkl").write_bytes(pickle.dumps(results))
     base, rho_runs, fixed_run = res["main"][0], res["rhos"], (res["fixed"] or [None])[0]
     mu_runs = sorted([base] + res["sweep"], key=lambda r: r["mu"])
-
     report = Report("landslide_yangbaodi", args, particles=base["particles0"],
                     elements=base["elements0"])
     report.add_table(
@@ -578,44 +565,30 @@ def main(argv=None):
 
 
 # -- figures -------------------------------------------------------------------------------
-def _ground(ax, r, xmax):
-    """The profile under the particles: the ground below the slip surface (grey), the ground
-    before failure (dashed); the frame from 0 to ``xmax``, lengths at one scale."""
-    p = r["profile"]
-    ax.fill_between(p["x"], p["z_slip"], min(p["z_slip"]) - 10, color="0.85", lw=0)
-    ax.plot(p["x"], p["z_slip"], "k-", lw=1)
-    ax.plot(p["x"], p["z_surface"], color="0.5", lw=0.8, ls="--")
-    ax.set_xlim(0, xmax)
-    ax.set_ylim(min(p["z_slip"]) - 8, max(np.max(p["z_surface"][p["x"] <= xmax]), 0) + 8)
-    labelled(ax, "horizontal distance x [m]", "elevation [m]", legend=None).set_aspect("equal")
-
-
 def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
     """Snapshots coloured by speed (Fig 8.9-8.10); the front and the kinetic energy against
     time (Fig 8.5); the material points A, B, C (Fig 8.7-8.8); the final deposits of the
     friction sweep (Fig 8.4); the mass change with and without adaptive alpha."""
-    plt = pyplot()
-    out = figure_dir(args, "landslide_yangbaodi")
+    plt, out, p = pyplot(), figure_dir(args, "landslide_yangbaodi"), base["profile"]
     xmax = max(350.0, 10 * np.ceil(max(np.max(r["x_end"][:, 0])
                                        for r in [base] + mu_runs + rho_runs) / 10 + 1))
-    fig, _ = snapshot_grid(
-        {f"t = {t:g} s after release": (s["x"], s["speed"])
-         for t, s in sorted(base["snapshots"].items())}, label="speed [m/s]",
-        title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles coloured by speed "
-              "(cf. Fig 8.9-8.10); dashed: the ground before failure", size=(9, 1.9),
-        axes=None, draw=lambda ax: _ground(ax, base, xmax))
+    ground = lambda ax: plot_ground(ax, p["x"], p["z_slip"], p["z_surface"],  # noqa: E731
+                                    xlim=(0, xmax))
+    fig, _ = snapshot_grid({f"t = {t:g} s after release": (s["x"], s["speed"]) for t, s in
+                            sorted(base["snapshots"].items())}, label="speed [m/s]",
+                           title=f"Landslide, mu = tan {base['mu_deg']:g} deg: particles "
+                           "coloured by speed (cf. Fig 8.9-8.10); dashed: the ground before "
+                           "failure", size=(9, 1.9), axes=None, draw=ground)
     save_figure(fig, out / "snapshots.png")
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4))
-    for r in [base] + rho_runs:
-        ax0.plot(r["t"], r["front"], label=f"rho = {r['rho']:g} t/m3")
-    for r in [r for r in mu_runs if r is not base]:
-        ax0.plot(r["t"], r["front"], ":", label=f"mu = tan {r['mu_deg']:g} deg")
+    plot_histories(ax0, [base] + rho_runs, "t", "front", "rho = {rho:g} t/m3")
+    plot_histories(ax0, [r for r in mu_runs if r is not base], "t", "front",
+                   "mu = tan {mu_deg:g} deg", style=":")
     ax0.plot([THESIS_FRONT_TIME], [THESIS_FRONT], "k*", ms=10,
              label="thesis: ~325 m at ~20 s (other geometry)")
     labelled(ax0, "time after release [s]", "front's horizontal position [m]",
              "the front against time (cf. Fig 8.5)", title_size=9)
-    for r in mu_runs:
-        ax1.semilogy(r["t"], np.maximum(r["ke"], 1e-30), label=f"mu = tan {r['mu_deg']:g} deg")
+    plot_histories(ax1, mu_runs, "t", "ke", "mu = tan {mu_deg:g} deg", floor=1e-30, log=True)
     ax1.axhline(args.rest * base["ke_peak"], color="k", lw=0.6, ls="--",
                 label=f"{args.rest:g} of the peak (mu = tan {base['mu_deg']:g})")
     ax1.axvline(THESIS_END, color="0.5", lw=0.8, ls=":", label="thesis: ended ~25 s")
@@ -626,14 +599,13 @@ def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
     fig, axes = plt.subplots(3, 2, figsize=(11, 8.5))
     for k, (name, (ax, av)) in enumerate(zip(("A (rear)", "B (middle)", "C (front)"), axes)):
         xs, vs = base["track_x"][:, k], base["track_v"][:, k]
-        _ground(ax, base, xmax)
+        ground(ax)
         for x, shade in ((base["x0"], "0.6"), (base["x_end"], "0.4")):
             ax.plot(x[:, 0], x[:, 1], ".", color=shade, ms=1)
         ax.plot(xs[:, 0], xs[:, 1], "r-", lw=1)
         ax.plot(*base["x0"][base["points"][k]], "ro", ms=4)
         ax.set_title(f"point {name}: its trace (red), the mass at start and at rest", fontsize=9)
-        av.plot(xs[:, 0], vs[:, 0], label="v_x")
-        av.plot(xs[:, 0], vs[:, 1], label="v_y")
+        av.plot(xs[:, 0], vs, label=["v_x", "v_y"])
         av.axhline(0, color="k", lw=0.5)
         av.set_xlim(0, xmax)
         labelled(av, "x of the point [m]", "velocity [m/s]",
@@ -643,14 +615,12 @@ def figures(args, base, mu_runs, rho_runs, fixed_run, cases):
         {f"mu = tan {r['mu_deg']:g} deg: reach {r['front_max']:.0f} m, travel angle "
          f"{r['travel_angle_deg']:.1f} deg (bound {r['mu_deg']:g} deg)": (r["x_end"], None)
          for r in mu_runs}, label=None, size=(9, 2.1), axes=None, dots="C3",
-        title="final deposits of the friction back-analysis (cf. Fig 8.4)",
-        draw=lambda ax: _ground(ax, base, xmax))
+        title="final deposits of the friction back-analysis (cf. Fig 8.4)", draw=ground)
     save_figure(fig, out / "deposits.png")
     fig, ax = plt.subplots(figsize=(6.5, 4))
-    ax.plot(base["t"], 100 * base["area_change"], label="adaptive alpha")
-    if fixed_run is not None:
-        ax.plot(fixed_run["t"], 100 * fixed_run["area_change"],
-                label=f"alpha fixed at {args.alpha:g}")
+    plot_histories(ax, [base] + [fixed_run] * (fixed_run is not None), "t", "area_change",
+                   lambda r: "adaptive alpha" if r["adaptive_alpha"] else
+                   f"alpha fixed at {args.alpha:g}", scale=100)
     ax.axhspan(-100 * MASS_TOLERANCE, 100 * MASS_TOLERANCE, color="k", alpha=0.08,
                label="thesis: within 2 %")
     labelled(ax, "time after release [s]", "mass change [%]",
