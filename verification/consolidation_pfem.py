@@ -20,12 +20,16 @@ t / H^2 and M_m = pi (2m + 1) / 2:
     U(T_v) = heave / (q H / E_oed) = 1 - sum_m 2 / M_m^2 exp(-M_m^2 T_v),
     (q - p(base, t)) / q = sum_m 2 / M_m sin(M_m) exp(-M_m^2 T_v).
 
-Why a rise, not Terzaghi's load: a scene has no surface load, and a fall of the top's
-pressure by q (the same diffusion, settling) makes the total horizontal stress tensile
-((1 - 2 nu) / (1 - nu) q): the column would leave its smooth walls, which cannot pull, and
-cease to be an oedometer. The rise presses the walls and leaves the floor the column's
-weight, which holds it in place (a floating column's position is undetermined by a step
-whose inertia is 1e-10 of its stiffness).
+``--loading load`` is Terzaghi's own problem: the load q on the drained top (p = 0 there), a
+surface load (:mod:`pfem_skfem.scene.loads`); the column settles by the same U and p(base)
+is the excess itself. Under it the remeshed column loses a little settlement each step,
+more as h grows (the book, "Saturated soil", has the figures): it meets the band at the
+default size, not at the quick one. The rise (a reservoir that rises over the layer, the same
+diffusion, the column swells) is the default: a fall of the top's pressure by q would make
+the total horizontal stress tensile ((1 - 2 nu) / (1 - nu) q) and the column would leave
+its smooth walls; the rise presses them and leaves the floor the column's weight, which
+holds it in place (a floating column's position is undetermined by a step whose inertia is
+1e-10 of its stiffness).
 
 Checks: U at T_v = 0.05 / 0.1 / 0.2 / 0.5 / 1 (0.2523 / 0.3568 / 0.5041 / 0.7640 / 0.9313)
 within 0.01 (the issue's band), and the base's pressure against the series within 0.01;
