@@ -257,6 +257,14 @@ def test_a_study_s_case_that_is_a_sweep_case_s_run_is_the_sweep_s_listed_last():
     assert shared_cases(study, [], run_of) == study and shared_cases([], sweep, run_of) == []
 
 
+def test_each_group_s_first_and_last_row_where_it_has_two():
+    from pfem_skfem.harness.sweeps import grouped, spans
+
+    rows = [dict(a=4.0, phi=30), dict(a=0.5, phi=35), dict(a=4.0, phi=25), dict(a=8.0, phi=20)]
+    assert spans(grouped(rows, "a", "phi")) == [(4.0, rows[2], rows[0])]      # a = 0.5, 8: one
+    assert spans({}) == []
+
+
 def test_a_kept_result_without_what_a_measurement_needs_is_said_to_be(capsys):
     from pfem_skfem.harness.sweeps import kept_with
 

@@ -68,9 +68,9 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
                                         friction_angle, in_range, material_options, opt,
                                         pfem_options, solver_keyword,
                                         sweep_options, time_options)
-from pfem_skfem.harness.report import Report, script_main, thinned_groups
+from pfem_skfem.harness.report import Report, sampled, script_main, thinned_groups
 from pfem_skfem.harness.sweeps import (grouped, kept_with, one_sitting, run_study,
-                                       shared_cases)
+                                       shared_cases, spans)
 from pfem_skfem.pfem.measure import deposit_extent, mass_moved, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
 from pfem_skfem.viz import groups_figure, lines_figure, mass_profiles_figure, snapshot_grid
@@ -318,10 +318,10 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    own_options(p, a=opt(list(ASPECTS), "aspect ratios a = h0/r0", nargs="+"))
     material_options(p, phi=opt(30.0, "friction angle phi_g of the material [deg]",
                                 type=cohesionless_angle), rho=2.0, g=9.8)
-    own_options(p, phi_s=(friction_angle, None, "base friction angle phi_s [deg], mu = tan "
+    own_options(p, a=opt(list(ASPECTS), "aspect ratios a = h0/r0", nargs="+"),
+                phi_s=(friction_angle, None, "base friction angle phi_s [deg], mu = tan "
                                                 "phi_s (default phi_g)"),
                 r0=opt(1.0, "initial radius [m]"),
                 nr=(PARTICLES_ACROSS, 10, "particles across the radius r0, or across the height "
@@ -384,8 +384,7 @@ def run(args):
         volume_correction=args.volume_correction == "on",
         **solver_keyword(args), **checkpoint_keywords(args))    # each only where asked
     sweep = [dict(base, a=a) for a in sorted(args.a)]
-    run_of = lambda c: (c["a"], c["phi"],                                     # noqa: E731
-                        c["phi"] if c["phi_s"] is None else c["phi_s"])   # a sweep case's run
+    run_of = lambda c: (c["a"], c["phi"], c["phi"] if c["phi_s"] is None else c["phi_s"])  # noqa
     groups = dict(
         sweep=sweep, material=[dict(base, a=a, material="mc" if args.material == "dp" else "dp")
                                for a in args.compare_mc],
@@ -398,9 +397,8 @@ def run(args):
         history=[dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0, history=True)]
         if args.history else [])
     res = run_study(run_case, groups, args, desc="columns of revolution")
-    sweep = res["sweep"]
     report = Report("granular_column_axisymmetric", args)
-    for r in sweep:
+    for r in res["sweep"]:
         r["reference"], r["deviation"] = against_fits(r)
         r_ref, h_ref, tag = r["reference"]["runout_lube"], r["reference"]["h_lube"], f"a{r['a']:g}"
         if r["a"] <= 0.5:           # every source: a short column keeps its top
@@ -426,15 +424,15 @@ def run(args):
                             "particle masses sum to rho V (passed on, never made)")
         report.add_interval(f"{tag}_axis_particles_kept", r["axis_particles_kept"], 1, 1,
                             "particles on the axis at t = 0 are on it at the end (u_r = 0)")
-    fit, dev = (lambda k: lambda r: r["reference"][k]), (lambda k: lambda r: r["deviation"][k])
     report.add_table(
-        "deposits", {"a": "a", "(r-r0)/r0": "runout_over_r0", "(7.31)": fit("runout_lube"),
-                     "dev": dev("runout_lube"), "h/r0": "h_inf_over_r0", "(7.32)": fit("h_lube"),
+        "deposits", {"a": "a", "(r-r0)/r0": "runout_over_r0",
+                     "(7.31)": ("reference", "runout_lube"), "dev": ("deviation", "runout_lube"),
+                     "h/r0": "h_inf_over_r0", "(7.32)": ("reference", "h_lube"),
                      "*": lambda r: "" if r["reference"]["h_lube_in_range"] else "*",
-                     "dev'": dev("h_lube"), "(7.34)": fit("h_lajeunesse"), "t_rest": "t_rest",
-                     "run4": "runout_t4_over_r0", "h4/r0": "h_t4_over_r0",
+                     "dev'": ("deviation", "h_lube"), "(7.34)": ("reference", "h_lajeunesse"),
+                     "t_rest": "t_rest", "run4": "runout_t4_over_r0", "h4/r0": "h_t4_over_r0",
                      "|dV|max": "volume_change_max", "parts": "particles",
-                     "s/step": "seconds_per_step"}, sweep,
+                     "s/step": "seconds_per_step"}, res["sweep"],
         formats={"a": ".2g", "(r-r0)/r0": ".3f", "(7.31)": ".3f", "dev": "+.1%", "h/r0": ".3f",
                  "(7.32)": ".3f", "dev'": "+.1%", "(7.34)": ".3f", "t_rest": ".2f",
                  "run4": ".3f", "h4/r0": ".3f", "|dV|max": ".2%", "s/step": ".2f"},
@@ -442,10 +440,10 @@ def run(args):
               "et al. 2004 (7.34) (*: a beyond the range of (7.32)'s fit; for a > 6 the thesis "
               "finds the heights below (7.32), dev' < 0); then the deposit at t/sqrt(h0/g) = 4 "
               "(run4, h4), where the thesis stops")
-    if len(sweep) > 1:                   # in increasing a, as the sweep's cases
-        report.add_interval("runout_increment_min", np.diff([r["runout_over_r0"]
-                                                             for r in sweep]).min(), 0.0, np.inf,
-                            "run-out grows with a (Lube et al. 2004)")
+    if len(res["sweep"]) > 1:            # in increasing a, as the sweep's cases
+        report.add_interval("runout_increment_min",
+                            np.diff([r["runout_over_r0"] for r in res["sweep"]]).min(), 0.0,
+                            np.inf, "run-out grows with a (Lube et al. 2004)")
     _studies(report, res, args)
     report.extra = {**thinned_groups(res, HISTORIES, ("snapshots", "track")), **report.extra}
     report.data = res
@@ -471,13 +469,11 @@ def _studies(report, res, args):
     for name, title, key, rows in (
             ("friction study", "friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
             ("base-friction study", "base-friction study (Fig 7.11)", "phi_s", res["base"])):
-        by_a = grouped(rows, "a", key)
-        changes[key] = [[a, rs[0][key], rs[-1][key],
-                         *deposit_change(rs[0], rs[-1], key == "phi_s")]
-                        for a, rs in by_a.items() if len(rs) > 1]
+        changes[key] = [[a, lo[key], hi[key], *deposit_change(lo, hi, key == "phi_s")]
+                        for a, lo, hi in spans(grouped(rows, "a", key))]
         report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"],
                          [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
-                          for a, rs in by_a.items() for r in rs],
+                          for a, rs in grouped(rows, "a", key).items() for r in rs],
                          formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
                                   "t_rest": ".2f"}, title="\n" + title, skip_empty=True)
         report.add_table(f"{name}, changes",
@@ -520,12 +516,10 @@ def _studies(report, res, args):
         formats={"(r-r0)/r0": ".3f", "h/r0": ".3f", "t_rest": ".2f", "|dV|max": ".2%",
                  "s/step": ".2f"}, title="\nmesh study, a = 2", skip_empty=True)
     for k, r in enumerate(res["history"]):
-        tr = r["track"]
-        shown = [int(np.argmin(np.abs(np.asarray(tr["t_bar"]) - t)))
-                 for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)]
         report.add_table(
-            "time history" + (f" {k}" if k else ""), ["t/sqrt(h0/g)", "h/r0", "(r-r0)/r0"],
-            [[tr["t_bar"][i], tr["h_over_r0"][i], tr["r_over_r0"][i] - 1] for i in shown],
+            "time history" + (f" {k}" if k else ""), {"t/sqrt(h0/g)": "t_bar", "h/r0": "h_over_r0",
+                                                      "(r-r0)/r0": lambda s: s["r_over_r0"] - 1},
+            sampled(r["track"], "t_bar", (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)),
             formats={"t/sqrt(h0/g)": ".2f", "h/r0": ".3f", "(r-r0)/r0": ".3f"},
             title="\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg; at rest "
                   f"(r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31): "

@@ -258,9 +258,10 @@ class Report:
         ``skip_empty`` : without rows (a study not asked for) no table, printed or kept, and
         None returned, rather than a header alone.
 
-        A table of records: ``columns`` a {column: key, or function of a record} mapping,
-        ``rows`` the records (the results of a study's cases, dicts), each cell
-        ``record[key]`` or ``function(record)``::
+        A table of records: ``columns`` a {column: key, tuple of keys, or function of a
+        record} mapping, ``rows`` the records (the results of a study's cases, dicts), each
+        cell ``record[key]``, the entry down the keys (``("reference", "h")``:
+        ``record["reference"]["h"]``) or ``function(record)``::
 
             front = lambda r: r["x_f"] / r["x_nye"]
             report.add_table("runs", {"run": "label", "mu": "mu",
@@ -270,8 +271,7 @@ class Report:
         if skip_empty and not rows:
             return None
         if isinstance(columns, Mapping):
-            rows = [[get(r) if callable(get) else r[get] for get in columns.values()]
-                    for r in rows]
+            rows = [[_entry(r, get) for get in columns.values()] for r in rows]
         columns = [str(c) for c in columns]
         rows = [list(row) for row in rows]
         for row in rows:
@@ -343,6 +343,25 @@ class Report:
             print(f"results written to {args.json}")
         return 0 if self.passed else 1
 
+
+
+def _entry(record, get):
+    """A cell of a table of records (:meth:`Report.add_table`): ``get(record)``, or
+    ``record[get]``, or for a tuple of keys the entry down them."""
+    if callable(get):
+        return get(record)
+    for key in get if isinstance(get, tuple) else (get,):
+        record = record[key]
+    return record
+
+
+def sampled(history, key, at):
+    """A history ({name: a sequence, one entry a step}) as the records of a table at the
+    entries whose ``history[key]`` (a time, say) is nearest each of ``at``, in that order:
+    [{name: its entry there}], the rows a table shows of a long history."""
+    values = np.asarray(history[key])
+    return [{name: entries[i] for name, entries in history.items()}
+            for i in (int(np.argmin(np.abs(values - t))) for t in at)]
 
 
 def format_table(columns, rows, formats=None, title=None):

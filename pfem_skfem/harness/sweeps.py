@@ -1,10 +1,11 @@
 """Independent cases on Dask (:func:`run_cases`): a local cluster or one at ``--scheduler``,
 the cases' bars forwarded, failures reported with their case (:class:`SweepError`), and
 the result cache of ``--results-dir`` (:func:`result_path`); a study's named groups of
-cases (its sweep, its variants) run as one sweep by :func:`run_groups`, their results
-by group (:func:`grouped`), a study's cases that are a sweep's (:func:`shared_cases`),
-whether kept results were made in one sitting (:func:`one_sitting`) and hold what a
-measurement needs (:func:`kept_with`).
+cases (its sweep, its variants) run as one sweep by :func:`run_groups` (a study's case
+that is a sweep's run taken as the sweep's: :func:`shared_cases`), their results by group
+(:func:`grouped`; each group's first and last: :func:`spans`), whether kept results were
+made in one sitting (:func:`one_sitting`) and hold what a measurement needs
+(:func:`kept_with`).
 """
 from pathlib import Path
 
@@ -152,6 +153,13 @@ def grouped(rows, by, order=None):
         groups.setdefault(row[by], []).append(row)
     return {value: rows if order is None else sorted(rows, key=lambda row: row[order])
             for value, rows in sorted(groups.items())}
+
+
+def spans(groups):
+    """(value, first row, last row) of each group of ``groups`` ({value: rows}, as
+    :func:`grouped` gives them, each in increasing order) that has more than one row: a
+    study's change from its least parameter to its largest, group by group."""
+    return [(value, rows[0], rows[-1]) for value, rows in groups.items() if len(rows) > 1]
 
 
 def shared_cases(cases, kept, run_of):
