@@ -345,9 +345,12 @@ def plot_groups(axes, series, x, ys, *, curves=(), log=False, labels=None):
 
 def groups_figure(path, title, series, x, ys, **panels):
     """One row of :func:`plot_groups` panels (5 x 4 inches each), titled ``title``, saved at
-    ``path`` (the keywords ``panels`` are :func:`plot_groups`'); returns ``path``."""
+    ``path`` (the keywords ``panels`` are :func:`plot_groups`'); returns ``path``, or None
+    where no series has a row (a study not asked for: no figure of its fits alone)."""
     from .harness.figures import pyplot, save_figure
 
+    if not any(rows for _, rows, _ in series):
+        return None
     fig, axes = pyplot().subplots(1, len(ys), figsize=(5 * len(ys), 4), squeeze=False)
     plot_groups(axes[0], series, x, ys, **panels)
     fig.suptitle(title)
@@ -372,6 +375,41 @@ def plot_mass_profiles(axes, deposits, *, scale=1.0, title=None):
     labelled(axes[0], "r / r0", "z / r0", title, title_size=9).set_aspect("equal")
     labelled(axes[1], "r / r0", "share of the mass within r")
     return axes
+
+
+def mass_profiles_figure(path, title, columns):
+    """Deposits of a study compared a column of :func:`plot_mass_profiles` panels per group
+    (an aspect ratio, say: 4.2 inches wide, 6 high), titled ``title``, saved at ``path``.
+    ``columns``: (column title, length scale, deposits) each, the deposits (label, points,
+    masses) as :func:`plot_mass_profiles` takes them. Returns ``path``, or None without
+    columns (nothing to compare: no figure)."""
+    from .harness.figures import pyplot, save_figure
+
+    if not columns:
+        return None
+    fig, axes = pyplot().subplots(2, len(columns), figsize=(4.2 * len(columns), 6),
+                                  squeeze=False)
+    for j, (name, scale, deposits) in enumerate(columns):
+        plot_mass_profiles(axes[:, j], deposits, scale=scale, title=name)
+    fig.suptitle(title)
+    save_figure(fig, path)
+    return path
+
+
+def lines_figure(path, lines, labels, *, size=(6, 4), title_size=None):
+    """One panel of curves (histories against time, say), saved at ``path``: the figure of a
+    quantity that needs no second panel. ``lines``: (x, y, format or None, label) each,
+    drawn in order; ``labels``: (x label, y label[, title]) with its legend
+    (:func:`~pfem_skfem.harness.figures.labelled`, the title ``title_size`` points);
+    ``size`` in inches. Returns ``path``."""
+    from .harness.figures import labelled, pyplot, save_figure
+
+    fig, ax = pyplot().subplots(figsize=size)
+    for x, y, fmt, label in lines:
+        ax.plot(x, y, *([fmt] if fmt else []), label=label)
+    labelled(ax, *labels, title_size=title_size)
+    save_figure(fig, path)
+    return path
 
 
 def render_png(vtu_path, png_path, scalars=None, *, cmap="viridis", clim=None,

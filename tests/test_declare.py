@@ -89,3 +89,14 @@ def test_the_keywords_of_a_case_are_its_options_and_what_is_given():
     keywords = keywords_of(run_case, args, label="base", outdir=None)
     assert keywords == dict(a=0.05, n2=2.0, rho=1000.0, mu=0.0, outdir=None, label="base")
     assert run_case(**keywords) == (0.05, 2.0, 1000.0, 0.0, "base", None, {})
+
+
+def test_the_checkpoints_are_a_case_s_keywords_only_where_asked():
+    from pfem_skfem.harness.declare import checkpoint_keywords
+    from pfem_skfem.harness.options import checkpoint_options
+
+    parser = checkpoint_options(argparse.ArgumentParser(), "column")
+    assert checkpoint_keywords(parser.parse_args([])) == {}      # kept results keep their names
+    args = parser.parse_args(["--checkpoint-dir", "runs/x", "--checkpoint-every", "5"])
+    assert checkpoint_keywords(args) == {"checkpoint_dir": "runs/x", "checkpoint_every": 5}
+    assert checkpoint_keywords(argparse.Namespace()) == {}

@@ -216,3 +216,45 @@ def test_deposits_compared_by_their_particles_and_their_mass_within_a_radius():
     assert ax[0].get_title() == "a = 1" and ax[0].get_aspect() == 1.0
     assert figure_problems(fig) == []
     pyplot().close(fig)
+
+
+def test_a_study_of_deposits_a_column_of_particles_and_masses_per_group(tmp_path):
+    from pfem_skfem.viz import mass_profiles_figure
+
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 1.0]])
+    deposits = [("rough", points, np.ones(3)), ("smooth", 2 * points, np.ones(3))]
+    path = mass_profiles_figure(tmp_path / "profiles.png", "deposits at rest",
+                                [("a = 0.5", 1.0, deposits), ("a = 4", 2.0, deposits[:1])])
+    assert path == tmp_path / "profiles.png" and path.is_file()
+    assert mass_profiles_figure(tmp_path / "none.png", "no study", []) is None   # no figure
+    assert not (tmp_path / "none.png").exists()
+
+
+def test_one_panel_of_curves_with_its_labels_and_legend(tmp_path, monkeypatch):
+    from pfem_skfem import viz
+    from pfem_skfem.harness import figures
+
+    drawn = {}
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path: drawn.update(fig=fig))
+    t = np.linspace(0.0, 1.0, 5)
+    path = viz.lines_figure(tmp_path / "history.png", [(t, t ** 2, "--", "h"), (t, t, None, "r")],
+                            ("t [s]", "h, r [m]", "a history"), size=(5, 3), title_size=9)
+    ax, = drawn["fig"].axes
+    dashed, plain = ax.get_lines()
+    assert path == tmp_path / "history.png"
+    assert dashed.get_linestyle() == "--" and plain.get_linestyle() == "-"
+    assert list(plain.get_ydata()) == list(t) and plain.get_label() == "r"
+    assert ax.get_title() == "a history" and ax.title.get_fontsize() == 9
+    assert ax.get_xlabel() == "t [s]" and ax.get_legend() is not None
+    assert tuple(drawn["fig"].get_size_inches()) == (5, 3)
+    assert figure_problems(drawn["fig"]) == []
+    pyplot().close(drawn["fig"])
+
+
+def test_a_study_figure_without_cases_is_not_drawn(tmp_path):
+    from pfem_skfem.viz import groups_figure
+
+    a = np.array([0.5, 1.0])
+    assert groups_figure(tmp_path / "none.png", "no study", [("a = 1", [], "o-")], "a",
+                         ("r", "h"), curves=[(0, a, a, "k-", "fit")]) is None
+    assert not (tmp_path / "none.png").exists()

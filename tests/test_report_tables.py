@@ -66,6 +66,35 @@ def test_a_case_thinned_for_the_json():
     assert list(thinned(case, drop=("label", "points"))) == ["t", "ke", "x"]
 
 
+def test_a_study_s_groups_thinned_for_the_json():
+    from pfem_skfem.harness.report import thinned, thinned_groups
+    case = dict(label="a", t=np.arange(250.0), points=None)
+    groups = {"sweep": [case, case], "mesh": []}
+    kept = thinned_groups(groups, ("t",), drop=("points",))
+    assert list(kept) == ["sweep", "mesh"] and kept["mesh"] == []
+    assert kept["sweep"] == [thinned(case, ("t",), ("points",))] * 2
+
+
+def test_a_table_of_records_reads_nested_entries_and_a_history_at_chosen_times():
+    from pfem_skfem.harness.report import sampled
+    report = Report("case")
+    rows = [{"a": 1, "fit": {"h": 0.5}}, {"a": 2, "fit": {"h": 0.25}}]
+    table = report.add_table("fits", {"a": "a", "h": ("fit", "h"), "2h": lambda r: 2 * r["a"]},
+                             rows, show=False)
+    assert table["rows"] == [[1, 0.5, 2], [2, 0.25, 4]]
+    history = {"t": [0.0, 0.4, 1.1, 2.0], "h": [1.0, 0.9, 0.7, 0.6]}
+    assert sampled(history, "t", (1.0, 0.0, 1.9)) == [
+        {"t": 1.1, "h": 0.7}, {"t": 0.0, "h": 1.0}, {"t": 2.0, "h": 0.6}]     # nearest, in order
+
+
+def test_a_table_of_no_rows_is_left_out_where_asked():
+    report = Report("case")
+    assert report.add_table("empty", ["a"], [], skip_empty=True) is None
+    assert "empty" not in report.tables
+    assert report.add_table("header", ["a"], (r for r in ())) == {"columns": ["a"], "rows": []}
+    assert report.add_table("one", {"a": "a"}, iter([{"a": 1}]), skip_empty=True)["rows"] == [[1]]
+
+
 def test_a_bracket_is_a_lower_and_an_upper_bound_on_either_side_of_the_reference():
     report = Report("case")
     lower, upper = report.add_bracket("Nc", 5.0, 5.2, 2 + np.pi, "Prandtl; {bound} (9 el)")

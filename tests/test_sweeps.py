@@ -243,3 +243,35 @@ def test_a_case_listed_in_two_groups_runs_once(capsys):
 def _counted(x, calls):
     calls.append(x)
     return x * x
+
+
+def test_a_study_s_case_that_is_a_sweep_case_s_run_is_the_sweep_s_listed_last():
+    from pfem_skfem.harness.sweeps import shared_cases
+
+    sweep = [dict(a=a, phi=30.0, phi_s=None) for a in (0.5, 4.0)]
+    run_of = lambda c: (c["a"], c["phi"], c["phi"] if c["phi_s"] is None else c["phi_s"])  # noqa
+    study = [dict(a=a, phi=30.0, phi_s=p) for a in (0.5, 8.0) for p in (20.0, 30.0)]
+    cases = shared_cases(study, sweep, run_of)
+    assert cases[:3] == [study[0], study[2], study[3]]          # their own, as they were
+    assert cases[3] is sweep[0] and len(cases) == 4          # the sweep's case object, last
+    assert shared_cases(study, [], run_of) == study and shared_cases([], sweep, run_of) == []
+
+
+def test_each_group_s_first_and_last_row_where_it_has_two():
+    from pfem_skfem.harness.sweeps import grouped, spans
+
+    rows = [dict(a=4.0, phi=30), dict(a=0.5, phi=35), dict(a=4.0, phi=25), dict(a=8.0, phi=20)]
+    assert spans(grouped(rows, "a", "phi")) == [(4.0, rows[2], rows[0])]      # a = 0.5, 8: one
+    assert spans({}) == []
+
+
+def test_a_kept_result_without_what_a_measurement_needs_is_said_to_be(capsys):
+    from pfem_skfem.harness.sweeps import kept_with
+
+    assert kept_with("mass", {"mass": 1}, {"mass": 2, "x": 0})
+    assert capsys.readouterr().out == ""
+    assert not kept_with("mass", {"mass": 1}, {"x": 0}, what="masses at rest",
+                         why="measure the mass moved")
+    assert capsys.readouterr().out == (
+        "  a kept result has no masses at rest (made by an older version): delete it from "
+        "--results-dir and run again to measure the mass moved\n")

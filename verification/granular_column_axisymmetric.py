@@ -62,18 +62,18 @@ from pfem_skfem.pfem.remesh import AlphaMesh
 from pfem_skfem.problems.contact import RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
-from pfem_skfem.harness.declare import option_values, own_options
-from pfem_skfem.harness.figures import (figure_dir, labelled, pyplot, save_figure,
-                                        write_summary)
+from pfem_skfem.harness.declare import checkpoint_keywords, option_values, own_options
+from pfem_skfem.harness.figures import figure_dir, save_figure, write_summary
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         friction_angle, in_range, material_options, opt,
                                         pfem_options, solver_keyword,
                                         sweep_options, time_options)
-from pfem_skfem.harness.report import Report, thinned, script_main
-from pfem_skfem.harness.sweeps import grouped, one_sitting, run_study
+from pfem_skfem.harness.report import Report, sampled, script_main, thinned_groups
+from pfem_skfem.harness.sweeps import (grouped, kept_with, one_sitting, run_study,
+                                       shared_cases, spans)
 from pfem_skfem.pfem.measure import deposit_extent, mass_moved, wall_height
 from pfem_skfem.scene import Body, Geostatic, Region, Scene
-from pfem_skfem.viz import groups_figure, plot_mass_profiles, snapshot_grid
+from pfem_skfem.viz import groups_figure, lines_figure, mass_profiles_figure, snapshot_grid
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
 # --quick (6 particles across r0, dt/sqrt(h0/g) = 0.04) checks what holds at any size: the
@@ -318,29 +318,24 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
 
 def build_parser():
     p = base_parser(__doc__.splitlines()[0], quick=QUICK)
-    own_options(p, a=opt(list(ASPECTS), "aspect ratios a = h0/r0", nargs="+"))
     material_options(p, phi=opt(30.0, "friction angle phi_g of the material [deg]",
-                                type=cohesionless_angle),
-                     rho=2.0, g=9.8)
-    own_options(
-        p, phi_s=opt(None, "base friction angle phi_s [deg], mu = tan phi_s (default phi_g)",
-                     type=friction_angle),
-        r0=opt(1.0, "initial radius [m]"),
-        nr=opt(10, "particles across the radius r0, or across the height h0 where it is smaller "
-                   "(a < 1)", type=PARTICLES_ACROSS))
-    time_options(p, steps=opt(400, "time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = "
-                                   "0.01)"),
+                                type=cohesionless_angle), rho=2.0, g=9.8)
+    own_options(p, a=opt(list(ASPECTS), "aspect ratios a = h0/r0", nargs="+"),
+                phi_s=(friction_angle, None, "base friction angle phi_s [deg], mu = tan "
+                                                "phi_s (default phi_g)"),
+                r0=opt(1.0, "initial radius [m]"),
+                nr=(PARTICLES_ACROSS, 10, "particles across the radius r0, or across the height "
+                                          "h0 where it is smaller (a < 1)"))
+    time_options(p, steps=opt(400, "time steps to t/sqrt(h0/g) = 4 (400: dt/sqrt(h0/g) = 0.01)"),
                  settle=opt(4.0, "after t/sqrt(h0/g) = 4 go on for at most this long until at "
-                                 "rest"),
-                 save_every=opt(0, why="a PVD per case"))
-    own_options(p, courant=opt(None, "at least the steps that hold sqrt(2 g h0) dt / h to this "
-                                     "(tall columns: the volume error grows with it); default: "
-                                     "--steps only"))
-    p.add_argument("--material", choices=tuple(MATERIALS), default="dp",
-                   help="dp: the (7.10) cone, zero dilation; mc: Mohr-Coulomb, 3 cones")
+                                 "rest"), save_every=opt(0, why="a PVD per case"))
     own_options(
-        p, compare_mc=opt([], "aspect ratios also run with the other material (compared once)",
-                          nargs="*"),
+        p, courant=opt(None, "at least the steps that hold sqrt(2 g h0) dt / h to this (tall "
+                             "columns: the volume error grows with it); default: --steps only"),
+        material=(tuple(MATERIALS), "dp", "dp: the (7.10) cone, zero dilation; mc: "
+                                          "Mohr-Coulomb, 3 cones"),
+        compare_mc=opt([], "aspect ratios also run with the other material (compared once)",
+                       nargs="*"),
         density=opt([], "densities for the invariance check (c = 0), at the first a", nargs="*"),
         friction_study=opt([], "phi_g values (mu = tan phi_g) for Fig 7.10, at every a of "
                                "--friction-a", type=cohesionless_angle, nargs="*"),
@@ -349,11 +344,9 @@ def build_parser():
         friction_a=opt([0.5, 4.0, 8.0], "aspect ratios of the friction study", nargs="*"),
         base_a=opt([0.5, 4.0, 8.0], "aspect ratios of the base-friction study", nargs="*"),
         mesh_study=opt([], "particles across r0 for the mesh study at a = 2, e.g. 6 10 14",
-                       type=PARTICLES_ACROSS, nargs="*"))
-    p.add_argument("--history", action="store_true",
-                   help="the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg")
-    p.add_argument("--no-fit-gates", action="store_true",
-                   help="report the deviations from (7.31)-(7.32) without gating them")
+                       type=PARTICLES_ACROSS, nargs="*"),
+        history=(bool, False, "the time history of Fig 7.6: a = 3.6, r0 = 3.9 cm, phi_g = 28 deg"),
+        no_fit_gates=(bool, False, "report the deviations from (7.31)-(7.32) without gating them"))
     pfem_options(p, alpha=1.6, passes=2,
                  k_min=opt(0.005, dest="floor", why="a fraction of rho g h0"),
                  volume_correction=opt("on", why="with --alpha-advected 3 every volume "
@@ -361,9 +354,8 @@ def build_parser():
                  alpha_advected=opt(3.0, why="3 keeps the toe's flattened triangles (see the "
                                              "book); the deposit is measured on the domain "
                                              "the run detects"))
-    p.add_argument("--adaptive-alpha", action="store_true",
-                   help="adapt alpha to the detected volume, alpha_n = m0 alpha / m_n "
-                        "(thesis Ch 8)")
+    own_options(p, adaptive_alpha=(bool, False, "adapt alpha to the detected volume, alpha_n = "
+                                                "m0 alpha / m_n (thesis Ch 8)"))
     checkpoint_options(p, "column")
     sweep_options(p, what="the cases (sweep and studies)")
     return p
@@ -385,37 +377,28 @@ def against_fits(r):
 
 def run(args):
     """The sweep and the studies of ``args``; the Report of their checks."""
-    out = Path(args.outdir) / "granular_column_axisymmetric"
     base = option_values(args, "nr", "steps", "phi", "phi_s", "rho", "g", "r0", "material",
                          "passes", "alpha", "floor", "settle", "courant", "save_every",
                          "adaptive_alpha", "alpha_advected", verbose="progress") | dict(
-        outdir=out if args.save_every else None,
-        volume_correction=args.volume_correction == "on") | solver_keyword(args)
-    if args.checkpoint_dir is not None:      # (absent otherwise: kept results keep their names)
-        base.update(checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
-    groups = {"sweep": [dict(base, a=a) for a in sorted(args.a)]}
-    sweep = {case["a"]: case for case in groups["sweep"]}
-    other = "mc" if args.material == "dp" else "dp"
-    groups["material"] = [dict(base, a=a, material=other) for a in args.compare_mc]
-    groups["density"] = [dict(base, a=min(args.a), rho=r) for r in args.density if r != args.rho]
-    # a study's case equal to a sweep case is the sweep's, listed last (run once: run_groups)
-    same_base, phi_s = args.phi_s is None or args.phi_s == args.phi, args.phi_s or args.phi
-    groups["friction"] = [dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
-                          for p in args.friction_study
-                          if not (p == args.phi and same_base and a in sweep)] + [
-        sweep[a] for a in args.friction_a if args.phi in args.friction_study and same_base
-        and a in sweep]
-    groups["base"] = [dict(base, a=a, phi_s=p) for a in args.base_a for p in args.base_study
-                      if not (p == phi_s and a in sweep)] + [
-        sweep[a] for a in args.base_a if phi_s in args.base_study and a in sweep]
-    groups["mesh"] = [dict(base, a=2.0, nr=n) for n in args.mesh_study]
-    groups["history"] = ([dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0,
-                               history=True)] if args.history else [])
+        outdir=Path(args.outdir) / "granular_column_axisymmetric" if args.save_every else None,
+        volume_correction=args.volume_correction == "on",
+        **solver_keyword(args), **checkpoint_keywords(args))    # each only where asked
+    sweep = [dict(base, a=a) for a in sorted(args.a)]
+    run_of = lambda c: (c["a"], c["phi"], c["phi"] if c["phi_s"] is None else c["phi_s"])  # noqa
+    groups = dict(
+        sweep=sweep, material=[dict(base, a=a, material="mc" if args.material == "dp" else "dp")
+                               for a in args.compare_mc],
+        density=[dict(base, a=min(args.a), rho=r) for r in args.density if r != args.rho],
+        friction=shared_cases([dict(base, a=a, phi=p, phi_s=p) for a in args.friction_a
+                               for p in args.friction_study], sweep, run_of),
+        base=shared_cases([dict(base, a=a, phi_s=p) for a in args.base_a
+                           for p in args.base_study], sweep, run_of),
+        mesh=[dict(base, a=2.0, nr=n) for n in args.mesh_study],
+        history=[dict(base, a=3.6, r0=0.039, phi=28.0, phi_s=28.0, t_stop=3.0, history=True)]
+        if args.history else [])
     res = run_study(run_case, groups, args, desc="columns of revolution")
-    sweep = res["sweep"]
-
     report = Report("granular_column_axisymmetric", args)
-    for r in sweep:
+    for r in res["sweep"]:
         r["reference"], r["deviation"] = against_fits(r)
         r_ref, h_ref, tag = r["reference"]["runout_lube"], r["reference"]["h_lube"], f"a{r['a']:g}"
         if r["a"] <= 0.5:           # every source: a short column keeps its top
@@ -441,15 +424,15 @@ def run(args):
                             "particle masses sum to rho V (passed on, never made)")
         report.add_interval(f"{tag}_axis_particles_kept", r["axis_particles_kept"], 1, 1,
                             "particles on the axis at t = 0 are on it at the end (u_r = 0)")
-    fit, dev = (lambda k: lambda r: r["reference"][k]), (lambda k: lambda r: r["deviation"][k])
     report.add_table(
-        "deposits", {"a": "a", "(r-r0)/r0": "runout_over_r0", "(7.31)": fit("runout_lube"),
-                     "dev": dev("runout_lube"), "h/r0": "h_inf_over_r0", "(7.32)": fit("h_lube"),
+        "deposits", {"a": "a", "(r-r0)/r0": "runout_over_r0",
+                     "(7.31)": ("reference", "runout_lube"), "dev": ("deviation", "runout_lube"),
+                     "h/r0": "h_inf_over_r0", "(7.32)": ("reference", "h_lube"),
                      "*": lambda r: "" if r["reference"]["h_lube_in_range"] else "*",
-                     "dev'": dev("h_lube"), "(7.34)": fit("h_lajeunesse"), "t_rest": "t_rest",
-                     "run4": "runout_t4_over_r0", "h4/r0": "h_t4_over_r0",
+                     "dev'": ("deviation", "h_lube"), "(7.34)": ("reference", "h_lajeunesse"),
+                     "t_rest": "t_rest", "run4": "runout_t4_over_r0", "h4/r0": "h_t4_over_r0",
                      "|dV|max": "volume_change_max", "parts": "particles",
-                     "s/step": "seconds_per_step"}, sweep,
+                     "s/step": "seconds_per_step"}, res["sweep"],
         formats={"a": ".2g", "(r-r0)/r0": ".3f", "(7.31)": ".3f", "dev": "+.1%", "h/r0": ".3f",
                  "(7.32)": ".3f", "dev'": "+.1%", "(7.34)": ".3f", "t_rest": ".2f",
                  "run4": ".3f", "h4/r0": ".3f", "|dV|max": ".2%", "s/step": ".2f"},
@@ -457,13 +440,12 @@ def run(args):
               "et al. 2004 (7.34) (*: a beyond the range of (7.32)'s fit; for a > 6 the thesis "
               "finds the heights below (7.32), dev' < 0); then the deposit at t/sqrt(h0/g) = 4 "
               "(run4, h4), where the thesis stops")
-    if len(sweep) > 1:
-        rs = sorted(sweep, key=lambda r: r["a"])
-        report.add_interval("runout_increment_min", np.diff([r["runout_over_r0"]
-                                                             for r in rs]).min(), 0.0, np.inf,
-                            "run-out grows with a (Lube et al. 2004)")
+    if len(res["sweep"]) > 1:            # in increasing a, as the sweep's cases
+        report.add_interval("runout_increment_min",
+                            np.diff([r["runout_over_r0"] for r in res["sweep"]]).min(), 0.0,
+                            np.inf, "run-out grows with a (Lube et al. 2004)")
     _studies(report, res, args)
-    report.extra = {**_summaries(res), **report.extra}
+    report.extra = {**thinned_groups(res, HISTORIES, ("snapshots", "track")), **report.extra}
     report.data = res
     return report
 
@@ -471,12 +453,11 @@ def run(args):
 def _studies(report, res, args):
     """Print and check the material comparison, density invariance and the studies."""
     sweep = {r["a"]: r for r in res["sweep"]}
-    pairs = [x for r in res["material"] if r["a"] in sweep for x in (sweep[r["a"]], r)]
-    if pairs:
-        report.add_table("material", {"a": "a", "material": "material", "(r-r0)/r0":
-                                      "runout_over_r0", "h/r0": "h_inf_over_r0"}, pairs,
-                         formats={"a": "g", "(r-r0)/r0": ".3f", "h/r0": ".3f"},
-                         title="\nthe material at each a of --compare-mc")
+    report.add_table("material", {"a": "a", "material": "material", "(r-r0)/r0":
+                                  "runout_over_r0", "h/r0": "h_inf_over_r0"},
+                     [x for r in res["material"] if r["a"] in sweep for x in (sweep[r["a"]], r)],
+                     formats={"a": "g", "(r-r0)/r0": ".3f", "h/r0": ".3f"},
+                     title="\nthe material at each a of --compare-mc", skip_empty=True)
     for r in res["density"]:
         s = sweep[sorted(sweep)[0]]
         one_sitting("density pair", s, r)    # round-off grows through remeshing (runs/README.md)
@@ -484,68 +465,61 @@ def _studies(report, res, args):
             report.add(f"density_rho{r['rho']:g}_{key}", r[key], s[key],
                        f"c = 0: the deposit of rho = {s['rho']:g} (every force scales with rho)",
                        0.01)
-    effect = {}                                       # of the base friction, by a
+    changes = {}                # from the least angle to the largest, at each a
     for name, title, key, rows in (
             ("friction study", "friction study (Fig 7.10), phi_s = phi_g", "phi", res["friction"]),
             ("base-friction study", "base-friction study (Fig 7.11)", "phi_s", res["base"])):
-        by_a = grouped(rows, "a", key)
-        changes = [[a, rs[0][key], rs[-1][key], *deposit_change(rs[0], rs[-1], key == "phi_s")]
-                   for a, rs in by_a.items() if len(rs) > 1]
-        for a, _, _, dh, dr, change, *moved in changes:
-            tag = f"{'friction' if key == 'phi' else 'base'}_a{a:g}"
-            if key == "phi":
-                report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
-                                    "Fig 7.10: a larger phi_g gives a shorter deposit")
-                if a > 0.74:       # a short column keeps its top whatever phi_g
-                    report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
-                                        "Fig 7.10: a larger phi_g gives a higher deposit")
-                continue
-            effect[a] = {"runout_relative_change": change, "mass_moved": moved[0]}
-            if a <= 0.5:           # the profile, not the end of its thin tail (book)
-                report.add_interval(f"{tag}_mass_moved", moved[0], 0.0, 0.05,
-                                    "Fig 7.11: little effect of phi_s on the deposit at "
-                                    "a = 0.5 (below 5 % of the mass)")
-            else:
-                report.add_interval(f"{tag}_runout_change", dr, -np.inf, 0.0,
-                                    "Fig 7.11: a rougher base gives a shorter deposit")
-                report.add_interval(f"{tag}_height_change", dh, 0.0, np.inf,
-                                    "Fig 7.11: a rougher base gives a higher deposit")
-        if rows:
-            report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"],
-                             [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
-                              for a, rs in by_a.items() for r in rs],
-                             formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
-                                      "t_rest": ".2f"}, title="\n" + title)
-        if changes:
-            report.add_table(f"{name}, changes",
-                             ["a", f"{key} from", "to", "dh/r0", "d(r-r0)/r0", "relative"]
-                             + (["mass moved"] if key == "phi_s" else []), changes,
-                             formats={"a": "g", f"{key} from": "g", "to": "g", "dh/r0": "+.3f",
-                                      "d(r-r0)/r0": "+.3f", "relative": "+.1%",
-                                      "mass moved": ".2%"},
-                             title=f"{title}: from the least {key} to the largest"
-                                   + (" (mass moved: the mass the base moves across a radius)"
-                                      if key == "phi_s" else ""))
-    grows = [effect[a]["mass_moved"] for a in sorted(effect)]
-    if len(grows) > 1:
-        report.add_interval("base_mass_moved_increase_min", np.min(np.diff(grows)), 0.0,
-                            np.inf, "Fig 7.11: the effect of phi_s grows with a")
-    report.extra["base_friction_effect"] = [{"a": a, **v} for a, v in sorted(effect.items())]
-    if res["mesh"]:
-        report.add_table(
-            "mesh study", {"nr": "nr", "parts": "particles", "(r-r0)/r0": "runout_over_r0",
-                           "h/r0": "h_inf_over_r0", "t_rest": "t_rest",
-                           "|dV|max": "volume_change_max", "s/step": "seconds_per_step"},
-            sorted(res["mesh"], key=lambda r: r["nr"]),
-            formats={"(r-r0)/r0": ".3f", "h/r0": ".3f", "t_rest": ".2f", "|dV|max": ".2%",
-                     "s/step": ".2f"}, title="\nmesh study, a = 2")
+        changes[key] = [[a, lo[key], hi[key], *deposit_change(lo, hi, key == "phi_s")]
+                        for a, lo, hi in spans(grouped(rows, "a", key))]
+        report.add_table(name, ["a", key, "(r-r0)/r0", "h/r0", "t_rest"],
+                         [[a, r[key], r["runout_over_r0"], r["h_inf_over_r0"], r["t_rest"]]
+                          for a, rs in grouped(rows, "a", key).items() for r in rs],
+                         formats={"a": "g", key: "g", "(r-r0)/r0": ".3f", "h/r0": ".3f",
+                                  "t_rest": ".2f"}, title="\n" + title, skip_empty=True)
+        report.add_table(f"{name}, changes",
+                         ["a", f"{key} from", "to", "dh/r0", "d(r-r0)/r0", "relative"]
+                         + (["mass moved"] if key == "phi_s" else []), changes[key],
+                         formats={"a": "g", f"{key} from": "g", "to": "g", "dh/r0": "+.3f",
+                                  "d(r-r0)/r0": "+.3f", "relative": "+.1%",
+                                  "mass moved": ".2%"},
+                         title=f"{title}: from the least {key} to the largest"
+                               + (" (mass moved: the mass the base moves across a radius)"
+                                  if key == "phi_s" else ""), skip_empty=True)
+    for a, _, _, dh, dr, _ in changes["phi"]:
+        report.add_interval(f"friction_a{a:g}_runout_change", dr, -np.inf, 0.0,
+                            "Fig 7.10: a larger phi_g gives a shorter deposit")
+        if a > 0.74:       # a short column keeps its top whatever phi_g
+            report.add_interval(f"friction_a{a:g}_height_change", dh, 0.0, np.inf,
+                                "Fig 7.10: a larger phi_g gives a higher deposit")
+    for a, _, _, dh, dr, _, moved in changes["phi_s"]:
+        if a <= 0.5:           # the profile, not the end of its thin tail (book)
+            report.add_interval(f"base_a{a:g}_mass_moved", moved, 0.0, 0.05,
+                                "Fig 7.11: little effect of phi_s on the deposit at "
+                                "a = 0.5 (below 5 % of the mass)")
+        else:
+            report.add_interval(f"base_a{a:g}_runout_change", dr, -np.inf, 0.0,
+                                "Fig 7.11: a rougher base gives a shorter deposit")
+            report.add_interval(f"base_a{a:g}_height_change", dh, 0.0, np.inf,
+                                "Fig 7.11: a rougher base gives a higher deposit")
+    effect = [{"a": a, "runout_relative_change": change, "mass_moved": moved}
+              for a, *_, change, moved in changes["phi_s"]]
+    if len(effect) > 1:
+        report.add_interval("base_mass_moved_increase_min",
+                            np.min(np.diff([e["mass_moved"] for e in effect])), 0.0, np.inf,
+                            "Fig 7.11: the effect of phi_s grows with a")
+    report.extra["base_friction_effect"] = effect
+    report.add_table(
+        "mesh study", {"nr": "nr", "parts": "particles", "(r-r0)/r0": "runout_over_r0",
+                       "h/r0": "h_inf_over_r0", "t_rest": "t_rest",
+                       "|dV|max": "volume_change_max", "s/step": "seconds_per_step"},
+        sorted(res["mesh"], key=lambda r: r["nr"]),
+        formats={"(r-r0)/r0": ".3f", "h/r0": ".3f", "t_rest": ".2f", "|dV|max": ".2%",
+                 "s/step": ".2f"}, title="\nmesh study, a = 2", skip_empty=True)
     for k, r in enumerate(res["history"]):
-        tr = r["track"]
-        shown = [int(np.argmin(np.abs(np.asarray(tr["t_bar"]) - t)))
-                 for t in (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)]
         report.add_table(
-            "time history" + (f" {k}" if k else ""), ["t/sqrt(h0/g)", "h/r0", "(r-r0)/r0"],
-            [[tr["t_bar"][i], tr["h_over_r0"][i], tr["r_over_r0"][i] - 1] for i in shown],
+            "time history" + (f" {k}" if k else ""), {"t/sqrt(h0/g)": "t_bar", "h/r0": "h_over_r0",
+                                                      "(r-r0)/r0": lambda s: s["r_over_r0"] - 1},
+            sampled(r["track"], "t_bar", (0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0)),
             formats={"t/sqrt(h0/g)": ".2f", "h/r0": ".3f", "(r-r0)/r0": ".3f"},
             title="\ntime history (Fig 7.6), a = 3.6, r0 = 3.9 cm, phi_g = 28 deg; at rest "
                   f"(r-r0)/r0 = {r['runout_over_r0']:.3f} (Lube et al. (7.31): "
@@ -567,9 +541,7 @@ def _mass_moved(lo, hi):
     """:func:`mass_moved` between the deposits at rest of two cases (nan, said, for a
     kept result made before the rest state kept its masses: run it again)."""
     a, b = lo["snapshots"]["rest"], hi["snapshots"]["rest"]
-    if "mass" not in a or "mass" not in b:
-        print("  a kept result has no masses at rest (made by an older version): delete it "
-              "from --results-dir and run again to measure the mass moved")
+    if not kept_with("mass", a, b, what="masses at rest", why="measure the mass moved"):
         return float("nan")
     return mass_moved(a["points"][:, 0], a["mass"], b["points"][:, 0], b["mass"])
 
@@ -581,27 +553,20 @@ def main(argv=None):
 HISTORIES = ("t_bar", "area_change", "kinetic_energy_over_peak")
 
 
-def _summaries(groups):
-    """The cases of each group without their snapshots, their histories thinned."""
-    return {k: [thinned(r, HISTORIES, drop=("snapshots", "track")) for r in v]
-            for k, v in groups.items()}
-
-
 def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(), history=()):
     """Velocity snapshots (Fig 7.5, 7.7), run-out and height against a with the fits
     (Fig 7.8-7.9), the volume change, the time history (Fig 7.6), the studies (7.10-7.11)
     and the base-friction study's deposits at rest, their mass by radius (Fig 7.11)."""
-    plt = pyplot()
     out = figure_dir(args, "granular_column_axisymmetric")
     rows = sorted(sweep, key=lambda r: r["a"])
     for r in rows:                       # Fig 7.5 / 7.7: the snapshots of a case
-        fig, _ = snapshot_grid(
+        save_figure(snapshot_grid(
             {("at rest" if k == "rest" else f"t / sqrt(h0/g) = {k:g}"): (s["points"], s["speed"])
              for k, s in r["snapshots"].items()}, label="speed [m/s]",
             title=f"a = {r['a']:g}: particles coloured by speed [m/s] (cf. Fig 7.5, 7.7)",
             ncols=4, size=(12, 1.6), scale=r["r0"], axes=("r / r0", "z / r0"),
-            limits=((0, 1.4 + max(r["runout_over_r0"], 0)), None))
-        save_figure(fig, out / f"snapshots_a{r['a']:g}.png")
+            limits=((0, 1.4 + max(r["runout_over_r0"], 0)), None))[0],
+            out / f"snapshots_a{r['a']:g}.png")
     a_fit = np.logspace(-1, np.log10(20), 200)
     (r_fit, h_fit, _), (_, h_laj) = lube_2004(a_fit), lajeunesse_2004(a_fit)
     groups_figure(out / "deposit_vs_a.png", "final deposit vs aspect ratio, cf. Fig 7.8-7.9",
@@ -612,38 +577,30 @@ def figures(args, sweep, material=(), density=(), friction=(), base=(), mesh=(),
                           (1, a_fit, h_fit, "k-", "Lube et al. 2004 (7.32)"),
                           (1, a_fit, h_laj, "k--", "Lajeunesse et al. 2004 (7.34)")],
                   labels=("a = h0 / r0", ("(r_inf - r0) / r0", "h_inf / r0 (on the axis)")))
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for r in rows:
-        ax.plot(r["t_bar"], 100 * np.asarray(r["area_change"]), label=f"a = {r['a']:g}")
-    labelled(ax, "t / sqrt(h0/g)", "volume change (2 pi r dA) [%]",
-             "volume of the detected domain")
-    save_figure(fig, out / "volume_change.png")
+    lines_figure(out / "volume_change.png", [(r["t_bar"], 100 * np.asarray(r["area_change"]),
+                                              None, f"a = {r['a']:g}") for r in rows],
+                 ("t / sqrt(h0/g)", "volume change (2 pi r dA) [%]",
+                  "volume of the detected domain"))
     for r in history:
         t, h, toe = (np.asarray(r["track"][k]) for k in ("t_bar", "h_over_r0", "r_over_r0"))
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for y, label in ((h, "h(t)/r0"), (toe - 1, "(r(t) - r0)/r0"), (h / toe, "h(t)/r(t)")):
-            ax.plot(t, y, "--", label=f"{label} (PFEM)")
-        labelled(ax, "t / sqrt(h0/g)", "h / r0, (r - r0) / r0, h / r",
-                 "a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)", title_size=9)
-        save_figure(fig, out / "time_history.png")
+        lines_figure(out / "time_history.png", [(t, y, "--", f"{label} (PFEM)") for y, label in (
+            (h, "h(t)/r0"), (toe - 1, "(r(t) - r0)/r0"), (h / toe, "h(t)/r(t)"))],
+            ("t / sqrt(h0/g)", "h / r0, (r - r0) / r0, h / r",
+             "a = 3.6, r0 = 3.9 cm, phi_g = 28 deg (cf. Fig 7.6)"), title_size=9)
     for name, key, cases, title in (("friction", "phi", friction, "friction study (cf. Fig 7.10)"),
                                     ("base", "phi_s", base, "base-friction study (cf. Fig 7.11)")):
-        if cases:
-            groups_figure(out / f"{name}_study.png", title,
-                          [(f"a = {a:g}", rs, "o-") for a, rs in grouped(cases, "a").items()],
-                          key, DEPOSIT,
-                          labels=(f"{key} [deg]", ("(r_inf - r0) / r0", "h_inf / r0")))
+        groups_figure(out / f"{name}_study.png", title,
+                      [(f"a = {a:g}", rs, "o-") for a, rs in grouped(cases, "a").items()],
+                      key, DEPOSIT, labels=(f"{key} [deg]", ("(r_inf - r0) / r0", "h_inf / r0")))
     kept = grouped([r for r in base if "mass" in r["snapshots"]["rest"]], "a", "phi_s")
-    if kept:                             # one column per a (the mass moved: mass_moved)
-        fig, ax = plt.subplots(2, len(kept), figsize=(4.2 * len(kept), 6), squeeze=False)
-        for j, (a, rs) in enumerate(kept.items()):
-            rest = [(f"phi_s = {r['phi_s']:g} deg", r["snapshots"]["rest"]) for r in rs]
-            plot_mass_profiles(ax[:, j], [(k, s["points"], s["mass"]) for k, s in rest],
-                               scale=rs[0]["r0"], title=f"a = {a:g}")
-        fig.suptitle("base-friction study: the deposits at rest (cf. Fig 7.11)")
-        save_figure(fig, out / "base_profiles.png")
-    write_summary(out, _summaries(dict(sweep=sweep, material=material, density=density,
-                                       friction=friction, base=base, mesh=mesh, history=history)))
+    mass_profiles_figure(                # one column per a (the mass moved: mass_moved)
+        out / "base_profiles.png", "base-friction study: the deposits at rest (cf. Fig 7.11)",
+        [(f"a = {a:g}", rs[0]["r0"], [(f"phi_s = {r['phi_s']:g} deg", s["points"], s["mass"])
+                                      for r in rs for s in [r["snapshots"]["rest"]]])
+         for a, rs in kept.items()])
+    write_summary(out, thinned_groups(dict(sweep=sweep, material=material, density=density,
+                                           friction=friction, base=base, mesh=mesh,
+                                           history=history), HISTORIES, ("snapshots", "track")))
 
 
 if __name__ == "__main__":

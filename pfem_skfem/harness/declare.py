@@ -5,7 +5,8 @@
 one keyword each, its default or an :class:`~.options.opt`, the name spelt with hyphens
 (:func:`~.options.option_name`). :func:`option_values` gives back the values of the
 options named, as the keywords of a case (``run_case(a, **option_values(args, "nr",
-"steps"))``); :func:`keywords_of`, those of a case's function that are options.
+"steps"))``); :func:`keywords_of`, those of a case's function that are options;
+:func:`checkpoint_keywords`, the checkpoints asked for.
 """
 import argparse
 
@@ -48,6 +49,16 @@ def option_values(args, *names, **renamed):
     that order."""
     return {**{name: getattr(args, name) for name in names},
             **{key: getattr(args, name) for key, name in renamed.items()}}
+
+
+def checkpoint_keywords(args):
+    """``--checkpoint-dir`` and ``--checkpoint-every`` (:func:`~.options.checkpoint_options`)
+    as a case's keywords, none without a directory: the keywords name a case's kept result
+    (``--results-dir``), so that a run without checkpoints finds the results kept before
+    (as :func:`~.options.solver_keyword` leaves out the default solver)."""
+    if getattr(args, "checkpoint_dir", None) is None:
+        return {}
+    return {"checkpoint_dir": args.checkpoint_dir, "checkpoint_every": args.checkpoint_every}
 
 
 def keywords_of(function, args, **given):

@@ -247,25 +247,31 @@ class Report:
                                   source.replace("{bound}", "an upper bound"),
                                   reference=reference))
 
-    def add_table(self, name, columns, rows, *, formats=None, title=None, show=True):
+    def add_table(self, name, columns, rows, *, formats=None, title=None, show=True,
+                  skip_empty=False):
         """A table of results: printed now (``show``), and written to the JSON
         (``tables[name]``: its ``columns`` and ``rows``).
 
         ``columns`` : the column names;  ``rows`` : sequences of one value per column;
         ``formats`` : {column: format spec} (default: integers as they are, other numbers
-        ``.4g``, the rest as text);  ``title`` : a line above it (default ``name``).
+        ``.4g``, the rest as text);  ``title`` : a line above it (default ``name``);
+        ``skip_empty`` : without rows (a study not asked for) no table, printed or kept, and
+        None returned, rather than a header alone.
 
-        A table of records: ``columns`` a {column: key, or function of a record} mapping,
-        ``rows`` the records (the results of a study's cases, dicts), each cell
-        ``record[key]`` or ``function(record)``::
+        A table of records: ``columns`` a {column: key, tuple of keys, or function of a
+        record} mapping, ``rows`` the records (the results of a study's cases, dicts), each
+        cell ``record[key]``, the entry down the keys (``("reference", "h")``:
+        ``record["reference"]["h"]``) or ``function(record)``::
 
             front = lambda r: r["x_f"] / r["x_nye"]
             report.add_table("runs", {"run": "label", "mu": "mu",
                                       "x_f/Nye": front}, runs)
         """
+        rows = list(rows)
+        if skip_empty and not rows:
+            return None
         if isinstance(columns, Mapping):
-            rows = [[get(r) if callable(get) else r[get] for get in columns.values()]
-                    for r in rows]
+            rows = [[_entry(r, get) for get in columns.values()] for r in rows]
         columns = [str(c) for c in columns]
         rows = [list(row) for row in rows]
         for row in rows:
@@ -339,6 +345,25 @@ class Report:
 
 
 
+def _entry(record, get):
+    """A cell of a table of records (:meth:`Report.add_table`): ``get(record)``, or
+    ``record[get]``, or for a tuple of keys the entry down them."""
+    if callable(get):
+        return get(record)
+    for key in get if isinstance(get, tuple) else (get,):
+        record = record[key]
+    return record
+
+
+def sampled(history, key, at):
+    """A history ({name: a sequence, one entry a step}) as the records of a table at the
+    entries whose ``history[key]`` (a time, say) is nearest each of ``at``, in that order:
+    [{name: its entry there}], the rows a table shows of a long history."""
+    values = np.asarray(history[key])
+    return [{name: entries[i] for name, entries in history.items()}
+            for i in (int(np.argmin(np.abs(values - t))) for t in at)]
+
+
 def format_table(columns, rows, formats=None, title=None):
     """The text of a table: a title line, the header, a rule and one line a row, each
     column as wide as its widest cell, numbers right-aligned (:meth:`Report.add_table`)."""
@@ -375,6 +400,14 @@ def thinned(case, histories=(), drop=(), entries=100):
     every = max(1, len(case[histories[0]]) // entries) if histories else 1
     kept = {k: v for k, v in case.items() if k not in tuple(drop) + tuple(histories)}
     return kept | {k: np.asarray(case[k])[::every].tolist() for k in histories}
+
+
+def thinned_groups(groups, histories=(), drop=()):
+    """A study's groups of cases for the JSON: {group: each of its cases :func:`thinned`
+    (``histories`` thinned, ``drop`` left out)}, in the order of ``groups``: what a script
+    keeps of every group in ``extra`` and beside its figures."""
+    return {name: [thinned(case, histories, drop) for case in cases]
+            for name, cases in groups.items()}
 
 
 class counted_warnings:

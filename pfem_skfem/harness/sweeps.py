@@ -1,9 +1,11 @@
 """Independent cases on Dask (:func:`run_cases`): a local cluster or one at ``--scheduler``,
 the cases' bars forwarded, failures reported with their case (:class:`SweepError`), and
 the result cache of ``--results-dir`` (:func:`result_path`); a study's named groups of
-cases (its sweep, its variants) run as one sweep by :func:`run_groups`, their results
-by group (:func:`grouped`) and whether kept results were made in one sitting
-(:func:`one_sitting`).
+cases (its sweep, its variants) run as one sweep by :func:`run_groups` (a study's case
+that is a sweep's run taken as the sweep's: :func:`shared_cases`), their results by group
+(:func:`grouped`; each group's first and last: :func:`spans`), whether kept results were
+made in one sitting (:func:`one_sitting`) and hold what a measurement needs
+(:func:`kept_with`).
 """
 from pathlib import Path
 
@@ -153,6 +155,24 @@ def grouped(rows, by, order=None):
             for value, rows in sorted(groups.items())}
 
 
+def spans(groups):
+    """(value, first row, last row) of each group of ``groups`` ({value: rows}, as
+    :func:`grouped` gives them, each in increasing order) that has more than one row: a
+    study's change from its least parameter to its largest, group by group."""
+    return [(value, rows[0], rows[-1]) for value, rows in groups.items() if len(rows) > 1]
+
+
+def shared_cases(cases, kept, run_of):
+    """A study's ``cases`` with each that is the same run as a case of ``kept`` (a sweep's
+    cases: equal ``run_of(case)``, the run's identity, its parameters with their defaults
+    filled in) replaced by that case object and listed after the others, in order:
+    :func:`run_groups` then runs it once for both groups, and the cases keep the
+    keywords, and so the kept-result names (:func:`result_path`), they had."""
+    runs = {run_of(case): case for case in kept}
+    return ([case for case in cases if run_of(case) not in runs]
+            + [runs[run_of(case)] for case in cases if run_of(case) in runs])
+
+
 def one_sitting(what, *results):
     """Whether ``results`` (of :func:`run_cases`, each with its ``sitting``, None if
     unknown) were made in one sitting; if not, says so: a pair compared to round-off taken
@@ -163,6 +183,18 @@ def one_sitting(what, *results):
         print(f"\nthe {what} may come from two sittings ({'; '.join(map(str, sittings))}): "
               "if it differs, run both again in one sitting")
     return same
+
+
+def kept_with(key, *results, what=None, why="measure it"):
+    """Whether each of ``results`` (cases' results, perhaps kept by an older version in
+    ``--results-dir``) holds ``key``; if not, says so (its ``what``, default ``key``) and
+    how to make it (delete it there and run again, to ``why``): a quantity added to the
+    results since finds nothing in them, and is then not measured rather than failing."""
+    if all(key in r for r in results):
+        return True
+    print(f"  a kept result has no {what or key} (made by an older version): delete it "
+          f"from --results-dir and run again to {why}")
+    return False
 
 
 def _call(function, keywords, forward=None):
