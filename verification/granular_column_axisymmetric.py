@@ -51,6 +51,7 @@ and then Rotational Extrusion (360 deg).
 """
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +65,7 @@ from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
 from pfem_skfem.harness.declare import checkpoint_keywords, option_values, own_options
 from pfem_skfem.harness.figures import figure_dir, save_figure, write_summary
+from pfem_skfem.harness.params import keys_of
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesionless_angle,
                                         friction_angle, in_range, material_options, opt,
                                         pfem_options, solver_keyword,
@@ -185,17 +187,61 @@ def courant_steps(a, nr, courant):
     return int(np.ceil(4 * np.sqrt(2) * a * (nr - 1) / courant))
 
 
-def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
-             passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, outdir=None,
-             save_every=0, verbose=False, history=False, label="", courant=None, soil=None,
-             volume_correction=False, adaptive_alpha=False, alpha_advected=0.0,
-             checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
-    """One column to t = ``t_stop`` sqrt(h0/g), then on until at rest (at most ``settle``
-    sqrt(h0/g) more); returns the measured quantities and what the figures need.
-    ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`).
-    ``courant``: at least the steps that hold the free-fall Courant number
-    sqrt(2 g h0) dt / h to this (:func:`courant_steps`). ``soil``: a material object in
-    place of ``material`` (as :func:`granular_column_axisymmetric`).
+@dataclass(frozen=True)
+class ColumnRun:
+    """A run's parameters (:func:`run_case`), which build its scene and its checkpoint keys
+    both. ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`);
+    ``steps`` to t = 4 sqrt(h0/g), more with ``courant``: those that hold sqrt(2 g h0) dt / h
+    to it (:func:`courant_steps`); the rest :func:`granular_column_axisymmetric`'s."""
+
+    a: float
+    nr: int
+    steps: int
+    phi: float
+    phi_s: float = None
+    rho: float = 2.0
+    g: float = 9.8
+    r0: float = 1.0
+    material: str = "dp"
+    passes: int = 2
+    alpha: float = 1.6
+    floor: float = 0.005
+    settle: float = 4.0
+    t_stop: float = 4.0
+    courant: float = None
+    volume_correction: bool = False
+    adaptive_alpha: bool = False
+    alpha_advected: float = 0.0
+    solver: str = "clarabel"
+    soil: object = None
+
+    def sizes(self):
+        """(particles across r0, time steps to t = 4 sqrt(h0/g)) of the run."""
+        nr = particles_across_radius(self.a, self.nr)
+        return nr, (self.steps if self.courant is None else
+                    max(self.steps, courant_steps(self.a, nr, self.courant)))
+
+    def scene(self):
+        """(state, scene) of :func:`granular_column_axisymmetric`."""
+        (nr, steps), p = self.sizes(), self
+        return granular_column_axisymmetric(
+            p.a, nr, r0=p.r0, rho=p.rho, g=p.g, phi=p.phi, phi_s=p.phi_s, material=p.material,
+            floor_fraction=p.floor, dt=4.0 * np.sqrt(p.a * p.r0 / p.g) / steps, alpha=p.alpha,
+            passes=p.passes, soil=p.soil, adaptive_alpha=p.adaptive_alpha, solver=p.solver,
+            volume_correction=p.volume_correction, alpha_advected=p.alpha_advected)
+
+    def keys(self):
+        """The checkpoint keys: the fields but the solver, ``steps`` as run, a ``soil``'s repr
+        as ``material``."""
+        return keys_of(self, omit=("solver", "soil"), steps=self.sizes()[1], material=(
+            self.material if self.soil is None else repr(self.soil)))
+
+
+def run_case(a, *, outdir=None, save_every=0, verbose=False, history=False, label="",
+             checkpoint_dir=None, checkpoint_every=20, **parameters):
+    """One column (``a`` and ``parameters``: :class:`ColumnRun`'s) to t = ``t_stop``
+    sqrt(h0/g), then on until at rest (at most ``settle`` sqrt(h0/g) more); returns the
+    measured quantities and what the figures need.
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
     ``checkpoint_every`` steps and at the end
@@ -203,40 +249,29 @@ def run_case(a, *, nr, steps, phi, phi_s=None, rho=2.0, g=9.8, r0=1.0, material=
     under a digest of the column's parameters; a run finds its own checkpoint and goes on from
     it, the same steps bit for bit on the same machine (a fine short column takes hours).
     ``seconds`` is then the time of the last sitting only."""
-    nr_radius = particles_across_radius(a, nr)
-    if courant is not None:
-        steps = max(steps, courant_steps(a, nr_radius, courant))
+    p = ColumnRun(a, **parameters)
+    (state, scene), (nr_radius, steps) = p.scene(), p.sizes()
+    nr, phi, phi_s, rho, g, r0, alpha, alpha_advected, material = (
+        p.nr, p.phi, p.phi_s, p.rho, p.g, p.r0, p.alpha, p.alpha_advected, p.material)
     h0 = a * r0
     t_scale = np.sqrt(h0 / g)
     dt = 4.0 * t_scale / steps
-    n_stop = int(round(t_stop * t_scale / dt))
-    state, scene = granular_column_axisymmetric(a, nr_radius, r0=r0, rho=rho, g=g, phi=phi,
-                                                phi_s=phi_s, material=material,
-                                                floor_fraction=floor, dt=dt, alpha=alpha,
-                                                passes=passes, soil=soil,
-                                                adaptive_alpha=adaptive_alpha,
-                                                volume_correction=volume_correction,
-                                                alpha_advected=alpha_advected, solver=solver)
+    n_stop = int(round(p.t_stop * t_scale / dt))
     volume0 = float(rho * scene.regions[0].volume)
     x0 = state.x.copy()
     axis0 = np.flatnonzero(x0[:, 0] == 0.0)
     # snapshots for Fig 7.5 (t = 0.8, 1.0, 1.2), Fig 7.7 (1.0, 1.2, 1.28, 2.0, 4.0), history 7.6
     snap_times = (0.8, 1.0, 1.2, 1.28, 2.0, 4.0)
     snap_steps = {int(round(s * t_scale / dt)): s for s in snap_times}
-    n_settle = int(round(settle * steps / 4.0))
+    n_settle = int(round(p.settle * steps / 4.0))
     rest_speed = REST_SPEED * np.sqrt(g * h0)
     # what a resumed run needs besides the state: the measurements so far
     loop = dict(track={"t_bar": [0.0], "h_over_r0": [a], "r_over_r0": [1.0]}, snaps={},
                 at_t_stop=None)
-    keys = dict(a=a, nr=nr, steps=steps, phi=phi, phi_s=phi_s, rho=rho, g=g, r0=r0,
-                material=material if soil is None else repr(soil), passes=passes,
-                alpha=alpha, floor=floor, settle=settle, t_stop=t_stop,
-                courant=courant, volume_correction=volume_correction,
-                adaptive_alpha=adaptive_alpha, alpha_advected=alpha_advected)
     t0 = time.perf_counter()
     run = ResumableRun.open(
         scene, state, loop,
-        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"column_a{a:g}", keys=keys,
+        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"column_a{a:g}", keys=p.keys(),
                                 every=checkpoint_every),
         frames=Frames(directory=(None if outdir is None else Path(outdir)
                                  / f"a{a:g}_phi{phi:g}_{material}_n{steps}_nr{nr}{label}"),
