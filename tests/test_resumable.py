@@ -306,3 +306,39 @@ def _same_state(a, b):
             assert x.dtype == y.dtype and np.array_equal(x, y), f.name
         else:
             assert x == y, f.name
+
+
+class _Opened(Exception):
+    """Raised in place of a run: the first --quick case, or a run's checkpoint keys."""
+
+
+def test_the_plane_columns_keys_are_its_scenes_parameters_and_todays_for_quick(monkeypatch):
+    """Issue 52, item 4: one ColumnRun builds the plane column's scene and its checkpoint
+    keys (a field that changes the scene changes the keys); --quick's case keys its
+    checkpoint as before (the same dict, hence the same file name)."""
+    from dataclasses import replace
+    from verification import granular_column_plane as column
+    cases = []
+
+    def first(run_case, cases_given, *args, **kwargs):
+        cases.append(cases_given[0])
+        raise _Opened
+    monkeypatch.setattr(column, "run_cases", first)
+    with pytest.raises(_Opened):
+        column.run(column.build_parser().parse_args(["--quick"]))
+
+    def opened(scene, state, loop, checkpoints, frames, bar):
+        raise _Opened(checkpoints.keys)
+    monkeypatch.setattr(column.ResumableRun, "open", opened)
+    with pytest.raises(_Opened) as got:
+        column.run_case(**cases[0])
+    assert got.value.args[0] == dict(         # written out from the keys before issue 52
+        a=1.0, nx=10, steps=100, phi=31.0, mu=None, material="tresca-mc", remesh="alpha",
+        passes=2, alpha=1.6, floor=0.005, g=9.8, rho=2.0, d0=1.0, contact="coulomb", E=None,
+        nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None)
+    params = column.ColumnRun(a=1.0, nx=6, steps=20, phi=31.0, mu=None)
+    rougher = replace(params, mu=0.6)
+    assert rougher.keys() == params.keys() | {"mu": 0.6}
+    floors = [p.scene()[1].bodies[0].shape.mu for p in (params, rougher)]
+    assert floors == pytest.approx([np.tan(np.radians(31.0)), 0.6])
+    assert replace(params, solver="scs").keys() == params.keys()      # no state's part

@@ -38,6 +38,7 @@ come from :func:`pfem_skfem.harness.options.base_parser`.
 import json
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +54,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
                                         in_range, material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, positive_int, solver_keyword,
                                         sweep_options, time_options)
+from pfem_skfem.harness.params import keys_of
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import grouped, run_cases
@@ -151,41 +153,72 @@ def measure_deposit(state, alpha):
     return wall_height(state, body), top, toe
 
 
-def run_case(a, *, nx, steps, phi, mu, material="tresca-mc", remesh="alpha", passes=2,
-             alpha=1.6, floor=0.005, outdir=None, save_every=0, verbose=False, g=9.8, rho=2.0,
-             d0=1.0, checkpoint_every=0, checkpoint_dir=None, contact="coulomb", E=None,
-             nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None, solver="clarabel"):
-    """One column to t = 4 sqrt(h0/g), then on until it is at rest (at most ``settle``
-    sqrt(h0/g) more); returns the measured quantities and what the figures need.
+@dataclass(frozen=True)
+class ColumnRun:
+    """A run's parameters (:func:`run_case`), which build its scene and its checkpoint keys
+    both: :func:`granular_column`'s (``floor`` its ``floor_fraction``), the steps to
+    t = 4 sqrt(h0/g) and ``settle``, the most sqrt(h0/g) after it until at rest."""
 
-    The deposit at t = 4 (the thesis' stopping time) and the deposit at rest are both
-    measured (``soil``: a material object in place of ``material``, as
-    :func:`granular_column`). With ``checkpoint_every``, the state and the measurements so
-    far are saved in ``checkpoint_dir`` (the current folder by default) every that many
-    steps and at the end (:class:`~pfem_skfem.drivers.resumable.ResumableRun`, under a
-    digest of the column's parameters), and a run finding its checkpoint goes on from it,
-    bit for bit (``seconds`` is then the time of the last sitting only).
-    """
+    a: float
+    nx: int
+    steps: int
+    phi: float
+    mu: float
+    material: str = "tresca-mc"
+    remesh: str = "alpha"
+    passes: int = 2
+    alpha: float = 1.6
+    floor: float = 0.005
+    g: float = 9.8
+    rho: float = 2.0
+    d0: float = 1.0
+    contact: str = "coulomb"
+    E: float = None
+    nu: float = 0.3
+    settle: float = 4.0
+    refine_surface: float = 2.0
+    bulge: bool = True
+    soil: object = None
+    solver: str = "clarabel"
+
+    def scene(self):
+        """(state, scene) of :func:`granular_column`."""
+        p = self
+        return granular_column(p.a, p.nx, d0=p.d0, rho=p.rho, g=p.g, phi=p.phi, mu=p.mu,
+                               floor_fraction=p.floor, material=p.material, remesh=p.remesh,
+                               passes=p.passes, alpha=p.alpha,
+                               dt=4.0 * np.sqrt(p.a * p.d0 / p.g) / p.steps, contact=p.contact,
+                               E=p.E, nu=p.nu, refine_surface=p.refine_surface, bulge=p.bulge,
+                               soil=p.soil, solver=p.solver)
+
+    def keys(self):
+        """The checkpoint keys: the fields but the solver, a ``soil`` as its repr."""
+        return keys_of(self, omit=("solver",), soil=None if self.soil is None else repr(self.soil))
+
+
+def run_case(a, *, outdir=None, save_every=0, verbose=False, checkpoint_every=0,
+             checkpoint_dir=None, **parameters):
+    """One column (``a`` and ``parameters``: :class:`ColumnRun`'s) to t = 4 sqrt(h0/g), then
+    on until it is at rest (at most ``settle`` sqrt(h0/g) more); returns the measured
+    quantities and what the figures need: the deposits at t = 4 (the thesis' stopping time)
+    and at rest. With ``checkpoint_every``, the state and the measurements so far are saved
+    in ``checkpoint_dir`` (the current folder by default) every that many steps and at the
+    end (:class:`~pfem_skfem.drivers.resumable.ResumableRun`, under :meth:`ColumnRun.keys`),
+    and a run finding its checkpoint goes on from it, bit for bit (``seconds`` is then the
+    time of the last sitting only)."""
+    p = ColumnRun(a, **parameters)
+    state, scene = p.scene()
+    nx, steps, phi, alpha, g, rho, d0, E, material = (p.nx, p.steps, p.phi, p.alpha, p.g, p.rho,
+                                                      p.d0, p.E, p.material)
     h0 = a * d0
-    t_end = 4.0 * np.sqrt(h0 / g)
-    state, scene = granular_column(a, nx, d0=d0, rho=rho, g=g, phi=phi, mu=mu,
-                                    floor_fraction=floor, material=material, remesh=remesh,
-                                    passes=passes, alpha=alpha, dt=t_end / steps,
-                                    contact=contact, E=E, nu=nu,
-                                    refine_surface=refine_surface, bulge=bulge, soil=soil,
-                                    solver=solver)
     snap_steps = {int(round(s * steps / 4)) for s in (1.0, 4.0)}
     x0 = state.x.copy()
-    rest_steps = int(round(settle * steps / 4.0))
+    rest_steps = int(round(p.settle * steps / 4.0))
     rest_speed = REST_SPEED * np.sqrt(g * h0)
-    keys = dict(a=a, nx=nx, steps=steps, phi=phi, mu=mu, material=material, remesh=remesh,
-                passes=passes, alpha=alpha, floor=floor, g=g, rho=rho, d0=d0, contact=contact,
-                E=E, nu=nu, settle=settle, refine_surface=refine_surface, bulge=bulge,
-                soil=None if soil is None else repr(soil))
     run = ResumableRun.open(
         scene, state, {"snaps": {}, "at_t4": None},
         checkpoints=Checkpoints(directory=Path(checkpoint_dir or ".") if checkpoint_every else None,
-                                label=f"column_a{a:g}", keys=keys, every=checkpoint_every),
+                                label=f"column_a{a:g}", keys=p.keys(), every=checkpoint_every),
         frames=Frames(directory=None if outdir is None
                       else Path(outdir) / f"a{a:g}_phi{phi:g}_n{steps}_nx{nx}",
                       name="column", every=save_every),
