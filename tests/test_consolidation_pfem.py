@@ -21,7 +21,7 @@ pytestmark = pytest.mark.xdist_group("consolidation_pfem")
 def small_column(*extra):
     """The script's column at 4 spacings over the height, 2 across."""
     args = script.build_parser().parse_args(["--quick", "--n", "4", "--W", "0.5", *extra])
-    return script.column_scene(args)
+    return script.TerzaghiColumn.of(args).scene()
 
 
 def test_the_quick_run_passes_remeshing_every_step(quick_run):

@@ -6,11 +6,14 @@ A long study's checkpoints (``runs/silo``) and kept sweep results (``runs/column
 find the files that are there: a renamed keyword, a reordered digest or another JSON form
 would start those studies again from step 0 (hours to a day each).
 """
+from dataclasses import dataclass, field, replace
+import importlib
 import shlex
 from pathlib import Path
 
 import pytest
 
+from pfem_skfem.harness.params import UNKEYED, Parameters, keys_of
 from pfem_skfem.harness.store import checkpoint_path
 from pfem_skfem.harness.sweeps import result_path
 from verification import granular_column_axisymmetric, silo_discharge
@@ -103,3 +106,56 @@ def test_kept_silo_checkpoints_keep_their_names(in_root, monkeypatch, tmp_path):
     assert names == expected
     if (RUNS / "silo").is_dir():
         assert expected == {p.name for p in (RUNS / "silo").glob("*.npz")}
+
+
+def test_a_runs_parameters_are_its_checkpoint_keys_but_the_unkeyed(tmp_path):
+    """keys_of: every field of the dataclass by name, but those declared UNKEYED, and the
+    keys given beside; Parameters.of reads the fields from a parsed command line."""
+    @dataclass(frozen=True)
+    class Run(Parameters):
+        a: float
+        n: int
+        solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    run = Run(0.5, 4, "qoco")
+    assert run.keys() == keys_of(run) == {"a": 0.5, "n": 4}
+    assert keys_of(run, n=5, b=1) == {"a": 0.5, "n": 5, "b": 1}
+    import argparse
+    assert Run.of(argparse.Namespace(a=1.0, n=2, other=3), n=3) == Run(1.0, 3)
+    assert (checkpoint_path(tmp_path, "run", run.keys())
+            == checkpoint_path(tmp_path, "run", replace(run, solver="clarabel").keys()))
+
+
+#: each script's run parameters for --quick, as the script builds them, and the checkpoint
+#: keys the script wrote by hand before they were one dataclass (issue 52, item 4)
+QUICK_KEYS = {
+    "dam_break": (lambda m, args: m.DamBreak.of(args), "nx", 9,
+                  dict(a=0.05715, n2=2.0, nx=8, steps=40, T_end=3.0, rho=1000.0, mu=0.001,
+                       g=9.81)),
+    "consolidation_pfem": (lambda m, args: m.TerzaghiColumn.of(args), "E", 2e5,
+                           dict(axisymmetric=False, loading="rise", H=1.0, W=0.2, n=10, q=100.0,
+                                k=1e-08, gamma_w=9.81, E=100000.0, nu=0.2, rho=1.0, g=9.81,
+                                c=1000.0, dTv=0.005)),
+    "sensitive_clay": (lambda m, args: m.Bank.of(args, S_t=args.sensitivities[0]), "S_t", 3.0,
+                       dict(S_t=1.0, height=1.0, width=6.0, n=5, N=6.0, gamma_r=0.2,
+                            E_over_c=500.0, nu=0.45, mu=0.5, rho=2.0, g=9.8, dt=0.05,
+                            max_drop=0.5)),
+}
+
+
+@pytest.mark.parametrize("script", sorted(QUICK_KEYS))
+def test_a_scripts_checkpoint_keys_come_from_the_object_that_builds_its_scene(script,
+                                                                              tmp_path):
+    """The quick run's parameters give today's keys exactly (names, values and types: the
+    same checkpoint names), and a changed field changes both the scene and the checkpoint."""
+    from pfem_skfem.scene.scene import scene_digest
+
+    module = importlib.import_module(f"verification.{script}")
+    build, name, value, keys = QUICK_KEYS[script]
+    params = build(module, module.build_parser().parse_args(["--quick"]))
+    assert params.keys() == keys
+    assert {k: type(v) for k, v in params.keys().items()} == {k: type(v) for k, v in keys.items()}
+    changed = replace(params, **{name: value})
+    assert scene_digest(changed.scene()[1]) != scene_digest(params.scene()[1])
+    assert (checkpoint_path(tmp_path, script, changed.keys())
+            != checkpoint_path(tmp_path, script, params.keys()))

@@ -40,6 +40,7 @@ Usage::
     python verification/consolidation_pfem.py --quick --json results/consolidation_pfem.json
 """
 import argparse
+from dataclasses import dataclass, field, replace
 import sys
 
 import numpy as np
@@ -47,6 +48,7 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, material_options, opt,
                                         positive_float, positive_int, saturated_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters, keys_of
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=10, dTv=0.005)
@@ -69,44 +71,69 @@ def oedometric(args):
     return e_oed, args.k * e_oed / args.gamma_w
 
 
-def column_scene(args, k=None):
-    """The column's scene (``k``: the permeability the scene is given, the script's --k if
-    None) and its initial state; time steps of dTv."""
-    from pfem_skfem.discretisation import ThetaMethod
-    from pfem_skfem.materials import (CohesiveTresca, Elastic,
-                                      ZeroDilationMohrCoulombAxisymmetric)
-    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
-    from pfem_skfem.scene import Body, Geostatic, HalfPlane, Region, Scene
-    from pfem_skfem.scene.config import PFEMConfig
-    from pfem_skfem.scene.loads import SurfaceLoad
-    from pfem_skfem.scene.water import Drained, Water
+@dataclass(frozen=True)
+class TerzaghiColumn(Parameters):
+    """The column's parameters, which build its scene (time steps of dTv) and name its
+    checkpoint (the keys: all but the solver); the options of the same names. ``k_steps``:
+    the permeability whose c_v sets the steps (None: k; a wrong k in the scene's water)."""
+    axisymmetric: bool
+    loading: str
+    H: float
+    W: float
+    n: int
+    q: float
+    k: float
+    gamma_w: float
+    E: float
+    nu: float
+    rho: float
+    g: float
+    c: float
+    dTv: float
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+    k_steps: float = field(default=None, metadata=UNKEYED)
 
-    H, W = args.H, args.W
-    h = H / args.n
-    dt = args.dTv * H ** 2 / oedometric(args)[1]
-    elastic = Elastic(args.E, args.nu)
-    skeleton = (ZeroDilationMohrCoulombAxisymmetric(args.c, 0.0, elastic=elastic)   # Tresca
-                if args.axisymmetric else CohesiveTresca(args.c, elastic=elastic))
-    soil = Region(((0.0, 0.0), (W, 0.0), (W, H), (0.0, H)), skeleton, args.rho, h,
-                  stress=Geostatic(k0=args.nu / (1 - args.nu)), name="soil")
-    far = 50 * H
-    bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),      # soil above
-              Body("left", RigidSegment((0.0, far), (0.0, -h), 0.0)),         # soil right
-              Body("right", RigidSegment((W, -h), (W, far), 0.0)))            # soil left
-    if args.axisymmetric:                  # x = r: the axis holds u_r = 0, no left wall
-        bodies = bodies[:1] + bodies[2:]
-    rise = args.loading == "rise"
-    top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=args.q if rise else 0.0)
-    water = Water(k=args.k if k is None else k, gamma_w=args.gamma_w, drained=(top,))
-    # Terzaghi's load q on the top's edges (a zone above the sides' top midpoints, H - h / 2)
-    loads = () if rise else (SurfaceLoad(HalfPlane((0.0, H - h / 4), (0.0, 1.0)),
-                                         traction=(0.0, -args.q), name="q"),)
-    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
-                        remesh_interval=1, solver=args.solver)
-    scene = Scene(regions=(soil,), bodies=bodies, gravity=(0.0, -args.g), length=H,
-                  config=config, water=water, loads=loads,
-                  geometry="axisymmetric" if args.axisymmetric else "plane")
-    return scene.initial_state(), scene
+    def keys(self):
+        """:func:`keys_of` the fields, ``k_steps`` among them where it is given."""
+        return keys_of(self, **({} if self.k_steps is None else {"k_steps": self.k_steps}))
+
+    def scene(self):
+        """The column's initial state and scene."""
+        from pfem_skfem.discretisation import ThetaMethod
+        from pfem_skfem.materials import (CohesiveTresca, Elastic,
+                                          ZeroDilationMohrCoulombAxisymmetric)
+        from pfem_skfem.problems.contact import CoulombCones, RigidSegment
+        from pfem_skfem.scene import Body, Geostatic, HalfPlane, Region, Scene
+        from pfem_skfem.scene.config import PFEMConfig
+        from pfem_skfem.scene.loads import SurfaceLoad
+        from pfem_skfem.scene.water import Drained, Water
+
+        H, W = self.H, self.W
+        h = H / self.n
+        dt = self.dTv * H ** 2 / oedometric(replace(self, k=self.k_steps or self.k))[1]
+        elastic = Elastic(self.E, self.nu)
+        skeleton = (ZeroDilationMohrCoulombAxisymmetric(self.c, 0.0, elastic=elastic)  # Tresca
+                    if self.axisymmetric else CohesiveTresca(self.c, elastic=elastic))
+        soil = Region(((0.0, 0.0), (W, 0.0), (W, H), (0.0, H)), skeleton, self.rho, h,
+                      stress=Geostatic(k0=self.nu / (1 - self.nu)), name="soil")
+        far = 50 * H
+        bodies = (Body("floor", RigidSegment((-far, 0.0), (far, 0.0), 0.0)),    # soil above
+                  Body("left", RigidSegment((0.0, far), (0.0, -h), 0.0)),       # soil right
+                  Body("right", RigidSegment((W, -h), (W, far), 0.0)))          # soil left
+        if self.axisymmetric:                  # x = r: the axis holds u_r = 0, no left wall
+            bodies = bodies[:1] + bodies[2:]
+        rise = self.loading == "rise"
+        top = Drained(HalfPlane((0.0, H - h / 2), (0.0, 1.0)), p=self.q if rise else 0.0)
+        water = Water(k=self.k, gamma_w=self.gamma_w, drained=(top,))
+        # Terzaghi's load q on the top's edges (above the sides' top midpoints, H - h / 2)
+        loads = () if rise else (SurfaceLoad(HalfPlane((0.0, H - h / 4), (0.0, 1.0)),
+                                             traction=(0.0, -self.q), name="q"),)
+        config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(), passes=1,
+                            remesh_interval=1, solver=self.solver)
+        scene = Scene(regions=(soil,), bodies=bodies, gravity=(0.0, -self.g), length=H,
+                      config=config, water=water, loads=loads,
+                      geometry="axisymmetric" if self.axisymmetric else "plane")
+        return scene.initial_state(), scene
 
 
 def consolidate(args, k=None):
@@ -115,7 +142,8 @@ def consolidate(args, k=None):
     excess: p(base) / q under the load, (q - p(base)) / q under the rise)."""
     from pfem_skfem.drivers.resumable import Checkpoints, ResumableRun
 
-    state, scene = column_scene(args, k)
+    params = TerzaghiColumn.of(args, **({} if k is None else {"k": k, "k_steps": args.k}))
+    state, scene = params.scene()
     top = np.flatnonzero(np.abs(state.x[:, 1] - args.H) < 1e-9 * args.H)
     base = np.flatnonzero(np.abs(state.x[:, 1]) < 1e-9 * args.H)
     e_oed, _ = oedometric(args)
@@ -131,13 +159,9 @@ def consolidate(args, k=None):
         kept["p_base"].append(float(s.pore_pressure[base].mean()) / args.q)
         kept["remeshed"] += run.record["t_detect"] > 0          # the domain detected anew
 
-    keys = dict(axisymmetric=args.axisymmetric, loading=args.loading, H=args.H, W=args.W,
-                n=args.n, q=args.q,
-                k=args.k if k is None else k, gamma_w=args.gamma_w, E=args.E, nu=args.nu,
-                rho=args.rho, g=args.g, c=args.c, dTv=args.dTv)
     run = ResumableRun.open(scene, state, kept,
                             checkpoints=Checkpoints(args.checkpoint_dir, "consolidation_pfem",
-                                                    keys, args.checkpoint_every))
+                                                    params.keys(), args.checkpoint_every))
     run.advance(lambda r: r.state.step >= steps, observe)
     kept = run.kept
     p_base = np.array(kept["p_base"])

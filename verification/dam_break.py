@@ -76,6 +76,7 @@ Usage::
     python verification/dam_break.py --quick --json results/dam_break.json   # 6 seconds
     python verification/dam_break.py --save-every 5          # VTU/PVD of the base run
 """
+from dataclasses import dataclass, field, replace
 import sys
 from pathlib import Path
 
@@ -85,6 +86,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, positive_float,
                                         positive_int, time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.harness.report import Report, script_main, thinned
 from pfem_skfem.harness.sweeps import run_groups
 from pfem_skfem.pfem import measure
@@ -116,23 +118,37 @@ def time_unit(a, n2, g):
     return float(np.sqrt(a / (n2 * g)))
 
 
-def dam_break_scene(a, n2, nx, *, rho, mu, g, dt, alpha=1.6, solver="clarabel", gate=False,
-                    volume_correction=True):
-    """The column (a wide, n2 a high, nx particles across) of water of viscosity mu against
-    the wall x = 0 on the floor y = 0 (both smooth), as a scene and its initial state; with
-    ``gate`` a smooth wall x = a holds it (the tank before the release)."""
-    from pfem_skfem.materials import NewtonianFluid
-    from pfem_skfem.scene import column_scene
+@dataclass(frozen=True)
+class DamBreak(Parameters):
+    """A dam break, its scene and its checkpoint's keys (all but the solver): water (rho, mu)
+    a wide, n2 a high, nx particles across, under g, ``steps`` steps to T_end (T units)."""
+    a: float
+    n2: float
+    nx: int
+    steps: int
+    T_end: float
+    rho: float
+    mu: float
+    g: float
+    solver: str = field(default="clarabel", metadata=UNKEYED)
 
-    return column_scene(NewtonianFluid(mu), a, n2 * a, a / (nx - 1), rho=rho, g=g, dt=dt,
-                        name="water", gate_removed_at=np.inf if gate else None, far=50 * a,
-                        alpha=alpha, passes=1, solver=solver,
-                        volume_correction=volume_correction)
+    def scene(self, gate=False):
+        """(state, scene): the column against the wall x = 0 on the floor y = 0 (both smooth);
+        with ``gate`` a smooth wall x = a holds it (the tank before the release)."""
+        from pfem_skfem.materials import NewtonianFluid
+        from pfem_skfem.scene import column_scene
+
+        a, dt = self.a, self.T_end * time_unit(self.a, self.n2, self.g) / self.steps
+        return column_scene(NewtonianFluid(self.mu), a, self.n2 * a, a / (self.nx - 1),
+                            rho=self.rho, g=self.g, dt=dt, name="water", far=50 * a,
+                            gate_removed_at=np.inf if gate else None, passes=1,
+                            solver=self.solver, volume_correction=True)
 
 
-def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outdir=None,
-             save_every=0, solver="clarabel", checkpoint_dir=None, checkpoint_every=20):
-    """One dam break to T = T_end: the front Z and the wall height H at every step.
+def run_case(params, *, label, progress=False, outdir=None, save_every=0, checkpoint_dir=None,
+             checkpoint_every=20):
+    """One dam break (:class:`DamBreak` ``params``) to T = T_end: the front Z and the wall
+    height H at every step.
 
     With ``checkpoint_dir`` the state and the measurements so far are saved there every
     ``checkpoint_every`` steps and at the end
@@ -140,14 +156,13 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
     parameters; a run finds its own checkpoint and goes on from it, bit for bit."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
+    a, n2, nx, steps, g, mu = params.a, params.n2, params.nx, params.steps, params.g, params.mu
     t_unit = time_unit(a, n2, g)                        # T = t / t_unit
-    state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=T_end * t_unit / steps,
-                                   solver=solver)
+    state, scene = params.scene()
     spacing = a / (nx - 1)
-    keys = dict(a=a, n2=n2, nx=nx, steps=steps, T_end=T_end, rho=rho, mu=mu, g=g)
     run = ResumableRun.open(
         scene, state, {"T": [0.0], "Z": [1.0], "H": [1.0], "Z_tip": [1.0], "U": [0.0]},
-        checkpoints=Checkpoints(directory=checkpoint_dir, label="dam_break", keys=keys,
+        checkpoints=Checkpoints(directory=checkpoint_dir, label="dam_break", keys=params.keys(),
                                 every=checkpoint_every),
         frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="dam_break",
                       every=save_every),
@@ -182,11 +197,12 @@ def run_case(a, n2, nx, steps, T_end, *, rho, mu, g, label, progress=False, outd
                 pvd=str(series.pvd_path) if series is not None else None)
 
 
-def hydrostatics(a, n2, nx, *, rho, mu, g, dt, solver="clarabel"):
-    """One step of the column held by the gate, from rest: the pressure at the stress points
-    against rho g (n2 a - y), and the forces on the gate and the floor against rho g h0^2 / 2
-    and the weight rho g a h0. Returns (median and largest error of the elements' mean
-    pressures / rho g h0, gate force ratio, floor force ratio, largest speed / (g dt)).
+def hydrostatics(params):
+    """One step of the column ``params`` held by the gate, from rest: the pressure at the
+    stress points against rho g (n2 a - y), and the forces on the gate and the floor against
+    rho g h0^2 / 2 and the weight rho g a h0. Returns (median and largest error of the
+    elements' mean pressures / rho g h0, gate force ratio, floor force ratio, largest speed /
+    (g dt)).
 
     The stresses of the P2 / discontinuous-P1 pair are unique only up to its pressure modes:
     where four triangles of the alpha-shape mesh meet at a vertex (a crossed square), a
@@ -194,11 +210,11 @@ def hydrostatics(a, n2, nx, *, rho, mu, g, dt, solver="clarabel"):
     integrals of the pressure, are unique; so is the pressure off those patches."""
     from pfem_skfem.drivers.resumable import ResumableRun
 
-    state, scene = dam_break_scene(a, n2, nx, rho=rho, mu=mu, g=g, dt=dt, solver=solver,
-                                   gate=True)
+    state, scene = params.scene(gate=True)
+    a, rho, g, dt = params.a, params.rho, params.g, scene.config.dt
     step = ResumableRun(scene, state).advance(lambda run: run.state.step >= 1)
     state = step.state
-    h0 = n2 * a
+    h0 = params.n2 * a
     inc, disc = step.result.increment, step.result.disc
     # each element's mean pressure (its three points) against the exact at its centroid
     e = disc.point_element
@@ -278,22 +294,21 @@ def build_parser():
 
 def run(args):
     n = np.sqrt(args.n2)
-    case = dict(a=args.a, n2=args.n2, nx=args.nx, steps=args.steps, T_end=args.T_end,
-                mu=args.mu, rho=args.rho, g=args.g, progress=args.progress, solver=args.solver,
-                checkpoint_dir=args.checkpoint_dir, checkpoint_every=args.checkpoint_every)
+    p = DamBreak.of(args)
+    case = dict(params=p, progress=args.progress, checkpoint_dir=args.checkpoint_dir,
+                checkpoint_every=args.checkpoint_every)
     variants = {"base": dict(outdir=Path(args.outdir) / "dam_break", save_every=args.save_every)}
     if args.studies:
-        variants |= {"inviscid": dict(mu=0.0), "dt/2": dict(steps=2 * args.steps),
-                     "1.5 nx": dict(nx=int(round(1.5 * args.nx)))}
+        variants |= {"inviscid": dict(params=replace(p, mu=0.0)),
+                     "dt/2": dict(params=replace(p, steps=2 * args.steps)),
+                     "1.5 nx": dict(params=replace(p, nx=int(round(1.5 * args.nx))))}
     runs = run_groups(run_case, {k: dict(case, label=k, **v) for k, v in variants.items()},
                       desc="dam breaks")
     base = runs["base"]
     shift, front, height = compare(base, n)
     report = Report("dam_break", args, elements=base["elements"], shift_T=shift,
                     seconds_per_step=base["seconds_per_step"])
-    dt = args.T_end * time_unit(args.a, args.n2, args.g) / args.steps
-    p_error, p_largest, gate, floor, still = hydrostatics(args.a, args.n2, args.nx, rho=args.rho,
-                                               mu=args.mu, g=args.g, dt=dt, solver=args.solver)
+    p_error, p_largest, gate, floor, still = hydrostatics(p)
     report.add_interval("hydrostatic_pressure_error", p_error, 0.0, 1e-6,
                         "the held column: p = rho g depth, median over the elements "
                         "(/ rho g h0; the largest, on crossed patches, in the JSON)")

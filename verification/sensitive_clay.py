@@ -32,6 +32,7 @@ Usage::
 
     python verification/sensitive_clay.py --quick --json results/sensitive_clay.json
 """
+from dataclasses import dataclass, field
 import sys
 
 import numpy as np
@@ -40,6 +41,7 @@ from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt,
                                         positive_float, softening_options, time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(n=5, sensitivities=[1.0, 10.0])
@@ -47,39 +49,57 @@ QUICK = dict(n=5, sensitivities=[1.0, 10.0])
 CUT_UPPER = 3.786
 
 
-def bank(S_t, args):
-    """The bank of sensitivity ``S_t``: (state, scene)."""
-    from pfem_skfem.materials import Elastic, LinearSoftening, SofteningTresca
-    from pfem_skfem.scene import Geostatic
-    from pfem_skfem.scene.columns import column_scene
+@dataclass(frozen=True)
+class Bank(Parameters):
+    """The bank of sensitivity S_t, its scene and its checkpoint's keys (all but t_end: a run
+    goes on to a later one); the other fields are the options of the same names."""
+    S_t: float
+    height: float
+    width: float
+    n: int
+    N: float
+    gamma_r: float
+    E_over_c: float
+    nu: float
+    mu: float
+    rho: float
+    g: float
+    dt: float
+    max_drop: float
+    t_end: float = field(default=None, metadata=UNKEYED)
 
-    H = args.height
-    c_p = args.rho * args.g * H / args.N
-    soil = SofteningTresca(LinearSoftening(c_p, c_p / S_t, args.gamma_r),
-                           Elastic(args.E_over_c * c_p, args.nu))
-    return column_scene(soil, args.width, H, H / args.n, rho=args.rho, g=args.g,
-                        dt=args.dt * np.sqrt(H / args.g), stress=Geostatic(),
-                        floor_friction=args.mu, wall_friction=0.0,
-                        far=50.0 * (args.width + H), passes=2)
+    def scene(self):
+        """(state, scene) of the bank."""
+        from pfem_skfem.materials import Elastic, LinearSoftening, SofteningTresca
+        from pfem_skfem.scene import Geostatic
+        from pfem_skfem.scene.columns import column_scene
+
+        H = self.height
+        c_p = self.rho * self.g * H / self.N
+        soil = SofteningTresca(LinearSoftening(c_p, c_p / self.S_t, self.gamma_r),
+                               Elastic(self.E_over_c * c_p, self.nu))
+        return column_scene(soil, self.width, H, H / self.n, rho=self.rho, g=self.g,
+                            dt=self.dt * np.sqrt(H / self.g), stress=Geostatic(),
+                            floor_friction=self.mu, wall_friction=0.0,
+                            far=50.0 * (self.width + H), passes=2)
 
 
 def failure(S_t, args):
-    """The bank's run to t_end: its measurements (a dict)."""
+    """The bank of sensitivity ``S_t`` (:class:`Bank`) run to t_end: its measurements (a
+    dict)."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, ResumableRun
     from pfem_skfem.drivers.time_step import SofteningTimeStep
 
-    state, scene = bank(S_t, args)
+    params = Bank.of(args, S_t=S_t)
+    state, scene = params.scene()
     H, W = args.height, args.width
     x0 = state.x.copy()
     ground = np.flatnonzero(x0[:, 1] > H * (1 - 0.25 / args.n))   # the original surface
     t_end = args.t_end * np.sqrt(H / args.g)
-    keys = dict(S_t=S_t, **{k: getattr(args, k) for k in (
-        "height", "width", "n", "N", "gamma_r", "E_over_c", "nu", "mu", "rho", "g", "dt",
-        "max_drop")})
     policy = SofteningTimeStep(scene.config.dt, max_drop=args.max_drop, halvings=4)
     run = ResumableRun.open(
         scene, state, {"gamma_max": [], "dt": []},
-        checkpoints=Checkpoints(args.checkpoint_dir, f"sensitive_clay_St{S_t:g}", keys,
+        checkpoints=Checkpoints(args.checkpoint_dir, f"sensitive_clay_St{S_t:g}", params.keys(),
                                 args.checkpoint_every),
         bar=Bar(int(np.ceil(args.t_end / args.dt)), f"sensitive clay, S_t = {S_t:g}",
                 args.progress), time_step=policy)
