@@ -93,13 +93,12 @@ def standard_form(args, kw, monkeypatch):
     return data[0]
 
 
-def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
-    """(N) of the module docstring, at a random scaling of every cone: the reduction's
-    answer, refined, satisfies the unreduced system (scaled form) to 1e-10 of its data."""
+def random_newton(monkeypatch, seed):
+    """The Newton system (N) of the captured step at a random scaling of every cone, and
+    random right-hand sides (bx, by, bzt)."""
     P, c, A, b, cones = standard_form(*captured_step(), monkeypatch)
     st = Structure(P, A, cones)
-    assert st.free.size == 0 and max(st.blocks) <= 6          # stress points, r' blocks
-    rng = np.random.default_rng(0)
+    rng = np.random.default_rng(seed)
     W = {d: K.Scaling(interior(rng, *r.shape), interior(rng, *r.shape))
          for d, r in st.groups.items()}
     newton = Newton(st, W, Cholesky(st.S_rows, st.S_cols, st.E.shape[0]))
@@ -107,6 +106,15 @@ def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
     bx[st.dead] = 0.0
     by = rng.standard_normal(st.E.shape[0])
     bzt = {d: rng.standard_normal(r.shape) for d, r in st.groups.items()}
+    return newton, bx, by, bzt
+
+
+def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
+    """(N) of the module docstring, at a random scaling of every cone: the reduction's
+    answer, refined, satisfies the unreduced system (scaled form) to 1e-10 of its data."""
+    newton, bx, by, bzt = random_newton(monkeypatch, 0)
+    st = newton.st
+    assert st.free.size == 0 and max(st.blocks) <= 6          # stress points, r' blocks
     dx, dy, dzt = newton.solve(bx, by, bzt)
     *_, norm = newton._residual(bx, by, bzt, dx, dy, dzt, third=True)
     assert norm <= 1e-10 * max(1.0, np.abs(bx).max(), np.abs(by).max())
@@ -127,16 +135,7 @@ def test_the_batched_triangular_inverse_is_the_inverse(size):
 def test_an_inexact_direction_meets_the_residual_it_asked_for(monkeypatch):
     """A Newton solve refined only to ``tol`` (an inexact direction, far from the solution)
     stops at or below that residual, and a tighter one ends no higher."""
-    P, c, A, b, cones = standard_form(*captured_step(), monkeypatch)
-    st = Structure(P, A, cones)
-    rng = np.random.default_rng(1)
-    W = {d: K.Scaling(interior(rng, *r.shape), interior(rng, *r.shape))
-         for d, r in st.groups.items()}
-    newton = Newton(st, W, Cholesky(st.S_rows, st.S_cols, st.E.shape[0]))
-    bx = rng.standard_normal(P.shape[0])
-    bx[st.dead] = 0.0
-    by = rng.standard_normal(st.E.shape[0])
-    bzt = {d: rng.standard_normal(r.shape) for d, r in st.groups.items()}
+    newton, bx, by, bzt = random_newton(monkeypatch, 1)
     solves = []
     for tol in (1e-3, 1e-10):
         newton.solve(bx, by, bzt, tol=tol)
