@@ -140,6 +140,11 @@ QUICK_KEYS = {
                        dict(S_t=1.0, height=1.0, width=6.0, n=5, N=6.0, gamma_r=0.2,
                             E_over_c=500.0, nu=0.45, mu=0.5, rho=2.0, g=9.8, dt=0.05,
                             max_drop=0.5)),
+    "bingham_slump": (lambda m, args: m.Slump.of(args, k=args.k[0], material="bingham",
+                                                 quasi_static=False), "k", 0.02,
+                      dict(k=0.04, material="bingham", n_h=3.5, cfl=0.5, mu=10.0,
+                           quasi_static=False, L0=0.1, H0=0.1, rho=1000.0, g=9.81, mu_f=5.0,
+                           dt0=0.05, dt_max=50.0, fall_max=16.0, alpha_advected=3.0)),
 }
 
 
