@@ -140,6 +140,19 @@ QUICK_KEYS = {
                        dict(S_t=1.0, height=1.0, width=6.0, n=5, N=6.0, gamma_r=0.2,
                             E_over_c=500.0, nu=0.45, mu=0.5, rho=2.0, g=9.8, dt=0.05,
                             max_drop=0.5)),
+    "bingham_slump": (lambda m, args: m.Slump.of(args, k=args.k[0], material="bingham",
+                                                 quasi_static=False), "k", 0.02,
+                      dict(k=0.04, material="bingham", n_h=3.5, cfl=0.5, mu=10.0,
+                           quasi_static=False, L0=0.1, H0=0.1, rho=1000.0, g=9.81, mu_f=5.0,
+                           dt0=0.05, dt_max=50.0, fall_max=16.0, alpha_advected=3.0)),
+    "soil_and_water": (lambda m, args: m.Tank.of(args), "block", [0.4, 0.3],
+                       dict(beta=30.0, mu_slope=0.2, mu_floor=0.0, d=0.4, L=2.0, block=[0.4, 0.2],
+                            c=2000.0, rho_w=1000.0, rho_c=1800.0, g=9.81, h=0.08, t_end=3.0,
+                            steps=100, keep_area="on", thin=0.4, spread_mass="on",
+                            alpha_advected=3.0, refine_interior=0.0, keep_surface="off",
+                            keep_area_step=0.0)),
+    "soil_and_water twins": (lambda m, args: m.Twins.of(args), "phi", 35.0,
+                             dict(rho=1000.0, a=0.05715, nx=8, phi=30.0, g=9.81, twin_steps=40)),
 }
 
 
@@ -150,7 +163,7 @@ def test_a_scripts_checkpoint_keys_come_from_the_object_that_builds_its_scene(sc
     same checkpoint names), and a changed field changes both the scene and the checkpoint."""
     from pfem_skfem.scene.scene import scene_digest
 
-    module = importlib.import_module(f"verification.{script}")
+    module = importlib.import_module(f"verification.{script.split()[0]}")
     build, name, value, keys = QUICK_KEYS[script]
     params = build(module, module.build_parser().parse_args(["--quick"]))
     assert params.keys() == keys

@@ -66,6 +66,7 @@ Usage::
     python verification/bingham_slump.py --quick --json results/bingham_slump.json
     python verification/bingham_slump.py --save-every 10        # VTU/PVD of every slump
 """
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 import sys
 import time
@@ -77,6 +78,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, checkpoint_options,
                                         in_range, material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, positive_int, time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.harness.report import Report, script_main, thinned
 from pfem_skfem.harness.sweeps import run_groups
 
@@ -226,24 +228,52 @@ def deposit_bracket(r, args):
                          rounds=args.deposit_rounds)
 
 
-def slump_scene(k, material, *, L0, H0, rho, g, mu, mu_f, spacing, dt, alpha_advected,
-                solver="clarabel"):
-    """The column (L0 x H0, particles ``spacing`` apart) of mud ('bingham': tau_y, mu) or
-    of rigid-plastic Tresca ('tresca': c = tau_y), tau_y = k rho g H0, against the smooth
-    wall x = 0 on the floor y = 0 of friction coefficient mu_f; (state, scene)."""
-    from pfem_skfem.materials import BinghamFluid, CohesiveTresca
-    from pfem_skfem.scene import column_scene
+@dataclass(frozen=True)
+class Slump(Parameters):
+    """A slump, its scene and its checkpoint's keys (all but the solver): the column (L0 x H0)
+    of mud ('bingham': tau_y, mu) or of rigid-plastic Tresca ('tresca': c = tau_y), tau_y =
+    k rho g H0, ``n_h`` particles across Nye's height at the wall, against the smooth wall
+    x = 0 on the floor y = 0 of friction coefficient mu_f; the others the options'."""
+    k: float
+    material: str
+    n_h: float
+    cfl: float
+    mu: float
+    quasi_static: bool
+    L0: float
+    H0: float
+    rho: float
+    g: float
+    mu_f: float
+    dt0: float
+    dt_max: float
+    fall_max: float
+    alpha_advected: float
+    solver: str = field(default="clarabel", metadata=UNKEYED)
 
-    tau_y = k * rho * g * H0
-    mud = BinghamFluid(tau_y, mu) if material == "bingham" else CohesiveTresca(tau_y)
-    return column_scene(mud, L0, H0, spacing, rho=rho, g=g, dt=dt, name="mud",
-                        floor_friction=mu_f, passes=1, solver=solver, volume_correction=True,
-                        alpha_advected=alpha_advected)
+    @property
+    def spacing(self):
+        """The particles' spacing: Nye's height at the wall / n_h."""
+        k, H0 = self.k, self.H0
+        return float(nye_height(0.0, nye_front(k, H0, self.L0 * H0), k, H0)) / self.n_h
+
+    def scene(self):
+        """(state, scene) of the slump, its first step dt0 sqrt(H0 / g)."""
+        from pfem_skfem.materials import BinghamFluid, CohesiveTresca
+        from pfem_skfem.scene import column_scene
+
+        tau_y, g = self.k * self.rho * self.g * self.H0, self.g
+        mud = (BinghamFluid(tau_y, self.mu) if self.material == "bingham"
+               else CohesiveTresca(tau_y))
+        return column_scene(mud, self.L0, self.H0, self.spacing, rho=self.rho, g=g,
+                            dt=self.dt0 * np.sqrt(self.H0 / g), name="mud",
+                            floor_friction=self.mu_f, passes=1, solver=self.solver,
+                            volume_correction=True, alpha_advected=self.alpha_advected)
 
 
-def slump(k, material, args, *, mu, quasi_static, label, n_h=None, cfl=None, save_every=0):
-    """One slump from release to rest (or to --max-steps / --T-max), ``n_h`` particles across
-    Nye's height at the wall and ``cfl`` (None: --n-h and --cfl).
+def slump(params, args, *, label, save_every=0):
+    """One slump (:class:`Slump` ``params``) from release to rest (or to --max-steps /
+    --T-max).
 
     The time step: a dynamic slump's next step moves the fastest particle ``cfl``
     spacings (at most 1.5 times the last step, at least dt0, at most dt_max); a
@@ -258,28 +288,23 @@ def slump(k, material, args, *, mu, quasi_static, label, n_h=None, cfl=None, sav
     from pfem_skfem.drivers.time_step import AdaptiveTimeStep
     from pfem_skfem.pfem.measure import front, surface_height
 
-    H0, L0, g = args.H0, args.L0, args.g
-    n_h, cfl = n_h or args.n_h, cfl or args.cfl
+    H0, L0, g, spacing = params.H0, params.L0, params.g, params.spacing
+    k, material, n_h, cfl, mu, quasi_static = (params.k, params.material, params.n_h,
+                                                params.cfl, params.mu, params.quasi_static)
     area = L0 * H0
     x_nye = nye_front(k, H0, area)
-    spacing = float(nye_height(0.0, x_nye, k, H0)) / n_h
     t_unit = np.sqrt(H0 / g)
-    dt0, dt_max = args.dt0 * t_unit, args.dt_max * t_unit
+    dt0, dt_max = params.dt0 * t_unit, params.dt_max * t_unit
     if quasi_static:
-        dt_max = min(dt_max, np.sqrt(args.fall_max * spacing / g))
-    state, scene0 = slump_scene(k, material, L0=L0, H0=H0, rho=args.rho, g=g, mu=mu,
-                                mu_f=args.mu_f, spacing=spacing, dt=dt0,
-                                alpha_advected=args.alpha_advected, solver=args.solver)
+        dt_max = min(dt_max, np.sqrt(params.fall_max * spacing / g))
+    state, scene0 = params.scene()
     # the next step moves the fastest particle cfl spacings (at most 1.5 x the last step)
     time_step = AdaptiveTimeStep(dt0, dt_max, move=cfl, spacing=spacing,
                                  quasi_static=quasi_static, ladder=LADDER, growth=1.5)
-    keys = dict(k=k, material=material, n_h=n_h, cfl=cfl, mu=mu, quasi_static=quasi_static,
-                L0=L0, H0=H0, rho=args.rho, g=g, mu_f=args.mu_f, dt0=args.dt0,
-                dt_max=args.dt_max, fall_max=args.fall_max, alpha_advected=args.alpha_advected)
     run = ResumableRun.open(
         scene0, state, {"T": [0.0], "X": [L0], "rest_measure": np.inf},
-        checkpoints=Checkpoints(directory=args.checkpoint_dir, label=f"slump_{label}", keys=keys,
-                                every=args.checkpoint_every),
+        checkpoints=Checkpoints(directory=args.checkpoint_dir, label=f"slump_{label}",
+                                keys=params.keys(), every=args.checkpoint_every),
         frames=Frames(directory=Path(args.outdir) / "bingham_slump" / label, name="slump",
                       every=save_every),
         time_step=time_step)
@@ -389,17 +414,19 @@ def build_parser():
 
 def run(args):
     runs = run_groups(slump, {f"{m}_k{k:g}": dict(
-        args=args, k=k, material=m, label=f"{m}_k{k:g}", mu=args.mu if m == "bingham" else 0.0,
-        quasi_static=m == "tresca", save_every=args.save_every)
+        params=Slump.of(args, k=k, material=m, mu=args.mu if m == "bingham" else 0.0,
+                        quasi_static=m == "tresca"),
+        args=args, label=f"{m}_k{k:g}", save_every=args.save_every)
         for m in args.materials for k in args.k}, desc="slumps")
-    tresca = dict(args=args, k=args.study_k, material="tresca", mu=0.0, quasi_static=True)
-    studies = run_groups(slump, {
-        "tresca 1.4 n_h": dict(tresca, n_h=1.4 * args.n_h, label="tresca_mesh"),
-        "tresca cfl/2": dict(tresca, cfl=args.cfl / 2, label="tresca_step"),
-        "fast mud": dict(tresca, material="bingham", mu=args.mu_fast, quasi_static=False,
-                         label="bingham_fast"),
-        "dynamic tresca": dict(tresca, quasi_static=False, label="tresca_dynamic"),
-    } if args.studies else {}, desc="studies")
+    tresca = Slump.of(args, k=args.study_k, material="tresca", mu=0.0, quasi_static=True)
+    studies = run_groups(slump, {name: dict(params=replace(tresca, **change), args=args,
+                                            label=label) for name, label, change in (
+        ("tresca 1.4 n_h", "tresca_mesh", dict(n_h=1.4 * args.n_h)),
+        ("tresca cfl/2", "tresca_step", dict(cfl=args.cfl / 2)),
+        ("fast mud", "bingham_fast", dict(material="bingham", mu=args.mu_fast,
+                                          quasi_static=False)),
+        ("dynamic tresca", "tresca_dynamic", dict(quasi_static=False)),
+    )} if args.studies else {}, desc="studies")
     # the deposits and Nye's heaps, how much gravity each can carry (certified bounds)
     for r in [*runs.values(), *studies.values()]:
         r["alpha"] = deposit_bracket(r, args)
@@ -459,7 +486,7 @@ def run(args):
                                 f"{thin['eps']:.3f} over {wide['eps']:.3f}")
     if studies:
         if (base := runs.get(f"tresca_k{args.study_k:g}")) is None:       # --materials bingham
-            base = studies["tresca"] = slump(**tresca, label="tresca_base")
+            base = studies["tresca"] = slump(tresca, args, label="tresca_base")
         report.add_interval("excess_discretisation_spread",
                             max(abs(studies[s]["excess"] - base["excess"]) for s in (
                                 "tresca 1.4 n_h", "tresca cfl/2")) / base["excess"], 0.0, 0.5,

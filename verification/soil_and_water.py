@@ -79,6 +79,7 @@ Usage::
     # (the full size to 30 s: book/data/soil_and_water_full_30s.json)
     python verification/soil_and_water.py --save-every 5        # VTU/PVD of the three scenes
 """
+from dataclasses import dataclass, field
 import sys
 from pathlib import Path
 
@@ -88,6 +89,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, positive_int, slope_angle, time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters, keys_of
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.pfem.measure import (energy_budget, height_at, mesh_energy, particle_energy,
                                      surface_level)
@@ -150,6 +152,68 @@ def tank_scene(*, beta, mu_slope, mu_floor, d, L, block, c, rho_w, rho_c, g, h, 
     return scene.initial_state(), scene, dict(foot=foot, edge=edge)
 
 
+@dataclass(frozen=True)
+class Tank(Parameters):
+    """The block into the tank, its scene (:func:`tank_scene`, dt = t_end / steps) and its
+    checkpoint's keys (all but the solver): the options of the same names (block a list,
+    keep_area, spread_mass and keep_surface "on" or "off")."""
+    beta: float
+    mu_slope: float
+    mu_floor: float
+    d: float
+    L: float
+    block: list
+    c: float
+    rho_w: float
+    rho_c: float
+    g: float
+    h: float
+    t_end: float
+    steps: int
+    keep_area: str
+    thin: float
+    spread_mass: str
+    alpha_advected: float
+    refine_interior: float
+    keep_surface: str
+    keep_area_step: float
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    def scene(self):
+        """(state, scene, geometry) of :func:`tank_scene`."""
+        on = {k: getattr(self, k) == "on" for k in ("keep_area", "spread_mass", "keep_surface")}
+        return tank_scene(**keys_of(self, omit=("t_end", "steps"), block=tuple(self.block),
+                                    dt=self.t_end / self.steps, solver=self.solver, **on))
+
+
+@dataclass(frozen=True)
+class Twins(Parameters):
+    """The dam-break twins, water and sand (friction angle phi), each a column a wide, 2a
+    high, nx particles across against a smooth wall, to T = t sqrt(2g/a) = 4 in twin_steps:
+    their scenes and their checkpoints' keys (all but the solver)."""
+    rho: float
+    a: float
+    nx: int
+    phi: float
+    g: float
+    twin_steps: int
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    def scene(self, name="granular"):
+        """(state, scene) of the twin ``name``: 'water' on a smooth floor, or 'granular' on
+        a floor of friction tan phi."""
+        from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
+        from pfem_skfem.scene import Geostatic, column_scene
+
+        a, water = self.a, name == "water"
+        material = NewtonianFluid(1e-3) if water else ZeroDilationMohrCoulomb(phi=self.phi)
+        return column_scene(material, a, 2 * a, a / (self.nx - 1), rho=self.rho, g=self.g,
+                            dt=4.0 * np.sqrt(a / (2 * self.g)) / self.twin_steps,
+                            stress=Geostatic(), far=50 * a, passes=2, solver=self.solver,
+                            floor_friction=0.0 if water else np.tan(np.radians(self.phi)),
+                            volume_correction=True)
+
+
 def tank_level(area, L, beta):
     """The level l of a still surface over the tank holding ``area``: the area below l
     between the slope (angle beta, its foot at y = 0) and the wall L beyond the foot is
@@ -164,18 +228,8 @@ def run_tank(args, out):
     the levels, the block's rest, the energies (:func:`~pfem_skfem.pfem.measure.energy_budget`)."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 
-    state0, scene, geo = tank_scene(beta=args.beta, mu_slope=args.mu_slope,
-                                    mu_floor=args.mu_floor, d=args.d, L=args.L,
-                                    block=tuple(args.block), c=args.c, rho_w=args.rho_w,
-                                    rho_c=args.rho_c, g=args.g, h=args.h,
-                                    dt=args.t_end / args.steps,
-                                    keep_area=args.keep_area == "on", thin=args.thin,
-                                    spread_mass=args.spread_mass == "on",
-                                    alpha_advected=args.alpha_advected,
-                                    refine_interior=args.refine_interior,
-                                    keep_surface=args.keep_surface == "on",
-                                    keep_area_step=args.keep_area_step,
-                                    solver=args.solver)
+    params = Tank.of(args)
+    state0, scene, geo = params.scene()
     gauges = geo["foot"] + np.array([0.25, 0.75]) * args.L
     span = (geo["foot"] + args.h, geo["foot"] + args.L - args.h)      # the flat tank
     first = {"t": [0.0], "block_x": [float(state0.x[state0.region == CLAY, 0].mean())],
@@ -183,14 +237,10 @@ def run_tank(args, out):
               "energy": [particle_energy(state0, scene.gravity)], "mesh_energy": [],
               "water_massless": [0], "flying_energy": [0.0], "fastest": [0.0],
               "water_particles": [int(np.sum(state0.region != CLAY))]}
-    keys = {k: getattr(args, k) for k in (
-        "beta", "mu_slope", "mu_floor", "d", "L", "block", "c", "rho_w", "rho_c", "g", "h",
-        "t_end", "steps", "keep_area", "thin", "spread_mass", "alpha_advected",
-        "refine_interior", "keep_surface", "keep_area_step")}
     run = ResumableRun.open(
         scene, state0, first,
-        checkpoints=Checkpoints(directory=args.checkpoint_dir, label="block_into_tank", keys=keys,
-                                every=args.checkpoint_every),
+        checkpoints=Checkpoints(directory=args.checkpoint_dir, label="block_into_tank",
+                                keys=params.keys(), every=args.checkpoint_every),
         frames=Frames(directory=out / "block_into_tank", name="block_into_tank",
                       every=args.save_every),
         bar=Bar(total=args.steps, desc="block_into_tank", verbose=args.progress))
@@ -241,16 +291,6 @@ def run_tank(args, out):
         **energy_budget(series["energy"], series["mesh_energy"]),           # J/m
         # the particles at the end, for a picture (mm)
         "x_end": np.round(state.x, 3), "clay_end": state.region == CLAY}
-
-
-def twin_scene(material, rho, a, nx, *, mu_floor, g, dt, solver="clarabel"):
-    """The dam-break column (a wide, 2a high, nx particles across) of ``material`` against a
-    smooth wall on a floor of friction mu_floor."""
-    from pfem_skfem.scene import Geostatic, column_scene
-
-    return column_scene(material, a, 2 * a, a / (nx - 1), rho=rho, g=g, dt=dt,
-                        stress=Geostatic(), floor_friction=mu_floor, far=50 * a, passes=2,
-                        solver=solver, volume_correction=True)
 
 
 def region_books(scene, state0, history):
@@ -339,23 +379,15 @@ def run_twins(args, out):
     """The water column and its granular twin to T = 4: fronts, books, final particles
     (each checkpointed in --checkpoint-dir, and resumed from there)."""
     from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
-    from pfem_skfem.materials import NewtonianFluid, ZeroDilationMohrCoulomb
 
-    t_unit = np.sqrt(args.a / (2 * args.g))
-    dt = 4.0 * t_unit / args.twin_steps
-    twins = {}
-    for name, material, mu_floor in (
-            ("water", NewtonianFluid(1e-3), 0.0),
-            ("granular", ZeroDilationMohrCoulomb(phi=args.phi), np.tan(np.radians(args.phi)))):
-        s0, sc = twin_scene(material, args.rho, args.a, args.nx, mu_floor=mu_floor, g=args.g,
-                            dt=dt, solver=args.solver)
+    t_unit, twins, params = np.sqrt(args.a / (2 * args.g)), {}, Twins.of(args)
+    for name in ("water", "granular"):
+        s0, sc = params.scene(name)
         label = f"twin_{name}"
-        keys = dict(rho=args.rho, a=args.a, nx=args.nx, phi=args.phi, g=args.g,
-                    twin_steps=args.twin_steps)
         run = ResumableRun.open(
             sc, s0, {"T": [0.0], "Z": [1.0], "speed": [0.0]},
-            checkpoints=Checkpoints(directory=args.checkpoint_dir, label=label, keys=keys,
-                                    every=args.checkpoint_every),
+            checkpoints=Checkpoints(directory=args.checkpoint_dir, label=label,
+                                    keys=params.keys(), every=args.checkpoint_every),
             frames=Frames(directory=out / label, name=label, every=args.save_every),
             bar=Bar(total=args.twin_steps, desc=label, verbose=args.progress))
 
