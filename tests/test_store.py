@@ -100,7 +100,7 @@ def test_kept_silo_checkpoints_keep_their_names(in_root, monkeypatch, tmp_path):
         cases, _ = _cases(silo_discharge, options, monkeypatch)
         for case in cases:
             assert case["checkpoint_dir"] == "runs/silo"
-            keys = {k: case[k] for k in SILO_KEYS}
+            keys = silo_discharge.Silo(**{k: case[k] for k in SILO_KEYS}).keys()
             names.add(checkpoint_path(tmp_path, f"silo_{case['label']}", keys).name)
     expected = {f"silo_{n}.npz" for n in SILO_FILES.split()}
     assert names == expected
@@ -140,6 +140,10 @@ QUICK_KEYS = {
                        dict(S_t=1.0, height=1.0, width=6.0, n=5, N=6.0, gamma_r=0.2,
                             E_over_c=500.0, nu=0.45, mu=0.5, rho=2.0, g=9.8, dt=0.05,
                             max_drop=0.5)),
+    "silo_discharge": (lambda m, args: m.Silo.of(args, mu=0.0), "H", 0.3,
+                       dict(W=0.5, H=0.2, Hh=0.35, B=0.08, h=0.04, rho=1.5, c=0.0, phi=31.0,
+                            mu=0.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005, passes=2,
+                            outlet_depth=0.0)),
 }
 
 
