@@ -144,6 +144,11 @@ QUICK_KEYS = {
                        dict(W=0.5, H=0.2, Hh=0.35, B=0.08, h=0.04, rho=1.5, c=0.0, phi=31.0,
                             mu=0.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005, passes=2,
                             outlet_depth=0.0)),
+    "accretionary_wedge": (lambda m, args: m.Layer.of(args, phi_b=args.base_friction), "L", 0.6,
+                           dict(h0=0.08, L=0.5, h=0.016, phi=30.0, rho=2.0, g=9.8,
+                                mu_wall=0.5773502691896257, s=0.05, dt=0.16, alpha=1.4,
+                                k_min=0.005, contact="zero-dilation", passes=3, phi_b=15.0,
+                                steps=12)),
 }
 
 
