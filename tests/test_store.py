@@ -149,6 +149,10 @@ QUICK_KEYS = {
                                 mu_wall=0.5773502691896257, s=0.05, dt=0.16, alpha=1.4,
                                 k_min=0.005, contact="zero-dilation", passes=3, phi_b=15.0,
                                 steps=12)),
+    "cylinder_soil": (lambda m, args: m.Cylinder(**m.options_of(args)), "H", 3.0,
+                      dict(D=1.0, c=1.0, rho=1.6, g=9.8, mu=0.5773502691896257, uV=0.8, uH=2.0,
+                           du=0.05, dt=0.2, W=6.0, H=2.5, h_fine=0.25, h_coarse=0.5, alpha=1.4,
+                           contact="coulomb", theta1=1.0, theta2=1.0)),
 }
 
 
