@@ -246,8 +246,8 @@ def test_every_example_is_named_by_run_help_and_its_header_is_true(capsys):
 
 def test_the_silo_example_states_the_script_s_default_spacing():
     import inspect
-    from verification.silo_discharge import silo
-    default = inspect.signature(silo).parameters["h"].default
+    from verification.silo_discharge import Silo
+    default = inspect.signature(Silo).parameters["h"].default
     header = " ".join(example_text("silo").split())
     assert f"the script's default {default:g}" in header
 

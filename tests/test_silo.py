@@ -84,11 +84,11 @@ def test_the_smooth_silo_empties_faster_than_the_rough_one(quick):
 
 
 def test_the_example_scene_file_is_the_script_s_silo():
-    """pfem_skfem/scene/examples/silo.toml is silo(h=0.04): same regions, walls, outlet."""
+    """pfem_skfem/scene/examples/silo.toml is Silo(h=0.04): same regions, walls, outlet."""
     from importlib.resources import files
     from pfem_skfem.scene import scene_from_toml
     text = (files("pfem_skfem.scene") / "examples" / "silo.toml").read_text()
-    scene, ref = scene_from_toml(text), silo.silo(h=0.04)[1]
+    scene, ref = scene_from_toml(text), silo.Silo(h=0.04).scene()[1]
     assert (scene.regions, scene.bodies, scene.outlets, scene.config) == \
         (ref.regions, ref.bodies, ref.outlets, ref.config)
     assert scene.length == approx(1.35) and scene.t_end == 6.0

@@ -100,7 +100,7 @@ def test_kept_silo_checkpoints_keep_their_names(in_root, monkeypatch, tmp_path):
         cases, _ = _cases(silo_discharge, options, monkeypatch)
         for case in cases:
             assert case["checkpoint_dir"] == "runs/silo"
-            keys = {k: case[k] for k in SILO_KEYS}
+            keys = silo_discharge.Silo(**{k: case[k] for k in SILO_KEYS}).keys()
             names.add(checkpoint_path(tmp_path, f"silo_{case['label']}", keys).name)
     expected = {f"silo_{n}.npz" for n in SILO_FILES.split()}
     assert names == expected
@@ -153,6 +153,19 @@ QUICK_KEYS = {
                             keep_area_step=0.0)),
     "soil_and_water twins": (lambda m, args: m.Twins.of(args), "phi", 35.0,
                              dict(rho=1000.0, a=0.05715, nx=8, phi=30.0, g=9.81, twin_steps=40)),
+    "silo_discharge": (lambda m, args: m.Silo.of(args, mu=0.0), "H", 0.3,
+                       dict(W=0.5, H=0.2, Hh=0.35, B=0.08, h=0.04, rho=1.5, c=0.0, phi=31.0,
+                            mu=0.0, g=9.8, dt=0.04, alpha=1.6, floor=0.005, passes=2,
+                            outlet_depth=0.0)),
+    "accretionary_wedge": (lambda m, args: m.Layer.of(args, phi_b=args.base_friction), "L", 0.6,
+                           dict(h0=0.08, L=0.5, h=0.016, phi=30.0, rho=2.0, g=9.8,
+                                mu_wall=0.5773502691896257, s=0.05, dt=0.16, alpha=1.4,
+                                k_min=0.005, contact="zero-dilation", passes=3, phi_b=15.0,
+                                steps=12)),
+    "cylinder_soil": (lambda m, args: m.Cylinder(**m.options_of(args)), "H", 3.0,
+                      dict(D=1.0, c=1.0, rho=1.6, g=9.8, mu=0.5773502691896257, uV=0.8, uH=2.0,
+                           du=0.05, dt=0.2, W=6.0, H=2.5, h_fine=0.25, h_coarse=0.5, alpha=1.4,
+                           contact="coulomb", theta1=1.0, theta2=1.0)),
 }
 
 

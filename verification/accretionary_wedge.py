@@ -57,6 +57,7 @@ come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -70,6 +71,7 @@ from pfem_skfem.pfem import alpha_shape
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.declare import own_options
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
@@ -151,23 +153,45 @@ def soil(phi, k_min):
     return ZeroDilationMohrCoulomb(c=0.0, phi=phi, k_min=k_min)
 
 
-def layer_scene(*, h0=0.08, L=1.4, h=0.01, phi=30.0, rho=2.0, g=9.8, mu_wall=None, phi_b=15.0,
-                s=0.16, steps=1000, dt=0.16, alpha=1.4, k_min=0.005, contact="zero-dilation",
-                passes=3, lattice="triangular", theta1=1.0, theta2=1.0, solver="clarabel"):
-    """The layer of thesis 6.4.2 pushed by its left wall by ``s`` in ``steps`` steps."""
-    mu_wall = np.tan(np.radians(phi)) if mu_wall is None else mu_wall
-    layer = Region(((0.0, 0.0), (L, 0.0), (L, h0), (0.0, h0)), soil(phi, k_min), rho, h,
-                   lattice=lattice, stress=Geostatic(), name="sand")
-    big = 10 * L
-    bodies = (Body("base", RigidSegment((-big, 0.0), (big, 0.0), np.tan(np.radians(phi_b)))),
-              Body("wall", RigidSegment((0.0, big), (0.0, -h), mu_wall),
-                   ConstantVelocity((s / (steps * dt), 0.0))),
-              Body("end", RigidSegment((L, -h), (L, big), 0.0)))     # the far end: smooth
-    rule = CONTACTS[contact]()
-    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=rule,
-                          passes=max(passes, rule.passes_needed), solver=solver)
-    return Scene(regions=(layer,), bodies=bodies, gravity=(0.0, -g), alpha=alpha, length=h0,
-                 t_end=steps * dt, config=numerics)
+@dataclass(frozen=True)
+class Layer(Parameters):
+    """The layer of thesis 6.4.2 pushed by its left wall by ``s`` in ``steps`` steps, its scene
+    and its checkpoint's keys (all but the solver); ``mu_wall`` None: tan phi."""
+    h0: float = 0.08
+    L: float = 1.4
+    h: float = 0.01
+    phi: float = 30.0
+    rho: float = 2.0
+    g: float = 9.8
+    mu_wall: float = None
+    phi_b: float = 15.0
+    s: float = 0.16
+    steps: int = 1000
+    dt: float = 0.16
+    alpha: float = 1.4
+    k_min: float = 0.005
+    contact: str = "zero-dilation"
+    passes: int = 3
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    def scene(self):
+        """(state, scene) of the layer."""
+        L, h, h0, phi, dt, steps = self.L, self.h, self.h0, self.phi, self.dt, self.steps
+        mu_wall = np.tan(np.radians(phi)) if self.mu_wall is None else self.mu_wall
+        layer = Region(((0.0, 0.0), (L, 0.0), (L, h0), (0.0, h0)), soil(phi, self.k_min), self.rho,
+                       h, lattice="triangular", stress=Geostatic(), name="sand")
+        big = 10 * L
+        mu_b = np.tan(np.radians(self.phi_b))
+        bodies = (Body("base", RigidSegment((-big, 0.0), (big, 0.0), mu_b)),
+                  Body("wall", RigidSegment((0.0, big), (0.0, -h), mu_wall),
+                       ConstantVelocity((self.s / (steps * dt), 0.0))),
+                  Body("end", RigidSegment((L, -h), (L, big), 0.0)))     # the far end: smooth
+        rule = CONTACTS[self.contact]()
+        numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=rule,
+                              passes=max(self.passes, rule.passes_needed), solver=self.solver)
+        scene = Scene(regions=(layer,), bodies=bodies, gravity=(0.0, -self.g), alpha=self.alpha,
+                      length=h0, t_end=steps * dt, config=numerics)
+        return scene.initial_state(), scene
 
 
 def taper_scene(*, taper=15.0, H=0.05, layers=8, phi=30.0, phi_b=15.0, rho=2.0, g=9.8,
@@ -288,27 +312,28 @@ def popup(points, cells, deps, h0, x_wall, fraction=0.5):
 
 
 def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
-              checkpoint_every=20, **options):
-    """The thesis' layer shortened by s; returns histories, snapshots, the final surface
-    profile and the wedge's measures (:func:`wedge_geometry`, :func:`popup`).
+              checkpoint_every=20, **layer):
+    """The thesis' layer (the :class:`Layer` of the keywords ``layer``) shortened by s;
+    returns histories, snapshots, the final surface profile and the wedge's measures
+    (:func:`wedge_geometry`, :func:`popup`).
 
     With ``checkpoint_dir`` the state and the snapshots so far are saved there every
     ``checkpoint_every`` steps and at the end
-    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of ``options``;
+    (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of its keys;
     a run finds its own checkpoint and goes on from it, bit for bit (``seconds`` is then
     the time of the last sitting only)."""
-    scene = layer_scene(**options)
-    s, steps = options["s"], options["steps"]
+    params = Layer(**layer)
+    state, scene = params.scene()
+    s, steps, h, h0 = params.s, params.steps, params.h, params.h0
     du = s / steps
-    state = scene.initial_state()
     snap = {max(1, int(round(v / du))): v for v in SNAP_S if v <= s + 1e-12}
     run = ResumableRun.open(
         scene, state, {"snaps": {}},
         checkpoints=Checkpoints(directory=checkpoint_dir, label="wedge",
-                                keys={k: v for k, v in options.items() if k != "solver"},
+                                keys=params.keys(),
                                 every=checkpoint_every),
         frames=Frames(directory=None if outdir is None
-                      else Path(outdir) / f"h{options['h']:g}_n{steps}",
+                      else Path(outdir) / f"h{h:g}_n{steps}",
                       name="wedge", every=save_every),
         bar=Bar(total=steps, desc=f"wedge ({steps} steps)", verbose=verbose))
     t0 = time.perf_counter()
@@ -318,9 +343,8 @@ def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
                                     f"dA = {run.record['area_change']:+.2%}")
     state, series, snaps = run.state, run.series, run.kept["snaps"]
     hist = state.history
-    h0, alpha, h = options.get("h0", 0.08), options.get("alpha", 1.4), options["h"]
-    bins = np.arange(s, options.get("L", 1.4) + h, h)          # from the wall's final place
-    xc, top = surface_profile(state.x, state.h, alpha, bins)
+    bins = np.arange(s, params.L + h, h)              # from the wall's final place
+    xc, top = surface_profile(state.x, state.h, params.alpha, bins)
     snapshots = {snap[k]: v for k, v in sorted(snaps.items())}
     first = min(snapshots)
     pop = popup(snapshots[first]["points"], snapshots[first]["cells"],

@@ -64,6 +64,7 @@ come from :func:`pfem_skfem.harness.options.base_parser`.
 """
 import sys
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -78,6 +79,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, solver_keyword, sweep_options,
                                         time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
 from pfem_skfem.harness.report import Report, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -100,44 +102,68 @@ QUICK_TOLERANCES = dict(symmetry=0.10, steady_change=0.25, area=0.05)
 
 
 # -- the scene ----------------------------------------------------------------------------------
-def cylinder_scene(*, D=1.0, c=1.0, rho=1.6, g=9.8, mu=np.tan(np.radians(30.0)), uV=0.8, uH=2.0,
-                   du=0.01, dt=0.1, W=8.0, H=3.0, h_fine=0.1, h_coarse=0.3, fine_depth=1.6,
-                   fine_margin=2.0, alpha=1.4, contact="coulomb", theta1=1.0, theta2=1.0,
-                   base_mu=1.0, lattice="triangular", **config):
-    """The cylinder of thesis 6.4.1 as a scene: returns (scene, number of vertical steps,
-    number of lateral steps).
+@dataclass(frozen=True)
+class Cylinder(Parameters):
+    """The cylinder of thesis 6.4.1, its scene and its checkpoint's keys (all but the solver).
 
     The soil fills x in [uH/2 - W/2, uH/2 + W/2], y in [-H, 0]; the cylinder (radius D/2)
     starts tangent to the surface above x = 0 and moves by ``du`` a step (time step
     ``dt``): ``uV`` down, then ``uH`` sideways. The fine region (spacing ``h_fine``)
-    spans ``fine_margin`` beyond either end of the path and ``fine_depth`` down; the rest
-    has ``h_coarse``. Sides: smooth walls; base: friction ``base_mu``.
+    spans 2 m beyond either end of the path and 1.6 m down; the rest has ``h_coarse``.
+    Sides: smooth walls; base: friction 1.
     """
-    soil = CohesiveTresca(c)
-    xm = 0.5 * uH                                                 # middle of the path
-    x0, x1 = xm - 0.5 * W, xm + 0.5 * W
-    f0, f1 = min(-fine_margin, x0 + h_coarse), max(uH + fine_margin, x1 - h_coarse)
-    f0, f1 = max(f0, x0 + h_coarse), min(f1, x1 - h_coarse)
-    d = min(fine_depth, H - h_coarse)
-    fine = Region(((f0, -d), (f1, -d), (f1, 0.0), (f0, 0.0)), soil, rho, h_fine,
-                  lattice=lattice, name="fine")
-    coarse = Region(((x0, -H), (x1, -H), (x1, 0.0), (f1, 0.0), (f1, -d), (f0, -d), (f0, 0.0),
-                     (x0, 0.0)), soil, rho, h_coarse, lattice=lattice, name="coarse")
-    n_v, n_h = int(round(uV / du)), int(round(uH / du))
-    motion = PiecewiseLinear((0.0, n_v * dt, (n_v + n_h) * dt),
-                             ((0.0, 0.0), (0.0, -uV), (uH, -uV)))
-    big = 10.0 * (W + H)
-    bodies = (Body("cylinder", RigidCircle((0.0, 0.5 * D), 0.5 * D, mu), motion),
-              Body("base", RigidSegment((x0 - big, -H), (x1 + big, -H), base_mu)),
-              Body("left", RigidSegment((x0, big), (x0, -H - h_coarse), 0.0)),
-              Body("right", RigidSegment((x1, -H - h_coarse), (x1, big), 0.0)))
-    rule = CONTACTS[contact]()
-    passes = max(int(config.pop("passes", 1)), rule.passes_needed)
-    numerics = PFEMConfig(theta=ThetaMethod(dt, theta1, theta2), contact=rule, passes=passes,
-                          **config)
-    scene = Scene(regions=(fine, coarse), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
-                  length=D, t_end=(n_v + n_h) * dt, config=numerics)
-    return scene, n_v, n_h
+    D: float = 1.0
+    c: float = 1.0
+    rho: float = 1.6
+    g: float = 9.8
+    mu: float = np.tan(np.radians(30.0))
+    uV: float = 0.8
+    uH: float = 2.0
+    du: float = 0.01
+    dt: float = 0.1
+    W: float = 8.0
+    H: float = 3.0
+    h_fine: float = 0.1
+    h_coarse: float = 0.3
+    alpha: float = 1.4
+    contact: str = "coulomb"
+    theta1: float = 1.0
+    theta2: float = 1.0
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    @property
+    def steps(self):
+        """(number of vertical steps, number of lateral steps)."""
+        return int(round(self.uV / self.du)), int(round(self.uH / self.du))
+
+    def scene(self):
+        """(state, scene) of the cylinder."""
+        W, H, h_coarse, uV, uH, D = self.W, self.H, self.h_coarse, self.uV, self.uH, self.D
+        dt = self.dt
+        soil = CohesiveTresca(self.c)
+        xm = 0.5 * uH                                                 # middle of the path
+        x0, x1 = xm - 0.5 * W, xm + 0.5 * W
+        f0, f1 = min(-2.0, x0 + h_coarse), max(uH + 2.0, x1 - h_coarse)
+        f0, f1 = max(f0, x0 + h_coarse), min(f1, x1 - h_coarse)
+        d = min(1.6, H - h_coarse)
+        fine = Region(((f0, -d), (f1, -d), (f1, 0.0), (f0, 0.0)), soil, self.rho, self.h_fine,
+                      lattice="triangular", name="fine")
+        coarse = Region(((x0, -H), (x1, -H), (x1, 0.0), (f1, 0.0), (f1, -d), (f0, -d), (f0, 0.0),
+                         (x0, 0.0)), soil, self.rho, h_coarse, lattice="triangular", name="coarse")
+        n_v, n_h = self.steps
+        motion = PiecewiseLinear((0.0, n_v * dt, (n_v + n_h) * dt),
+                                 ((0.0, 0.0), (0.0, -uV), (uH, -uV)))
+        big = 10.0 * (W + H)
+        bodies = (Body("cylinder", RigidCircle((0.0, 0.5 * D), 0.5 * D, self.mu), motion),
+                  Body("base", RigidSegment((x0 - big, -H), (x1 + big, -H), 1.0)),
+                  Body("left", RigidSegment((x0, big), (x0, -H - h_coarse), 0.0)),
+                  Body("right", RigidSegment((x1, -H - h_coarse), (x1, big), 0.0)))
+        rule = CONTACTS[self.contact]()
+        numerics = PFEMConfig(theta=ThetaMethod(dt, self.theta1, self.theta2), contact=rule,
+                              passes=max(1, rule.passes_needed), solver=self.solver)
+        scene = Scene(regions=(fine, coarse), bodies=bodies, gravity=(0.0, -self.g),
+                      alpha=self.alpha, length=D, t_end=(n_v + n_h) * dt, config=numerics)
+        return scene.initial_state(), scene
 
 
 # -- references ---------------------------------------------------------------------------------
@@ -174,10 +200,9 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", chec
     (:class:`~pfem_skfem.drivers.resumable.ResumableRun`), under a digest of ``options``;
     a run finds its own checkpoint and goes on from it, bit for bit (``seconds`` is then
     the time of the last sitting only)."""
-    scene, n_v, n_h = cylinder_scene(**options)
-    du = options.get("du", 0.01)
-    D = options.get("D", 1.0)
-    state = scene.initial_state()
+    params = Cylinder(**options)
+    state, scene = params.scene()
+    (n_v, n_h), du, D = params.steps, params.du, params.D
     snap_steps = {int(round(u / du)): f"u_V = {u:g} m" for u in SNAP_UV}
     snap_steps |= {n_v + int(round(u / du)): f"u_H = {u:g} m" for u in SNAP_UH}
     snap_steps = {k: v for k, v in snap_steps.items() if k <= n_v + n_h}
@@ -185,10 +210,10 @@ def run_cylinder(*, outdir=None, save_every=0, verbose=False, label="main", chec
     run = ResumableRun.open(
         scene, state, {"snaps": {}},
         checkpoints=Checkpoints(directory=checkpoint_dir, label="cylinder",
-                                keys={k: v for k, v in options.items() if k != "solver"},
+                                keys=params.keys(),
                                 every=checkpoint_every),
         frames=Frames(directory=(None if outdir is None else Path(outdir)
-                                 / f"{label}_h{options.get('h_fine', 0.1):g}_du{du:g}"),
+                                 / f"{label}_h{params.h_fine:g}_du{du:g}"),
                       name="cylinder", every=save_every),
         bar=Bar(total=n_v + n_h, desc=f"cylinder ({label})", verbose=verbose))
     t0 = time.perf_counter()

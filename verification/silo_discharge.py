@@ -63,6 +63,7 @@ import json
 import os
 import sys
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -78,6 +79,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, fractio
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, solver_keyword, sweep_options,
                                         time_options)
+from pfem_skfem.harness.params import UNKEYED, Parameters
 from pfem_skfem.harness.progress import progress
 from pfem_skfem.harness.report import Report, thinned, script_main
 from pfem_skfem.harness.sweeps import run_cases
@@ -110,9 +112,9 @@ def silo_outline(W, H, Hh, B):
             (-W / 2, Hh))
 
 
-def silo(*, W=0.5, H=1.0, Hh=0.35, B=0.08, h=0.01, rho=1.5, c=0.0, phi=31.0, mu=0.0, g=9.8,
-         dt=0.01, alpha=1.6, floor=0.005, passes=2, outlet_depth=0.0, solver="clarabel"):
-    """The silo of thesis Fig 6.16 as a scene, and its initial state.
+@dataclass(frozen=True)
+class Silo(Parameters):
+    """The silo of thesis Fig 6.16, its scene and its checkpoint's keys (all but the solver).
 
     The material fills the polygon :func:`silo_outline` on a square lattice of spacing
     ``h``; the walls are two rigid polylines (the solid on the material's side, reaching
@@ -120,20 +122,41 @@ def silo(*, W=0.5, H=1.0, Hh=0.35, B=0.08, h=0.01, rho=1.5, c=0.0, phi=31.0, mu=
     removed at t = 0; the outlet removes the particles below y = -``outlet_depth``.
     The lagged mean stress starts geostatic (K0 = 1 - sin phi); ``floor`` is the least
     cone radius in units of rho g L (L = Hh + H, the scene's length).
-
-    Returns (state, scene).
     """
-    top = Hh + H + 0.5
-    soil = ZeroDilationMohrCoulomb(c=c, phi=phi, k_min=floor)
-    fill = Region(silo_outline(W, H, Hh, B), soil, rho, h, stress=Geostatic(), name="fill")
-    bodies = (Body("left_wall", RigidPolyline(((-W / 2, top), (-W / 2, Hh), (-B / 2, 0.0)), mu)),
-              Body("right_wall", RigidPolyline(((B / 2, 0.0), (W / 2, Hh), (W / 2, top)), mu)),
-              Body("gate", RigidSegment((-B, 0.0), (B, 0.0), mu), removed_at=0.0))
-    orifice = Outlet("orifice", HalfPlane((0.0, -outlet_depth), (0.0, -1.0)))
-    scene = Scene(regions=(fill,), bodies=bodies, outlets=(orifice,), gravity=(0.0, -g),
-                  alpha=alpha, config=PFEMConfig(theta=ThetaMethod(dt), passes=passes,
-                                                  solver=solver))
-    return scene.initial_state(), scene
+    W: float = 0.5
+    H: float = 1.0
+    Hh: float = 0.35
+    B: float = 0.08
+    h: float = 0.01
+    rho: float = 1.5
+    c: float = 0.0
+    phi: float = 31.0
+    mu: float = 0.0
+    g: float = 9.8
+    dt: float = 0.01
+    alpha: float = 1.6
+    floor: float = 0.005
+    passes: int = 2
+    outlet_depth: float = 0.0
+    solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    def scene(self):
+        """(state, scene) of the silo."""
+        W, H, Hh, B, mu = self.W, self.H, self.Hh, self.B, self.mu
+        top = Hh + H + 0.5
+        soil = ZeroDilationMohrCoulomb(c=self.c, phi=self.phi, k_min=self.floor)
+        fill = Region(silo_outline(W, H, Hh, B), soil, self.rho, self.h, stress=Geostatic(),
+                      name="fill")
+        left = ((-W / 2, top), (-W / 2, Hh), (-B / 2, 0.0))
+        right = ((B / 2, 0.0), (W / 2, Hh), (W / 2, top))
+        bodies = (Body("left_wall", RigidPolyline(left, mu)),
+                  Body("right_wall", RigidPolyline(right, mu)),
+                  Body("gate", RigidSegment((-B, 0.0), (B, 0.0), mu), removed_at=0.0))
+        orifice = Outlet("orifice", HalfPlane((0.0, -self.outlet_depth), (0.0, -1.0)))
+        scene = Scene(regions=(fill,), bodies=bodies, outlets=(orifice,), gravity=(0.0, -self.g),
+                      alpha=self.alpha, config=PFEMConfig(theta=ThetaMethod(self.dt),
+                                                          passes=self.passes, solver=self.solver))
+        return scene.initial_state(), scene
 
 
 def discharge_rate(t, V, window=LINEAR_WINDOW):
@@ -166,10 +189,10 @@ def beverloo_exponent(B, Q):
     return float(n), float(np.exp(logC))
 
 
-def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, floor, passes,
-             outlet_depth, t_max, empty, snapshot_times=(), outdir=None, save_every=0,
-             verbose=False, checkpoint_dir=None, checkpoint_every=20, solver="clarabel"):
-    """One discharge from the gate's removal until V < ``empty`` V0 or t = ``t_max``.
+def run_case(*, label, walls, t_max, empty, snapshot_times=(), outdir=None, save_every=0,
+             verbose=False, checkpoint_dir=None, checkpoint_every=20, **silo):
+    """One discharge (the :class:`Silo` of the keywords ``silo``) from the gate's removal
+    until V < ``empty`` V0 or t = ``t_max``.
 
     With ``checkpoint_dir`` the state and the snapshots taken so far are saved there
     every ``checkpoint_every`` steps and at the end
@@ -178,16 +201,16 @@ def run_case(*, label, walls, mu, W, H, Hh, B, h, rho, c, phi, g, dt, alpha, flo
     checkpoint and goes on from it (the same steps, bit for bit: a long study can span
     several sessions). A checkpoint of the state alone (as written before the snapshots
     were kept) is taken too: the snapshots of its earlier steps are then missing."""
-    scene_keys = dict(W=W, H=H, Hh=Hh, B=B, h=h, rho=rho, c=c, phi=phi, mu=mu, g=g, dt=dt,
-                      alpha=alpha, floor=floor, passes=passes, outlet_depth=outlet_depth)
-    state, scene = silo(**scene_keys, solver=solver)
+    params = Silo(**silo)
+    mu, W, H, Hh, B, h, dt, rho, g = (getattr(params, k) for k in "mu W H Hh B h dt rho g".split())
+    state, scene = params.scene()
     x0, n0, m0 = state.x.copy(), state.n, state.total_mass
     first = {0: {"x": x0, "speed": np.zeros(n0)}} if 0.0 in snapshot_times else {}
     t0 = time.perf_counter()
     steps = int(np.ceil(t_max / dt - 1e-9))
     run = ResumableRun.open(
         scene, state, {"snaps": first},
-        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"silo_{label}", keys=scene_keys,
+        checkpoints=Checkpoints(directory=checkpoint_dir, label=f"silo_{label}", keys=params.keys(),
                                 every=checkpoint_every, state_alone=True),
         frames=Frames(directory=None if outdir is None else Path(outdir) / label, name="silo",
                       every=save_every),
