@@ -91,9 +91,11 @@ def at_rest(nx, dt, steps, *, tol=None, held=False):
     largest particle speed / (g dt) after each step (``speed``), the largest displacement /
     h, the iterations per step, the seconds."""
     from pfem_skfem.drivers.pfem_loop import pfem_step
-    from verification.dam_break import dam_break_scene
+    from verification.dam_break import DamBreak, time_unit
 
-    state, scene = dam_break_scene(A, N2, nx, rho=RHO, mu=MU, g=G, dt=dt, gate=True)
+    # one step of dt in the dam break's time unit: its scene, held by its gate
+    state, scene = DamBreak(A, N2, nx, steps=1, T_end=dt / time_unit(A, N2, G), rho=RHO,
+                            mu=MU, g=G).scene(gate=True)
     x0, h = state.x.copy(), A / (nx - 1)
     speed, iterations = [], []
     t0 = time.process_time()
