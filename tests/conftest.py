@@ -36,3 +36,33 @@ def quick_run(tmp_path_factory):
         return result
 
     return run
+
+
+class _Opened(Exception):
+    """Raised in place of a run: the first --quick case, or a run's checkpoint keys."""
+
+
+@pytest.fixture
+def quick_case_keys(monkeypatch):
+    """``quick_case_keys(module, runner, first) -> (case, keys)``: the first case of a
+    script's ``--quick`` run (``module.run`` stopped at its study runner, the function
+    ``module.<runner>``, whose arguments ``first`` reads the case from) and the checkpoint
+    keys that ``module.run_case(**case)`` opens its run with (the run not made)."""
+    def keys(module, runner, first):
+        cases = []
+
+        def stop(*args, **kwargs):
+            cases.append(first(*args, **kwargs))
+            raise _Opened
+        monkeypatch.setattr(module, runner, stop)
+        with pytest.raises(_Opened):
+            module.run(module.build_parser().parse_args(["--quick"]))
+
+        def opened(scene, state, loop, checkpoints, frames, bar):
+            raise _Opened(checkpoints.keys)
+        monkeypatch.setattr(module.ResumableRun, "open", opened)
+        with pytest.raises(_Opened) as got:
+            module.run_case(**cases[0])
+        return cases[0], got.value.args[0]
+
+    return keys

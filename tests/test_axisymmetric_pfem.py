@@ -253,30 +253,15 @@ def test_mass_moved_is_the_share_of_the_mass_on_the_other_side_of_a_radius():
     assert mass_moved(r, m, r + 3.0, m) == approx(1.0, rel=1e-12)
 
 
-class _Opened(Exception):
-    """Raised by a patched ResumableRun.open: the run's checkpoint keys, the run not made."""
-
-
-def test_a_runs_checkpoint_keys_are_its_scenes_parameters_and_todays_for_quick(monkeypatch):
+def test_a_runs_checkpoint_keys_are_its_scenes_parameters_and_todays_for_quick(
+        quick_case_keys):
     """Issue 52, item 4: one ColumnRun builds the scene and the checkpoint keys, so a field
     that changes the scene changes the keys; --quick's first case keys its checkpoint as
     before (the same dict, hence the same file name)."""
     from verification import granular_column_axisymmetric as column
-    cases = []
-
-    def study(run_case, groups, args, desc):
-        cases.append(groups["sweep"][0])
-        raise _Opened
-    monkeypatch.setattr(column, "run_study", study)
-    with pytest.raises(_Opened):
-        column.run(column.build_parser().parse_args(["--quick"]))
-
-    def opened(scene, state, loop, checkpoints, frames, bar):
-        raise _Opened(checkpoints.keys)
-    monkeypatch.setattr(column.ResumableRun, "open", opened)
-    with pytest.raises(_Opened) as got:
-        column.run_case(**cases[0])
-    assert got.value.args[0] == dict(         # written out from the keys before issue 52
+    _, keys = quick_case_keys(column, "run_study",
+                              lambda run_case, groups, args, desc: groups["sweep"][0])
+    assert keys == dict(         # written out from the keys before issue 52
         a=0.5, nr=6, steps=100, phi=30.0, phi_s=None, rho=2.0, g=9.8, r0=1.0, material="dp",
         passes=2, alpha=1.6, floor=0.005, settle=4.0, t_stop=4.0, courant=None,
         volume_correction=True, adaptive_alpha=False, alpha_advected=3.0)

@@ -308,31 +308,16 @@ def _same_state(a, b):
             assert x == y, f.name
 
 
-class _Opened(Exception):
-    """Raised in place of a run: the first --quick case, or a run's checkpoint keys."""
-
-
-def test_the_plane_columns_keys_are_its_scenes_parameters_and_todays_for_quick(monkeypatch):
+def test_the_plane_columns_keys_are_its_scenes_parameters_and_todays_for_quick(
+        quick_case_keys):
     """Issue 52, item 4: one ColumnRun builds the plane column's scene and its checkpoint
     keys (a field that changes the scene changes the keys); --quick's case keys its
     checkpoint as before (the same dict, hence the same file name)."""
     from dataclasses import replace
     from verification import granular_column_plane as column
-    cases = []
-
-    def first(run_case, cases_given, *args, **kwargs):
-        cases.append(cases_given[0])
-        raise _Opened
-    monkeypatch.setattr(column, "run_cases", first)
-    with pytest.raises(_Opened):
-        column.run(column.build_parser().parse_args(["--quick"]))
-
-    def opened(scene, state, loop, checkpoints, frames, bar):
-        raise _Opened(checkpoints.keys)
-    monkeypatch.setattr(column.ResumableRun, "open", opened)
-    with pytest.raises(_Opened) as got:
-        column.run_case(**cases[0])
-    assert got.value.args[0] == dict(         # written out from the keys before issue 52
+    _, keys = quick_case_keys(column, "run_cases",
+                              lambda run_case, cases, *args, **kwargs: cases[0])
+    assert keys == dict(         # written out from the keys before issue 52
         a=1.0, nx=10, steps=100, phi=31.0, mu=None, material="tresca-mc", remesh="alpha",
         passes=2, alpha=1.6, floor=0.005, g=9.8, rho=2.0, d0=1.0, contact="coulomb", E=None,
         nu=0.3, settle=4.0, refine_surface=2.0, bulge=True, soil=None)
