@@ -247,8 +247,7 @@ def bracket_safety(problem, *, rounds=4, target_gap=0.03, max_elements=5000, the
         if (history[-1].gap <= target_gap or len(history) >= rounds):
             return history, problem
         start = 0.5 * (lo.F + up.F)
-        at = replace(problem, criterion=reduced(problem.criterion, start))
-        lower, upper = lower_bound(at, **solver_settings), upper_bound(at, **solver_settings)
+        at, lower, upper = bounds_at(problem, start, **solver_settings)
         marked = doerfler(np.maximum(local_gap(at, lower, upper), 0.0), theta)
         if problem.mesh.t.shape[1] + 4 * marked.size > max_elements:
             return history, problem

@@ -110,6 +110,12 @@ def as_motion(motion, name):
 MOTION_CHECK_STEPS = 1000
 
 
+def step_count(dt, t_end=None, default=MOTION_CHECK_STEPS):
+    """The steps of dt a run from t = 0 takes to t_end (``default`` without one), at most
+    100000: how far a check of what a scene prescribes in time looks ahead."""
+    return min(default if t_end is None else int(np.ceil(t_end / dt * (1 - 1e-9))), 100_000)
+
+
 def check_motion_over(body, dt, t_end=None, *, start=0.0, first=0, steps=None):
     """Refuse (ValueError naming the body and the time) a motion of ``body`` that fails or
     is not a finite (dx, dy) at a step time of a run while the body is present.
@@ -125,8 +131,7 @@ def check_motion_over(body, dt, t_end=None, *, start=0.0, first=0, steps=None):
     if type(motion) in (Fixed, ConstantVelocity, PiecewiseLinear):
         return
     if steps is None:
-        steps = min(MOTION_CHECK_STEPS if t_end is None
-                    else int(np.ceil(t_end / dt * (1 - 1e-9))), 100_000)
+        steps = step_count(dt, t_end)
     for k in range(1, steps + 1):
         t = start + k * dt
         if t >= body.removed_at:

@@ -22,7 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import FacetBasis, LinearForm
 
+from ..discretisation.static import boundary_facets
 from ..pfem.surface import axis_vertices
+from .bodies import MOTION_CHECK_STEPS, step_count
 
 #: how far (in units of the smallest spacing h) a midpoint may lie outside a zone and count
 ZONE_TOL = 1e-6
@@ -91,12 +93,9 @@ class SurfaceLoad:
     def facets(self, disc, tol):
         """The boundary facets of ``disc``'s mesh whose midpoints lie in the zone (within
         ``tol``), less those on the axis in axisymmetry."""
-        mesh = disc.mesh
-        facets = mesh.boundary_facets()
-        ends = mesh.p[:, mesh.facets[:, facets]]             # (2, 2, n): coordinate, end, facet
-        keep = self.zone.contains(ends.mean(axis=1).T, tol=tol)
-        keep &= ~np.all(axis_vertices(disc)[mesh.facets[:, facets]], axis=0)
-        return facets[keep]
+        facets = boundary_facets(disc, lambda mid: self.zone.contains(mid.T, tol=tol))
+        on_axis = np.all(axis_vertices(disc)[disc.mesh.facets[:, facets]], axis=0)
+        return facets[~on_axis]
 
     def vector(self, disc, tol):
         """int N_u^T t dS over :meth:`facets` at factor 1 (zeros if none is loaded)."""
@@ -162,7 +161,6 @@ def check_on_surface(scene):
     a step time (to t_end, else the first ``MOTION_CHECK_STEPS``)."""
     if not scene.loads:
         return
-    from .bodies import MOTION_CHECK_STEPS
     x = outline_points(scene.regions, scene.axisymmetric)
     h = min(r.h for r in scene.regions)
     for load in scene.loads:
@@ -170,18 +168,17 @@ def check_on_surface(scene):
             raise ValueError(f"load {load.name!r}: its zone holds no surface edge of the "
                              f"material at t = 0 (it would load nothing); give a zone over "
                              f"the body's free surface")
-        check_ramp_over(load, scene.config.dt, scene.t_end, steps=None,
-                        default_steps=MOTION_CHECK_STEPS)
+        check_ramp_over(load, scene.config.dt, scene.t_end)
 
 
-def check_ramp_over(load, dt, t_end=None, *, start=0.0, steps=None, default_steps=1000):
+def check_ramp_over(load, dt, t_end=None, *, start=0.0, steps=None,
+                    default_steps=MOTION_CHECK_STEPS):
     """Refuse a ramp that fails or is not finite at t = start + k dt, k = 0..steps (None:
-    to t_end, else ``default_steps``; at most 100000)."""
+    :func:`~.bodies.step_count`, to t_end, else ``default_steps``)."""
     if load.ramp is None:
         return
     if steps is None:
-        steps = min(default_steps if t_end is None
-                    else int(np.ceil(t_end / dt * (1 - 1e-9))), 100_000)
+        steps = step_count(dt, t_end, default_steps)
     for k in range(int(steps) + 1):
         load.factor(start + k * dt)
 

@@ -108,17 +108,15 @@ class Newton:
         st = self.st
         rN = st.NT @ rx
         dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
-        dx = np.zeros_like(rx) if st.free.size else None
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
-            dx[st.free] = dxf
         p = self.gamma * (rN - st.EN.T @ dy)
-        dxb = self.Hmat @ (rx - st.ET @ dy) + st.N @ p      # zero off the blocks
+        dx = self.Hmat @ (rx - st.ET @ dy) + st.N @ p       # zero off the blocks
         if st.free.size:
-            dxb[st.free] = dx[st.free]
-        return dxb, dy
+            dx[st.free] = dxf
+        return dx, dy
 
     def _rhs_x(self, bx, bzt):
         """bx + G^T W^-1 bzt."""
