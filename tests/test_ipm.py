@@ -22,7 +22,7 @@ from pfem_skfem.problems.conic import SOLVERS
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.ipm import cones as K, solve
 from pfem_skfem.problems.ipm.cholesky import Cholesky
-from pfem_skfem.problems.ipm.newton import Newton, upper_inverse
+from pfem_skfem.problems.ipm.newton import Newton, triangular_factor, upper_inverse
 from pfem_skfem.problems.ipm.structure import Structure
 from pfem_skfem.problems.static import limit_analysis, static_increment
 from verification import strip_footing
@@ -116,9 +116,16 @@ def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
     st = newton.st
     assert st.free.size == 0 and max(st.blocks) <= 6          # stress points, r' blocks
     dx, dy, dzt = newton.solve(bx, by, bzt)
-    *_, norm = newton._residual(bx, by, bzt, dx, dy, dzt, third=True)
+    _, _, _, norm, _ = newton._residual(bx, by, bzt, dx, dy, dzt, third=True)
     assert norm <= 1e-10 * max(1.0, np.abs(bx).max(), np.abs(by).max())
     assert newton.residual <= 1e-10
+    # the products the solver updates its measures by are the direction's own
+    Pdx, ATdz, Edx, Gdx = newton.products
+    ATdz_direct = st.ET @ dy + sum(st.GT[d] @ newton.W[d].inverse(dzt[d]).ravel()
+                                   for d in st.G)
+    for made, direct in [(Pdx, st.P @ dx), (ATdz, ATdz_direct), (Edx, st.E @ dx),
+                         *((Gdx[d].ravel(), st.G[d] @ dx) for d in st.G)]:
+        assert np.abs(made - direct).max() <= 1e-12 * max(1.0, np.abs(direct).max())
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 6, 20])
@@ -130,6 +137,26 @@ def test_the_batched_triangular_inverse_is_the_inverse(size):
     X = upper_inverse(R)
     assert np.abs(R @ X - np.eye(size)).max() <= 1e-13
     assert np.all(np.tril(X, -1) == 0.0)
+
+
+@pytest.mark.parametrize("shape", [(40, 3, 3), (40, 3, 2), (40, 7, 4), (40, 6, 6), (5, 2, 3)])
+def test_the_batched_householder_factor_is_a_qr_factor(shape):
+    """triangular_factor's R against the definition (upper triangular, R^T R = M^T M to
+    round-off) and LAPACK's R up to the rows' signs, with a zero column (a null
+    direction) in every seventh matrix kept at a zero diagonal; a wide stack goes to
+    LAPACK itself."""
+    rng = np.random.default_rng(shape[1] * 10 + shape[2])
+    M = rng.standard_normal(shape)
+    M[::7, :, -1] = 0.0
+    R = triangular_factor(M)
+    k = min(shape[1], shape[2])
+    assert R.shape == (shape[0], k, shape[2])
+    assert np.all(np.tril(R, -1) == 0.0)
+    gram = np.swapaxes(M, 1, 2) @ M
+    assert np.abs(np.swapaxes(R, 1, 2) @ R - gram).max() <= 1e-13 * np.abs(gram).max()
+    assert np.allclose(np.abs(R), np.abs(np.linalg.qr(M, mode="r")), rtol=0, atol=1e-12)
+    if shape[1] >= shape[2]:
+        assert np.all(R[::7, -1, -1] == 0.0)
 
 
 def test_an_inexact_direction_meets_the_residual_it_asked_for(monkeypatch):

@@ -13,9 +13,10 @@ scaled form (dzt = W dz; W applied once, never squared: W^2's condition number p
 
 Every cone sits on one block of variables (:mod:`.structure`), so eliminating dzt leaves
 the block-diagonal H = P + G^T W^-2 G = M^T M, M = [L_P; W^-1 G_b] stacked per block.
-H is inverted block by block on its range from the QR factorisation of M (batched over the
-blocks of one size: H = R^T R, and R is as well conditioned as M, the square root of H's
-condition number, which passes 1e16 as the gap closes). The null directions N of the blocks (which H does not see: the mean stress of a
+H is inverted block by block on its range from the QR factorisation of M (Householder,
+batched over the blocks of one size: H = R^T R, and R is as well conditioned as M, the
+square root of H's condition number, which passes 1e16 as the gap closes). The null
+directions N of the blocks (which H does not see: the mean stress of a
 rigid-plastic zero-dilation or Tresca point, a fluid's pressure) carry the "pressures"
 p, multipliers of E_N^T dy = N^T rx (the incompressibility of the increment there);
 regularised by -delta I (1 / delta = :data:`PENALTY`) and eliminated, they add the constant
@@ -65,6 +66,33 @@ def upper_inverse(R):
     return X
 
 
+def triangular_factor(M):
+    """R of M = Q R for a stack (m, r, s) of small tall matrices (r >= s): Householder
+    reflections vectorised over the stack, laid out with the stack index last (each
+    operation on contiguous rows of length m; LAPACK's call per matrix costs twice as
+    much on the 3 x 3 blocks of a stress point). A zero column (a null direction) keeps a
+    zero diagonal. R's rows may differ from LAPACK's in sign; R^T R = M^T M."""
+    m, r, s = M.shape
+    if s > 16 or r < s:
+        return np.linalg.qr(M, mode="r")
+    A = np.ascontiguousarray(M.transpose(1, 2, 0))          # (r, s, m)
+    R = np.zeros((s, s, m))
+    for k in range(s):
+        x = A[k:, k]                                        # column k below the diagonal
+        norm = np.sqrt(np.einsum("im,im->m", x, x))
+        alpha = np.copysign(norm, -x[0])                    # the reflection's image of x
+        v = x.copy()
+        v[0] -= alpha
+        half = norm * (norm + np.abs(x[0]))                 # |v|^2 / 2
+        tau = np.divide(1.0, half, out=np.zeros_like(half), where=half > 0)
+        R[k, k] = alpha
+        if k + 1 < s:                                       # reflect the columns after k
+            B = A[k:, k + 1:]
+            B -= v[:, None, :] * (np.einsum("im,ijm->jm", v, B) * tau)[None]
+            R[k, k + 1:] = B[0]
+    return np.ascontiguousarray(R.transpose(2, 0, 1))
+
+
 class Newton:
     """The factorised Newton system (N) at one scaling: :meth:`solve` answers (dx, dy,
     dzt) for right-hand sides (bx, by, bzt), bzt per cone group; ``residual`` the last
@@ -80,22 +108,25 @@ class Newton:
                 MV[size][:, offset[0]:offset[0] + d] = Wi @ dense_V
             else:
                 MV[size][blk[:, None], offset[:, None] + np.arange(d)] = Wi[cones_k] @ dense_V
-        self.Hinv, values = {}, st.S_fixed.copy()
+        self.gamma = PENALTY                                # 1 / delta
+        if st.penalised is None or st.penalised[0] != self.gamma:   # S's constant part
+            st.penalised = (self.gamma, st.S_fixed + self.gamma * st.S_pressures)
+        self.Hinv, values = {}, st.penalised[1].copy()
         for size, MVb in MV.items():
             # V_r: the range's columns first (the null ones last, zero columns): M V_r =
             # Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
             # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1
             Vr = st.Vr[size]
-            R = np.linalg.qr(MVb, mode="r")
+            R = triangular_factor(MVb)
             R[:, np.arange(size), np.arange(size)] += st.null_last[size]   # R_22 = I
             U = Vr @ upper_inverse(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
             values += st.scatter(size, U)
         self.Hmat = st.block_matrix(self.Hinv)
-        stiffest = max(values[st.diag_slots].max(initial=0.0), 1e-300)
-        self.gamma = PENALTY                                # 1 / delta
-        values += self.gamma * st.S_pressures
-        values[st.diag_slots] += DOF_REGULARISATION * stiffest
+        diag = values[st.diag_slots]                        # the stiffest, pressures aside
+        stiffest = max((diag - self.gamma * st.S_pressures[st.diag_slots]).max(initial=0.0),
+                       1e-300)
+        values[st.diag_slots] = diag + DOF_REGULARISATION * stiffest
         self.chol = cholesky
         cholesky.factor(values)
         if st.free.size:                 # the free variables' dense Schur complement
@@ -126,52 +157,60 @@ class Newton:
         return r
 
     def _once(self, bx, by, bzt):
-        """(dx, dy, dzt) of (N) by the reduction, unrefined."""
+        """(dx, dy, dzt) of (N) by the reduction, unrefined, and G dx per group."""
         dx, dy = self._solve_reduced(self._rhs_x(bx, bzt), by)
-        dzt = {d: self.W[d].inverse((G @ dx).reshape(-1, d)) - bzt[d]
-               for d, G in self.st.G.items()}
-        return dx, dy, dzt
+        Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
+        dzt = {d: self.W[d].inverse(Gdx[d]) - bzt[d] for d in Gdx}
+        return dx, dy, dzt, Gdx
 
     def _residual(self, bx, by, bzt, dx, dy, dzt, third=False):
-        """The residual of (N), unregularised, and its largest entry. Its third row
-        holds by construction (dzt = W^-1 G dx - bzt, refinement included: round-off),
-        so it is computed only when asked (``third``: a check), else zero."""
+        """The residual of (N), unregularised, its largest entry, and the products it is
+        made of (P dx, A^T dz with dz = (dy, W^-1 dzt), E dx). Its third row holds by
+        construction (dzt = W^-1 G dx - bzt, refinement included: round-off), so it is
+        computed only when asked (``third``: a check), else zero."""
         st = self.st
-        rx = bx - st.P @ dx - st.ET @ dy
+        Pdx = st.P @ dx
+        ATdz = st.ET @ dy
         rz = {}
         for d, G in st.G.items():
             w = self.W[d]
-            rx -= st.GT[d] @ w.inverse(dzt[d]).ravel()
+            ATdz += st.GT[d] @ w.inverse(dzt[d]).ravel()
             rz[d] = bzt[d] - w.inverse((G @ dx).reshape(-1, d)) + dzt[d] if third \
                 else np.zeros_like(bzt[d])
-        ry = by - st.E @ dx
+        Edx = st.E @ dx
+        rx = bx - Pdx - ATdz
+        ry = by - Edx
         rx[st.dead] = 0.0                       # a dead variable's row is empty
         norm = max(np.abs(rx).max(initial=0), np.abs(ry).max(initial=0),
                    *(np.abs(r).max(initial=0) for r in rz.values()))
-        return rx, ry, rz, norm
+        return rx, ry, rz, norm, (Pdx, ATdz, Edx)
 
     def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
         """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
         (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
-        predictor's direction sets only the centring)."""
+        predictor's direction sets only the centring). A refined solve leaves in
+        ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
+        measures of the next iterate are updated by, :mod:`.solver`)."""
         tol = max(tol, REFINE_TOL)
-        dx, dy, dzt = self._once(bx, by, bzt)
+        dx, dy, dzt, Gdx = self._once(bx, by, bzt)
         if not refine:
             return dx, dy, dzt
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
-        ex, ey, ez, norm = self._residual(bx, by, bzt, dx, dy, dzt)
+        ex, ey, ez, norm, made = self._residual(bx, by, bzt, dx, dy, dzt)
         for _ in range(REFINE_STEPS):
             if norm <= tol * scale:
                 break
-            cx, cy, cz = self._once(ex, ey, ez)
+            cx, cy, cz, Gcx = self._once(ex, ey, ez)
             new = (dx + cx, dy + cy, {d: dzt[d] + cz[d] for d in dzt})
-            fx, fy, fz, new_norm = self._residual(bx, by, bzt, *new)
+            fx, fy, fz, new_norm, new_made = self._residual(bx, by, bzt, *new)
             if new_norm >= norm:
                 break
             slow = new_norm > 0.5 * norm             # more steps would gain little
-            (dx, dy, dzt), (ex, ey, ez), norm = new, (fx, fy, fz), new_norm
+            (dx, dy, dzt), (ex, ey, ez), norm, made = new, (fx, fy, fz), new_norm, new_made
+            Gdx = {d: Gdx[d] + Gcx[d] for d in Gdx}
             if slow:
                 break
         self.residual = norm / scale
+        self.products = (*made, Gdx)
         return dx, dy, dzt

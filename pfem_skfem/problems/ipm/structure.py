@@ -249,7 +249,7 @@ class Structure:
         (E_N E_N^T / delta, and the blocks that no cone touches: an element's r', a
         pressure alone, whose H^+ is constant)."""
         nE = self.E.shape[0]
-        self.E_parts, keys, self.S_mask, self.S_groups = {}, [], {}, {}
+        self.E_parts, keys, masks, self.S_groups = {}, [], {}, {}
         self.E_grouped = {}
         en = [], [], []
         for size in self.blocks:
@@ -267,7 +267,7 @@ class Structure:
             i, k = on[:, :, None], on[:, None, :]
             ok = np.broadcast_to((i >= 0) & (k >= 0) & (i >= k),
                                  (on.shape[0], on.shape[1], on.shape[1]))
-            self.S_mask[size] = ok
+            masks[size] = ok
             # keyed by (column, row): S's lower triangle in compressed-column order,
             # the order CHOLMOD takes its values in
             keys.append(np.broadcast_to(k, ok.shape)[ok].astype(np.int64) * nE
@@ -286,12 +286,18 @@ class Structure:
         diag = np.arange(nE, dtype=np.int64) * (nE + 1)
         uniq, inverse = np.unique(np.concatenate(keys + [diag]), return_inverse=True)
         self.S_rows, self.S_cols, self.S_nnz = uniq % nE, uniq // nE, uniq.size
-        start, self.S_slots = 0, {}
+        # each block matrix's lower-triangle entries summed into S's values: one sparse
+        # matrix a size (S's slots x the dense entries), applied by one matvec
+        start, self.S_sum = 0, {}
         for size, key in zip(self.blocks, keys):
-            self.S_slots[size] = inverse[start:start + key.size]
+            mask = masks[size]
+            self.S_sum[size] = sp.csr_matrix(
+                (np.ones(key.size), (inverse[start:start + key.size], np.flatnonzero(mask))),
+                shape=(uniq.size, mask.size))
             start += key.size
         self.diag_slots = inverse[-nE:]
         self.S_fixed, self.S_pressures = np.zeros(self.S_nnz), np.zeros(self.S_nnz)
+        self.penalised = None        # (1 / delta, S_fixed + S_pressures / delta): Newton's
         if self.n_p:                     # the pressures' E_N E_N^T (times 1 / delta)
             C = sp.tril(self.EN @ self.EN.T).tocoo()
             key = C.col.astype(np.int64) * nE + C.row
@@ -362,9 +368,7 @@ class Structure:
             F = np.empty((m // k, Eg.shape[1], k * s))
             for j in range(k):
                 np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * s:(j + 1) * s])
-        S_b = F @ np.swapaxes(F, 1, 2)
-        return np.bincount(self.S_slots[size], weights=S_b[self.S_mask[size]],
-                           minlength=self.S_nnz)
+        return self.S_sum[size] @ (F @ np.swapaxes(F, 1, 2)).ravel()
 
     def block_matrix(self, mats):
         """The block-diagonal sparse matrix of H^+: the constant blocks
