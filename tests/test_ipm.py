@@ -21,6 +21,7 @@ from pfem_skfem.problems.backends import ENGINES, step_solver
 from pfem_skfem.problems.conic import SOLVERS
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.ipm import cones as K, solve
+from pfem_skfem.problems.ipm.augmented import Augmented
 from pfem_skfem.problems.ipm.cholesky import Cholesky
 from pfem_skfem.problems.ipm.newton import Newton, triangular_factor, upper_inverse
 from pfem_skfem.problems.ipm.structure import Structure
@@ -126,6 +127,35 @@ def test_the_reduced_newton_system_solves_the_full_one(monkeypatch):
     for made, direct in [(Pdx, st.P @ dx), (ATdz, ATdz_direct), (Edx, st.E @ dx),
                          *((Gdx[d].ravel(), st.G[d] @ dx) for d in st.G)]:
         assert np.abs(made - direct).max() <= 1e-12 * max(1.0, np.abs(direct).max())
+
+
+def test_the_unreduced_newton_system_agrees_with_the_reduction(monkeypatch):
+    """The fallback (:mod:`.augmented`: (N) whole, by a sparse LU) at the same random
+    scaling: its answer satisfies (N), third row included, to 1e-10 of the data, equals
+    the reduction's, and its products are its direction's."""
+    newton, bx, by, bzt = random_newton(monkeypatch, 1)
+    st = newton.st
+    whole = Augmented(st, newton.W)
+    dx, dy, dzt = whole.solve(bx, by, bzt)
+    _, _, _, norm, _ = whole._residual(bx, by, bzt, dx, dy, dzt, third=True)
+    scale = max(1.0, np.abs(bx).max(), np.abs(by).max())
+    assert norm <= 1e-10 * scale and whole.residual <= 1e-10
+    rx, ry, rzt = newton.solve(bx, by, bzt)
+    assert rel(dx, rx) <= 1e-8 and rel(dy, ry) <= 1e-8
+    Pdx, ATdz, Edx, Gdx = whole.products
+    assert rel(Pdx, st.P @ dx) <= 1e-12 and rel(Edx, st.E @ dx) <= 1e-12
+    for d, G in st.G.items():
+        assert rel(Gdx[d].ravel(), G @ dx) <= 1e-12
+
+
+def test_water_at_rest_stays_at_rest_when_the_reduced_system_runs_out_of_digits():
+    """verification/hydrostatics.py with the interior point: water at rest is degenerate
+    (its cones' s and z both go to zero), the reduced system's refinement stalls near a
+    gap of 1e-5, and the unreduced system carries the solve to 'Solved': the walls' force
+    rho_w g H^2 / 2 within 1e-6 and the largest speed below 1e-3 g dt (the script's own
+    checks, which the reduced system alone missed at 2e-5 and 0.03)."""
+    from verification import hydrostatics
+    assert hydrostatics.main(["--quick", "--solver", "ipm", "--no-figures"]) == 0
 
 
 @pytest.mark.parametrize("size", [1, 2, 3, 6, 20])

@@ -98,6 +98,9 @@ class Newton:
     dzt) for right-hand sides (bx, by, bzt), bzt per cone group; ``residual`` the last
     solve's residual of (N) relative to its right-hand side."""
 
+    #: the reduction satisfies (N)'s third row by construction (:meth:`_residual`)
+    third_by_construction = True
+
     def __init__(self, structure, scalings, cholesky):
         st = self.st = structure
         self.W = scalings
@@ -167,7 +170,8 @@ class Newton:
         """The residual of (N), unregularised, its largest entry, and the products it is
         made of (P dx, A^T dz with dz = (dy, W^-1 dzt), E dx). Its third row holds by
         construction (dzt = W^-1 G dx - bzt, refinement included: round-off), so it is
-        computed only when asked (``third``: a check), else zero."""
+        computed only when asked (``third``: a check, or :mod:`.augmented`'s solve,
+        which does not hold it), else zero."""
         st = self.st
         Pdx = st.P @ dx
         ATdz = st.ET @ dy
@@ -197,13 +201,14 @@ class Newton:
             return dx, dy, dzt
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
-        ex, ey, ez, norm, made = self._residual(bx, by, bzt, dx, dy, dzt)
+        third = not self.third_by_construction
+        ex, ey, ez, norm, made = self._residual(bx, by, bzt, dx, dy, dzt, third)
         for _ in range(REFINE_STEPS):
             if norm <= tol * scale:
                 break
             cx, cy, cz, Gcx = self._once(ex, ey, ez)
             new = (dx + cx, dy + cy, {d: dzt[d] + cz[d] for d in dzt})
-            fx, fy, fz, new_norm, new_made = self._residual(bx, by, bzt, *new)
+            fx, fy, fz, new_norm, new_made = self._residual(bx, by, bzt, *new, third)
             if new_norm >= norm:
                 break
             slow = new_norm > 0.5 * norm             # more steps would gain little

@@ -31,7 +31,10 @@ The reduced Newton system is the normal equations of the cones: its condition nu
 grows as the gap closes, and near a gap of 1e-8 (1e-9 to 1e-10 in mu) it can pass what
 double precision resolves. The solve watches the residual of each Newton solve
 (after refinement, which stops early far from the solution: :data:`INEXACT`); once it
-exceeds :data:`TRUST` the direction is not taken, and the
+exceeds :data:`TRUST` the direction is not taken. Far from the tolerances
+(:data:`WHOLE_BEYOND`: a degenerate problem such as water at rest) the iteration is
+solved again, and the rest of the solve too, with (N) unreduced (:mod:`.augmented`, the
+square root of the condition number); nearer, or where that fails too, the
 solve ends at its best iterate: 'Solved' when that meets the full tolerances,
 'AlmostSolved' (Clarabel's reduced tolerances) or 'NumericalError' otherwise. The same
 best iterate answers an iteration limit ('MaxIterations') or a stall
@@ -44,6 +47,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import cones as K
+from .augmented import Augmented
 from .cholesky import Cholesky, CholeskyError
 from .newton import Newton
 from .presolve import Substitution
@@ -63,6 +67,14 @@ TRUST = 1e-6
 #: most one); the refinement stops there, never below ``newton.REFINE_TOL``, and such a
 #: direction is trusted
 INEXACT = 1e-3
+
+
+#: the reduced system running out of digits hands (N) to the unreduced one
+#: (:mod:`.augmented`) only this far from the full tolerances (``_Problem.merit``: two
+#: decades); nearer, the best iterate answers ('AlmostSolved' where it meets the reduced
+#: tolerances): measured on the a = 1 column at 512 elements, three more iterations of the
+#: unreduced system there gained nothing (its own refinement stalls at 2e-8)
+WHOLE_BEYOND = 100.0
 
 
 class _Identity:
@@ -233,6 +245,36 @@ def _direction(pb, newton, W, lam, m, scale, comp, refine=True, tol=0.0):
     return dx, dz, ds, ds_t, dz_t
 
 
+def _directions(pb, newton, W, lam, m, mu, tol):
+    """Mehrotra's predictor and corrector (steps 3 and 4) on one factorised system: the
+    corrector's (dx, dz, ds, ds_t, dz_t), the predictor's step a_aff and the centring
+    sigma."""
+    lam2 = {d: K.product(lam[d], lam[d]) for d in lam}
+    *_, ds_a, dz_a = _direction(pb, newton, W, lam, m, 1.0, {d: -lam2[d] for d in lam},
+                                refine=False)
+    a_aff = min(1.0, _step(lam, ds_a, dz_a))
+    sigma = (1.0 - a_aff) ** 3
+    comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])
+            + sigma * mu * K.identity(*lam[d].shape) for d in lam}
+    return (*_direction(pb, newton, W, lam, m, 1.0 - sigma, comp, tol=tol), a_aff, sigma)
+
+
+def _attempt(pb, W, lam, m, mu, tol, whole):
+    """(the factorised system, :func:`_directions`'s answer) with (N) reduced
+    (:class:`.newton.Newton`) or whole (:class:`.augmented.Augmented`); (None, None) when
+    its factorisation fails."""
+    try:
+        newton = Augmented(pb.st, W) if whole else Newton(pb.st, W, pb.st.cholesky)
+    except (CholeskyError, RuntimeError):        # SuperLU: "Factor is exactly singular"
+        return None, None
+    return newton, _directions(pb, newton, W, lam, m, mu, tol)
+
+
+def _trusted(newton, tol):
+    """Whether a direction was solved (its residual within TRUST or the asked ``tol``)."""
+    return newton is not None and newton.residual <= max(TRUST, tol)
+
+
 def solve(P, c, A, b, cones, settings=None):
     """Solve min 1/2 x^T P x + c^T x, A x + s = b, s in K (Clarabel's data: P upper
     triangular or full, the cone objects of ``clarabel``); answers in Clarabel's terms:
@@ -266,6 +308,7 @@ def _solve(P, c, A, b, cones, settings=None):
         z[at] = K.shift_inside(zt[d]).ravel()
         s[at] = K.shift_inside(-zt[d]).ravel()
     status, best, stall, it, products = None, None, 0, 0, None
+    whole, whole_lu = False, 0        # whether (N) is solved unreduced (:mod:`.augmented`)
     for it in range(opts["max_iter"] + 1):
         m = pb.measures(x, z, s, products)
         if products is not None and (pb.done(m) or pb.infeasible(m, x, s) is not None
@@ -281,27 +324,23 @@ def _solve(P, c, A, b, cones, settings=None):
             break
         _, zg = pb.split(z)
         _, sg = pb.split(s)
-        W = {d: K.Scaling(sg[d], zg[d]) for d in zg}
+        with np.errstate(invalid="ignore", divide="ignore"):
+            W = {d: K.Scaling(sg[d], zg[d]) for d in zg}
+        if not all(np.isfinite(w.lam).all() for w in W.values()):
+            status = "NumericalError"           # an iterate on a cone's boundary, to
+            break                               # round-off: the best iterate answers
         lam = {d: W[d].lam for d in zg}
-        try:
-            newton = Newton(st, W, chol)
-        except CholeskyError:
-            status = "NumericalError"
-            break
         mu = sum(float(np.sum(sg[d] * zg[d])) for d in zg) / pb.nu
-        lam2 = {d: K.product(lam[d], lam[d]) for d in lam}
-        *_, ds_a, dz_a = _direction(pb, newton, W, lam, m, 1.0, {d: -lam2[d] for d in lam},
-                                    refine=False)
-        a_aff = min(1.0, _step(lam, ds_a, dz_a))
-        sigma = (1.0 - a_aff) ** 3
-        comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])
-                + sigma * mu * K.identity(*lam[d].shape) for d in lam}
         tol = INEXACT * min(1.0, max(m["res_primal"], m["res_dual"], m["gap_rel"]))
-        dx, dz, ds, ds_t, dz_t = _direction(pb, newton, W, lam, m, 1.0 - sigma, comp,
-                                            tol=tol)
-        if newton.residual > max(TRUST, tol):        # the reduced system ran out of digits
+        newton, found = _attempt(pb, W, lam, m, mu, tol, whole)
+        if not _trusted(newton, tol) and not whole and pb.merit(m) > WHOLE_BEYOND:
+            whole = True          # the reduced system ran out of digits: (N) whole from now
+            newton, found = _attempt(pb, W, lam, m, mu, tol, whole)
+        whole_lu += whole
+        if not _trusted(newton, tol):
             status = "NumericalError"
             break
+        dx, dz, ds, ds_t, dz_t, a_aff, sigma = found
         a = min(1.0, opts["step_fraction"] * _step(lam, ds_t, dz_t))
         if opts["verbose"]:
             print(f"{it:3d} pobj {m['pobj']:+.6e} dobj {m['dobj']:+.6e} pres "
@@ -323,7 +362,7 @@ def _solve(P, c, A, b, cones, settings=None):
             status = "AlmostSolved"
         elif status is None:
             status = "MaxIterations"
-    return _answer(x, z, s, status, it, m, chol.factorisations - counted)
+    return _answer(x, z, s, status, it, m, chol.factorisations - counted + whole_lu)
 
 
 def _answer(x, z, s, status, iterations, m, factorisations):

@@ -1,0 +1,71 @@
+"""The Newton system (N) of :mod:`.newton` unreduced: the fallback once the reduced
+system runs out of digits.
+
+The reduced matrix S = E H^+ E^T is the normal equations of the cones: its condition
+number is the square of the scaled system's, and on a degenerate problem (water at rest:
+the cones of a block at their apex, s and z both going to zero) it passes what double
+precision resolves while the gap is still far above its tolerance (the refinement
+stalls). The scaled system itself,
+
+    [ P         E^T   G^T W^-1 ] [dx ]   [bx ]
+    [ E         0     0        ] [dy ] = [by ]
+    [ W^-1 G    0     -I       ] [dzt]   [bzt],
+
+is quasi-definite once its zero block is regularised (-delta I), its third block row
+never squares W, and its condition number is the square root of S's: factorised by a
+sparse LU (SuperLU through scipy; no new dependency) and refined on (N) itself, it
+carries the iterations to the full tolerances, at several times the cost of an iteration
+of the reduced system (measured in the book, "How a step is solved"). The solver turns to
+it only when the reduced solve's residual is not trusted.
+"""
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from .newton import Newton
+
+#: the regularisation of the zero diagonal blocks, relative to the largest entry of the
+#: matrix (a displacement or a variable that nothing reaches); the refinement removes it
+REGULARISATION = 1e-12
+
+
+def block_diagonal(blocks):
+    """The sparse block-diagonal matrix of a stack (m, d, d)."""
+    m, d, _ = blocks.shape
+    return sp.bsr_matrix((blocks, np.arange(m), np.arange(m + 1)),
+                         shape=(m * d, m * d)).tocsr()
+
+
+class Augmented(Newton):
+    """(N) at one scaling, factorised whole: :meth:`solve`, ``residual`` and ``products``
+    as :class:`.newton.Newton`'s (the refinement is the same; only the first solve
+    differs)."""
+
+    #: the third row of (N) is not satisfied by construction: the residual includes it
+    third_by_construction = False
+
+    def __init__(self, structure, scalings):
+        st = self.st = structure
+        self.W = scalings
+        n, nE = st.P.shape[0], st.E.shape[0]
+        WiG = {d: block_diagonal(scalings[d].inverse_matrix()) @ G for d, G in st.G.items()}
+        rows_z = sum(G.shape[0] for G in WiG.values())
+        K = sp.bmat([[st.P, st.ET, *(M.T for M in WiG.values())],
+                     [st.E, sp.csr_matrix((nE, nE)), *(None for _ in WiG)],
+                     *([M, None, *(-sp.identity(M.shape[0]) if e == d else None
+                                   for e in WiG)] for d, M in WiG.items())],
+                    format="csc")
+        delta = REGULARISATION * max(abs(K).max(), 1e-300)
+        signs = np.r_[np.ones(n), -np.ones(nE + rows_z)]
+        self._lu = sla.splu((K + sp.diags(delta * signs)).tocsc(), permc_spec="MMD_AT_PLUS_A",
+                            diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        self._split = np.cumsum([n, nE, *(G.shape[0] for G in WiG.values())])[:-1]
+
+    def _once(self, bx, by, bzt):
+        """(dx, dy, dzt) of the regularised (N), and G dx per group."""
+        parts = np.split(self._lu.solve(np.concatenate([bx, by, *(b.ravel() for b in bzt.values())])),
+                         self._split)
+        dx, dy = parts[0], parts[1]
+        dzt = {d: part.reshape(-1, d) for d, part in zip(bzt, parts[2:])}
+        Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
+        return dx, dy, dzt, Gdx
