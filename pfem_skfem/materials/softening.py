@@ -34,6 +34,13 @@ strain scale (gamma_r or gamma_95) is that of a band ell thick, and in an elemen
 h it is scaled by ell / h: the plastic slip h gamma^p at which the strength is spent, and
 the energy per unit band area G_f = ell gamma_r (c_p - c_r) / 2 (linear; ell gamma_95
 (c_p - c_r) / 3 exponential) dissipated as it falls to c_r, do not depend on h.
+
+Viscosity (``eta``, Zhang et al.'s elastoviscoplastic clay): the Bingham term of the dynamic
+step beside the softened cone (:class:`~pfem_skfem.problems.step_terms.BinghamStress`, the
+compliance on the total stress), so that where the clay flows
+R(sigma) = c(gamma^p_n) + eta Delta gamma^p / dt, the overstress carried by the rate of the
+measure gamma^p accumulates (in simple shear tau = c + eta gamma_dot^p). Still convex: c is
+data of the step, the viscous term a concave quadratic.
 """
 from dataclasses import dataclass
 import warnings

@@ -215,8 +215,9 @@ def viscous_stress_map(n, hoop=False):
 
 class _RateStress(StepTerm):
     """A rate deviator sigma_v = E (a, b[, c]) added at each point to the plastic stress
-    (rigid-plastic steps only, but for :class:`BinghamStress`): sigma = sigma_p + sigma_v, tau_j = ||(a_j, b_j[, c_j])||
-    = sqrt(J2) (:func:`viscous_stress_map`; ``hoop``: the three deviators of axisymmetry)."""
+    (rigid-plastic steps only, but for :class:`BinghamStress`): sigma = sigma_p + sigma_v,
+    tau_j = ||(a_j, b_j[, c_j])|| = sqrt(J2) (:func:`viscous_stress_map`; ``hoop``: the three
+    deviators of axisymmetry)."""
 
     def __init__(self, data):
         self.data = data
