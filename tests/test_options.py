@@ -76,7 +76,8 @@ CHECKS = {
                      (["--h", "0.3"], "--h")],
     "softening_layer": [(["--c-r", "30"], "--c-r"), (["--rows", "200"], "--rows"),
                         (["--rows", "10"], "--rows"), (["--ell", "0.005"], "--ell"),
-                        (["--gamma-95", "0.001"], "--gamma-95")],
+                        (["--gamma-95", "0.001"], "--gamma-95"),
+                        (["--viscous-G", "10"], "--viscous-G")],
     "thick_cylinder": [(["--a", "2", "--b", "1"], "--a"), (["--phi", "45"], "--phi")],
     "trussed_frame": [(["--width", "7"], "--width")],
 }

@@ -98,7 +98,7 @@ def make_scene(name):
     if name in ("softening", "softening_mc"):
         law = (LinearSoftening(30.0, 10.0, 0.2) if name == "softening"
                else ExponentialSoftening(30.0, 10.0, 0.5))
-        soil = (SofteningTresca(law, Elastic(1e4, 0.45), FractureEnergy(0.1))
+        soil = (SofteningTresca(law, Elastic(1e4, 0.45), FractureEnergy(0.1), eta=0.5)
                 if name == "softening" else
                 SofteningMohrCoulomb(law, Elastic(1e4, 0.3), NonlocalAverage(0.3), phi=20.0,
                                      k_min=0.01))

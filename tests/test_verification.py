@@ -306,7 +306,10 @@ CASES = [
       "regularised_delta_r_ratio": Between(0.95, 1.05),            # issue 55: within 5 %
       "nonlocal_delta_r_change": Between(0, 0.05),
       "fixed_point_curve_error": Between(0, 1e-5),      # a straight branch: no lag left
-      "exponential_curve_error": Between(0, 0.02)}, None),
+      "exponential_curve_error": Between(0, 0.02),
+      # the viscous layer (eta = 2 kPa s, V / L = 1 / s): steady tau = c + eta V / L
+      "viscous_residual_tau": approx(5.0 + 2.0, rel=1e-6),
+      "viscous_peak_tau": approx(20.0 + 2.0, rel=1e-6)}, None),
     # a softening Tresca specimen (E = 5200 kPa, nu = 0.3, H = 2 m) between smooth platens:
     # elastic q / delta = E / ((1 - nu^2) H); the band at Coulomb's 45 deg + phi / 2 = 45 deg
     # from the horizontal (issue 55: within 3 deg), q never above 2 c_p = 40 kPa

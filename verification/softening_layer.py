@@ -39,6 +39,27 @@ error shrinking with the cap; with fixed-point passes (each increment solved aga
 strength at its trial end until gamma^p stops changing) every point on the exact curve to
 1e-5 of delta_r at the coarsest cap.
 
+The viscous layer (--eta > 0; Zhang, Sheng, Sloan & Bleyer, IJNME 112, 2017: the softening
+Tresca clay with a Bingham viscosity eta). Every point intact, the top moved at a velocity V by
+dynamic steps of dt (theta = 1, initial velocity V y / L: the uniform shear is the exact
+motion, no inertia force arises). The step's Bingham term - dt w tau_v^2 / (2 eta) beside the
+compliance of the total stress gives, where the layer flows, tau = c(gamma^p) + eta
+gamma_dot^p with gamma_dot^p = Delta gamma^p / dt, Delta gamma^p the increment of the measure
+gamma^p accumulates (in simple shear the engineering plastic shear strain): so tau_v =
+eta x the plastic shear rate, no factor 2. With the elastic shear tau' = G (V / L - gamma_dot^p):
+
+    steady, after full softening:  tau = c_r + eta V / L;  without softening: c_p + eta V / L
+    per step (the scheme, exact):   Delta gamma^p = max(0, tau_n + G V dt / L - c(gamma^p_n))
+                                                    / (G + eta / dt)
+    continuous (linear law):        gamma_dot^p = a (1 - exp(-s / T)), a = G (V / L) / (G - abs(H)),
+                                    T = eta / (G - abs(H)), s the time since yield; after
+                                    gamma_r, gamma_dot^p relaxes to V / L at the rate G / eta
+
+Checks: every step on the recurrence (1e-5 c_p), the layer uniform (1e-6 c_p), the two steady
+stresses (1e-6), the continuous closed form within 2 % of c_p - c_r at the finest dt (the
+largest error is at the step of first yield) and the mean error over t falling as dt (order
+in [0.8, 1.2]).
+
 Usage::
 
     python verification/softening_layer.py --quick --json results/softening_layer.json
@@ -51,7 +72,8 @@ from skfem import MeshTri
 
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, in_range, material_options, opt,
-                                        pfem_options, positive_float, softening_options)
+                                        pfem_options, positive_float, softening_options,
+                                        time_options)
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(rows=[10, 20, 40], max_drop=[0.04, 0.01])
@@ -87,7 +109,7 @@ def layer_model(rows, L, G, nu, kinematics="linear"):
     weights = disc.weights
     return dict(B=(assemble_B(disc) @ T).tocsr(), C=assemble_C(disc, elastic), h=h,
                 elastic=elastic, points=disc.points, y=disc.points[:, 1], weights=weights,
-                size=point_sizes(weights), top=T.shape[1] - 1)
+                size=point_sizes(weights), top=T.shape[1] - 1, disc=disc, T=T)
 
 
 def exact_delta(tau, law, scale, *, L, G, h, c_w):
@@ -162,6 +184,86 @@ def shear(rows, law, ell, max_drop, args, average_length=0.0, passes=1):
                 scale=scale, law=law)
 
 
+def viscous_recurrence(law, eta, G, rate, dt, n_steps):
+    """tau after each step of the time-discrete uniform layer (shear rate ``rate``): the trial
+    tau* = tau_n + G rate dt, Delta gamma^p = max(0, tau* - c(gamma^p_n)) / (G + eta / dt) (the
+    strength lagged one step; tau_p = c and tau_v = eta Delta gamma^p / dt where it flows),
+    tau_{n+1} = tau* - G Delta gamma^p."""
+    tau, gamma, out = 0.0, 0.0, [0.0]
+    for _ in range(n_steps):
+        trial = tau + G * rate * dt
+        dgamma = max(0.0, trial - float(law.strength(gamma))) / (G + eta / dt)
+        tau, gamma = trial - G * dgamma, gamma + dgamma
+        out.append(tau)
+    return np.array(out)
+
+
+def viscous_exact(t, law, eta, G, rate):
+    """tau(t) of the uniform layer in continuous time (the linear law, G > abs(H)):
+    tau = c(gamma^p) + eta gamma_dot^p, d tau / dt = G (rate - gamma_dot^p). Elastic until
+    t_y = c_p / (G rate); then, with a = G rate / (G - abs(H)) and T = eta / (G - abs(H)),
+    gamma_dot^p = a (1 - exp(-s / T)) (s = t - t_y) until gamma^p = gamma_r at s_r; after,
+    c = c_r and gamma_dot^p = rate + (gamma_dot^p(s_r) - rate) exp(-G (s - s_r) / eta):
+    tau -> c_r + eta rate."""
+    from scipy.optimize import brentq
+    H = (law.c_p - law.c_r) / law.gamma_r
+    a, T, t_y = G * rate / (G - H), eta / (G - H), law.c_p / (G * rate)
+    s = np.asarray(t, dtype=float) - t_y
+    slip = lambda x: a * (x - T * (1 - np.exp(-x / T)))          # noqa: E731 (gamma^p(s))
+    s_r = brentq(lambda x: slip(x) - law.gamma_r, 0.0, 10 * (law.gamma_r / a + T)) \
+        if H > 0 else np.inf
+    rate_r = a * (1 - np.exp(-s_r / T)) if H > 0 else 0.0
+    softening = np.clip(s, 0.0, s_r)
+    tau = law.c_p - H * slip(softening) + eta * a * (1 - np.exp(-softening / T))
+    after = s > s_r
+    tau[after] = law.c_r + eta * (rate + (rate_r - rate) * np.exp(-G * (s[after] - s_r) / eta))
+    return np.where(s < 0, G * rate * np.asarray(t, dtype=float), tau)
+
+
+def viscous_shear(law, eta, dt, args):
+    """The layer (--viscous-rows rows, shear modulus --viscous-G), every point intact, sheared
+    at the top velocity --velocity V by dynamic steps (4.23) of ``dt`` (density --rho, theta =
+    1; the initial velocity V y / L, so that the uniform shear is the exact motion and no
+    inertia force arises) with the Bingham viscosity ``eta``: the PFEM step's own stages, the
+    material's cone and viscous stress at the carried gamma^p
+    (:func:`~pfem_skfem.pfem.softening.step_material`), gamma^p updated after each step
+    (:func:`~pfem_skfem.pfem.softening.strain_update`). Returns t, the mean tau and its spread
+    over the points after each step, and gamma^p at the end."""
+    from dataclasses import replace
+
+    from pfem_skfem.discretisation.dynamic import dynamic_operators
+    from pfem_skfem.discretisation.theta import ThetaMethod
+    from pfem_skfem.materials.softening import SofteningTresca
+    from pfem_skfem.pfem.softening import step_material, strain_update
+    from pfem_skfem.problems.dynamic import dynamic_increment
+    from pfem_skfem.problems.step_terms import step_terms
+
+    m = layer_model(args.viscous_rows, args.L, args.viscous_G, args.nu)
+    material = SofteningTresca(law, m["elastic"], eta=eta)
+    disc, T = m["disc"], m["T"]
+    ops = dynamic_operators(disc, args.rho, ThetaMethod(dt), m["elastic"])
+    ops = replace(ops, B=m["B"], A=(ops.A @ T).tocsr(), M=(T.T @ ops.M @ T).tocsr())
+    rate = args.velocity / args.L
+    n_steps = int(np.ceil(args.t_end / dt))
+    v = rate * np.arange(T.shape[1]) * m["h"]                 # V y / L at each height
+    sigma, gamma = np.zeros((disc.n_points, 4)), np.zeros(disc.n_points)
+    f, scales, tau, spread = np.zeros(T.shape[1]), None, [0.0], [0.0]
+    for _ in range(n_steps):
+        step = step_material(material, gamma, disc)
+        sigma_m = step.mean_stress(sigma)
+        inc = dynamic_increment(ops, f, f, sigma, v, step.cone(sigma_m, law.c_p), fixed=[0],
+                                prescribed=([m["top"]], [args.velocity * dt]),
+                                terms=step_terms(viscous=step.viscous(sigma_m, law.c_p, None,
+                                                                      disc.weights)),
+                                scaling=scales, solver=args.solver)
+        gamma, _ = strain_update(material, ops, inc, sigma, disc, gamma)
+        sigma, v, scales = inc.sigma, inc.v, inc.scales
+        tau.append(float(sigma[:, 3].mean()))
+        spread.append(float(np.ptp(sigma[:, 3])))
+    return dict(t=dt * np.arange(n_steps + 1), tau=np.array(tau), spread=np.array(spread),
+                gamma_p=gamma, dt=dt, eta=eta, rate=rate)
+
+
 def laws(args):
     """The linear law of --H and the exponential law of --gamma-95."""
     from pfem_skfem.materials.softening import ExponentialSoftening, LinearSoftening
@@ -185,6 +287,9 @@ def check(args):
         return f"--gamma-95 {args.gamma_95:g}: the exponential layer snaps back"
     if len(args.rows) < 2 or len(set(args.rows)) < len(args.rows):
         return "--rows: two different meshes at least (the h-dependence)"
+    if args.eta > 0 and args.viscous_G <= -args.H:
+        return (f"--viscous-G {args.viscous_G:g} must exceed abs(H) = {-args.H:g}: the "
+                f"uniformly softening layer would snap back")
     return None
 
 
@@ -213,7 +318,65 @@ def build_parser():
     p.add_argument("--row-kinematics", choices=("linear", "p2"), default="linear",
                    help="u linear in each row (the closed form's uniform band), or the P2 "
                         "field (the band may narrow inside the row: the checks then fail)")
+    viscous = p.add_argument_group("the viscous layer (Bingham viscosity, dynamic steps)")
+    viscous.add_argument("--eta", type=in_range(0), default=2.0,
+                         help="Bingham viscosity eta [kPa s] of the viscous layer (0: no "
+                              "viscous runs)")
+    viscous.add_argument("--velocity", type=positive_float, default=1.0,
+                         help="the top's velocity V [m/s] (shear rate V / L)")
+    viscous.add_argument("--viscous-G", type=positive_float, default=200.0,
+                         help="the viscous layer's shear modulus [kPa] (above abs(H))")
+    viscous.add_argument("--viscous-rows", type=in_range(1, integer=True), default=4,
+                         help="rows of the viscous layer")
+    material_options(viscous, rho=opt(2.0, why="of the viscous layer (the exact motion has "
+                                               "no inertia force)"))
+    time_options(viscous, dt=opt([0.009, 0.0045], nargs="+",
+                                 why="of the viscous runs (the first also serves the peak run)"),
+                 t_end=opt(1.0, why="of the viscous runs"))
     return p
+
+
+def viscous_checks(report, args, linear):
+    """The viscous layer's checks: every step on the scheme's recurrence, the steady stress
+    c + eta V / L after full softening and without softening, the transient's first-order
+    approach to the continuous closed form. (A dt of which the yield time c_p L / (G V) is a
+    multiple puts a step's trial stress on the cone: the solver's tolerance then decides
+    whether that step flows, and the recurrence check sees it, 2e-5 c_p at dt = 0.004.)"""
+    from pfem_skfem.materials.softening import LinearSoftening
+    eta, rate, G = args.eta, args.velocity / args.L, args.viscous_G
+    runs = [viscous_shear(linear, eta, dt, args) for dt in args.dt]
+    peak = viscous_shear(LinearSoftening(args.c_p, args.c_p, 1.0), eta, args.dt[0], args)
+    span = args.c_p - args.c_r
+    for r in runs:
+        r["recurrence"] = np.abs(r["tau"] - viscous_recurrence(
+            linear, eta, G, rate, r["dt"], len(r["t"]) - 1)).max() / args.c_p
+        error = np.abs(r["tau"] - viscous_exact(r["t"], linear, eta, G, rate)) / span
+        r["transient"], r["transient_mean"] = error.max(), error.mean()
+        report.add_interval(f"viscous_dt{r['dt']:g}_recurrence_error", r["recurrence"], 0.0,
+                            1e-5, "max |tau - tau_n| / c_p, tau_n the scheme's recurrence: "
+                            "Delta gamma^p = (tau_n + G V dt / L - c_n) / (G + eta / dt)")
+        report.add_interval(f"viscous_dt{r['dt']:g}_spread", r["spread"].max() / args.c_p, 0.0,
+                            1e-6, "max over steps of (max - min of tau over the points) / c_p: "
+                            "the layer shears uniformly")
+    report.add("viscous_residual_tau", runs[-1]["tau"][-1], args.c_r + eta * rate,
+               "steady shear after full softening: c_r + eta V / L", 1e-6)
+    report.add("viscous_peak_tau", peak["tau"][-1], args.c_p + eta * rate,
+               "steady shear without softening (c_r = c_p): c_p + eta V / L", 1e-6)
+    errors = [r["transient_mean"] for r in runs]
+    order = (np.polyfit(np.log(args.dt), np.log(errors), 1)[0] if len(runs) > 1 else np.nan)
+    report.add_interval("viscous_transient_error", runs[-1]["transient"], 0.0, 0.02,
+                        f"max |tau - tau(t)| / (c_p - c_r) at dt = {args.dt[-1]:g}, tau(t) the "
+                        f"continuous closed form (the strength lagged one step: O(dt))")
+    report.add_interval("viscous_transient_order", order, 0.8, 1.2,
+                        "the mean over t of |tau - tau(t)| falls as dt")
+    report.add_table("viscous", ["dt", "steps", "recurrence error / c_p",
+                                 "closed-form error / (c_p - c_r): max", "mean",
+                                 "tau at the end", "c_r + eta V / L"],
+                     [[r["dt"], len(r["t"]) - 1, r["recurrence"], r["transient"],
+                       r["transient_mean"], r["tau"][-1], args.c_r + eta * rate] for r in runs],
+                     formats={"recurrence error / c_p": ".2e",
+                              "closed-form error / (c_p - c_r): max": ".2e", "mean": ".2e"})
+    return runs, peak
 
 
 def run(args):
@@ -283,12 +446,20 @@ def run(args):
                                                ("nonlocal", spread))
                                for r in runs}}
     report.data = dict(local=local, regular=regular, expo=expo, study=study, spread=spread)
+    if args.eta > 0:
+        viscous, peak = viscous_checks(report, args, linear)
+        curves = {f"dt{r['dt']:g}": r for r in viscous}
+        curves["peak"] = peak
+        report.extra["viscous"] = {k: {"t": r["t"], "tau": r["tau"]} for k, r in curves.items()}
+        report.data["viscous"] = curves
     return report
 
 
-def figures(args, local, regular, expo, study, spread):
+def figures(args, local, regular, expo, study, spread, viscous=None):
     """tau - delta against the closed form, local and regularised (the nonlocal runs beside);
-    the error against the cap."""
+    the error against the cap; the viscous layer's tau(t) against its closed form."""
+    if viscous:
+        viscous_figure(args, viscous)
     fig, ax = pyplot().subplots(1, 3, figsize=(15, 4))
     for a, runs, title in ((ax[0], local + [expo], "local softening"),
                            (ax[1], regular, f"regularised: fracture energy, ell = {args.ell:g} m")):
@@ -312,6 +483,27 @@ def figures(args, local, regular, expo, study, spread):
               ylabel="max |delta - exact| / delta_r",
               title=f"increment study, h = {study[0]['h']:g}")
     save_figure(fig, figure_dir(args, "softening_layer") / "softening_layer.png")
+
+
+def viscous_figure(args, curves):
+    """tau(t) of the viscous runs against the continuous closed form and c + eta V / L."""
+    from pfem_skfem.materials.softening import LinearSoftening
+    fig, ax = pyplot().subplots(figsize=(6, 4))
+    rate = args.velocity / args.L
+    linear = laws(args)[0]
+    t = np.linspace(0.0, args.t_end, 400)
+    ax.plot(t, viscous_exact(t, linear, args.eta, args.viscous_G, rate), "k-", lw=3, alpha=0.3,
+            label="closed form")
+    peak = LinearSoftening(args.c_p, args.c_p, 1.0)
+    for k, (name, r) in enumerate(curves.items()):
+        ax.plot(r["t"], r["tau"], ".", ms=3, color=f"C{k}",
+                label=f"dt = {r['dt']:g} s" + (" (no softening)" if name == "peak" else ""))
+    for c in (peak.c_p, linear.c_r):
+        ax.axhline(c + args.eta * rate, color="0.5", lw=0.8, ls="--")
+    ax.set(xlabel="t [s]", ylabel="shear stress tau [kPa]",
+           title=f"viscous layer: eta = {args.eta:g} kPa s, V / L = {rate:g} 1/s")
+    ax.legend(fontsize=8)
+    save_figure(fig, figure_dir(args, "softening_layer") / "softening_layer_viscous.png")
 
 
 def main(argv=None):

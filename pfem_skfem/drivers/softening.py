@@ -99,6 +99,10 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
         raise ValueError(f"n_increments must be a positive integer, got {n_increments!r}")
     if not isinstance(control, StepControl):
         raise ValueError(f"control must be a StepControl, got {type(control).__name__}")
+    if material.eta:
+        raise ValueError(f"eta (Bingham viscosity) = {material.eta!r}: static increments have "
+                         f"no time step for a viscous stress; a viscous softening material "
+                         f"runs in dynamic steps (the PFEM loop)")
     if isinstance(material.regularisation, NonlocalAverage):
         raise ValueError("a NonlocalAverage regularisation is for PFEM runs: static increments "
                          "take their average from StepControl(average=nonlocal_average(...))")

@@ -34,6 +34,13 @@ strain scale (gamma_r or gamma_95) is that of a band ell thick, and in an elemen
 h it is scaled by ell / h: the plastic slip h gamma^p at which the strength is spent, and
 the energy per unit band area G_f = ell gamma_r (c_p - c_r) / 2 (linear; ell gamma_95
 (c_p - c_r) / 3 exponential) dissipated as it falls to c_r, do not depend on h.
+
+Viscosity (``eta``, Zhang et al.'s elastoviscoplastic clay): the Bingham term of the dynamic
+step beside the softened cone (:class:`~pfem_skfem.problems.step_terms.BinghamStress`, the
+compliance on the total stress), so that where the clay flows
+R(sigma) = c(gamma^p_n) + eta Delta gamma^p / dt, the overstress carried by the rate of the
+measure gamma^p accumulates (in simple shear tau = c + eta gamma_dot^p). Still convex: c is
+data of the step, the viscous term a concave quadratic.
 """
 from dataclasses import dataclass
 import warnings
@@ -44,6 +51,7 @@ from .checks import _check_positive, _is_real
 from .criteria import TrescaField, mohr_coulomb_radius
 from .elastic import Elastic
 from .pfem import PFEMMaterial
+from .rate import ViscousStress
 
 
 def _check_strengths(c_p, c_r):
@@ -249,11 +257,19 @@ class SofteningTresca(PFEMMaterial):
     elastic : :class:`Elastic`.
     regularisation : :class:`FractureEnergy`, :class:`NonlocalAverage` (PFEM runs), or
         None (local softening: the strength is spent in one element, whatever its size).
+    eta : the Bingham viscosity [Pa s] of Zhang et al.'s elastoviscoplastic clay, >= 0
+        (0: rate-independent, the run of a material without it bit for bit). With eta > 0
+        the PFEM step adds the viscous stress
+        :class:`~pfem_skfem.materials.rate.ViscousStress` beside the cone (:meth:`viscous`):
+        at a yielding point R(sigma) = c(gamma^p) + eta gamma_dot^p (in simple shear
+        tau = c + eta dgamma^p/dt), gamma_dot^p the rate of the measure gamma^p accumulates.
+        Static increments have no time step: they refuse eta > 0.
     """
 
     law: object
     elastic: Elastic
     regularisation: FractureEnergy = None
+    eta: float = 0.0
 
     name = "Tresca, strain softening"
     softening = True
@@ -275,6 +291,15 @@ class SofteningTresca(PFEMMaterial):
                 self.regularisation, (FractureEnergy, NonlocalAverage)):
             raise ValueError(f"regularisation must be a FractureEnergy, a NonlocalAverage or "
                              f"None, got {type(self.regularisation).__name__}")
+        if not (_is_real(self.eta) and np.isfinite(self.eta) and self.eta >= 0):
+            raise ValueError(f"eta (Bingham viscosity) must be finite and >= 0, got {self.eta!r}")
+
+    def viscous(self, sigma_m, stress_scale, shear_rate, weights):
+        """The step's viscous stress: :class:`~pfem_skfem.materials.rate.ViscousStress` of
+        viscosity eta at every point; None for eta = 0."""
+        if self.eta == 0:
+            return None
+        return ViscousStress(np.full(len(weights), float(self.eta)), weights)
 
     def scale(self, size):
         """The law's strain-scale factor at element sizes ``size``: ell / h (a fracture
@@ -384,6 +409,10 @@ class SofteningStep(PFEMMaterial):
     def strength(self):
         """c(gamma^p) at the step's points."""
         return self.material.strength(self.gamma_p, self.size)
+
+    def viscous(self, sigma_m, stress_scale, shear_rate, weights):
+        """The material's viscous stress (eta > 0) or None."""
+        return self.material.viscous(sigma_m, stress_scale, shear_rate, weights)
 
     def cone(self, sigma_m, stress_scale=1.0, *, shear_rate=None):
         """The step's criterion at the carried gamma^p (and the lagged ``sigma_m``)."""

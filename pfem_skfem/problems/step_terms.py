@@ -97,7 +97,9 @@ class StepTerm:
 class Compliance(StepTerm):
     """The elastic part of (4.23): - 1/2 (sigma - sigma_n)^T C (sigma - sigma_n), C scaled by
     its median diagonal (the weight kappa_C of the scaled step). Added by the step when its
-    operators carry C (an elastoplastic material)."""
+    operators carry C (an elastoplastic material). sigma is the total stress: with a
+    Bingham rate stress (an elastoviscoplastic step) sigma = sigma_p + E (a, b), and the
+    compliance couples the two blocks (B du - C dsigma is then the viscoplastic strain)."""
 
     name = "compliance"
     static = True
@@ -105,13 +107,20 @@ class Compliance(StepTerm):
     def cvxpy(self, st):
         step = st.step
         Ch = step.Ch                             # - kappa_C (1/2 s^T C s - (C s_n)^T s)
-        st.objective += -step.kappa_C * (0.5 * cp.quad_form(st.s, cp.psd_wrap(Ch))
-                                         - (Ch @ step.s_n) @ st.s)
+        st.objective += -step.kappa_C * (0.5 * cp.quad_form(st.stress, cp.psd_wrap(Ch))
+                                         - (Ch @ step.s_n) @ st.stress)
 
     def blocks(self, form):
         step = form.step
         form.quadratic("sigma", step.kappa_C * step.Ch)
         form.c[form.layout["sigma"]] -= step.kappa_C * (step.Ch @ step.s_n)
+        if "rate_stress" in form.layout:         # sigma = s + E v: the blocks of v
+            rate = form.layout["rate_stress"]
+            E = viscous_stress_map(step.n, hoop=(rate.stop - rate.start) == 3 * step.n)
+            CE = (step.kappa_C * step.Ch @ E).tocsr()
+            form.coupling("sigma", "rate_stress", CE)
+            form.quadratic("rate_stress", (E.T @ CE).tocsr())
+            form.c[rate] -= step.kappa_C * (E.T @ (step.Ch @ step.s_n))
 
 
 class Contact(StepTerm):
@@ -206,8 +215,9 @@ def viscous_stress_map(n, hoop=False):
 
 class _RateStress(StepTerm):
     """A rate deviator sigma_v = E (a, b[, c]) added at each point to the plastic stress
-    (rigid-plastic steps only): sigma = sigma_p + sigma_v, tau_j = ||(a_j, b_j[, c_j])||
-    = sqrt(J2) (:func:`viscous_stress_map`; ``hoop``: the three deviators of axisymmetry)."""
+    (rigid-plastic steps only, but for :class:`BinghamStress`): sigma = sigma_p + sigma_v,
+    tau_j = ||(a_j, b_j[, c_j])|| = sqrt(J2) (:func:`viscous_stress_map`; ``hoop``: the three
+    deviators of axisymmetry)."""
 
     def __init__(self, data):
         self.data = data
@@ -238,9 +248,19 @@ class BinghamStress(_RateStress):
     """A viscous stress beside the yield cone, ``ViscousStress`` (eta_j, w_j): the term
     - sum_j dt w_j tau_j^2 / (2 eta_j) of the objective (a Bingham dissipation, as Zhang et
     al. 2017 add to (4.23)), so that at a flowing point R(sigma) = R(sigma_p) + eta_j
-    gamma_dot_j. In the scaled variables ``- 1/2 sum_j kv_j |(a_j, b_j)|^2``."""
+    gamma_dot_j. In the scaled variables ``- 1/2 sum_j kv_j |(a_j, b_j)|^2``.
+
+    With C (an elastic material: Zhang et al.'s elastoviscoplastic clay) the compliance
+    acts on the total stress sigma_p + sigma_v (:class:`Compliance`), and stationarity in
+    (a_j, b_j) gives sigma_v = eta_j E^T Delta eps^p_j / dt, Delta eps^p = B du -
+    C dsigma: R(sigma) = R(sigma_p) + eta_j gamma_dot^p_j, the overstress carried by the
+    viscoplastic shear rate (both terms concave: the step stays convex)."""
 
     name = "bingham"
+
+    def check(self, ops, criterion):
+        if criterion is None:
+            raise ValueError(f"{self.name}: only for a material with a yield criterion")
 
     def weights(self, step):
         """kv (n,): dt stress w_j / (eta_j length u_ref)."""

@@ -349,9 +349,9 @@ MATERIAL = OneOf(
       for cls in (MuIRheology, MuIRheologyAxisymmetric)),
     *(Spec(cls, {"mu": NUMBER}) for cls in (NewtonianFluid, NewtonianFluidAxisymmetric)),
     Spec(SofteningTresca, {"law": SOFTENING_LAW, "elastic": ELASTIC,
-                           "regularisation": REGULARISATION}),
+                           "regularisation": REGULARISATION, "eta": NUMBER}),
     Spec(SofteningMohrCoulomb, {"law": SOFTENING_LAW, "elastic": ELASTIC,
-                                "regularisation": REGULARISATION, "phi": NUMBER,
+                                "regularisation": REGULARISATION, "eta": NUMBER, "phi": NUMBER,
                                 "k_min": NUMBER}),
     *(Spec(cls, {"tau_y": NUMBER, "mu": NUMBER})
       for cls in (BinghamFluid, BinghamFluidAxisymmetric)),

@@ -51,7 +51,8 @@ def inverse_blocks(P, rcond=BLOCK_RCOND):
     block-diagonal with positive-definite blocks.
 
     The blocks are the connected components of P's pattern (a 12 x 12 inverse-mass block
-    per element, a compliance block per stress point, one entry per viscous variable),
+    per element, a compliance block per stress point, one entry per viscous variable; a
+    point's stresses and viscous stress one 6 x 6 block where the compliance couples them),
     inverted together per block size (P: the full symmetric matrix, stored zeros dropped);
     a block whose least eigenvalue is below ``rcond`` times its largest raises ValueError.
     """

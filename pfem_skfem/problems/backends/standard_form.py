@@ -78,13 +78,19 @@ class StandardForm:
             term.declare(self)
         self.n_x = self.layout.size
         self.c = np.zeros(self.n_x)
-        self._P, self._columns, self._K = {}, [], None
+        self._P, self._coupled, self._columns, self._K = {}, {}, [], None
         self._rows = {section: [] for section in SECTIONS}
         self.row_slices = {}
 
     def quadratic(self, name, block):
-        """The block of P on the layout block ``name`` (P is block-diagonal)."""
-        self._P[name] = block
+        """The block of P on the layout block ``name``, added to what it holds."""
+        self._P[name] = self._P[name] + block if name in self._P else block
+
+    def coupling(self, name, other, block):
+        """The block of P on the rows of ``name`` and the columns of ``other`` (and its
+        transpose): P is block-diagonal without one (the compliance of an elastic step with
+        a rate stress couples the two)."""
+        self._coupled[(name, other)] = block
 
     def columns(self, block):
         """The next columns of K (n_u, ...): the internal forces of the next variables."""
@@ -105,9 +111,18 @@ class StandardForm:
         """(P (upper triangle, CSC), c, A (CSC), b, cones): the rows in section order, the
         terms' equalities joined to equilibrium's zero cone; ``row_slices`` then holds each
         section's rows."""
+        names = list(self.layout)
         blocks = [self._P.get(name, sp.csr_matrix((s.stop - s.start,) * 2))
-                  for name, s in ((n, self.layout[n]) for n in self.layout)]
-        P = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
+                  for name, s in ((n, self.layout[n]) for n in names)]
+        if self._coupled:
+            grid = [[b if i == j else None for j in range(len(names))]
+                    for i, b in enumerate(blocks)]
+            for (name, other), block in self._coupled.items():
+                i, j = names.index(name), names.index(other)
+                grid[i][j], grid[j][i] = block, block.T
+            P = sp.triu(sp.bmat(grid, format="csc"), format="csc")
+        else:
+            P = sp.triu(sp.block_diag(blocks, format="csc"), format="csc")
         As, bs, cones, start = [], [], [], 0
         for section in SECTIONS:
             for A, b, kinds in self._rows[section]:

@@ -1,0 +1,138 @@
+"""Softening and viscous at once (issue 55): the sensitive clay of Zhang, Sheng, Sloan &
+Bleyer (IJNME 112, 2017), Tresca whose strength c(gamma^p) softens, with a Bingham viscosity
+eta (``SofteningTresca(..., eta=...)``): each step's cone at the carried gamma^p, the
+Bingham term of the step beside the compliance of the total stress.
+
+The layer of verification/softening_layer.py (height L = 1, shear modulus G = 200, linear law
+c_p = 20, c_r = 5, gamma_r = 0.75, 4 rows) sheared at the top velocity V = 1 by dynamic steps.
+Where it flows tau = c(gamma^p) + eta gamma_dot^p, gamma_dot^p = Delta gamma^p / dt (the
+Bingham term's factor is eta, not the 2 eta of sigma' = 2 mu D'): steady c_r + eta V / L after
+full softening, c_p + eta V / L without softening; each step on the scheme's recurrence
+Delta gamma^p = max(0, tau_n + G V dt / L - c_n) / (G + eta / dt)."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from pytest import approx
+
+from pfem_skfem.drivers.pfem_loop import pfem_step
+from pfem_skfem.drivers.softening import softening_control
+from pfem_skfem.materials import (Elastic, LinearSoftening, SofteningMohrCoulomb,
+                                  SofteningStep, SofteningTresca)
+from pfem_skfem.materials.rate import ViscousStress
+from pfem_skfem.pfem.softening import carried_strain
+from pfem_skfem.pfem.transfer import old_discretisation
+from verification.granular_column_plane import granular_column
+from verification.softening_layer import (layer_model, viscous_exact, viscous_recurrence,
+                                          viscous_shear)
+
+C_P, C_R, GAMMA_R, G, V, ETA = 20.0, 5.0, 0.75, 200.0, 1.0, 2.0
+LAW = LinearSoftening(C_P, C_R, GAMMA_R)
+#: the steady stress to this fraction (measured 1e-10)
+STEADY = 1e-6
+#: each step on the recurrence to this fraction of c_p (the solver's tolerance: measured 2e-7)
+RECURRENCE = 1e-5
+
+
+def layer(duration=1.0, solver="clarabel", rows=4):
+    """The options of the viscous layer of verification/softening_layer.py."""
+    return SimpleNamespace(viscous_rows=rows, L=1.0, viscous_G=G, nu=0.3, rho=2.0, velocity=V,
+                           t_end=duration, solver=solver)
+
+
+@pytest.mark.parametrize("c_r, eta_run, eta_form, holds", [
+    (C_R, ETA, ETA, True),               # after full softening: c_r + eta V / L
+    (C_P, ETA, ETA, True),               # without softening (c_r = c_p): c_p + eta V / L
+    (C_R, 1.01 * ETA, ETA, False),       # a viscosity 1 % off fails the check
+    (C_R, ETA, 2 * ETA, False)])         # so does the factor 2 of sigma' = 2 mu D'
+def test_the_steady_shear_is_the_strength_plus_eta_V_over_L(c_r, eta_run, eta_form, holds):
+    run = viscous_shear(LinearSoftening(C_P, c_r, GAMMA_R), eta_run, 0.009, layer())
+    assert bool(run["tau"][-1] == approx(c_r + eta_form * V, rel=STEADY)) is holds, run["tau"][-1]
+
+
+@pytest.mark.parametrize("solver", ["clarabel", "clarabel-dual", "cvxpy"])
+def test_every_step_is_on_the_schemes_recurrence_and_the_layer_stays_uniform(solver):
+    """The softening and the viscous overstress step by step, each backend (the direct
+    assembly couples the compliance to the rate stress in P; the dual form inverts each
+    point's 6 x 6 block); a recurrence with eta 5 % off is 1e-3 c_p away at least."""
+    dt = 0.009
+    run = viscous_shear(LAW, ETA, dt, layer(0.5, solver))
+    n = len(run["t"]) - 1
+    error = np.abs(run["tau"] - viscous_recurrence(LAW, ETA, G, V, dt, n)).max() / C_P
+    wrong = np.abs(run["tau"] - viscous_recurrence(LAW, 1.05 * ETA, G, V, dt, n)).max() / C_P
+    assert error < RECURRENCE
+    assert wrong > 1e-3
+    assert run["spread"].max() < 1e-6 * C_P
+    assert C_R < run["tau"][-1] < C_P                 # it softened, and is still softening
+
+
+def test_the_transient_approaches_the_continuous_closed_form_as_dt():
+    """tau(t) of the continuous model (viscous_exact): the mean error over t halves with dt
+    (the strength lags one step), the largest within 2 % of c_p - c_r at dt = 0.0045 (at the
+    step of first yield)."""
+    steps = (0.009, 0.0045)
+    runs = [viscous_shear(LAW, ETA, dt, layer()) for dt in steps]
+    errors = [np.abs(r["tau"] - viscous_exact(r["t"], LAW, ETA, G, V)) / (C_P - C_R)
+              for r in runs]
+    order = np.polyfit(np.log(steps), np.log([e.mean() for e in errors]), 1)[0]
+    assert order == approx(1.0, abs=0.1), f"observed order {order:.3f}"
+    assert errors[-1].max() < 0.02
+
+
+def test_without_viscosity_the_rate_independent_layer_loses_its_uniformity():
+    """eta = 0: the same layer softens with its points drifting apart (no viscous
+    regularisation; measured spread 3.5e-3 kPa against 5e-12 kPa with eta), ending at c_r."""
+    run = viscous_shear(LAW, 0.0, 0.009, layer())
+    assert run["tau"][-1] == approx(C_R, rel=STEADY)
+    assert run["spread"].max() > 1e-5 * C_P
+
+
+def test_a_pfem_column_flows_with_the_viscous_overstress_at_every_flowing_point():
+    """The collapsing Tresca column of tests/test_softening_pfem.py, softening and viscous
+    (eta = 0.2 kPa s): after each step, at each point that flowed, R(sigma) = c(gamma^p_n)
+    + eta Delta gamma^p / dt (R the radius of the in-plane Mohr circle), to 1e-4 c_p
+    (measured 1.5e-6 c_p); the overstress is a real part of R (up to 11 % of c_p here)."""
+    elastic, eta, dt = Elastic(1e4, 0.45), 0.2, 0.05 * np.sqrt(1.0 / 9.8)
+    soil = SofteningTresca(LinearSoftening(4.0, 1.0, 0.05), elastic, eta=eta)
+    state, scene = granular_column(1.0, 6, phi=0.0, soil=soil, E=elastic.E, nu=elastic.nu, dt=dt)
+    state, _, _ = pfem_step(state, scene)
+    largest = 0.0
+    for _ in range(4):
+        new, _, result = pfem_step(state, scene)
+        carried = carried_strain(state, result.disc, old_discretisation(state),
+                                 scene.config.stress_mapping)
+        sigma = result.increment.sigma
+        R = 0.5 * np.hypot(sigma[:, 0] - sigma[:, 1], 2 * sigma[:, 3])
+        dgamma = new.gamma_p - carried
+        flowing = dgamma > 1e-3 * dgamma.max()
+        over = eta * dgamma / dt
+        assert np.abs(R - result.strength - over)[flowing].max() < 1e-4 * 4.0
+        assert np.all(R[~flowing] <= result.strength[~flowing] * (1 + 1e-5) + over[~flowing])
+        largest = max(largest, over.max())
+        state = new
+    assert largest > 0.05 * 4.0
+
+
+def test_eta_zero_states_no_viscous_stress_and_eta_one_at_every_point():
+    weights = np.full(6, 0.1)
+    assert SofteningTresca(LAW, Elastic(1e4, 0.3)).viscous(None, 1.0, None, weights) is None
+    step = SofteningStep(SofteningTresca(LAW, Elastic(1e4, 0.3), eta=ETA), np.zeros(6),
+                         np.ones(6))
+    viscous = step.viscous(None, 1.0, None, weights)
+    assert isinstance(viscous, ViscousStress)
+    np.testing.assert_array_equal(viscous.eta, np.full(6, ETA))
+
+
+@pytest.mark.parametrize("make", [SofteningTresca, SofteningMohrCoulomb])
+@pytest.mark.parametrize("eta", [-1.0, np.nan, np.inf, "2"])
+def test_a_bad_viscosity_is_refused_naming_it(make, eta):
+    with pytest.raises(ValueError, match="eta .Bingham viscosity."):
+        make(LAW, Elastic(1e4, 0.3), eta=eta)
+
+
+def test_static_increments_refuse_a_viscous_material_before_any_work():
+    m = layer_model(4, 1.0, G, 0.3)
+    with pytest.raises(ValueError, match="eta .Bingham viscosity. = 2.0: static increments"):
+        softening_control(m["B"], m["C"], SofteningTresca(LAW, m["elastic"], eta=ETA),
+                          fixed=[0], prescribed=([m["top"]], [0.1]), n_increments=2,
+                          size=m["size"], weights=m["weights"])
