@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from verification.accretionary_wedge import (DEFORMS, RIGID, critical_taper, dahlen_F,
-                                             stability_test, wedge_length)
+                                             mass_balance_length, stability_test, wedge_length)
 
 
 def test_critical_taper_satisfies_dahlen_s_identity():
@@ -32,6 +32,48 @@ def test_mass_balance_length():
     """A triangle of taper alpha and area A: length sqrt(2 A / tan alpha)."""
     L = wedge_length(0.5 * 0.3 * 0.3 * np.tan(np.radians(10)), 10.0)
     assert L == pytest.approx(0.3, rel=1e-12)
+
+
+@pytest.mark.parametrize("plateau, cut", [(0.0, 0.0), (0.0, 0.005), (0.1, 0.0), (0.1, 0.005)])
+def test_mass_balance_length_of_a_plateau_then_a_slope(plateau, cut):
+    """A plateau of height H = 2 cm and length p from the wall, then the slope 10 deg, cut
+    where it is ``cut`` above the layer: A = H p + (H^2 - cut^2) / (2 tan alpha) gives back
+    L = p + (H - cut) / tan alpha; no plateau and no cut is the triangle's wedge_length."""
+    H, t = 0.02, np.tan(np.radians(10.0))
+    area = H * plateau + (H ** 2 - cut ** 2) / (2 * t)
+    L = mass_balance_length(area, H, 10.0, cut)
+    assert L == pytest.approx(plateau + (H - cut) / t, rel=1e-12)
+    if plateau == cut == 0:
+        assert L == pytest.approx(wedge_length(area, 10.0), rel=1e-12)
+
+
+@pytest.mark.parametrize("moved", [dict(h=0.02), dict(passes=4), dict(contact="coulomb")])
+def test_the_quick_layer_s_wedge_holds_its_mass_balance_with_an_option_moved(moved):
+    """The option audit's moves (issue 56) of the --quick layer: its slope falls to 5.6-7.8
+    deg (10.0 at the quick values) or its spacing grows, and the triangle's
+    sqrt(2 A_up / tan alpha) put the wedge's length 30-34 % off (16 % at the quick values):
+    the wedge there is a pop-up's plateau and then the slope, its front cut one spacing above
+    h0. The wedge of mass_balance_length holds it to 8-12 % (the check's 30 %)."""
+    from types import SimpleNamespace
+    from verification import accretionary_wedge as aw
+    options = dict(h0=0.08, L=0.5, h=0.016, s=0.05, steps=12, dt=0.16) | moved
+    r = aw.run_layer(**options)
+    L_w = r["geometry"]["length"]
+    assert L_w == pytest.approx(aw.layer_mass_balance_length(SimpleNamespace(**options), r),
+                                rel=0.15)
+
+
+def test_the_stable_wedge_on_coulomb_cones_is_rigid_after_six_pushes():
+    """Why --contact coulomb asks for 6 pushes of the stability test: the 15 deg wedge yields
+    in its first push and with the associated contact that dies out slower than with the
+    zero-dilation one; at the 4th push (the --quick count) it is still above RIGID du/H
+    (1.4e-2), from the 6th far below (1.8e-5)."""
+    from verification.accretionary_wedge import COULOMB_STABILITY_STEPS
+    r = stability_test(15.0, phi_b=15.0, steps=COULOMB_STABILITY_STEPS, layers=5,
+                       contact="coulomb")
+    assert r["plastic_max_history"][3] > RIGID
+    assert r["plastic_max"] < 1e-2 * RIGID
+    assert r["wall_force_over_mu_b_W"] == pytest.approx(1.0, rel=0.01)
 
 
 @pytest.mark.parametrize("taper", [15.0, 3.0])

@@ -28,7 +28,11 @@ References
 * Mass balance (incompressible flow, psi = 0): the material the wall pushes in, s h0 per
   unit length, lifts the surface; a triangular wedge of taper alpha then reaches
   L_w = sqrt(2 A_up / tan alpha) from the wall (A_up the uplifted area, s h0 if the layer
-  keeps its area): 52 cm for s = 16 cm at alpha_c.
+  keeps its area): 52 cm for s = 16 cm at alpha_c. The check (:func:`mass_balance_length`)
+  takes the wedge as it is measured: a plateau at the crest's height H above h0 from the
+  wall (the pop-up of the first bands; none for a triangle), then the slope alpha down to
+  the front, where the surface is back within one spacing delta of h0, holding A_up:
+  L_w = A_up / H + (H - delta)^2 / (2 H tan alpha).
 * Buiter et al. (2016), J. Struct. Geol. 92:140, Exp 1 (the classic test of wedge
   models): a wedge inside the stable field translates without deforming;
   ``--stability-test --taper DEG --base-friction DEG`` is that test on a pre-built
@@ -92,6 +96,13 @@ SNAP_S = (0.004, 0.08, 0.10, 0.12, 0.14, 0.16)          # Fig 6.10
 # the wall's motion: du / (few h) >> du / H).
 RIGID = 1e-2
 DEFORMS = 1.0
+# The stable wedge yields in its first push (about 80 du/H: its geostatic stress becomes the
+# sliding one) and the yielding dies out step by step. With the zero-dilation contact it is
+# below RIGID from the 4th step (7e-5 du/H at 5 layers, 7e-6 at 8); with the associated
+# Coulomb cones the decay is slower, 1.4e-2, 1.8e-3, 1.8e-5 du/H at steps 4-6 (5 layers;
+# 2e-3, 8e-5, 6e-6 at 8), the same to two digits at 3, 5 or 8 passes: a transient from step
+# to step, not the passes' fixed point. The test needs its last step past it.
+COULOMB_STABILITY_STEPS = 6
 # Increment study: the runs with fewer steps against the one with the most.
 INCREMENT_SLOPE = 2.0          # deg, the margin of the taper gate
 INCREMENT_TOLERANCE = 0.15     # wedge length and late wall force
@@ -146,6 +157,19 @@ def dahlen_residual(alpha, phi, phi_b):
 def wedge_length(area_up, alpha):
     """Length from the wall of a triangular wedge of taper alpha [deg] holding area_up."""
     return float(np.sqrt(2 * area_up / np.tan(np.radians(alpha))))
+
+
+def mass_balance_length(area_up, height, alpha, cut=0.0):
+    """Length from the wall of a wedge holding ``area_up`` above the layer: a plateau of
+    ``height`` (the crest's, above h0) from the wall, then the slope ``alpha`` [deg] down to
+    where it is ``cut`` above the layer (the front as :func:`wedge_geometry` finds it):
+    A = H p + (H^2 - cut^2) / (2 tan alpha), L = p + (H - cut) / tan alpha, so
+    L = A / H + (H - cut)^2 / (2 H tan alpha). With no plateau (A = H^2 / (2 tan alpha),
+    cut = 0) it is the triangle's :func:`wedge_length`; no uplift (height <= 0): 0."""
+    if height <= 0:
+        return 0.0
+    drop = max(height - cut, 0.0)
+    return float(area_up / height + drop ** 2 / (2 * height * np.tan(np.radians(alpha))))
 
 
 # -- scenes ------------------------------------------------------------------------------------
@@ -374,6 +398,10 @@ def check(args):
     if args.contact == "zero-dilation" and args.passes < 3:
         return ("--passes must be >= 3 with --contact zero-dilation (pass 1 is smooth, pass 2 "
                 "has the friction, pass 3 the mean stress with it)")
+    if args.contact == "coulomb" and args.stability_steps < COULOMB_STABILITY_STEPS:
+        return (f"--stability-steps must be >= {COULOMB_STABILITY_STEPS} with --contact coulomb "
+                "(the stable wedge yields in its first push; with the associated contact that "
+                "dies out over 6 steps, not 4, and the test measures the last)")
     return None
 
 
@@ -436,6 +464,13 @@ def late_wall_force(r):
     return float(np.mean(r["wall_force"][r["s"] >= 0.75 * r["s"][-1]]))
 
 
+def layer_mass_balance_length(args, r):
+    """:func:`mass_balance_length` of a layer run's measured wedge (its crest, slope, cut h)."""
+    geo = r["geometry"]
+    return mass_balance_length(geo["area_up"], geo["crest"] - args.h0,
+                               max(geo["slope_deg"], 0.5), args.h)
+
+
 def layer_checks(report, args, r, prefix):
     """The checks of issue 15 on one shortened layer (names prefixed by ``prefix``)."""
     low, high = critical_taper(args.phi, args.base_friction)
@@ -452,9 +487,17 @@ def layer_checks(report, args, r, prefix):
     report.add_interval(f"{prefix}surface_slope_deg", geo["slope_deg"], low - 2.0, high,
                         f"critical taper (Dahlen 1984, Lehner 1986): stable field from "
                         f"alpha_c = {low:.2f} deg (less 2 deg) to {high:.2f}", reference=low)
+    # The wedge as measured: a plateau at the crest's height, the slope alpha to the front cut
+    # one spacing above h0. The triangle's sqrt(2 A_up / tan alpha) holds neither at this size
+    # (the pop-up's plateau: 1.30-1.40 x it with the toe whole, at --quick) nor with the toe
+    # cut (two thirds of a 2.4 cm uplift at h = 1.6 cm): the two biases cancel only partly
+    # (0.84 x at --quick, 0.66-0.70 x at --h 0.02, --passes 4, --contact coulomb, whose
+    # slopes 5.6-7.8 deg against 10 deg cut a longer toe). This one holds to +8-12 % at each
+    # (the bins: the front a bin centre past the cut, the area from h / 2 off the wall).
     report.add(f"{prefix}wedge_length_vs_mass_balance", geo["length"],
-               wedge_length(geo["area_up"], max(geo["slope_deg"], 0.5)),
-               "mass balance: L_w = sqrt(2 A_up / tan alpha) at the measured slope", 0.3)
+               layer_mass_balance_length(args, r),
+               "mass balance: L_w = A_up / H + (H - h)^2 / (2 H tan alpha), a plateau at the "
+               "crest's height H, the measured slope to the front h above h0", 0.3)
 
 
 def increment_checks(report, args, runs):
@@ -518,8 +561,7 @@ def run(args):
     report.add_table(
         "layers", {"steps": "steps", "du [cm]": lambda r: r["du"] * 100, "particles": "particles",
                    "elems": "elements", "slope": geo("slope_deg", 1), "L_w": geo("length"),
-                   "L_mass": lambda r: wedge_length(r["geometry"]["area_up"],
-                                                    max(r["geometry"]["slope_deg"], 0.5)) * 100,
+                   "L_mass": lambda r: layer_mass_balance_length(args, r) * 100,
                    "A_up": geo("area_up", 1e4), "front": geo("front"), "crest": geo("crest"),
                    "|dA|max": "area_change_max", "F_late": "wall_force_late",
                    "pop-up": lambda r: bool(r["popup"]["is_popup"]),
@@ -529,7 +571,8 @@ def run(args):
                  "s/step": ".2f", "total s": ".0f"},
         title="\nlayers (slope [deg] away from the wall, L_w wedge length [cm] and L_mass from "
               "mass balance at that slope, A_up uplift [cm2], front and crest [cm], F_late mean "
-              "wall force over the last quarter [kN/m]); at alpha_c the mass balance gives "
+              "wall force over the last quarter [kN/m]; L_mass a plateau at the crest, then "
+              "that slope); a triangle at alpha_c holding s h0 is "
               f"{wedge_length(args.s * args.h0, low) * 100:.1f} cm, s h0 = "
               f"{args.s * args.h0 * 1e4:.1f} cm2")
     report.extra |= {"layer": layer_summary(runs[0]),

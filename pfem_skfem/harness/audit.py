@@ -101,6 +101,9 @@ GIVEN = {
     ("granular_column_plane", "passes"): (["--passes", "3"], "None: 2; +1"),
     ("sliding_box", "contact"): (["--contact", "zero-dilation", "--body", "fe"],
                                  "the other choice, with the --body fe it needs"),
+    ("accretionary_wedge", "contact"): (["--contact", "coulomb", "--stability-steps", "6"],
+                                        "the other choice, with the 6 push steps the "
+                                        "stability test needs with it"),
     # studies off by default ([]): one run of the study
     ("accretionary_wedge", "increment_study"): (["--increment-study", "16"],
                                                 "[]: one run of 16 increments"),
