@@ -300,7 +300,13 @@ def _solve(P, c, A, b, cones, settings=None):
     chol = st.cholesky
     counted = chol.factorisations
     # the start: the least-squares point of (N) with W = I (z = G x - h), shifted inside
-    newton = Newton(st, {d: _Identity(*r.shape) for d, r in st.groups.items()}, chol)
+    identity = {d: _Identity(*r.shape) for d, r in st.groups.items()}
+    whole, whole_lu = False, 0        # whether (N) is solved unreduced (:mod:`.augmented`)
+    try:
+        newton = Newton(st, identity, chol)
+    except CholeskyError:             # S singular (a kinematic problem's velocities)
+        whole, whole_lu = True, 1
+        newton = Augmented(st, identity)
     x, y, zt = newton.solve(-pb.c, pb.b_E, pb.h)
     z, s = np.zeros(rows), np.zeros(rows)
     z[st.zero_at] = y
@@ -308,7 +314,6 @@ def _solve(P, c, A, b, cones, settings=None):
         z[at] = K.shift_inside(zt[d]).ravel()
         s[at] = K.shift_inside(-zt[d]).ravel()
     status, best, stall, it, products = None, None, 0, 0, None
-    whole, whole_lu = False, 0        # whether (N) is solved unreduced (:mod:`.augmented`)
     for it in range(opts["max_iter"] + 1):
         m = pb.measures(x, z, s, products)
         if products is not None and (pb.done(m) or pb.infeasible(m, x, s) is not None
