@@ -1,8 +1,8 @@
 """What ``pfem-skfem run`` says of a run (issue 56, items 3 and 4): what it is before the
 first step (particles, steps, dt) and what it will cost after it (elements, seconds);
 a step too long for the method, once, with the step where it first happened and dt; and
-at the end why it stopped (t_end or the steps asked reached, at rest since step N, no
-material left, a solver failure) with its main figures.
+at the end why it stopped (t_end or the steps asked reached, at rest since step N or
+still consolidating, no material left, a solver failure) with its main figures.
 
 Plain functions of the scene and the step records (``history.json``'s dicts), so that
 they read a resumed run's records as they read a new one's.
@@ -115,15 +115,30 @@ def _duration(seconds):
     return f"{seconds / 3600:.1f} h"
 
 
-def at_rest_since(records, speed):
+def at_rest_since(records, speed, pore_rate=0.0):
     """The step from which every record's ``max_speed`` is below ``speed`` to the end,
-    or None (the last step moves)."""
+    and, in a saturated run, its ``pore_pressure_rate_max`` at most ``pore_rate``; or None
+    (the last step moves or still drains)."""
     since = None
     for record in reversed(records):
-        if record["max_speed"] >= speed:
+        if (record["max_speed"] >= speed
+                or record.get("pore_pressure_rate_max", 0.0) > pore_rate):
             break
         since = record["step"]
     return since
+
+
+def rest_pore_rate(scene, records):
+    """The rate of pore pressure below which a saturated run is at rest: REST_SPEED times
+    the run's largest pore pressure (the records' ``pore_pressure_max``) in the time
+    sqrt(L / |g|) that the speed bound takes as its unit; 0 in a dry run. A consolidating
+    soil settles slower than the speed bound while it drains: the column of
+    verification/consolidation_pfem.py (4 spacings) at 4e-7 m/s against 3e-6 from its
+    second step, its pore pressure changing by 0.1-0.35 Pa/s (the records'
+    ``pore_pressure_rate_max``) against this bound's 3e-4."""
+    p = max((r.get("pore_pressure_max", 0.0) for r in records), default=0.0)
+    g = math.hypot(*scene.gravity)
+    return REST_SPEED * p * math.sqrt((g or 1.0) / scene.length)
 
 
 def why_stopped(scene, state, records, last):
@@ -138,10 +153,14 @@ def why_stopped(scene, state, records, last):
         why = f"t_end = {scene.t_end:.6g} s reached (step {state.step})"
     else:
         why = f"step {state.step} reached, as asked (t = {state.time:.6g} s)"
-    since = at_rest_since(records, rest_speed(scene)) if records and state.n else None
+    rate = rest_pore_rate(scene, records)
+    since = at_rest_since(records, rest_speed(scene), rate) if records and state.n else None
     if since is not None:
         why += (f"; at rest since step {since} (largest speed {records[-1]['max_speed']:.2g} "
                 f"m/s < {rest_speed(scene):.2g})")
+    elif records and state.n and "pore_pressure_rate_max" in records[-1]:
+        why += (f"; still consolidating (the pore pressure changing by up to "
+                f"{records[-1]['pore_pressure_rate_max']:.2g} Pa/s > {rate:.2g})")
     return why
 
 

@@ -45,6 +45,21 @@ def test_the_axisymmetric_column_meets_the_same_band():
     assert max(script.errors(script.consolidate(args))) <= script.BAND
 
 
+def test_a_consolidating_column_is_not_called_at_rest():
+    """Its skeleton settles below the dry rest speed from the second step while its pore
+    pressure still changes by 1e-1 Pa/s: the run's end says it is still consolidating
+    (rest needs |dp/dt| below 1e-6 of the largest p per sqrt(L / g)), not at rest."""
+    from pfem_skfem import runreport
+    state0, scene = small_column()
+    records = []
+    state, _ = run(state0, scene, 3, on_step=lambda s, rec, res: records.append(rec))
+    assert records[-1]["max_speed"] < runreport.rest_speed(scene)
+    assert records[-1]["pore_pressure_rate_max"] > 100 * runreport.rest_pore_rate(scene,
+                                                                                records)
+    why = runreport.why_stopped(scene, state, records, 3)
+    assert "still consolidating" in why and "at rest" not in why
+
+
 def test_the_particles_carry_p_and_the_vtu_and_checkpoint_hold_it(tmp_path):
     state0, scene = small_column()
     assert state0.pore_pressure is not None and np.all(state0.pore_pressure == 0)

@@ -100,3 +100,21 @@ def test_a_solver_failure_says_its_status_and_the_figures_of_the_steps_made(tmp_
     assert "solver failed (no optimal point; status PrimalInfeasible) in step 2" in err
     assert re.search(r"pfem-skfem run: 1 step, t = 0.00319438 s, 64 particles, "
                      r"mass kept 100 %", err)
+
+
+def test_a_saturated_run_is_at_rest_once_its_pore_pressure_stops_changing_too():
+    """Speeds below the bound are not rest while p changes faster than 1e-6 of its largest
+    per sqrt(L / |g|) (here L = 1, g = 9.81: 1e-6 x 100 x 3.13 = 3.1e-4 Pa/s)."""
+    class Scene:
+        gravity, length = (0.0, -9.81), 1.0
+    records = [{"step": k, "max_speed": 1e-9, "pore_pressure_max": 100.0,
+                "pore_pressure_rate_max": rate}
+               for k, rate in enumerate([5.0, 1e-2, 1e-4, 1e-5], start=1)]
+    rate = runreport.rest_pore_rate(Scene, records)
+    assert rate == pytest.approx(1e-6 * 100.0 * 9.81 ** 0.5)
+    assert runreport.at_rest_since(records, 1e-6, rate) == 3
+    assert runreport.at_rest_since(records[:2], 1e-6, rate) is None
+    assert runreport.at_rest_since(records, 1e-6) is None     # a bound of 0: never
+    dry = [{"step": 1, "max_speed": 1e-9}]
+    assert runreport.rest_pore_rate(Scene, dry) == 0.0
+    assert runreport.at_rest_since(dry, 1e-6, 0.0) == 1

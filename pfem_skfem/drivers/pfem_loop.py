@@ -213,6 +213,7 @@ def pfem_step(state, scene):
                              stress_scale=stress_scale, fixed=fixed,
                              terms=() if pore is None else (pore,))
     inc = solved.increment
+    p_start = None if pore is None else state.pore_pressure[pm.particle]
     state, p_vertices = carried(state, pm, inc)        # the particles' p at t_{n+1}
     gamma_p = drop = None
     if softens:                                      # gamma^p after the step (lags one step)
@@ -260,6 +261,9 @@ def pfem_step(state, scene):
     record = step_record(scene, new, facts, timer, t_start)
     if scene.loads:                  # each load's resultant in the step (theta-weighted)
         record["loads"] = load_resultants
+    if p_vertices is not None:       # consolidating: not at rest while p still changes
+        record["pore_pressure_max"] = float(np.abs(p_vertices).max())
+        record["pore_pressure_rate_max"] = float(np.abs(p_vertices - p_start).max() / theta.dt)
     if softens:                    # the step control's measure and the largest gamma^p
         record["softening_drop"], record["gamma_p_max"] = drop, float(gamma_p.max())
     return new, record, result
