@@ -155,6 +155,78 @@ def test_gravity_keeps_hydrostatic_water_and_the_skeleton_at_rest():
     assert np.abs(state.x - state0.x).max() < 1e-4 * 9.81 / e_oed
 
 
+def fill_over_water(rho_fill=2.0, t=0.2):
+    """small_column's saturated column (rho_sat = 2 t/m^3, table at its top y = 1) under a
+    dry fill t thick: a region outside ``Water.regions``, free-draining (no drained face
+    given: the column drains into it), the column's geostatic stress under its weight."""
+    from pfem_skfem.scene import Geostatic, Region
+    _, scene = small_column("--rho", "2.0", "--dTv", "0.05")
+    soil = scene.regions[0]
+    k0 = soil.stress.k0
+    fill = Region(((0.0, 1.0), (0.5, 1.0), (0.5, 1.0 + t), (0.0, 1.0 + t)), soil.material,
+                  rho_fill, soil.h, stress=Geostatic(k0=k0), name="fill")
+    return replace(scene, regions=(replace(soil, stress=Geostatic(k0=k0, top=1.0 + t)), fill),
+                   water=Water(k=1e-8, table=1.0, regions=("soil",)))
+
+
+def test_a_dry_fill_keeps_the_water_below_it_at_rest_and_itself_dry():
+    """Gravity alone, a fill of the column's density above the table: the column's p stays
+    hydrostatic (2e-5 gamma_w H, as without the fill), the fill's is held at zero (dry: no
+    suction above the table; an equality row, to round-off), the interface drains, and nothing moves (1e-4 of gamma' H^2 /
+    E_oed). Its initial p: hydrostatic in the column, zero in the fill."""
+    scene = fill_over_water()
+    state0 = scene.initial_state()
+    in_fill = state0.region == 1
+    assert np.all(state0.pore_pressure[in_fill] == 0.0)
+    np.testing.assert_allclose(state0.pore_pressure[~in_fill],
+                               9.81 * (1.0 - state0.x[~in_fill, 1]), atol=1e-12)
+    state, _ = run(state0, scene, 5)
+    hydrostatic = np.maximum(9.81 * (1.0 - state.x[:, 1]), 0.0)
+    assert np.abs(state.pore_pressure - hydrostatic).max() < 2e-5 * 9.81
+    assert np.abs(state.pore_pressure[in_fill]).max() < 1e-12 * 9.81   # held: round-off
+    assert np.abs(state.x - state0.x).max() < 1e-4 * 9.81 / (1e5 * 0.8 / (1.2 * 0.6))
+
+
+def unremeshed(monkeypatch, water=None):
+    """The script's column built without remeshing (and with ``water`` instead of its own)."""
+    built = script.TerzaghiColumn.scene
+
+    def scene(self):
+        state, sc = built(self)
+        return state, replace(sc, config=replace(sc.config, remesh_interval=10 ** 6),
+                              water=water or sc.water)
+    monkeypatch.setattr(script.TerzaghiColumn, "scene", scene)
+
+
+def test_a_dry_fill_drains_the_column_as_a_drained_top_under_its_weight(monkeypatch):
+    """Not remeshed, the fill (``--loading fill``: free-draining, no drained face) is
+    Terzaghi's load on a drained top: U and p(base) equal the surface load's (``--loading
+    load``) within 1e-3 and Terzaghi's within the band; the same fill declared saturated
+    (every region in ``Water.regions``, no drained face: the water sealed in, the column
+    drains only into the fill's pores) leaves p(base) far above the series (measured 0.88 q
+    at T_v = 1 against 0.11)."""
+    unremeshed(monkeypatch)
+    parse = script.build_parser().parse_args
+    fill = script.consolidate(parse(["--quick", "--loading", "fill"]))
+    load = script.consolidate(parse(["--quick", "--loading", "load"]))
+    assert np.abs(fill["U"] - load["U"]).max() < 1e-3
+    assert np.abs(fill["U_p"] - load["U_p"]).max() < 1e-3
+    assert np.abs(fill["p_base"] - load["p_base"]).max() < 1e-3
+    assert max(script.errors(fill, "fill")) <= script.BAND
+    unremeshed(monkeypatch, water=Water(k=1e-8))             # every region saturated
+    sealed = script.consolidate(parse(["--quick", "--loading", "fill"]))
+    assert script.errors(sealed, "fill")[1] > 5 * script.BAND
+
+
+def test_water_regions_name_the_saturated_regions_or_are_refused_by_name():
+    scene = fill_over_water()
+    with pytest.raises(ValueError, match=r"water.regions: no region is named 'sand'"):
+        replace(scene, water=Water(k=1e-8, regions=("sand",)))
+    with pytest.raises(ValueError, match="Water: regions must name the saturated regions"):
+        Water(k=1e-8, regions=(1,))
+    assert Water(k=1e-8, regions="soil").regions == ("soil",)
+
+
 def test_every_vtu_frame_has_p_and_its_excess(tmp_path):
     from pfem_skfem.io import open_series
     state0, scene = small_column()

@@ -124,7 +124,8 @@ def make_scene(name):
     if name == "saturated":                           # a water table needs gravity along -y
         water = Water(k=1e-6, gamma_w=9.81, M=1e5, alpha=0.9, table=1.2,
                       drained=(Drained(HalfPlane((0, 1.4), (0, 1)), p=-5.0),
-                               Drained(PolygonZone(((-1, -1), (3, -1), (3, 0.1), (-1, 0.1))))))
+                               Drained(PolygonZone(((-1, -1), (3, -1), (3, 0.1), (-1, 0.1))))),
+                      regions=(rich.regions[0].name,))          # the others free-draining
         return replace(rich, gravity=(0.0, -9.81), water=water,
                        config=replace(rich.config, theta=ThetaMethod(0.01, 1.0, 0.75)))
     if name == "loaded":          # a pressure on the cap's top, a traction on the hole's edges

@@ -43,8 +43,9 @@ class PressureField:
     basis : skfem Basis (P1, one dof per vertex);
     to_points : (n_points, n_p) sparse, p at the stress points;
     gradient : (2 n_elements, n_p) sparse, grad p of each element, rows (element, x/y);
-    cell_volume : (n_elements,) int dV over each element (area, or 2 pi r_c area);
-    storage : (n_p, n_p) sparse, int N_p^T N_p dV;
+    cell_volume : (n_elements,) int dV over each element (area, or 2 pi r_c area); zero on
+        a free-draining element (:func:`restricted`);
+    storage : (n_p, n_p) sparse, int N_p^T N_p dV (over the saturated elements);
     geometry : plane strain or axisymmetry (the weight of every integral).
     """
 
@@ -54,6 +55,16 @@ class PressureField:
     cell_volume: np.ndarray
     storage: sp.csr_matrix
     geometry: Geometry = PLANE_STRAIN
+    wet: np.ndarray = None          # the saturated elements (:func:`restricted`); None: all
+
+    def drainable(self):
+        """The vertices a drained condition may hold: the mesh's boundary vertices and
+        those of free-draining elements (the saturated part's boundary with them)."""
+        mesh = self.basis.mesh
+        boundary = np.unique(mesh.facets[:, mesh.boundary_facets()])
+        if self.wet is None:
+            return boundary
+        return np.union1d(boundary, mesh.t[:3, ~self.wet].ravel())
 
     @property
     def n_p(self):
@@ -79,6 +90,22 @@ def pressure_field(disc):
     cell_volume = area * geometry.weight(centroid)
     storage = _mass(geometry).assemble(basis).tocsr()
     return PressureField(basis, to_points, gradient, cell_volume, storage, geometry)
+
+
+def restricted(field, disc, cells):
+    """``field`` with its Darcy and storage integrals over the elements ``cells`` (a
+    boolean per element) only: ``cell_volume`` zero and no storage elsewhere (a
+    free-draining region's, whose p the caller holds). ``to_points`` is kept: the total
+    stress is the effective one less p on every element."""
+    cells = np.asarray(cells, dtype=bool)
+    if cells.all():
+        return field
+    geometry = field.geometry
+    wet = Basis(disc.mesh, ElementTriP1(), intorder=geometry.intorder(2),
+                elements=np.flatnonzero(cells))
+    return PressureField(field.basis, field.to_points, field.gradient,
+                         np.where(cells, field.cell_volume, 0.0),
+                         _mass(geometry).assemble(wet).tocsr(), geometry, cells)
 
 
 def _element_gradients(p, t, n_p):

@@ -202,7 +202,7 @@ def pfem_step(state, scene):
         if geometry.axisymmetric:                    # u_r = 0 on the axis r = 0
             fixed = np.union1d(fixed, axis_dofs(disc))
         material = step_material(scene, disc, regions)
-        pore = pore_pressure_term(scene, disc, pm, state, contacts)    # None without water
+        pore = pore_pressure_term(scene, disc, pm, state, contacts, regions)   # None: dry
         if softens:                                  # the strength at the carried gamma^p
             softening_material, material = material, softening.step_material(
                 material, gamma_n, disc)

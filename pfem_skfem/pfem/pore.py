@@ -8,23 +8,27 @@ remeshing carries p with the particles as it carries their velocities at the ver
 without a projection (a node a remesher adds takes the old field's value:
 :func:`~pfem_skfem.pfem.transfer.adopt_added_nodes`; a node added at the middle of a
 stretched edge the mean of its ends, exact for P1). The drained faces are found on each
-mesh anew: its boundary vertices in a face's zone, or those that touch no rigid body.
+mesh anew: its boundary vertices in a face's zone, or those that touch no rigid body; and
+the vertices of a free-draining region's elements (a region outside ``Water.regions``)
+are held at its free drainage, which drains the saturated ones beside it.
 """
 from dataclasses import replace
 
 import numpy as np
 
-from ..discretisation.pressure import pressure_field
+from ..discretisation.pressure import pressure_field, restricted
 from ..problems.consolidation import Hydraulic
 from ..problems.pore_term import PorePressureTerm
 
 
-def drained_vertices(water, disc, contacts, h):
+def drained_vertices(water, disc, contacts, h, dry=None):
     """(vertices, p_bar) held by the drained faces of ``water`` on the mesh of ``disc``: its
     boundary vertices in each face's zone (within 1e-6 h of it), or, for a face without a
     zone, those that touch no rigid body (no potential contact of ``contacts`` with a gap
     below 1e-3 h: the search distance reaches further); p_bar the hydrostatic pressure plus
-    the face's excess (a vertex in two faces: the last face's)."""
+    the face's excess (a vertex in two faces: the last face's). Every vertex of a ``dry``
+    element (a boolean per element: a free-draining region's) is held too, at
+    ``water.free_draining`` (over a face's value: the region drains it)."""
     mesh = disc.mesh
     boundary = np.unique(mesh.facets[:, mesh.boundary_facets()])
     held = {}
@@ -38,23 +42,29 @@ def drained_vertices(water, disc, contacts, h):
             vertices = boundary[face.zone.contains(mesh.p[:, boundary].T, tol=1e-6 * h)]
         p_bar = water.hydrostatic(mesh.p[:, vertices].T) + face.p
         held.update(zip(vertices.tolist(), p_bar.tolist()))
+    if dry is not None and dry.any():
+        vertices = np.unique(mesh.t[:3, dry])
+        held.update(zip(vertices.tolist(),
+                        water.free_draining(mesh.p[:, vertices].T).tolist()))
     vertices = np.array(sorted(held), dtype=int)
     return vertices, np.array([held[v] for v in vertices.tolist()], dtype=float)
 
 
-def pore_pressure_term(scene, disc, pm, state, contacts):
+def pore_pressure_term(scene, disc, pm, state, contacts, regions):
     """The step's :class:`~pfem_skfem.problems.pore_term.PorePressureTerm` (None for a scene
-    without water): the P1 field on the step's mesh, p_n the particles' values, the drained
-    faces of this mesh."""
+    without water): the P1 field on the step's mesh (Darcy and storage on the elements of
+    saturated regions, ``regions`` the region of each element), p_n the particles' values,
+    the drained faces of this mesh and the vertices of free-draining elements."""
     water = scene.water
     if water is None:
         return None
     if state.pore_pressure is None:
         raise ValueError("the scene is saturated (scene.water) and the state carries no pore "
                          "pressure: start from scene.initial_state()")
-    pressure = pressure_field(disc)                 # dof i is vertex i
+    wet = water.saturated(scene.regions)[regions]
+    pressure = restricted(pressure_field(disc), disc, wet)     # dof i is vertex i
     h = float(np.median(state.h))
-    drained = drained_vertices(water, disc, contacts, h)
+    drained = drained_vertices(water, disc, contacts, h, ~wet)
     return PorePressureTerm(water.soil(), pressure, state.pore_pressure[pm.particle],
                             Hydraulic(drained))
 

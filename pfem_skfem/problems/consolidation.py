@@ -231,12 +231,10 @@ def check_hydraulic(hydraulic, pressure):
         raise ValueError("drained: one finite pressure per drained dof")
     if np.unique(dofs).size != dofs.size:
         raise ValueError("drained dofs must not repeat")
-    mesh = pressure.basis.mesh
-    boundary = np.unique(mesh.facets[:, mesh.boundary_facets()])
     if dofs.size and (dofs.min() < 0 or dofs.max() >= pressure.n_p
-                      or not np.all(np.isin(dofs, boundary))):
+                      or not np.all(np.isin(dofs, pressure.drainable()))):
         raise ValueError("drained dofs must be vertices on the boundary (a drained face is "
-                         "a boundary face)")
+                         "a boundary face) or of a free-draining region")
     inflow = hydraulic.inflow
     if inflow is not None and (np.shape(inflow) != (pressure.n_p,)
                                or not np.all(np.isfinite(inflow))):

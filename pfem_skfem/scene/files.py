@@ -36,7 +36,8 @@ out takes the constructor's default (TOML has no null: a ``None`` is an omitted 
     dt = 0.003
 
 A saturated scene (:mod:`pfem_skfem.scene.water`) has a ``[water]`` table (``k``,
-``gamma_w``, ``M``, ``alpha``, ``table``) and its drained faces as ``[[water.drained]]``
+``gamma_w``, ``M``, ``alpha``, ``table``, ``regions``: the saturated regions' names, the
+others free-draining) and its drained faces as ``[[water.drained]]``
 (``p``, and a ``[water.drained.zone]``; without a zone, the free surface);
 surface loads (:mod:`pfem_skfem.scene.loads`) are ``[[loads]]`` (``name``, ``traction`` or
 ``pressure``, and a ``[loads.zone]``; constant in time: a ramp is Python only);
@@ -168,6 +169,7 @@ STRING = _Scalar("a string", lambda v: isinstance(v, str), str,
                  lambda v: json.dumps(v, ensure_ascii=False))   # JSON's escapes are TOML's
 POINT = _List(NUMBER, "a point [x, y]", exact=2)
 NUMBERS = _List(NUMBER, "a list of numbers", least=1)
+STRINGS = _List(STRING, "a list of strings", least=1)
 POINTS = _List(POINT, "a list of points [[x, y], ...]", least=1)
 POLYGONS = _List(POINTS, "a list of polygons [[[x, y], ...], ...]")
 
@@ -385,7 +387,7 @@ ZONE = OneOf(Spec(HalfPlane, {"point": POINT, "normal": POINT}),
 OUTLET = Spec(Outlet, {"name": STRING, "zone": ZONE})
 DRAINED = Spec(Drained, {"zone": ZONE, "p": NUMBER})
 WATER = Spec(Water, {"k": NUMBER, "gamma_w": NUMBER, "M": NUMBER, "alpha": NUMBER,
-                     "table": NUMBER, "drained": Tables(DRAINED)})
+                     "table": NUMBER, "drained": Tables(DRAINED), "regions": STRINGS})
 LOAD = Spec(SurfaceLoad, {"name": STRING, "zone": ZONE, "traction": POINT, "pressure": NUMBER,
                           "ramp": _NoForm("ramp is a Python function of time, which a TOML "
                                           "file cannot hold: give a constant traction or "

@@ -196,6 +196,11 @@ class Scene:
             if not isinstance(self.water, Water):
                 raise ValueError(f"water must be None or a Water, got {self.water!r}")
             self.water.check(self.gravity, self.config.theta.theta1)
+            names = [r.name for r in regions]
+            for name in self.water.regions or ():
+                if name not in names:
+                    raise ValueError(f"water.regions: no region is named {name!r} (the "
+                                     f"regions: {', '.join(map(repr, names))})")
             for r in regions:             # the water fills a soil's pores, not a fluid
                 if getattr(r.material, "needs_container", False):
                     raise ValueError(f"water: every region of a saturated scene is a soil "
@@ -448,7 +453,7 @@ class Scene:
                 top = max(p[1] for p in r.polygon) if r.stress.top is None else r.stress.top
                 nu = 0.0 if self.elastic is None else self.elastic.nu
                 pore = (None if self.water is None       # effective, under the table
-                        else self.water.hydrostatic(x[mine]))
+                        else self._initial_pore(k, x[mine]))
                 sigma[mine] = geostatic_stress(x[mine], top, r.rho, self.g, k0, nu, pore)
                 if axisymmetric:
                     sigma[mine, 2] = sigma[mine, 0]
@@ -457,8 +462,17 @@ class Scene:
         h_arg = h[0] if np.all(h == h[0]) else h
         state = initial_state(x, h_arg, sigma_m, stress, region=region, mass=mass)
         if self.water is not None:                   # at rest: the hydrostatic pressure
-            state.pore_pressure = self.water.hydrostatic(x)
+            state.pore_pressure = np.zeros(len(x))
+            for k in range(len(self.regions)):
+                state.pore_pressure[region == k] = self._initial_pore(k, x[region == k])
         return state
+
+    def _initial_pore(self, k, x):
+        """The pore pressure at rest of region ``k``'s points x: hydrostatic where it is
+        saturated, free-draining where it is not (:class:`~pfem_skfem.scene.water.Water`)."""
+        if self.water.saturated(self.regions)[k]:
+            return self.water.hydrostatic(x)
+        return self.water.free_draining(x)
 
     # -- per step -------------------------------------------------------------------------
     def phase_at(self, t):
@@ -491,7 +505,7 @@ _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): N
                  ("PFEMConfig", "spread_mass"): False,
                  ("PFEMConfig", "refine_interior"): 0.0,
                  ("AlphaMesh", "keep_surface"): False,
-                 ("PFEMConfig", "keep_area_step"): 0.0}
+                 ("PFEMConfig", "keep_area_step"): 0.0, ("Water", "regions"): None}
 
 
 #: fields whose one value replaced several earlier ones: the identity is written in the

@@ -1,7 +1,8 @@
 """The water of a saturated scene: the pore pressure of the PFEM (issue 54, item 5).
 
-A scene with ``water=Water(...)`` is saturated: every region is the skeleton of a
-saturated soil (its PFEM material the cone of the effective stress), and each step adds the
+A scene with ``water=Water(...)`` is saturated: every region (or those named in
+``Water.regions``; the others free-draining) is the skeleton of a saturated soil (its PFEM
+material the cone of the effective stress), and each step adds the
 pore pressure to (4.23) as
 :class:`~pfem_skfem.problems.pore_term.PorePressureTerm` (Darcy's dissipation, the storage
 1/M, Biot's alpha p in equilibrium of the total stress, p = p_bar on the drained faces).
@@ -58,6 +59,11 @@ class Water:
     table : the height y_w of the water table (gravity along -y), or None: p is the excess
         pore pressure and the water has no weight.
     drained : :class:`Drained` faces (none: every face impermeable, an undrained body).
+    regions : the names of the saturated regions, or None: every region. The others are
+        free-draining (a dry fill, a gravel layer): no Darcy term and no storage, their p
+        held at :meth:`free_draining` (the hydrostatic pressure below the table, zero above
+        it: dry, no suction), so that a saturated region drains into them through every
+        vertex they share; the effective stress is the total less that p there too.
     """
 
     k: float
@@ -66,6 +72,7 @@ class Water:
     alpha: float = 1.0
     table: float = None
     drained: tuple = ()
+    regions: tuple = None
 
     def __post_init__(self):
         SaturatedSoil(None, self.k, self.gamma_w, self.M, self.alpha)   # refused by name
@@ -77,6 +84,13 @@ class Water:
             if not isinstance(face, Drained):
                 raise ValueError(f"Water: drained must hold Drained faces, got {face!r}")
         object.__setattr__(self, "drained", drained)
+        if self.regions is not None:
+            names = (self.regions,) if isinstance(self.regions, str) else tuple(self.regions)
+            if not names or not all(isinstance(n, str) for n in names):
+                raise ValueError(f"Water: regions must name the saturated regions (a tuple of "
+                                 f"region names) or be None (every region), got "
+                                 f"{self.regions!r}")
+            object.__setattr__(self, "regions", names)
 
     def check(self, gravity, theta1):
         """Refuse a table without gravity along -y and a step that is not backward Euler."""
@@ -93,6 +107,15 @@ class Water:
         (its skeleton the step's cone, not held here)."""
         weight = (0.0, -self.gamma_w) if self.table is not None else (0.0, 0.0)
         return SaturatedSoil(None, self.k, self.gamma_w, self.M, self.alpha, weight)
+
+    def saturated(self, regions):
+        """Whether each of the scene's ``regions`` (Region objects, in order) is saturated."""
+        return np.array([self.regions is None or r.name in self.regions for r in regions])
+
+    def free_draining(self, x):
+        """The pore pressure of a free-draining region at the points x (n, 2): the
+        hydrostatic pressure where it is positive (below the table), zero above (dry)."""
+        return np.maximum(self.hydrostatic(x), 0.0)
 
     def hydrostatic(self, x):
         """p_h = gamma_w (y_w - y) at the points x (n, 2); zero without a table."""
