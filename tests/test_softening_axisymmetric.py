@@ -8,10 +8,11 @@ from pytest import approx
 from skfem import MeshTri
 
 from pfem_skfem.discretisation.static import discretise
-from pfem_skfem.drivers.pfem_loop import pfem_step
+from pfem_skfem.drivers.pfem_loop import pfem_step, run
 from pfem_skfem.materials import (Elastic, LinearSoftening, SofteningMohrCoulomb,
                                   SofteningMohrCoulombAxisymmetric, SofteningTresca,
-                                  SofteningTrescaAxisymmetric)
+                                  SofteningTrescaAxisymmetric,
+                                  ZeroDilationMohrCoulombAxisymmetric)
 from pfem_skfem.materials.softening import point_sizes, shear_invariant
 from pfem_skfem.materials.softening_axisymmetric import (axisymmetric_point_sizes,
                                                          axisymmetric_shear_invariant)
@@ -155,3 +156,24 @@ def test_an_axisymmetric_softening_column_flows_on_its_softened_cone():
         state = new
     assert kept >= 3 and softened > 0
     assert material.strength(state.gamma_p, np.ones(state.gamma_p.shape)).min() < C_P
+
+
+@pytest.mark.parametrize("plastic, softening", [
+    (ZeroDilationMohrCoulombAxisymmetric(c=1.0, phi=30.0, k_min=0.005, elastic=Elastic(1e4, 0.3)),
+     SofteningMohrCoulombAxisymmetric(LinearSoftening(1.0, 0.2, 1e300), Elastic(1e4, 0.3),
+                                      phi=30.0, k_min=0.005)),
+    (ZeroDilationMohrCoulombAxisymmetric(c=C_P, phi=0.0, k_min=0.005, elastic=ELASTIC),
+     SofteningTrescaAxisymmetric(LinearSoftening(C_P, C_R, 1e300), ELASTIC))])
+def test_softening_without_end_is_the_perfectly_plastic_axisymmetric_run_bit_for_bit(
+        plastic, softening):
+    """gamma_r = 1e300: c(gamma^p) = c_p in floating point, and six steps of a collapsing
+    column of revolution are those of the axisymmetric zero-dilation material of the same
+    cohesion bit for bit (the three pairs' radii at the lagged I1/3; Tresca: phi = 0)."""
+    runs = [run(*granular_column_axisymmetric(1.0, 6, phi=30.0, soil=soil,
+                                              dt=0.05 * np.sqrt(1.0 / G)), 6)[0]
+            for soil in (plastic, softening)]
+    x0 = granular_column_axisymmetric(1.0, 6, phi=30.0)[0].x
+    assert np.abs(runs[0].x[:len(x0)] - x0).max() > 0.01                # it collapsed
+    np.testing.assert_array_equal(runs[1].x, runs[0].x)
+    np.testing.assert_array_equal(runs[1].sigma, runs[0].sigma)
+    assert runs[1].gamma_p.max() > 0.01                                 # it flowed plastically

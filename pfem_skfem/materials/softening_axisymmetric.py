@@ -16,14 +16,16 @@ is the Tresca dissipation per unit strength. With the principal increments m +- 
 (r, z) plane (m = (de_rr + de_zz) / 2, 2R = sqrt((de_rr - de_zz)^2 + dg_rz^2)) and de_tt,
 
 .. math::
-    D(\\Delta\\varepsilon^p) = \\sup_{|s_i - s_j| \\le 2c} \\textstyle\\sum_i s_i\\,\\Delta\\varepsilon_i
+    D(\\Delta\\varepsilon^p) = \\sup_{|s_i - s_j| \\le 2c}
+        \\textstyle\\sum_i s_i\\,\\Delta\\varepsilon_i
     = c \\sum_i |\\Delta\\varepsilon_i| \\quad (\\textstyle\\sum_i \\Delta\\varepsilon_i = 0)
 
 and for an isochoric increment (de_tt = -2m: Tresca's flow, and zero dilation's)
 sum |de_i| = 2 max(|m|, R) + 2 |m|, that is
 
 .. math::
-    \\Delta\\gamma^p = \\max\\bigl(\\Delta\\gamma_{rz},\\, |\\Delta\\varepsilon^p_{\\theta\\theta}|\\bigr)
+    \\Delta\\gamma^p = \\max\\bigl(\\Delta\\gamma_{rz},\\,
+                      |\\Delta\\varepsilon^p_{\\theta\\theta}|\\bigr)
                       + |\\Delta\\varepsilon^p_{\\theta\\theta}|, \\qquad
     \\Delta\\gamma_{rz} = \\sqrt{(\\Delta\\varepsilon^p_{rr} - \\Delta\\varepsilon^p_{zz})^2
                                + (\\Delta\\gamma^p_{rz})^2}
@@ -90,7 +92,8 @@ class _Axisymmetric:
         return mean_stress(sigma)
 
     def shear_strain(self, deps):
-        """Delta gamma^p of plastic strain increments (n, 4): :func:`axisymmetric_shear_invariant`."""
+        """Delta gamma^p of plastic strain increments (n, 4):
+        :func:`axisymmetric_shear_invariant`."""
         return axisymmetric_shear_invariant(deps)
 
     def sizes(self, weights, points):
