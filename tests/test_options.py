@@ -81,6 +81,8 @@ CHECKS = {
                         (["--rows", "10"], "--rows"), (["--ell", "0.005"], "--ell"),
                         (["--gamma-95", "0.001"], "--gamma-95"),
                         (["--viscous-G", "10"], "--viscous-G")],
+    "softening_cylinder": [(["--c-r", "30"], "--c-r"), (["--H", "-2000"], "--H"),
+                           (["--gamma-95", "0.001"], "--gamma-95")],
     "thick_cylinder": [(["--a", "2", "--b", "1"], "--a"), (["--phi", "45"], "--phi")],
     "trussed_frame": [(["--width", "7"], "--width")],
 }

@@ -10,7 +10,9 @@ from pfem_skfem.drivers import pfem_loop
 from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.pfem.state import load_checkpoint
 from pfem_skfem.materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
-                                  NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
+                                  NonlocalAverage, SofteningMohrCoulomb,
+                                  SofteningMohrCoulombAxisymmetric, SofteningTresca,
+                                  SofteningTrescaAxisymmetric)
 from pfem_skfem.materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                                   MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                                   ZeroDilationMohrCoulombAxisymmetric, BinghamFluid,
@@ -103,6 +105,14 @@ def make_scene(name):
                 SofteningMohrCoulomb(law, Elastic(1e4, 0.3), NonlocalAverage(0.3), phi=20.0,
                                      k_min=0.01))
         return replace(rich, regions=(replace(rich.regions[0], material=soil),))
+    if name in ("softening_axisymmetric", "softening_mc_axisymmetric"):
+        law = LinearSoftening(30.0, 10.0, 0.2)
+        soil = (SofteningTrescaAxisymmetric(law, Elastic(1e4, 0.45), FractureEnergy(0.1))
+                if name == "softening_axisymmetric" else
+                SofteningMohrCoulombAxisymmetric(law, Elastic(1e4, 0.3), NonlocalAverage(0.3),
+                                                 phi=20.0, k_min=0.01))
+        return replace(rich, regions=(replace(rich.regions[0], material=soil),),
+                       geometry="axisymmetric")
     if name == "mu_i":
         soil = MuIRheology(mu_2=0.7, d=1e-3, lag="friction", elastic=Elastic(1e4, 0.3))
         return replace(rich, regions=tuple(replace(r, material=soil) for r in rich.regions))
@@ -137,7 +147,8 @@ def make_scene(name):
 
 
 ROUND_TRIP = ("rich", "davis", "axisymmetric", "mu_i", "mu_i_axisymmetric", "fluids",
-              "fluids_axisymmetric", "saturated", "softening", "softening_mc", "loaded", "example")
+              "fluids_axisymmetric", "saturated", "softening", "softening_mc",
+              "softening_axisymmetric", "softening_mc_axisymmetric", "loaded", "example")
 
 
 @pytest.mark.parametrize("name", ROUND_TRIP)
@@ -154,7 +165,8 @@ def test_the_round_trip_writes_every_type_of_the_schema():
     text = "".join(scene_to_toml(make_scene(name)) for name in ROUND_TRIP)
     names = [n for spec in _specs(files.SCHEMA) for kind in spec.keys.values()
              for n in getattr(kind, "specs", {})]
-    assert len(names) == 40       # HalfPlane, PolygonZone thrice: outlets, drained, loads
+    assert len(names) == 50       # HalfPlane, PolygonZone thrice: outlets, drained, loads;
+    #                               the laws and regularisations once per softening material
     for name in names:
         assert f'type = "{name}"' in text, name
 

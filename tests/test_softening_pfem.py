@@ -216,14 +216,14 @@ def test_the_softening_time_step_refuses_bad_data(bad, words):
 
 
 def test_softening_is_refused_where_it_cannot_run():
-    """Before any work: beside another region's material, in axisymmetry, and a state whose
-    gamma^p does not match its stresses."""
+    """Before any work: beside another region's material, in axisymmetry (naming the
+    axisymmetric material), and a state whose gamma^p does not match its stresses."""
     clay = Region(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)), softening(), 2.0, 0.25)
     other = Region(((1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0)),
                    CohesiveTresca(C_P, ELASTIC), 2.0, 0.25, name="other")
     with pytest.raises(ValueError, match="softening material"):
         Scene(regions=(clay, other))
-    with pytest.raises(ValueError, match="axisymmetric softening is not built"):
+    with pytest.raises(ValueError, match="use SofteningTrescaAxisymmetric"):
         Scene(regions=(clay,), geometry="axisymmetric")
     state, scene = column(softening())
     state, _ = run(state, scene, 1)

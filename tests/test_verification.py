@@ -310,6 +310,19 @@ CASES = [
       # the viscous layer (eta = 2 kPa s, V / L = 1 / s): steady tau = c + eta V / L
       "viscous_residual_tau": approx(5.0 + 2.0, rel=1e-6),
       "viscous_peak_tau": approx(20.0 + 2.0, rel=1e-6)}, None),
+    # a softening axisymmetric Tresca cylinder (E = 5000 kPa, c_p = 20, c_r = 5, H = -500 kPa)
+    # in uniaxial compression: q = E eps, the peak 2 c_p, post-peak eps = q / E + gamma^p(q / 2) / 2
+    # (Delta gamma^p = 2 x the axial plastic strain), q = 2 c_r after gamma_r = 0.03
+    ("softening_cylinder", [],
+     {"tied_elastic_slope": approx(5000.0, rel=1e-6),
+      "free_elastic_slope": approx(5000.0, rel=1e-6),
+      "tied_peak_q": approx(40.0, rel=1e-6), "free_peak_q": approx(40.0, rel=1e-6),
+      "residual_q": approx(10.0, rel=1e-6),
+      "linear_curve_error": Between(0, 0.01), "exponential_curve_error": Between(0, 0.01),
+      "fixed_point_curve_error": Between(0, 1e-5), "cap_order": Between(0.5, np.inf),
+      # at the end eps = 1.2 eps_r, eps_r = 2 c_r / E + gamma_r / 2 = 0.017: gamma^p = gamma_r
+      # + 2 (0.2 eps_r) = 0.0368, D / V = (c_p + c_r) gamma_r / 2 + c_r (gamma^p - gamma_r)
+      "gamma_p_end": approx(0.0368, rel=0.01), "dissipation": approx(0.409, rel=0.01)}, None),
     # a softening Tresca specimen (E = 5200 kPa, nu = 0.3, H = 2 m) between smooth platens:
     # elastic q / delta = E / ((1 - nu^2) H); the band at Coulomb's 45 deg + phi / 2 = 45 deg
     # from the horizontal (issue 55: within 3 deg), q never above 2 c_p = 40 kPa

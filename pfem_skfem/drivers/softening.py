@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..materials.softening import (NonlocalAverage, plastic_strain_increment,
-                                   point_sizes, shear_invariant)  # noqa: F401 (point_sizes)
+                                   point_sizes)  # noqa: F401 (point_sizes)
 from ..problems.static import static_increment
 
 #: re-solves at half the displacement before an increment is taken over the cap (counted)
@@ -83,7 +83,8 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     Parameters
     ----------
     B, C : the operators (3.41), (3.43) (C of ``material.elastic``).
-    material : :class:`~pfem_skfem.materials.softening.SofteningTresca` (or Mohr-Coulomb).
+    material : :class:`~pfem_skfem.materials.softening.SofteningTresca` (or Mohr-Coulomb, or
+        their axisymmetric counterparts: B, C of an axisymmetric discretisation).
     fixed : dofs with zero displacement.  size, weights : (n_points,) element size and
         integration weight of each stress point.
     gamma0 : (n_points,) initial plastic shear strain (a seed of weakness), default zero.
@@ -120,18 +121,18 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     rate = material.law.steepest_rate / material.scale(size)     # abs(dc/dgamma^p) at its largest
     factors, reactions, dissipation = [0.0], [np.zeros(n_u)], [0.0]
     done, trial, solves, uncapped, halvings = 0.0, 1.0, 0, 0, 0
-    sigma_m = lambda s: 0.5 * (s[:, 0] + s[:, 1])          # noqa: E731 (the lagged mean)
     tolerance = PASS_TOLERANCE * span / material.law.steepest_rate     # of gamma_r (gamma_95 / 3)
     while done < n_increments * (1 - 1e-12):
         part = min(trial, n_increments - done)
         gamma_new = gamma                   # the first pass: the strength of the start
         for _ in range(int(control.passes)):
-            criterion = material.criterion(gamma_new, size, sigma_m(sigma), material.law.c_p)
+            criterion = material.criterion(gamma_new, size, material.mean_stress(sigma),
+                                            material.law.c_p)
             res = static_increment(B, C, f, sigma, criterion, fixed=fixed,
                                    prescribed=(dofs, part * step), **solver_settings)
             solves += 1
             deps = plastic_strain_increment(B, res.du, C, res.sigma, sigma, weights)
-            dgamma = shear_invariant(deps)
+            dgamma = material.shear_strain(deps)
             trial_end, gamma_new = gamma_new, gamma + (dgamma if average is None
                                                        else average @ dgamma)
             if np.max(np.abs(gamma_new - trial_end)) <= tolerance:

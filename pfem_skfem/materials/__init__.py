@@ -8,7 +8,8 @@
   of different materials);
 * :mod:`~pfem_skfem.materials.rate`: mu(I) and the rate terms of the dynamic step;
 * :mod:`~pfem_skfem.materials.fluids`: water and mud (Newtonian and Bingham fluids);
-* :mod:`~pfem_skfem.materials.softening`: strain softening (Tresca, Mohr-Coulomb).
+* :mod:`~pfem_skfem.materials.softening`: strain softening (Tresca, Mohr-Coulomb);
+  :mod:`~pfem_skfem.materials.softening_axisymmetric`: the same in axisymmetry.
 
 Stresses are tension positive and ordered (sx, sy, sz, sxy) as in (3.23).
 """
@@ -25,6 +26,8 @@ from .pfem import (CohesiveTresca, DavisMohrCoulomb, PFEMMaterial, RegionCones,
 from .rate import MuIRheology, MuIRheologyAxisymmetric, RateDissipation, ViscousStress
 from .softening import (ExponentialSoftening, FractureEnergy, LinearSoftening,
                         NonlocalAverage, SofteningMohrCoulomb, SofteningStep, SofteningTresca)
+from .softening_axisymmetric import (SofteningMohrCoulombAxisymmetric,
+                                     SofteningTrescaAxisymmetric)
 from .fluids import (BinghamFluid, BinghamFluidAxisymmetric, NewtonianFluid,
                      NewtonianFluidAxisymmetric)
 
@@ -39,4 +42,5 @@ __all__ = ["Elastic", "check_cohesion",
            "MuIRheology", "MuIRheologyAxisymmetric", "ViscousStress", "RateDissipation",
            "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
            "BinghamFluidAxisymmetric", "LinearSoftening", "ExponentialSoftening",
-           "FractureEnergy", "NonlocalAverage", "SofteningTresca", "SofteningMohrCoulomb", "SofteningStep"]
+           "FractureEnergy", "NonlocalAverage", "SofteningTresca", "SofteningMohrCoulomb", "SofteningStep",
+           "SofteningTrescaAxisymmetric", "SofteningMohrCoulombAxisymmetric"]

@@ -24,6 +24,10 @@ at each stress point (:func:`plastic_strain_increment`, :func:`shear_invariant`)
                               + (2\\Delta\\varepsilon^p_{xy})^2},\\qquad
     c_{n+1} = c(\\gamma^p_n + \\Delta\\gamma^p)
 
+In axisymmetry (:mod:`pfem_skfem.materials.softening_axisymmetric`) the cone is the three
+Tresca pairs of the principal stresses (the hoop stress principal) and Delta gamma^p the
+invariant of the hoop strain too (its Tresca dissipation per unit strength).
+
 The update lags by one step; a cap on the strength drop of a step (the step is re-solved
 with a smaller increment above it: :func:`pfem_skfem.drivers.softening.softening_control`)
 makes the lag as small as wanted.
@@ -274,7 +278,7 @@ class SofteningTresca(PFEMMaterial):
     name = "Tresca, strain softening"
     softening = True
     geometries = ("plane",)
-    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+    counterpart = "SofteningTrescaAxisymmetric"
 
     @property
     def c(self):
@@ -300,6 +304,15 @@ class SofteningTresca(PFEMMaterial):
         if self.eta == 0:
             return None
         return ViscousStress(np.full(len(weights), float(self.eta)), weights)
+
+    def shear_strain(self, deps):
+        """Delta gamma^p of plastic strain increments (n, 4): :func:`shear_invariant`."""
+        return shear_invariant(deps)
+
+    def sizes(self, weights, points):
+        """Element size at each stress point of weights ``weights`` (at ``points``):
+        :func:`point_sizes`."""
+        return point_sizes(weights)
 
     def scale(self, size):
         """The law's strain-scale factor at element sizes ``size``: ell / h (a fracture
@@ -349,6 +362,7 @@ class SofteningMohrCoulomb(SofteningTresca):
 
     name = "Mohr-Coulomb, zero dilation, cohesion softening"
     lagged = True           # the cone depends on the mean stress: fixed-point passes help
+    counterpart = "SofteningMohrCoulombAxisymmetric"
 
     def __post_init__(self):
         super().__post_init__()
@@ -371,13 +385,13 @@ class SofteningStep(PFEMMaterial):
 
     Parameters
     ----------
-    material : :class:`SofteningTresca` or :class:`SofteningMohrCoulomb`.
+    material : :class:`SofteningTresca` or :class:`SofteningMohrCoulomb` (or their
+        axisymmetric counterparts, :mod:`~pfem_skfem.materials.softening_axisymmetric`).
     gamma_p, size : (n_points,) plastic shear strain and element size at each point.
     """
 
     name = "softening material at the step's gamma^p"
-    geometries = ("plane",)
-    counterpart = "none yet: axisymmetric softening is not built (issue 55)"
+    geometries = ("plane", "axisymmetric")      # its material's (the Scene checks that one)
 
     def __init__(self, material, gamma_p, size):
         if not isinstance(material, SofteningTresca):
@@ -405,6 +419,10 @@ class SofteningStep(PFEMMaterial):
     @property
     def phi(self):
         return self.material.phi
+
+    def mean_stress(self, sigma):
+        """The material's lagged quantity of stresses (n, 4)."""
+        return self.material.mean_stress(sigma)
 
     def strength(self):
         """c(gamma^p) at the step's points."""

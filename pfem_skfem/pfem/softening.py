@@ -26,8 +26,7 @@ import numpy as np
 
 from ..discretisation.fields import collapsed
 from ..materials.softening import (NonlocalAverage, nonlocal_average,
-                                   plastic_strain_increment, point_sizes, shear_invariant,
-                                   strength_drop)
+                                   plastic_strain_increment, strength_drop)
 from .mapping import map_stress
 
 
@@ -60,7 +59,7 @@ def step_material(material, gamma_p, disc):
     those of ``disc``), any other as it is."""
     if not material.softening:
         return material
-    return material.at_strain(gamma_p, point_sizes(disc.weights))
+    return material.at_strain(gamma_p, material.sizes(disc.weights, disc.points))
 
 
 def strain_update(material, ops, increment, sigma_n, disc, gamma_n):
@@ -74,9 +73,10 @@ def strain_update(material, ops, increment, sigma_n, disc, gamma_n):
     """
     deps = plastic_strain_increment(ops.B, increment.du, ops.C, increment.sigma, sigma_n,
                                     disc.weights)
-    dgamma = shear_invariant(deps)
+    dgamma = material.shear_strain(deps)
     if isinstance(material.regularisation, NonlocalAverage):
         dgamma = nonlocal_average(disc.points, disc.weights,
                                   material.regularisation.length) @ dgamma
     gamma = gamma_n + dgamma
-    return gamma, strength_drop(material, gamma_n, gamma, point_sizes(disc.weights))
+    return gamma, strength_drop(material, gamma_n, gamma,
+                                material.sizes(disc.weights, disc.points))

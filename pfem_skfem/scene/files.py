@@ -69,7 +69,9 @@ from ..materials import (CohesiveTresca, DavisMohrCoulomb, Elastic, MuIRheology,
                          MuIRheologyAxisymmetric, ZeroDilationDruckerPrager,
                          ZeroDilationMohrCoulomb, ZeroDilationMohrCoulombAxisymmetric)
 from ..materials import (ExponentialSoftening, FractureEnergy, LinearSoftening,
-                         NonlocalAverage, SofteningMohrCoulomb, SofteningTresca)
+                         NonlocalAverage, SofteningMohrCoulomb,
+                         SofteningMohrCoulombAxisymmetric, SofteningTresca,
+                         SofteningTrescaAxisymmetric)
 from ..pfem.remesh import AlphaMesh, QualityRemesh
 from ..pfem.transfer import Interpolation, L2Projection
 from ..problems.contact import CoulombCones, LaggedFriction, RigidCircle, RigidPolyline, \
@@ -350,11 +352,11 @@ MATERIAL = OneOf(
                  "p_min": NUMBER, "k_min": NUMBER, "elastic": ELASTIC, "lag": STRING})
       for cls in (MuIRheology, MuIRheologyAxisymmetric)),
     *(Spec(cls, {"mu": NUMBER}) for cls in (NewtonianFluid, NewtonianFluidAxisymmetric)),
-    Spec(SofteningTresca, {"law": SOFTENING_LAW, "elastic": ELASTIC,
-                           "regularisation": REGULARISATION, "eta": NUMBER}),
-    Spec(SofteningMohrCoulomb, {"law": SOFTENING_LAW, "elastic": ELASTIC,
-                                "regularisation": REGULARISATION, "eta": NUMBER, "phi": NUMBER,
-                                "k_min": NUMBER}),
+    *(Spec(cls, {"law": SOFTENING_LAW, "elastic": ELASTIC, "regularisation": REGULARISATION,
+                 "eta": NUMBER}) for cls in (SofteningTresca, SofteningTrescaAxisymmetric)),
+    *(Spec(cls, {"law": SOFTENING_LAW, "elastic": ELASTIC, "regularisation": REGULARISATION,
+                 "eta": NUMBER, "phi": NUMBER, "k_min": NUMBER})
+      for cls in (SofteningMohrCoulomb, SofteningMohrCoulombAxisymmetric)),
     *(Spec(cls, {"tau_y": NUMBER, "mu": NUMBER})
       for cls in (BinghamFluid, BinghamFluidAxisymmetric)),
     refused={"RegionCones": "RegionCones is the step's combination of the regions' "
