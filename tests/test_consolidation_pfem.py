@@ -218,6 +218,23 @@ def test_a_dry_fill_drains_the_column_as_a_drained_top_under_its_weight(monkeypa
     assert script.errors(sealed, "fill")[1] > 5 * script.BAND
 
 
+def test_a_rigid_plastic_skeleton_takes_a_load_at_once_and_stays_put():
+    """The column rigid-plastic (Tresca, no elasticity) under --loading load's q on the
+    drained top: it cannot change volume, so the water cannot flow (Darcy with p = 0 on top
+    and an impermeable base: p = 0) and the skeleton carries q at once. Its steps of
+    c_v-sized dt (44 s) are scaled by the water Darcy lets out, k dt sigma_s / (gamma_w L),
+    not by g dt^2 = 2e4 m: the column stays put to 1e-12 of its height and p is zero to
+    1e-9 q (with the free-fall floor: 4e-4-2e-3 H a step and p of 60 % of q)."""
+    from pfem_skfem.materials import CohesiveTresca
+    args = script.build_parser().parse_args(["--quick", "--loading", "load"])
+    _, scene = script.TerzaghiColumn.of(args).scene()
+    scene = replace(scene, regions=(replace(scene.regions[0], material=CohesiveTresca(1e3)),))
+    state0 = scene.initial_state()
+    state, _ = run(state0, scene, 3)
+    assert np.abs(state.x - state0.x).max() < 1e-12 * args.H
+    assert np.abs(state.pore_pressure).max() < 1e-9 * args.q
+
+
 def test_water_regions_name_the_saturated_regions_or_are_refused_by_name():
     scene = fill_over_water()
     with pytest.raises(ValueError, match=r"water.regions: no region is named 'sand'"):

@@ -96,17 +96,25 @@ def step_scales(previous, scene, dt):
     minutes to days), and g dt^2 is then millions of times the step's displacement, which
     a solver's tolerance of that unit leaves undetermined. With an elastic skeleton its
     floor is the smaller of g dt^2 and the oedometric settlement of the scene's stress over
-    its length, sigma_s L / E_oed, and its first step is scaled by these (not None).
+    its length, sigma_s L / E_oed, and its first step is scaled by these (not None). A
+    rigid-plastic skeleton has no settlement of its own: what moves it in a step is the
+    water that Darcy lets out, k dt sigma_s / (gamma_w L) over the length (a gradient of
+    the scene's stress over its length); without that floor the column of
+    ``tests/test_consolidation_pfem.py`` under a load moved 4e-4-2e-3 of its height a
+    step (the solver's 1e-8 of g dt^2 = 2e4 m) and its pore pressure was that noise's.
 
     Surface loads (:mod:`pfem_skfem.scene.loads`) count as an acceleration q / (rho L) beside
     g: a body pressed still by a load without gravity would otherwise have no floor at all
     (a zero displacement scale, and Clarabel reports 'unbounded' in its second step)."""
     accel = max(scene.g, load_acceleration(scene))  # g without loads
     floor = accel * dt ** 2
-    if scene.water is not None and scene.elastic is not None:
+    water = scene.water
+    if water is not None and (scene.elastic is not None or water.k > 0):
         elastic = scene.elastic
-        settlement = scene.stress_scale * scene.length / (elastic.lame_lambda
-                                                          + 2 * elastic.shear_modulus)
+        settlement = (scene.stress_scale * scene.length / (elastic.lame_lambda
+                                                           + 2 * elastic.shear_modulus)
+                      if elastic is not None else
+                      water.k * dt * scene.stress_scale / (water.gamma_w * scene.length))
         floor = min(floor, settlement) if floor > 0 else settlement
         if previous is None:
             return DynamicScales(scene.stress_scale, floor,
