@@ -109,6 +109,30 @@ def test_circle_gap_and_normal():
     assert np.allclose(g, [0.2, 0.0]) and np.allclose(n, [[0, 1], [0, 1]])
 
 
+@pytest.mark.parametrize("point, gap, normal", [
+    ((0.5, -0.2), 0.2, (0, -1)),          # under the footing: its normal, as before
+    ((1.0, 0.0), 0.0, (0, -1)),           # its edge: on it
+    ((1.5, 0.0), 0.5, (1, 0)),            # the surface beside it: no contact
+    ((1.3, -0.4), 0.5, (0.6, -0.8)),      # below and beside: the distance to the edge
+    ((-0.6, 0.8), 1.0, (-0.6, 0.8)),      # beyond the other end, on the far side
+])
+def test_a_sharp_ended_segment_ends_at_its_points(point, gap, normal):
+    """A footing (a segment from (1, 0) to (0, 0), the soil below) with ``sharp_ends``:
+    beyond an end the gap is the distance to the end point; without it the footing's line
+    goes on, and the surface beside it lies on it (gap 0), a contact the footing pushes."""
+    footing = RigidSegment((1, 0), (0, 0), sharp_ends=True)
+    g, n = footing.gap([point])
+    assert g[0] == pytest.approx(gap) and np.allclose(n[0], normal)
+    assert footing.translated((0.0, -0.1)).sharp_ends
+    if point == (1.5, 0.0):
+        assert RigidSegment((1, 0), (0, 0)).gap([point])[0][0] == 0.0
+
+
+def test_sharp_ends_must_be_a_bool():
+    with pytest.raises(ValueError, match="sharp_ends"):
+        RigidSegment((0, 0), (1, 0), sharp_ends="yes")
+
+
 def test_block_heavier_than_friction_can_hold_is_reported_infeasible():
     """A horizontal load above mu N has no static equilibrium: the solver says infeasible."""
     disc, contacts, B, C, f = block_on_plane(mu=0.2)

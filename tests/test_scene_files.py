@@ -49,8 +49,8 @@ def rich_scene():
                    stress=Geostatic(k0=0.5, top=1.0), name="block")
     top = tuple((x, 1.5) for x in np.linspace(2, 0, 9))      # a long list: one point a line
     cap = Region(((0, 1), (2, 1)) + top, soil, 2.0, 0.25, name="cap")
-    bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3)),
-              Body("slope", RigidPolyline(((4, 3), (1, 3.5), (-2, 3)), 0.1),
+    bodies = (Body("base", RigidSegment((-5, 0), (5, 0), 0.3, sharp_ends=True)),
+              Body("slope", RigidPolyline(((4, 3), (1, 3.5), (-2, 3)), 0.1, sharp_ends=True),
                    motion=ConstantVelocity((0.5, -0.25)), removed_at=2.0),
               Body("pipe", RigidCircle((1, 2.5), 0.4),
                    motion=PiecewiseLinear((0, 1, 3), ((0, 0), (0, -0.5), (1, -0.5))),
@@ -175,7 +175,7 @@ def test_the_round_trip_writes_every_type_of_the_schema():
 def test_the_schema_has_every_field_of_each_class(spec):
     """A field added to a scene class must be added to its TOML form (else it is lost)."""
     if spec.name == "RigidSegment":                  # written as a RigidPolyline's two points
-        assert set(spec.keys) == {"a", "b", "mu"}
+        assert set(spec.keys) == {"a", "b", "mu", "sharp_ends"}
         return
     assert is_dataclass(spec.cls)
     earlier = set(files._EARLIER_KEYS) if spec.name == "PFEMConfig" else set()

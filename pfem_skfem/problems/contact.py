@@ -43,10 +43,18 @@ class RigidPolyline:
 
     Walking from points[0] to points[-1], the normal n points to the left.
     ``mu`` is the friction coefficient (0: smooth).
+
+    ``sharp_ends``: False (the default, the thesis' walls): a point beyond the first or the
+    last point is measured along the end segment's normal, as if the segment went on (a wall
+    drawn to its ends behaves as a half-plane there). True: the body ends at them (a strip
+    footing's edge): the gap of a point beyond an end is its distance to the end point and
+    its normal the direction from it, so the surface beside a footing is no contact (without
+    it the surface within the search distance of the footing's line is pushed down with it).
     """
 
     points: tuple
     mu: float = 0.0
+    sharp_ends: bool = False
 
     def __post_init__(self):
         pts = np.asarray(self.points, dtype=float)
@@ -55,6 +63,8 @@ class RigidPolyline:
         if np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= 0):
             raise ValueError("a rigid polyline has a zero-length segment")
         _check_mu(self.mu)
+        if not isinstance(self.sharp_ends, (bool, np.bool_)):
+            raise ValueError(f"sharp_ends must be True or False, got {self.sharp_ends!r}")
         object.__setattr__(self, "points", tuple(map(tuple, pts)))
 
     def gap(self, x):
@@ -67,22 +77,34 @@ class RigidPolyline:
         a, b = pts[:-1], pts[1:]
         t = b - a
         length2 = np.sum(t ** 2, axis=1)
-        s = np.clip(np.einsum("mkd,kd->mk", x[:, None, :] - a[None], t) / length2, 0, 1)
+        along = np.einsum("mkd,kd->mk", x[:, None, :] - a[None], t) / length2
+        s = np.clip(along, 0, 1)
         closest = a[None] + s[..., None] * t[None]
         dist = np.linalg.norm(x[:, None, :] - closest, axis=2)
         k = np.argmin(dist, axis=1)
         tk = t[k] / np.sqrt(length2[k])[:, None]
         n = np.stack([-tk[:, 1], tk[:, 0]], axis=1)             # left normal
-        g0 = np.einsum("md,md->m", x - closest[np.arange(len(x)), k], n)
+        rows = np.arange(len(x))
+        d = x - closest[rows, k]
+        g0 = np.einsum("md,md->m", d, n)
+        if self.sharp_ends:                   # beyond an end: the distance to the end point
+            last = len(a) - 1
+            r = np.linalg.norm(d, axis=1)
+            beyond = ((((k == 0) & (along[rows, 0] < 0))
+                       | ((k == last) & (along[rows, last] > 1)))
+                      & (r > 1e-9 * np.sqrt(length2[k])))
+            n[beyond] = d[beyond] / r[beyond, None]
+            g0[beyond] = r[beyond]
         return g0, n
 
     def translated(self, d):
         return replace(self, points=tuple(map(tuple, np.asarray(self.points) + np.asarray(d))))
 
 
-def RigidSegment(a, b, mu=0.0):
-    """A rigid straight segment from a to b; the solid lies on its left."""
-    return RigidPolyline((tuple(a), tuple(b)), mu)
+def RigidSegment(a, b, mu=0.0, sharp_ends=False):
+    """A rigid straight segment from a to b; the solid lies on its left (``sharp_ends``:
+    :class:`RigidPolyline`)."""
+    return RigidPolyline((tuple(a), tuple(b)), mu, sharp_ends)
 
 
 @dataclass(frozen=True)

@@ -369,11 +369,12 @@ REGION = Spec(Region, {"name": STRING, "polygon": POINTS, "holes": POLYGONS, "la
                        "h": NUMBER, "rho": NUMBER, "material": MATERIAL, "stress": STRESS})
 SHAPE = OneOf(
     # a two-point polyline is written as the segment it is
-    Spec(RigidPolyline, {"a": POINT, "b": POINT, "mu": NUMBER}, name="RigidSegment",
-         build=RigidSegment, required=("a", "b"),
-         get=lambda s, k: s.mu if k == "mu" else s.points[0 if k == "a" else 1],
+    Spec(RigidPolyline, {"a": POINT, "b": POINT, "mu": NUMBER, "sharp_ends": BOOLEAN},
+         name="RigidSegment", build=RigidSegment, required=("a", "b"),
+         get=lambda s, k: getattr(s, k) if k in ("mu", "sharp_ends")
+         else s.points[0 if k == "a" else 1],
          matches=lambda s: type(s) is RigidPolyline and len(s.points) == 2),
-    Spec(RigidPolyline, {"points": POINTS, "mu": NUMBER}),
+    Spec(RigidPolyline, {"points": POINTS, "mu": NUMBER, "sharp_ends": BOOLEAN}),
     Spec(RigidCircle, {"center": POINT, "radius": NUMBER, "mu": NUMBER}))
 MOTION = OneOf(
     Spec(Fixed, {}),
