@@ -1,7 +1,8 @@
 """A strip footing pushed into saturated soil at V = v B / c_v (issue 54, item 5): the quick
 backbone passes, a wrong permeability moves the fast end off the undrained limit, the
-undrained steps keep the mean effective stress (the derivation of s_u = c' cos phi'), and
-bad options are refused before any work."""
+undrained steps keep the mean effective stress (the derivation of s_u = c' cos phi'), the
+same push through the PFEM loop (``--engine pfem``) meets the drained and the undrained
+limits, and bad options are refused before any work."""
 import numpy as np
 import pytest
 
@@ -11,6 +12,11 @@ pytestmark = pytest.mark.xdist_group("penetration_rate")
 
 #: Prandtl's (2 + pi) s_u with s_u = c' cos phi', phi' = 15 deg: the undrained q / c'
 UNDRAINED = (2 + np.pi) * np.cos(np.radians(15.0))
+#: Prandtl-Reissner's q / c' of the two soils that bound the drained one (Radenkovic: c' cos
+#: phi', atan(sin phi') below; c', phi' above)
+DRAINED = (script.prandtl_reissner(np.cos(np.radians(15.0)),
+                                   np.degrees(np.arctan(np.sin(np.radians(15.0))))),
+           script.prandtl_reissner(1.0, 15.0))
 
 
 @pytest.fixture(scope="module")
@@ -53,6 +59,31 @@ def test_undrained_steps_keep_the_mean_effective_stress(small):
     assert undrained["q"][-1] == pytest.approx(UNDRAINED, rel=0.08)      # measured +6.7 %
 
 
+def test_the_pfem_push_meets_the_drained_and_the_undrained_limits():
+    """The PFEM loop at a small size (h = B / 8 about the footing, 6 steps, about 275
+    particles, remeshed every step): V = 0.01 inside Prandtl-Reissner's drained bracket
+    [10.31, 10.98] widened by 10 % (measured 10.68), V = 100 within 10 % of (2 + pi) c' cos
+    phi' (measured 5.20, +4.7 %: the coarse element, the drainage at V = 100 and the PFEM's
+    step noise, its q - s curve 5.02 - 5.64 over the last four steps). A footing whose line
+    went on beside it (no sharp ends) pushed the whole surface down: q 500 c'; a reaction of
+    the effective stress alone would miss the undrained q by the pore pressure (5 c')."""
+    args = script.build_parser().parse_args(["--quick", "--engine", "pfem", "--h-pfem",
+                                             "0.125", "--pfem-steps", "6"])
+    drained, undrained = (script.pfem_push(args, V) for V in (0.01, 100.0))
+    assert 0.9 * DRAINED[0] < drained["q"][-1] < 1.1 * DRAINED[1]
+    assert undrained["q"][-1] == pytest.approx(UNDRAINED, rel=0.1)
+    assert undrained["p_max"] > 3 * args.c > 6 * drained["p_max"]    # the water carries it
+    assert drained["s"][-1] == pytest.approx(args.s_end)
+
+
+def test_the_static_engine_s_params_leave_the_pfem_options_out():
+    """The default engine's JSON is the one before ``--engine`` (its params unchanged)."""
+    static, pfem = (script.build_parser().parse_args(["--quick", "--engine", engine])
+                    for engine in ("static", "pfem"))
+    assert not set(script.PFEM_OPTIONS) & set(script.report_params(static))
+    assert set(script.PFEM_OPTIONS) <= set(script.report_params(pfem))
+
+
 def test_the_mid_transition_is_interpolated_in_log_V():
     V, q = [0.01, 1.0, 100.0], [10.0, 8.0, 5.0]
     assert script.mid_transition(V, q, 9.0) == pytest.approx(0.1)
@@ -64,6 +95,10 @@ def test_the_mid_transition_is_interpolated_in_log_V():
     (["--V", "1"], "two values or more"),
     (["--h-min", "0.6", "--h-max", "0.5"], "must not exceed --h-max"),
     (["--W", "0.4"], "the footing"),
+    (["--engine", "pfem", "--h-pfem", "0.07"], "--h-pfem 0.07"),
+    (["--engine", "pfem", "--h-far", "0.3"], "--h-far 0.3"),
+    (["--engine", "pfem", "--W", "1"], "fine region"),
+    (["--engine", "pfem", "--pfem-steps", "5"], "even"),
 ])
 def test_bad_options_are_refused_before_any_work(argv, words, capsys):
     with pytest.raises(SystemExit) as exit_:

@@ -60,9 +60,32 @@ No contractancy: the plastic flow generates no excess pore pressure (only the el
 response to the rising mean total stress does), so the transition is a transient one,
 governed by the time factor s_end / V at the reading; V_50 scales with ``--s-end``.
 
+``--engine pfem``: the same push through the PFEM loop (:mod:`pfem_skfem.drivers.pfem_loop`),
+a saturated scene (``Scene(water=Water(...))``) remeshed every step, the geometry updated: the
+particles (spacing --h-pfem B within 1.25 B by 0.75 B of the footing's centre, --h-far B
+elsewhere) carry the pore pressure; the footing is a smooth rigid segment with sharp ends
+(:class:`~pfem_skfem.problems.contact.RigidPolyline`: without them the surface beside it is a
+contact pushed down with it) moving down at v; the free surface (the boundary that touches no
+body: beside the footing) is drained; smooth walls at x = 0 and W, a rough base (friction 1).
+The skeleton is the PFEM's :class:`~pfem_skfem.materials.ZeroDilationMohrCoulomb` of the same
+c', phi', E', nu' and floor, lagged on the particles' smoothed mean stress; no gravity, density
+1e-3 t/m^3 (the inertia below 1e-4 of the footing's force). q = 2 F_y / B, F_y the soil's force
+on the footing in the step's record. The static engine runs beside it at the same V. Checks on
+the PFEM's q, tolerances set after one trial at the quick size (its q - s curve at V = 100 moved
+by up to 4 % from one step to the next: the remeshing and the lag) and before the runs reported:
+
+* monotone to that noise: q may rise from one V to the next by --noise (5 %) of q;
+* the extremes in the brackets widened by --pfem-tolerance (10 %): the static engine's 5 % (the
+  element, the drainage at the extremes) and the PFEM's noise;
+* V_50 in 0.1 - 30, as above;
+* q within --agree (10 %) of the static engine's at each V, at s_end and s_end / 2: the two
+  meshes' element errors (2 % each, quick), the noise, and what the static engine leaves out
+  (the geometry's change over the settlement, the remeshing).
+
 Usage::
 
     python verification/penetration_rate.py --quick --json results/penetration_rate.json
+    python verification/penetration_rate.py --quick --engine pfem     # about 45 s of CPU
 """
 import sys
 import warnings
@@ -72,16 +95,26 @@ import numpy as np
 from pfem_skfem.harness.figures import figure_dir, pyplot, save_figure
 from pfem_skfem.harness.options import (adaptive_options, base_parser, in_range,
                                         material_options, opt, pfem_options, positive_float,
-                                        saturated_options, time_options)
+                                        positive_int, saturated_options, time_options)
 from pfem_skfem.harness.progress import progress_bar
 from pfem_skfem.harness.report import Report, script_main
 
-QUICK = dict(V=[0.01, 0.1, 1.0, 100.0], h_min=0.04, steps=20, elements=600)
+QUICK = dict(V=[0.01, 0.1, 1.0, 100.0], h_min=0.04, steps=20, elements=600, h_pfem=0.0625,
+             pfem_steps=10)
 #: the literature's window for the mid-transition V (Finnie & Randolph 1994; House et al.
 #: 2001: drained below 0.01 - 0.1, undrained above 10 - 30)
 LITERATURE_V50 = (0.1, 30.0)
 EPS = 1e-9                        # relative tolerance of the boundary selections
 FLOOR = 0.01                      # least cone radius, a fraction of 2 c'
+#: ``--engine pfem``: the fine region about the footing, x < 1.25 B and y > -0.75 B (spacing
+#: --h-pfem; --h-far elsewhere), in units of B: whole numbers of 0.25 B
+FINE = (1.25, 0.75)
+#: ``--engine pfem``: the soil's density [t/m^3]. Weightless (no gravity); its inertia, which
+#: the static step has not, is rho v / dt over the fine region: below 1e-4 of the footing's
+#: force at V = 100
+RHO = 1e-3
+#: the options of ``--engine pfem`` alone: not in the static engine's params
+PFEM_OPTIONS = ("engine", "h_pfem", "h_far", "pfem_steps", "pfem_tolerance", "noise", "agree")
 
 
 def consolidation_coefficient(args):
@@ -157,6 +190,63 @@ def push(model, args, V, k=None):
                 sigma_m=0.5 * (state.sigma[:, 0] + state.sigma[:, 1]))
 
 
+def pfem_scene(args, V):
+    """The push as a saturated PFEM scene, remeshed every step: the soil (the same skeleton,
+    zero dilation, weightless) a region of spacing --h-pfem about the footing and one of
+    --h-far around it; the footing a smooth rigid segment with sharp ends (beside it the
+    surface is no contact) moving down at v; smooth walls at x = 0 (the symmetry) and
+    x = W, a rough base; the free surface (the boundary that touches no body: beside the
+    footing) drained. (state, scene, ds), ds the settlement of a step."""
+    from pfem_skfem.discretisation import ThetaMethod
+    from pfem_skfem.materials import Elastic, ZeroDilationMohrCoulomb
+    from pfem_skfem.problems.contact import CoulombCones, RigidSegment
+    from pfem_skfem.scene import Body, ConstantVelocity, Region, Scene
+    from pfem_skfem.scene.config import PFEMConfig
+    from pfem_skfem.scene.water import Drained, Water
+    B, W, D = args.B, args.W * args.B, args.D * args.B
+    fx, fy = FINE[0] * B, FINE[1] * B
+    h, h_far = args.h_pfem * B, args.h_far * B
+    v = V * consolidation_coefficient(args) / B
+    ds = args.s_end * B / args.pfem_steps
+    dt = ds / v
+    soil = ZeroDilationMohrCoulomb(args.c, args.phi, k_min=2 * FLOOR,   # of c': c is the
+                                   elastic=Elastic(args.E, args.nu))    # stress scale
+    regions = (Region(((0, -fy), (fx, -fy), (fx, 0), (0, 0)), soil, RHO, h, name="fine"),
+               Region(((0, -D), (W, -D), (W, 0), (fx, 0), (fx, -fy), (0, -fy)), soil, RHO,
+                      h_far, name="far"))
+    far = 50 * (W + D)
+    bodies = (Body("footing", RigidSegment((B / 2, 0.0), (-h, 0.0), 0.0, sharp_ends=True),
+                   ConstantVelocity((0.0, -v))),                              # soil below
+              Body("base", RigidSegment((-far, -D), (far, -D), 1.0)),         # soil above
+              Body("left", RigidSegment((0.0, far), (0.0, -D - h_far), 0.0)),  # soil right
+              Body("right", RigidSegment((W, -D - h_far), (W, far), 0.0)))     # soil left
+    water = Water(k=args.k, gamma_w=args.gamma_w,
+                  M=1 / args.M_inv if args.M_inv > 0 else np.inf, drained=(Drained(),))
+    config = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), contact=CoulombCones(),
+                        passes=args.passes, remesh_interval=1, solver=args.solver)
+    scene = Scene(regions=regions, bodies=bodies, gravity=(0.0, 0.0), length=D, config=config,
+                  water=water, t_end=args.pfem_steps * dt)
+    return scene.initial_state(), scene, ds
+
+
+def pfem_push(args, V):
+    """The footing pushed at v = V c_v / B to s_end B in --pfem-steps steps of the PFEM loop:
+    the settlements s / B, the resistances q / c' (q = 2 F_y / B, F_y the soil's force on the
+    half footing in the step's record), the largest pore pressure at the end, the particles
+    and the last mesh's elements."""
+    from pfem_skfem.drivers.pfem_loop import run as pfem_run
+    state, scene, ds = pfem_scene(args, V)
+    s, q, last = [0.0], [0.0], {}
+
+    def record(state, rec, result):
+        s.append(state.step * ds / args.B)
+        q.append(2 * rec["forces"]["footing"][1] / (args.B * args.c))
+        last.update(rec)
+    state, _ = pfem_run(state, scene, args.pfem_steps, on_step=record)
+    return dict(s=np.array(s), q=np.array(q), p_max=float(last["pore_pressure_max"]),
+                particles=int(state.n), elements=int(last["elements"]))
+
+
 def limits(args):
     """q / c' bracketed by the bounds: drained [LB(c*, phi*), UB(c', phi')] (Radenkovic),
     undrained [LB, UB] of Tresca(c' cos phi'); on a graded half mesh of ``--elements``."""
@@ -220,6 +310,27 @@ def check(args):
         return f"--h-min {args.h_min:g} must not exceed --h-max {args.h_max:g}"
     if args.W <= 0.5:
         return f"--W {args.W:g}: the footing (half-width B / 2) must lie inside the domain"
+    if args.engine == "pfem":
+        return check_pfem(args)
+    return None
+
+
+def whole(x, h):
+    """Whether x is a whole number of h (to 1e-9)."""
+    return abs(x / h - round(x / h)) < 1e-9
+
+
+def check_pfem(args):
+    """The PFEM's particles on whole spacings: the fine region's sides (0.25 B apart) of
+    --h-pfem and the domain's of --h-far; halves of the pushes on whole steps."""
+    if not whole(0.25, args.h_pfem):
+        return f"--h-pfem {args.h_pfem:g}: 0.25 (B) must be a whole number of it"
+    if not (whole(0.25, args.h_far) and whole(args.W, args.h_far) and whole(args.D, args.h_far)):
+        return f"--h-far {args.h_far:g}: 0.25, --W and --D (B) must be whole numbers of it"
+    if args.W <= FINE[0] or args.D <= FINE[1]:
+        return f"--W, --D: the PFEM's fine region ({FINE[0]:g} B by {FINE[1]:g} B) lies inside"
+    if args.steps % 2 or args.pfem_steps % 2:
+        return "--steps, --pfem-steps: even (the curves are compared at half the settlement)"
     return None
 
 
@@ -253,12 +364,34 @@ def build_parser():
     time_options(p, steps=opt(40, "settlement steps to s_end B (dt = s_end B / (steps v))"))
     pfem_options(p, passes=opt(1, why="1: the mean stress of the step before (the lag)"))
     adaptive_options(p, what="the bounds", elements=3000, ratio=30.0)
+    e = p.add_argument_group("--engine pfem: the same push through the PFEM loop")
+    e.add_argument("--engine", choices=("static", "pfem"), default="static",
+                   help="static: the consolidation step on one mesh (small deformation); "
+                        "pfem: the PFEM loop, remeshed every step, its checks on the PFEM "
+                        "curve and the static one run beside it")
+    e.add_argument("--h-pfem", type=positive_float, default=0.05,
+                   help="particle spacing / B about the footing (x < 1.25 B, y > -0.75 B)")
+    e.add_argument("--h-far", type=positive_float, default=0.25,
+                   help="particle spacing / B elsewhere")
+    e.add_argument("--pfem-steps", type=positive_int, default=20,
+                   help="PFEM steps to s_end B")
+    e.add_argument("--pfem-tolerance", type=positive_float, default=0.10,
+                   help="relative widening of the brackets for the PFEM's extremes (module "
+                        "docstring)")
+    e.add_argument("--noise", type=positive_float, default=0.05,
+                   help="the PFEM's q may rise from one V to the next by this fraction (its "
+                        "step-to-step noise, module docstring)")
+    e.add_argument("--agree", type=positive_float, default=0.10,
+                   help="the PFEM's q / the static engine's - 1, at s_end and s_end / 2, "
+                        "within this (module docstring)")
     return p
 
 
 def run(args):
-    report = Report("penetration_rate", args)
-    bar = progress_bar(total=len(args.V) + 2, args=args, desc="penetration rate", unit="case")
+    pfem = args.engine == "pfem"
+    report = Report("penetration_rate", report_params(args))
+    bar = progress_bar(total=(1 + pfem) * len(args.V) + 2, args=args, desc="penetration rate",
+                       unit="case")
     ref = limits(args)
     bar.update(1)
     model = footing_model(args)
@@ -268,26 +401,16 @@ def run(args):
         bar.update(1)
     fast = push(model, args, np.inf)        # dt = 0: the step's own undrained limit
     bar.update(1)
+    pushes = []
+    for V in args.V if pfem else ():
+        pushes.append(pfem_push(args, V))
+        bar.update(1)
     bar.close()
     q = np.array([r["q"][-1] for r in runs])
     (d_lo, d_up), (u_lo, u_up) = ref["drained"], ref["undrained"]
     q_d, q_u = 0.5 * (d_lo + d_up), 0.5 * (u_lo + u_up)
-    tol = args.tolerance
-    for (v0, q0), (v1, q1) in zip(zip(args.V, q), zip(args.V[1:], q[1:])):
-        report.add_interval(f"falls_V{v0:g}_to_V{v1:g}", q0 - q1, 0.0, np.inf,
-                            "q(V) monotone: a faster push drains less", reference=0.0)
-    report.add_interval("drained_q", q[0], d_lo, d_up,
-                        f"at V = {args.V[0]:g}: the drained bracket (Radenkovic: LB of "
-                        f"c' cos phi', atan(sin phi'); UB of c', phi'), +-{tol:g} (the "
-                        "element's error on this mesh)", tol, reference=q_d)
-    report.add_interval("undrained_q", q[-1], u_lo, u_up,
-                        f"at V = {args.V[-1]:g}: the undrained bracket (Tresca, s_u = c' cos "
-                        f"phi'), +-{tol:g} (the element's error on this mesh)", tol,
-                        reference=q_u)
-    V50 = mid_transition(args.V, q, 0.5 * (q_d + q_u))
-    report.add_interval("V50", V50, *LITERATURE_V50,
-                        "halfway between the brackets' centres: inside the penetrometer "
-                        "literature's 0.1 - 30 (Finnie & Randolph 1994; House et al. 2001)")
+    backbone_checks(report, args, np.array([r["q"][-1] for r in pushes]) if pfem else q, ref)
+    V50 = mid_transition(args.V, q, 0.5 * (q_d + q_u))          # the static engine's
     half = args.steps // 2                  # the same curves read at half the settlement
     V50_half = mid_transition(args.V, [r["q"][half] for r in runs], 0.5 * (q_d + q_u))
     last = runs[0]["q"]
@@ -321,11 +444,79 @@ def run(args):
                     "curves": [dict(V=V, s=r["s"].tolist(), q=r["q"].tolist())
                                for V, r in zip(args.V, runs)]}
     report.data = dict(runs=runs, ref=ref, q=q, V50=V50, q_fast=float(fast["q"][-1]))
+    if pfem:
+        pfem_results(report, args, runs, pushes, q_d, q_u)
     return report
 
 
-def figures(args, runs, ref, q, V50, q_fast):
-    """The backbone q(V) / c' between the two brackets, and the q - s curves."""
+def report_params(args):
+    """The JSON's params: the static engine's without the PFEM's options (as before them)."""
+    return {k: v for k, v in vars(args).items()
+            if args.engine == "pfem" or k not in PFEM_OPTIONS}
+
+
+def backbone_checks(report, args, q, ref):
+    """The checks on the backbone q (the static engine's or the PFEM's): monotone, the
+    extremes in their brackets, V_50 in the literature's window; returns V_50."""
+    pfem = args.engine == "pfem"
+    (d_lo, d_up), (u_lo, u_up) = ref["drained"], ref["undrained"]
+    q_d, q_u = 0.5 * (d_lo + d_up), 0.5 * (u_lo + u_up)
+    tol = args.pfem_tolerance if pfem else args.tolerance
+    why = ("the element's error, the drainage at the extremes and the PFEM's step noise"
+           if pfem else "the element's error on this mesh")
+    for (v0, q0), (v1, q1) in zip(zip(args.V, q), zip(args.V[1:], q[1:])):
+        report.add_interval(f"falls_V{v0:g}_to_V{v1:g}", q0 - q1,
+                            -args.noise * q1 if pfem else 0.0, np.inf,
+                            "q(V) monotone: a faster push drains less"
+                            + (f" (to the PFEM's step noise, {args.noise:g} q)" if pfem else ""),
+                            reference=0.0)
+    report.add_interval("drained_q", q[0], d_lo, d_up,
+                        f"at V = {args.V[0]:g}: the drained bracket (Radenkovic: LB of "
+                        f"c' cos phi', atan(sin phi'); UB of c', phi'), +-{tol:g} ({why})", tol,
+                        reference=q_d)
+    report.add_interval("undrained_q", q[-1], u_lo, u_up,
+                        f"at V = {args.V[-1]:g}: the undrained bracket (Tresca, s_u = c' cos "
+                        f"phi'), +-{tol:g} ({why})", tol, reference=q_u)
+    V50 = mid_transition(args.V, q, 0.5 * (q_d + q_u))
+    report.add_interval("V50", V50, *LITERATURE_V50,
+                        "halfway between the brackets' centres: inside the penetrometer "
+                        "literature's 0.1 - 30 (Finnie & Randolph 1994; House et al. 2001)")
+    return V50
+
+
+def pfem_results(report, args, runs, pushes, q_d, q_u):
+    """``--engine pfem``: the PFEM's curve against the static engine's at each V, at s_end
+    and at s_end / 2 (within --agree); its table, extra and figure data."""
+    q = np.array([r["q"][-1] for r in pushes])
+    q_half = np.array([r["q"][args.pfem_steps // 2] for r in pushes])
+    static, static_half = (np.array([r["q"][i] for r in runs]) for i in (-1, args.steps // 2))
+    for V, a, b, a2, b2 in zip(args.V, q, static, q_half, static_half):
+        for name, x, y, at in (("", a, b, "s_end"), ("half_", a2, b2, "s_end / 2")):
+            report.add_interval(f"agrees_{name}V{V:g}", x / y - 1, -args.agree, args.agree,
+                                f"the PFEM's q / the static engine's - 1 at {at}, within "
+                                f"+-{args.agree:g} (module docstring)", reference=0.0)
+    rows = [[V, a, b, a / b - 1, a2 / b2 - 1, (a - q_u) / (q_d - q_u), r["p_max"] / args.c]
+            for V, a, b, a2, b2, r in zip(args.V, q, static, q_half, static_half, pushes)]
+    report.add_table("pfem", ["V", "q / c' PFEM", "static", "diff", "diff at s/2", "drainage",
+                              "p_max / c'"], rows,
+                     formats={"V": "g", "q / c' PFEM": ".3f", "static": ".3f", "diff": "+.3f",
+                              "diff at s/2": "+.3f", "drainage": ".3f", "p_max / c'": ".3f"},
+                     title=f"the PFEM at s = {args.s_end:g} B: {pushes[0]['particles']} "
+                           f"particles, {pushes[0]['elements']} elements, "
+                           f"{args.pfem_steps} steps, remeshed every step")
+    report.extra["pfem"] = {
+        "q": q.tolist(), "q_half": q_half.tolist(), "q_static_half": static_half.tolist(),
+        "V50": mid_transition(args.V, q, 0.5 * (q_d + q_u)),
+        "particles": pushes[0]["particles"], "elements": [r["elements"] for r in pushes],
+        "p_max": [r["p_max"] for r in pushes],
+        "curves": [dict(V=V, s=r["s"].tolist(), q=r["q"].tolist())
+                   for V, r in zip(args.V, pushes)]}
+    report.data["pushes"] = pushes
+
+
+def figures(args, runs, ref, q, V50, q_fast, pushes=()):
+    """The backbone q(V) / c' between the two brackets, and the q - s curves (``--engine
+    pfem``: the PFEM's beside them, dashed)."""
     plt = pyplot()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4))
     V = np.asarray(args.V)
@@ -334,6 +525,9 @@ def figures(args, runs, ref, q, V50, q_fast):
                                    (ref["undrained"], "undrained bracket", "C3")):
         ax.fill_between(span, lo, up, color=colour, alpha=0.25, label=name)
     ax.semilogx(V, q, "ko-", label=f"consolidation step, s = {args.s_end:g} B")
+    if pushes:
+        ax.semilogx(V, [r["q"][-1] for r in pushes], "s--", color="C2",
+                    label="PFEM, remeshed every step")
     ax.axhline(q_fast, color="C3", ls="--", lw=1, label="the same mesh, dt = 0 (V = inf)")
     ax.axvspan(*LITERATURE_V50, color="0.85", zorder=0, label="literature V_50 window")
     if np.isfinite(V50):
@@ -343,8 +537,10 @@ def figures(args, runs, ref, q, V50, q_fast):
     ax.set_ylabel("q / c'")
     ax.set_title(f"strip footing, phi' = {args.phi:g} deg (psi = 0): backbone", fontsize=9)
     ax.legend(fontsize=7)
-    for V_i, r in zip(args.V, runs):
-        bx.plot(r["s"], r["q"], "-", label=f"V = {V_i:g}")
+    for i, (V_i, r) in enumerate(zip(args.V, runs)):
+        bx.plot(r["s"], r["q"], "-", color=f"C{i}", label=f"V = {V_i:g}")
+        if pushes:
+            bx.plot(pushes[i]["s"], pushes[i]["q"], "--", color=f"C{i}")
     bx.set_xlabel("settlement s / B")
     bx.set_ylabel("q / c'")
     bx.set_title("resistance against settlement", fontsize=9)
