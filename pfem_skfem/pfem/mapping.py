@@ -18,7 +18,8 @@ Two stable variants (not in the thesis; it mentions the second as an "improved U
   limiting. It obeys a discrete maximum principle, so repeated remapping cannot amplify
   oscillations, and is still exact for a linear field in old elements whose vertices
   are interior and surrounded by their patches' stress points (every interior vertex
-  of a quality mesh; not always next to a sliver).
+  of a quality mesh; not always next to a sliver). A new point that is an old stress
+  point keeps its value unclipped, so a field mapped onto its own mesh is unchanged.
 * patch recovery ('spr'): a continuous nodal field recovered by a least-squares linear
   fit to the stress points of the elements around each old vertex (superconvergent
   patch recovery, Zienkiewicz and Zhu [209]), interpolated linearly at the new points.
@@ -264,6 +265,11 @@ def recover_nodal(old, sigma, *, bounded=False):
     return nodal.reshape((nv,) + trailing)
 
 
+#: a new point whose shape functions N_j (3.29) in its old element are within this of
+#: (1, 0, 0) (to rounding: the same vertices give the same point) is that old stress point
+COINCIDENT = 1e-9
+
+
 def uem_bounded(old, sigma, new, *, k=8):
     """UEM (Fig 2.6) limited to the range of the element's recovered vertex values.
 
@@ -279,16 +285,32 @@ def uem_bounded(old, sigma, new, *, k=8):
     inactive; true of every interior vertex of a quality mesh); near the boundary the
     clip can cut a gradient, a first-order error.
 
+    A new point that is an old stress point (its N_j within :data:`COINCIDENT` of
+    (1, 0, 0): an element the remeshing kept, whose vertices are the same particles)
+    takes that point's value unclipped: there nothing is extrapolated, and the clip
+    would only pull a datum towards the smoothed recovered field, which is not exact at
+    the boundary nor across a kink of the field. So the map of a field onto its own
+    mesh is the identity, and an element that survives a remeshing keeps its stresses
+    as if the mesh had not been rebuilt. Without this, a column remeshed every step
+    lost (under a load) or gained (under a heavy fill) settlement step by step, each
+    step answering the clip with a strain (issue 54; book/saturated_soil.md, "In the
+    PFEM").
+
     Parameters and returns as :func:`uem`.
     """
     mesh, element_points, _ = _stress_layout(old)
     sigma = _check_sigma(sigma, element_points.max() + 1)
     x = _new_points(new)
     element, _, lam = locate(mesh, x, k=k)
-    values = np.einsum("nj,nj...->n...", 2 * lam - 1 / 3, sigma[element_points[:, element].T])
+    shape = 2 * lam - 1 / 3                       # (n_new, 3): N_j at x
+    values = np.einsum("nj,nj...->n...", shape, sigma[element_points[:, element].T])
     nodal = recover_nodal(old, sigma, bounded=True)[mesh.t[:3]]   # (3, m, ...)
     lo, hi = nodal.min(axis=0), nodal.max(axis=0)
-    return np.clip(values, lo[element], hi[element])
+    limited = np.clip(values, lo[element], hi[element])
+    # at an old stress point the UEM returns its datum, nothing extrapolated: kept as it is
+    datum = np.abs(shape - np.eye(3)[shape.argmax(axis=1)]).max(axis=1) <= COINCIDENT
+    limited[datum] = values[datum]
+    return limited
 
 
 def spr(old, sigma, new, *, k=8):
