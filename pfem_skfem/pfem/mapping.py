@@ -343,9 +343,12 @@ def uem_bounded(old, sigma, new, *, k=8, regions=None):
     nodal = nodal.reshape(nodal.shape[:2] + trailing)
     lo, hi = nodal.min(axis=0), nodal.max(axis=0)
     limited = np.clip(values, lo[element], hi[element])
-    # at an old stress point the UEM returns its datum, nothing extrapolated: kept as it is
-    datum = np.abs(shape - np.eye(3)[shape.argmax(axis=1)]).max(axis=1) <= COINCIDENT
-    limited[datum] = values[datum]
+    # at an old stress point the UEM returns its datum, nothing extrapolated: a value the
+    # clip moved there is the datum itself (exactly: the sum would round it off the data)
+    nearest = shape.argmax(axis=1)
+    datum = np.abs(shape - np.eye(3)[nearest]).max(axis=1) <= COINCIDENT
+    moved = (limited != values) & datum.reshape((-1,) + (1,) * (values.ndim - 1))
+    limited[moved] = sigma[element_points[nearest, element]][moved]
     return limited
 
 
