@@ -320,17 +320,22 @@ def settlement(loading, dTv, steps, remeshed):
     return -(state.x[top, 1].mean() - args.H) / (args.q * args.H / script.oedometric(args)[0])
 
 
-@pytest.mark.parametrize("loading, dTv, steps, tol", [
-    ("load", 0.05, 20, 2e-4),      # before the fix 0.9200 against 0.9211
-    ("fill", 0.005, 10, 5e-4),     # before the fix 0.2962 against 0.2502
+@pytest.mark.parametrize("loading, fill, dTv, steps, tol", [
+    ("load", None, 0.05, 20, 2e-4),      # before the fix 0.9200 against 0.9211
+    ("fill", 0.2, 0.005, 10, 5e-4),      # before the fix 0.2962 against 0.2502
+    ("fill", 0.1, 0.005, 10, 5e-4),      # before 0.346; patch fits across the interface 0.2598
 ])
-def test_remeshed_every_step_the_column_settles_as_the_unremeshed_one(loading, dTv, steps,
-                                                                       tol):
+def test_remeshed_every_step_the_column_settles_as_the_unremeshed_one(monkeypatch, loading,
+                                                                       fill, dTv, steps, tol):
     """A remeshing keeps the stresses of the elements it keeps (the bounded UEM leaves an
-    old stress point's value unclipped): the column remeshed every step settles as the one
-    whose mesh moves with its particles, under the surface load (measured 1.5e-5 apart) and
-    under the heavy dry fill (1.3e-4 apart: the diagonals of the lattice flip in the first
-    steps, and the flipped elements' points are still clipped)."""
+    old stress point's value unclipped) and the limiter's patch fits stop at the regions'
+    interface: the column remeshed every step settles as the one whose mesh moves with its
+    particles, under the surface load (measured 1.5e-5 apart) and under the heavy dry fills
+    of 0.2 H and 0.1 H (5e-5 and 3e-5 apart; the lattice's diagonals flip in the first
+    steps, and the fill's kink at the interface was smeared into the flipped elements'
+    bounds: 0.0097 apart at 0.1 H with one fit per vertex)."""
+    if fill is not None:
+        monkeypatch.setattr(script, "FILL", fill)
     remeshed = settlement(loading, dTv, steps, True)
     unremeshed = settlement(loading, dTv, steps, False)
     assert abs(remeshed - unremeshed) <= tol, f"U {remeshed:.5f} against {unremeshed:.5f}"
