@@ -23,25 +23,21 @@ t / H^2 and M_m = pi (2m + 1) / 2:
 ``--loading fill`` places a dry fill 0.2 H thick, of the density that makes its weight q,
 on the column at t = 0: a region outside ``Water.regions``, free-draining, so the column
 drains through the vertices it shares with the fill (no drained face is given), and the
-fill's weight is Terzaghi's load. Not remeshed, it is the load's problem: U and p(base)
-equal the load's to 2e-4 and Terzaghi's to 2e-3 (quick). Remeshed every step, the column's
-top settles ahead of the consolidation (1.58 for U = 0.93 at T_v = 1 quick, 1.23 at the
-default size): each remeshing maps the stresses of the heavy fill (their gradient q / 0.2 H)
-onto the new stress points, and the step answers the error with a strain. U is then taken
-from the pore pressures, Terzaghi's definition (1 - the excess over the column / (q H)):
-within 0.003 of the series at the default size; at the quick size it misses the band at
-T_v = 0.2 and 0.5 by 0.002 and 0.003.
+fill's weight is Terzaghi's load: U and p(base) equal the load's (to 2e-4 not remeshed, 5e-4
+remeshed every step) and Terzaghi's to 2e-3 (quick). U from the pore pressures, Terzaghi's
+definition (1 - the excess over the column / (q H)), is kept beside the settlement's
+(``U_p``).
 
 ``--loading load`` is Terzaghi's own problem: the load q on the drained top (p = 0 there), a
 surface load (:mod:`pfem_skfem.scene.loads`); the column settles by the same U and p(base)
-is the excess itself. Under it the remeshed column loses a little settlement each step,
-more as h grows (the book, "Saturated soil", has the figures): it meets the band at the
-default size, not at the quick one. The rise (a reservoir that rises over the layer, the same
-diffusion, the column swells) is the default: a fall of the top's pressure by q would make
-the total horizontal stress tensile ((1 - 2 nu) / (1 - nu) q) and the column would leave
-its smooth walls; the rise presses them and leaves the floor the column's weight, which
-holds it in place (a floating column's position is undetermined by a step whose inertia is
-1e-10 of its stiffness).
+is the excess itself. (Until the bounded UEM kept the stresses of the elements a remeshing
+keeps, the remeshed column lost settlement step by step under the load and gained it under
+the fill: the book, "Saturated soil", has the figures.) The rise (a reservoir that rises
+over the layer, the same diffusion, the column swells) is the default: a fall of the top's
+pressure by q would make the total horizontal stress tensile ((1 - 2 nu) / (1 - nu) q) and
+the column would leave its smooth walls; the rise presses them and leaves the floor the
+column's weight, which holds it in place (a floating column's position is undetermined by a
+step whose inertia is 1e-10 of its stiffness).
 
 Checks: U at T_v = 0.05 / 0.1 / 0.2 / 0.5 / 1 (0.2523 / 0.3568 / 0.5041 / 0.7640 / 0.9313)
 within 0.01 (the issue's band), and the base's pressure against the series within 0.01;
@@ -201,18 +197,10 @@ def consolidate(args, k=None):
             "steps": steps, "particles": state.n}
 
 
-def checked_U(result, loading):
-    """The degree of consolidation checked: the settlement's (or heave's), but under a fill
-    Terzaghi's own definition from the pore pressures, U_p = 1 - the excess over the column
-    / (q H) (equal in the theory): there the settlement of the remeshed column runs ahead
-    (the module docstring)."""
-    return result["U_p"] if loading == "fill" else result["U"]
-
-
-def errors(result, loading="rise"):
+def errors(result):
     """max |U - series| and max |p_base excess / q - series| over the report times."""
     e_U = e_p = 0.0
-    U = checked_U(result, loading)
+    U = result["U"]
     for r in REPORT_TV:
         i = int(np.argmin(abs(result["Tv"] - r)))
         U_ex, p_ex = terzaghi(r)
@@ -262,14 +250,12 @@ def run(args):
     result = consolidate(args)
     report = Report("consolidation_pfem", args)
     rows = []
-    fill = args.loading == "fill"
     for r in REPORT_TV:
         i = int(np.argmin(abs(result["Tv"] - r)))
         U_ex, p_ex = terzaghi(r)
-        U, p = checked_U(result, args.loading)[i], result["excess"][i]
+        U, p = result["U"][i], result["excess"][i]
         report.add_interval(f"U_Tv{r:g}", U, U_ex - BAND, U_ex + BAND,
-                            f"Terzaghi's series, +-{BAND:g} (remeshed every step"
-                            + ("; U from the pore pressures)" if fill else ")"),
+                            f"Terzaghi's series, +-{BAND:g} (remeshed every step)",
                             reference=U_ex)
         report.add_interval(f"p_base_Tv{r:g}", p, p_ex - BAND, p_ex + BAND,
                             f"Terzaghi's series at the impermeable base, +-{BAND:g}",

@@ -18,7 +18,9 @@ Two stable variants (not in the thesis; it mentions the second as an "improved U
   limiting. It obeys a discrete maximum principle, so repeated remapping cannot amplify
   oscillations, and is still exact for a linear field in old elements whose vertices
   are interior and surrounded by their patches' stress points (every interior vertex
-  of a quality mesh; not always next to a sliver).
+  of a quality mesh; not always next to a sliver). A new point that is an old stress
+  point keeps its value unclipped, so a field mapped onto its own mesh is unchanged;
+  given the old elements' regions, the vertex values are fitted region by region.
 * patch recovery ('spr'): a continuous nodal field recovered by a least-squares linear
   fit to the stress points of the elements around each old vertex (superconvergent
   patch recovery, Zienkiewicz and Zhu [209]), interpolated linearly at the new points.
@@ -191,11 +193,13 @@ def _flat(sigma):
     return sigma.reshape(len(sigma), -1), sigma.shape[1:]
 
 
-def _vertex_range(mesh, element_points, flat):
-    """Smallest and largest stress-point value (n_vertices, m) over the elements around each vertex."""
+def _vertex_range(mesh, element_points, flat, corners=None, n=None):
+    """Smallest and largest stress-point value (n_vertices, m) over the elements around each
+    vertex (``corners``, (3, m_elements), and ``n``: the patches of :func:`_patches`)."""
     values = flat[element_points]                        # (3, m_elements, m)
-    corner = mesh.t[:3].ravel()                          # the vertex of each (corner, element)
-    nv = mesh.p.shape[1]
+    corners = mesh.t[:3] if corners is None else corners
+    corner = corners.ravel()                             # the patch of each (corner, element)
+    nv = mesh.p.shape[1] if n is None else n
     vmin = np.full((nv, flat.shape[1]), np.inf)
     vmax = np.full((nv, flat.shape[1]), -np.inf)
     np.minimum.at(vmin, corner, np.tile(values.min(axis=0), (3, 1)))
@@ -228,15 +232,38 @@ def recover_nodal(old, sigma, *, bounded=False):
     -------
     (n_vertices, ...) array.
     """
-    mesh, element_points, points = _stress_layout(old)
+    mesh, element_points, _ = _stress_layout(old)
     sigma = _check_sigma(sigma, element_points.max() + 1)
     flat, trailing = _flat(sigma)
+    nodal = _recover(old, flat, mesh.t[:3], mesh.p.shape[1], bounded)
+    return nodal.reshape((mesh.p.shape[1],) + trailing)
+
+
+def _patches(mesh, regions):
+    """The patch of each element corner (3, m_elements) and their number: the corner's
+    vertex, or with ``regions`` (one label per element) its vertex and its element's region,
+    so that a vertex on an interface has one patch on each side."""
     t = mesh.t[:3]
-    nv = mesh.p.shape[1]
-    # every (vertex, stress point) pair of an element: 3 x 3 per element
-    vertex = np.broadcast_to(t[:, None, :], (3,) + t.shape).ravel()
+    if regions is None:
+        return t, mesh.p.shape[1]
+    regions = np.asarray(regions)
+    if regions.shape != (t.shape[1],):
+        raise ValueError(f"regions must hold one label per old element ({t.shape[1]}), got "
+                         f"shape {regions.shape}")
+    labels, label = np.unique(regions, return_inverse=True)
+    return t * len(labels) + label.reshape(1, -1), mesh.p.shape[1] * len(labels)
+
+
+def _recover(old, flat, corners, nv, bounded):
+    """The patch fits of :func:`recover_nodal`, one per patch: ``corners`` (3, m_elements)
+    names the patch of each element corner, ``nv`` their number. Returns (nv, m)."""
+    mesh, element_points, points = _stress_layout(old)
+    t = mesh.t[:3]
+    # every (patch, stress point) pair of an element: 3 x 3 per element
+    vertex = np.broadcast_to(corners[:, None, :], (3,) + t.shape).ravel()
     point = np.broadcast_to(element_points[None, :, :], (3,) + element_points.shape).ravel()
-    d = points[point] - mesh.p.T[vertex]
+    at = np.broadcast_to(t[:, None, :], (3,) + t.shape).ravel()    # the patch's vertex
+    d = points[point] - mesh.p.T[at]
     scale = np.zeros(nv)
     np.maximum.at(scale, vertex, np.abs(d).max(axis=1))  # local length: keeps A well scaled
     scale[scale == 0] = 1.0
@@ -246,7 +273,7 @@ def recover_nodal(old, sigma, *, bounded=False):
     b = np.zeros((nv, 3, flat.shape[1]))
     np.add.at(b, vertex, P[:, :, None] * flat[point][:, None, :])
     unused = np.ones(nv, dtype=bool)
-    unused[t.ravel()] = False
+    unused[corners.ravel()] = False
     A[unused] = np.eye(3)                                # vertices in no element: value 0
     # a patch whose stress points are (nearly) collinear or coincide (a vertex of slivers
     # only, met once in a clay block entering water) has no plane fit: there the
@@ -259,12 +286,17 @@ def recover_nodal(old, sigma, *, bounded=False):
         b[flat_patch, 1:] = 0.0
     nodal = np.linalg.solve(A, b)[:, 0]
     if bounded:
-        vmin, vmax = _vertex_range(mesh, element_points, flat)
+        vmin, vmax = _vertex_range(mesh, element_points, flat, corners, nv)
         nodal[~unused] = np.clip(nodal, vmin, vmax)[~unused]
-    return nodal.reshape((nv,) + trailing)
+    return nodal
 
 
-def uem_bounded(old, sigma, new, *, k=8):
+#: a new point whose shape functions N_j (3.29) in its old element are within this of
+#: (1, 0, 0) (to rounding: the same vertices give the same point) is that old stress point
+COINCIDENT = 1e-9
+
+
+def uem_bounded(old, sigma, new, *, k=8, regions=None):
     """UEM (Fig 2.6) limited to the range of the element's recovered vertex values.
 
     sigma(x) = clip(sum_j N_j(x) sigma_j, lo_e, hi_e), component by component, where
@@ -279,16 +311,45 @@ def uem_bounded(old, sigma, new, *, k=8):
     inactive; true of every interior vertex of a quality mesh); near the boundary the
     clip can cut a gradient, a first-order error.
 
-    Parameters and returns as :func:`uem`.
+    A new point that is an old stress point (its N_j within :data:`COINCIDENT` of
+    (1, 0, 0): an element the remeshing kept, whose vertices are the same particles)
+    takes that point's value unclipped: there nothing is extrapolated, and the clip
+    would only pull a datum towards the smoothed recovered field, which is not exact at
+    the boundary nor across a kink of the field. So the map of a field onto its own
+    mesh is the identity, and an element that survives a remeshing keeps its stresses
+    as if the mesh had not been rebuilt. Without this, a column remeshed every step
+    lost (under a load) or gained (under a heavy fill) settlement step by step, each
+    step answering the clip with a strain (issue 54; book/saturated_soil.md, "In the
+    PFEM").
+
+    With ``regions`` (one label per old element: the PFEM's regions, their materials) the
+    vertex values are fitted in each region apart, a vertex on an interface getting one
+    value per side, as patch recovery is done material by material [209]: the stress of
+    one region, its gradient, its jump at the interface, does not widen or narrow the
+    bounds of the other's elements.
+
+    Parameters and returns as :func:`uem`; regions : (n_old_elements,) labels or None
+    (one fit per vertex).
     """
     mesh, element_points, _ = _stress_layout(old)
     sigma = _check_sigma(sigma, element_points.max() + 1)
     x = _new_points(new)
     element, _, lam = locate(mesh, x, k=k)
-    values = np.einsum("nj,nj...->n...", 2 * lam - 1 / 3, sigma[element_points[:, element].T])
-    nodal = recover_nodal(old, sigma, bounded=True)[mesh.t[:3]]   # (3, m, ...)
+    shape = 2 * lam - 1 / 3                       # (n_new, 3): N_j at x
+    values = np.einsum("nj,nj...->n...", shape, sigma[element_points[:, element].T])
+    flat, trailing = _flat(sigma)
+    corners, n = _patches(mesh, regions)
+    nodal = _recover(old, flat, corners, n, True)[corners]       # (3, m, ...)
+    nodal = nodal.reshape(nodal.shape[:2] + trailing)
     lo, hi = nodal.min(axis=0), nodal.max(axis=0)
-    return np.clip(values, lo[element], hi[element])
+    limited = np.clip(values, lo[element], hi[element])
+    # at an old stress point the UEM returns its datum, nothing extrapolated: a value the
+    # clip moved there is the datum itself (exactly: the sum would round it off the data)
+    nearest = shape.argmax(axis=1)
+    datum = np.abs(shape - np.eye(3)[nearest]).max(axis=1) <= COINCIDENT
+    moved = (limited != values) & datum.reshape((-1,) + (1,) * (values.ndim - 1))
+    limited[moved] = sigma[element_points[nearest, element]][moved]
+    return limited
 
 
 def spr(old, sigma, new, *, k=8):

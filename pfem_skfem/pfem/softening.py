@@ -28,6 +28,7 @@ from ..discretisation.fields import collapsed
 from ..materials.softening import (NonlocalAverage, nonlocal_average,
                                    plastic_strain_increment, strength_drop)
 from .mapping import map_stress
+from .transfer import stress_options
 
 
 def carried_strain(state, disc, source, stress_mapping):
@@ -51,7 +52,8 @@ def carried_strain(state, disc, source, stress_mapping):
     values = state.gamma_p
     if len(values) != old.n_points:             # collapsed triangles left out of the source
         values = values.reshape(-1, 3)[~collapsed(state.mesh_p, state.mesh_t)].ravel()
-    return np.maximum(map_stress(old, values, disc, stress_mapping), 0.0)
+    return np.maximum(map_stress(old, values, disc, stress_mapping,
+                                 **stress_options(state, stress_mapping)), 0.0)
 
 
 def step_material(material, gamma_p, disc):

@@ -63,6 +63,22 @@ def old_discretisation(state, geometry=PLANE_STRAIN):
     return disc, v, sigma
 
 
+def old_regions(state):
+    """The region of each element of the map source's mesh (:func:`old_discretisation`):
+    the last declared among its vertices' particles, as in the step that used it
+    (:func:`~pfem_skfem.pfem.assemble.element_regions`; a particle thinned away since
+    counts for none). For the bounded UEM's patch fits, region by region."""
+    t = state.mesh_t[~collapsed(state.mesh_p, state.mesh_t)]
+    mp = state.mesh_particle[t]
+    return np.where(mp >= 0, state.region[np.maximum(mp, 0)], -1).max(axis=1)
+
+
+def stress_options(state, stress_mapping):
+    """The options of :func:`~pfem_skfem.pfem.mapping.map_stress` for the scheme: the old
+    elements' regions for the bounded UEM, none for the others."""
+    return {"regions": old_regions(state)} if stress_mapping == "uem_bounded" else {}
+
+
 def adopt_added_nodes(state, pm, source):
     """Nodes a remesher added (``pm.particle < 0``) become particles: velocity and mean
     stress from the map ``source`` (:func:`old_discretisation`; at rest on the first mesh),
@@ -131,7 +147,8 @@ def map_state(state, pm, disc, source, stress_mapping="uem_bounded", velocity=L2
                 sigma[:, k] = vertex_to_points(disc, state.stress0[pm.particle, k])
         return v, sigma
     old, v_old, sigma_old = source
-    sigma = map_stress(old, sigma_old, disc, stress_mapping)
+    sigma = map_stress(old, sigma_old, disc, stress_mapping,
+                       **stress_options(state, stress_mapping))
     if isinstance(velocity, L2Projection):
         return project_nodal(old.basis_u, v_old, disc.basis_u,
                              vertex_values=state.v[pm.particle]), sigma
