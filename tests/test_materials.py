@@ -33,7 +33,8 @@ def test_the_package_has_the_pfem_materials():
                      "MuIRheology", "MuIRheologyAxisymmetric", "RegionCones",
                      "NewtonianFluid", "BinghamFluid", "NewtonianFluidAxisymmetric",
                      "BinghamFluidAxisymmetric", "SofteningTresca", "SofteningMohrCoulomb",
-                     "SofteningStep"}
+                     "SofteningStep", "SofteningTrescaAxisymmetric",
+                     "SofteningMohrCoulombAxisymmetric"}
     for c in PFEM_MATERIALS:                     # importable from the package face
         assert getattr(materials, c.__name__) is c
 

@@ -505,7 +505,8 @@ _LATER_FIELDS = {("PFEMConfig", "solver"): "clarabel", ("PFEMConfig", "form"): N
                  ("PFEMConfig", "spread_mass"): False,
                  ("PFEMConfig", "refine_interior"): 0.0,
                  ("AlphaMesh", "keep_surface"): False,
-                 ("PFEMConfig", "keep_area_step"): 0.0, ("Water", "regions"): None}
+                 ("PFEMConfig", "keep_area_step"): 0.0, ("Water", "regions"): None,
+                 ("RigidPolyline", "sharp_ends"): False}
 
 
 #: fields whose one value replaced several earlier ones: the identity is written in the
