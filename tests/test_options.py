@@ -83,7 +83,9 @@ CHECKS = {
     "softening_layer": [(["--c-r", "30"], "--c-r"), (["--rows", "200"], "--rows"),
                         (["--rows", "10"], "--rows"), (["--ell", "0.005"], "--ell"),
                         (["--gamma-95", "0.001"], "--gamma-95"),
-                        (["--viscous-G", "10"], "--viscous-G")],
+                        (["--viscous-G", "10"], "--viscous-G"),
+                        (["--L", "1.25"], "--t-end"), (["--eta", "4"], "--t-end"),
+                        (["--max-drop", "0.04"], "--max-drop"), (["--dt", "0.009"], "--dt")],
     "thick_cylinder": [(["--a", "2", "--b", "1"], "--a"), (["--phi", "45"], "--phi")],
     "trussed_frame": [(["--width", "7"], "--width")],
 }

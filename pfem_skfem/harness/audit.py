@@ -104,6 +104,12 @@ GIVEN = {
     ("accretionary_wedge", "contact"): (["--contact", "coulomb", "--stability-steps", "6"],
                                         "the other choice, with the 6 push steps the "
                                         "stability test needs with it"),
+    ("softening_layer", "L"): (["--L", "1.25", "--t-end", "1.25"],
+                               "x 1.25, with the t_end its slower shear needs to be steady "
+                               "(1.15 s; --t-end 1 refused)"),
+    ("softening_layer", "c_p"): (["--c-p", "25", "--t-end", "1.25"],
+                                 "x 1.25, with the t_end its longer softening needs to be "
+                                 "steady (1.21 s; --t-end 1 refused)"),
     # studies off by default ([]): one run of the study
     ("accretionary_wedge", "increment_study"): (["--increment-study", "16"],
                                                 "[]: one run of 16 increments"),
