@@ -48,6 +48,7 @@ CHECKS = {
                             "--stability-steps")],
     "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
     "effective_bounds": [(["--B", "13"], "--B"), (["--gamma", "9"], "--gamma"),
+                         (["--phi", "26.6"], "--phi"),
                          (["--y-w", "0.5", "0.3"], "--y-w"),
                          (["--Delta-h", "0.5", "0.3"], "--Delta-h")],
     "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps"), (["--steps", "3"], "--steps")],

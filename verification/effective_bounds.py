@@ -126,6 +126,10 @@ def griffiths_lane(args):
 def check(args):
     if not args.B < 2 * args.W:
         return f"--B ({args.B:g}) must be below twice --W ({args.W:g}): the footing in the domain"
+    if not np.tan(np.radians(args.phi)) < 0.5:
+        return (f"--phi ({args.phi:g}) must be below the slope's angle atan(1/2) = 26.57 deg: "
+                "at or above it no multiple of gravity collapses the slope (the upper bound "
+                "has no mechanism; the multiplier grows without bound towards it)")
     if not args.gamma > args.gamma_w:
         return (f"--gamma ({args.gamma:g}) must exceed --gamma-w ({args.gamma_w:g}): a "
                 "positive submerged unit weight")
