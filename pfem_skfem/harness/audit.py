@@ -93,6 +93,8 @@ GIVEN = {
     ("granular_column_mu_i", "d0_over_d"): (["--d0-over-d", "50"],
                                             "None: --h0-over-d sets the size"),
     ("granular_column_mu_i", "rho_s"): (["--rho-s", "1.25"], "None: --rho; x 1.25"),
+    ("granular_column_mu_i", "density_factor"): (["--density-factor", "4"],
+                                                 "a power of 2 (the bit-exact invariance): x 2"),
     ("granular_column_plane", "E"): (["--E", "10000"], "None: rigid-plastic; elastoplastic"),
     ("granular_column_plane", "nu"): (["--nu", "0.375", "--E", "10000"],
                                       "None (0.3 with --E); x 1.25, with the --E it needs"),
