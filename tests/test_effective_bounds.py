@@ -210,3 +210,16 @@ def test_a_live_and_a_dead_pore_pressure_are_one_problem_at_alpha_one():
         at = replace(dead, criterion=reduced(dead.criterion, F))
         assert bound(at, **EXACT).load == pytest.approx(1.0, abs=1e-3)
     assert abs(lower_bound(live, **EXACT).load - lower_bound(dead, **EXACT).load) > 0.1
+
+
+@pytest.mark.parametrize("argv, charts", [
+    ([], True), (["--H", "12.5", "--c", "12.5"], True), (["--gamma", "25", "--c", "12.5"], True),
+    (["--H", "12.5"], False), (["--gamma", "25"], False), (["--c", "12.5"], False),
+    (["--phi", "25"], False)])
+def test_the_charts_factor_is_checked_on_griffiths_and_lanes_slope_only(argv, charts):
+    """The charts' F = 1.38 is the slope of c' / (gamma H) = 0.05, phi' = 20 deg: the script
+    checks it inside the dry bracket there (at any H, gamma, c of that ratio), not elsewhere
+    (the option audit: --H 12.5, --gamma 25, --c 12.5 moved the slope off it, issue 56)."""
+    from verification import effective_bounds
+    args = effective_bounds.build_parser().parse_args(["--quick", *argv])
+    assert effective_bounds.griffiths_lane(args) is charts

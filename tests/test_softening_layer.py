@@ -32,3 +32,25 @@ def test_the_regularised_branch_does_not_depend_on_h(rows, quick_run):
     report, _ = quick_run("softening_layer")
     slope = branch_slope(report.extra["curves"][f"regularised_rows{rows}"])
     assert slope == approx(L / G - ELL / -H, rel=0.02)
+
+
+def test_a_peak_inside_an_increment_leaves_the_elastic_points_off_the_softening_branch():
+    """--c-p 25 (option audit, issue 56): the first increment ends elastic at tau = 24.36, below
+    the peak c_w = 24.8, and the next one past it, so the largest tau sampled is an elastic
+    point; taken as the peak, it was measured against the softening branch (fixed-point
+    curve error 2.2e-2 against 1e-5). The branch is the points past c_w L / G: 3.0e-7."""
+    from verification import softening_layer as sl
+    args = sl.build_parser().parse_args(["--quick", "--c-p", "25", "--t-end", "2"])
+    linear, _ = sl.laws(args)
+    run = sl.shear(min(args.rows), linear, None, max(args.max_drop), args, passes=args.passes)
+    assert run["tau"].max() < run["c_w"] - 0.1         # the peak fell inside an increment
+    assert run["error"] < 1e-5
+
+
+@pytest.mark.parametrize("cap, tol", [(0.005, 0.02), (0.01, 0.02), (0.04, 0.06), (0.08, 0.12)])
+def test_the_closed_form_tolerance_covers_the_lag_of_the_finest_cap(cap, tol):
+    """2 % where the finest cap is 0.01 or finer (the quick and full runs), 1.5 x the cap above
+    (the one-increment lag: at the finest cap 0.04 the curve 3.2-3.75 %, delta_r 3.5-5.0 %,
+    D 3.3-4.5 %, all 19 checks failing at 2 %: option audit, --max-drop 0.08 0.04)."""
+    from verification.softening_layer import closed_form_tolerance
+    assert closed_form_tolerance(cap) == approx(tol)

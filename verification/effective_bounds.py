@@ -33,7 +33,9 @@ References
 * Prandtl: Nc = 2 + pi.  Terzaghi's principle: sigma = sigma' - p I.
 * Griffiths & Lane (1999), Geotechnique 49(3), example 1: the dry slope, F = 1.38
   (Bishop & Morgenstern's charts; limit equilibrium, not a bound), as in
-  ``verification/limit_bounds.py``.
+  ``verification/limit_bounds.py``: checked inside the dry slope's [F_L, F_U] where the
+  slope is theirs, c' / (gamma H) = 0.05 and phi' = 20 deg (the dry F depends on these
+  alone), at any H, gamma and c' of that ratio; not elsewhere (:func:`griffiths_lane`).
 
 Usage::
 
@@ -113,9 +115,21 @@ def footing_problem(args, h_w=None):
                         body_dead=(0.0, -args.gamma), pore_pressure=pore)
 
 
+def griffiths_lane(args):
+    """Whether the dry slope is Griffiths & Lane's example 1 (c' / (gamma H) = 0.05, phi' =
+    20 deg, to 1e-9), the one slope whose F the charts' :data:`SLOPE_CHARTS` is: a dry slope's
+    F is a function of c' / (gamma H) and phi' alone (the mesh scales with H)."""
+    return (abs(args.c / (args.gamma * args.H) - 0.05) <= 1e-9 * 0.05
+            and abs(args.phi - 20.0) <= 1e-9 * 20.0)
+
+
 def check(args):
     if not args.B < 2 * args.W:
         return f"--B ({args.B:g}) must be below twice --W ({args.W:g}): the footing in the domain"
+    if not np.tan(np.radians(args.phi)) < 0.5:
+        return (f"--phi ({args.phi:g}) must be below the slope's angle atan(1/2) = 26.57 deg: "
+                "at or above it no multiple of gravity collapses the slope (the upper bound "
+                "has no mechanism; the multiplier grows without bound towards it)")
     if not args.gamma > args.gamma_w:
         return (f"--gamma ({args.gamma:g}) must exceed --gamma-w ({args.gamma_w:g}): a "
                 "positive submerged unit weight")
@@ -229,10 +243,15 @@ def _run(args):
         rows.append((f"y_w = {y:g} H", y, *safety(pr, args.fos_tol, settings),
                      *bracket(pr, settings)))
         bar.update(1)
-    report.add_interval("dry_F_charts_in_bracket", SLOPE_CHARTS, *F["dry"],
-                        f"Griffiths & Lane ex. 1: Bishop & Morgenstern's 1.38 (not a bound) "
-                        f"inside [F_L, F_U] of the dry slope ({n_slope} elements)",
-                        reference=SLOPE_CHARTS)
+    if griffiths_lane(args):
+        report.add_interval("dry_F_charts_in_bracket", SLOPE_CHARTS, *F["dry"],
+                            f"Griffiths & Lane ex. 1: Bishop & Morgenstern's 1.38 (not a "
+                            f"bound) inside [F_L, F_U] of the dry slope ({n_slope} elements)",
+                            reference=SLOPE_CHARTS)
+    else:
+        report.extra["dry_F_charts"] = (
+            f"not checked: the charts' 1.38 is the slope of c' / (gamma H) = 0.05, phi' = 20 "
+            f"deg; here {args.c / (args.gamma * args.H):.4g}, {args.phi:g} deg")
     for (prev, _, fl0, fu0, *_), (name, y, fl, fu, *_) in zip(rows, rows[1:]):
         report.add_interval(f"F_order_y_w{y:g}", fu - fl, 0.0, np.inf,
                             "F_U - F_L >= 0: the bracket is ordered", reference=0.0)

@@ -131,8 +131,18 @@ def ratio(a, b):
     return b / a if a > 0 else float("nan")
 
 
+def check(args):
+    """Options that cannot go together (a usage error), or None: the checks compare each
+    sensitivity with S_t = 1, so two at least, increasing from 1."""
+    s = args.sensitivities
+    if len(s) < 2 or s[0] != 1.0 or any(b <= a for a, b in zip(s, s[1:])):
+        return (f"--sensitivities {' '.join(f'{v:g}' for v in s)}: two or more, increasing, "
+                "the first 1 (no softening): the checks compare each with the one before")
+    return None
+
+
 def build_parser():
-    p = base_parser(__doc__.splitlines()[0], quick=QUICK)
+    p = base_parser(__doc__.splitlines()[0], quick=QUICK, check=check)
     p.add_argument("--height", type=positive_float, default=1.0, help="bank height H [m]")
     p.add_argument("--width", type=positive_float, default=6.0,
                    help="bank length W behind its face [m]")
@@ -156,8 +166,6 @@ def build_parser():
 
 
 def run(args):
-    if args.sensitivities[0] != 1.0 or sorted(args.sensitivities) != args.sensitivities:
-        raise SystemExit("--sensitivities: increasing, the first 1 (no softening)")
     cases = {S_t: failure(S_t, args) for S_t in args.sensitivities}
     spacing = args.height / args.n
     report = Report("sensitive_clay", args)

@@ -33,7 +33,9 @@ size while it drops a strength by more than --max-drop (c_p - c_r).
 Checks: the elastic slope G / L and the peak c_w (to 1e-6); at the finest cap the computed
 points (delta, tau) from the exact curve, within 2 % of delta_r, on every mesh, regularised
 or not, and for the exponential law (within 2 % of the displacement at 95 % softening);
-delta_r and D within 2 %; the local slip ratio h_min / h_max (2 %); the regularised delta_r
+delta_r and D within 2 % (these three: or 1.5 x the finest cap where larger, the explicit
+update's one-increment lag, :data:`LAG_PER_CAP`); the points past the elastic limit
+c_w L / G are the softening branch; the local slip ratio h_min / h_max (2 %); the regularised delta_r
 independent of h within 5 %; the nonlocal delta_r within 5 % on the two finest meshes; the
 error shrinking with the cap; with fixed-point passes (each increment solved again with the
 strength at its trial end until gamma^p stops changing) every point on the exact curve to
@@ -58,7 +60,8 @@ eta x the plastic shear rate, no factor 2. With the elastic shear tau' = G (V / 
 Checks: every step on the recurrence (1e-5 c_p), the layer uniform (1e-6 c_p), the two steady
 stresses (1e-6), the continuous closed form within 2 % of c_p - c_r at the finest dt (the
 largest error is at the step of first yield) and the mean error over t falling as dt (order
-in [0.8, 1.2]).
+in [0.8, 1.2]). The steady stresses need a --t-end past the relaxation: a shorter one is
+refused, naming the time it takes (:func:`steady_time`, to 1e-7, plus two steps).
 
 Usage::
 
@@ -77,6 +80,16 @@ from pfem_skfem.harness.options import (base_parser, in_range, material_options,
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(rows=[10, 20, 40], max_drop=[0.04, 0.01])
+#: the viscous runs must end this close to their steady stress (relative), a tenth of the
+#: 1e-6 of the steady-stress checks: --t-end is refused below the time it takes
+#: (:func:`steady_time`, plus two steps: the scheme lags the strength one step)
+STEADY = 1e-7
+#: the closed-form checks' tolerance (the curve, delta_r, D) is 2 %, or this many times the
+#: finest cap where that is larger: the explicit update lags one increment, whose strength
+#: drop the cap bounds, and delta_r is off by where the last increment lands; measured at
+#: the finest cap 0.01 / 0.04 (10, 20, 40 rows): curve 0.83-0.94 % / 3.2-3.75 %, delta_r
+#: 0.5-1.25 % / 3.5-5.0 %, D 0.8-1.1 % / 3.3-4.5 %, at most 1.25 x the cap
+LAG_PER_CAP = 1.5
 
 #: tau within this fraction of c_r: the band has reached the residual strength
 AT_RESIDUAL = 1e-6
@@ -115,6 +128,12 @@ def layer_model(rows, L, G, nu, kinematics="linear"):
 def exact_delta(tau, law, scale, *, L, G, h, c_w):
     """delta(tau) = tau L / G + h (gamma^p(tau) - gamma^p(c_w)) on the post-peak branch."""
     return tau * L / G + h * (law.strain_at(tau, scale) - law.strain_at(c_w, scale))
+
+
+def closed_form_tolerance(cap):
+    """The relative tolerance of the checks against the closed form at the finest ``cap``:
+    2 %, or :data:`LAG_PER_CAP` x the cap (the explicit update's one-increment lag)."""
+    return max(0.02, LAG_PER_CAP * cap)
 
 
 def end_strength(law):
@@ -168,7 +187,10 @@ def shear(rows, law, ell, max_drop, args, average_length=0.0, passes=1):
                             control=StepControl(max_drop, passes, average), solver=args.solver)
     delta = run.factors * end
     tau = run.reactions[:, m["top"]] / h                       # per unit width of the column
-    post = np.arange(len(tau)) >= np.argmax(tau)
+    # the softening branch: past the elastic limit c_w L / G (delta(tau) >= c_w L / G where
+    # there is no snap-back), not from the largest tau sampled: the peak may fall inside an
+    # increment, leaving the last elastic point the largest (--c-p 25: 24.36 < c_w = 24.8)
+    post = delta >= c_w * args.L / args.G * (1 - 1e-9)
     softening = post & (tau > c_end * (1 + AT_RESIDUAL))
     error = np.abs(delta[softening] - exact_delta(tau[softening], law, scale, **closed)).max() \
         / delta_r
@@ -218,6 +240,27 @@ def viscous_exact(t, law, eta, G, rate):
     after = s > s_r
     tau[after] = law.c_r + eta * (rate + (rate_r - rate) * np.exp(-G * (s[after] - s_r) / eta))
     return np.where(s < 0, G * rate * np.asarray(t, dtype=float), tau)
+
+
+def steady_time(law, eta, G, rate, dt, c_max=None):
+    """When the uniform layer of :func:`viscous_exact` is steady to :data:`STEADY` of its stress:
+    after yield at t_y = c_p / (G rate), full softening at gamma_r (s_r) and the relaxation of
+    gamma_dot^p to the rate, tau - tau_ss = eta (rate_r - rate) exp(-r (s - s_r)), r = G /
+    eta in continuous time and ln(1 + G dt / eta) / dt in the scheme's steps of ``dt`` (each
+    multiplies the excess by 1 / (1 + G dt / eta)): the slower. With ``c_max`` = c_p (the peak
+    run, no softening): tau - tau_ss = -eta rate exp(-r s) from yield."""
+    from scipy.optimize import brentq
+    t_y = law.c_p / (G * rate)
+    r = np.log1p(G * dt / eta) / dt
+    if c_max is not None:
+        return t_y + np.log(eta * rate / (STEADY * (c_max + eta * rate))) / r
+    H = (law.c_p - law.c_r) / law.gamma_r
+    a, T = G * rate / (G - H), eta / (G - H)
+    s_r = brentq(lambda x: a * (x - T * (1 - np.exp(-x / T))) - law.gamma_r, 0.0,
+                 10 * (law.gamma_r / a + T))
+    excess = eta * abs(a * (1 - np.exp(-s_r / T)) - rate)
+    tau = law.c_r + eta * rate
+    return t_y + s_r + max(np.log(excess / (STEADY * tau)), 0.0) / r
 
 
 def viscous_shear(law, eta, dt, args):
@@ -287,9 +330,24 @@ def check(args):
         return f"--gamma-95 {args.gamma_95:g}: the exponential layer snaps back"
     if len(args.rows) < 2 or len(set(args.rows)) < len(args.rows):
         return "--rows: two different meshes at least (the h-dependence)"
+    if len(set(args.max_drop)) < 2:
+        return "--max-drop: two different caps at least (the error's order in the cap)"
+    if args.eta > 0 and len(set(args.dt)) < 2:
+        return "--dt: two different steps at least (the viscous transient's order in dt)"
     if args.eta > 0 and args.viscous_G <= -args.H:
         return (f"--viscous-G {args.viscous_G:g} must exceed abs(H) = {-args.H:g}: the "
                 f"uniformly softening layer would snap back")
+    if args.eta > 0:
+        linear, _ = laws(args)
+        rate, G = args.velocity / args.L, args.viscous_G
+        steady = 2 * max(args.dt) + max(steady_time(linear, args.eta, G, rate, args.dt[-1]),
+                                        steady_time(linear, args.eta, G, rate, args.dt[0],
+                                                    args.c_p))
+        if args.t_end < steady:
+            return (f"--t-end {args.t_end:g}: the viscous layer is steady (c_r + eta V / L to "
+                    f"{STEADY:g}) only after {steady:.3g} s at --L {args.L:g}, --velocity "
+                    f"{args.velocity:g}, --eta {args.eta:g} (yield, softening to gamma_r, "
+                    f"relaxation over eta / G): a longer --t-end")
     return None
 
 
@@ -393,20 +451,21 @@ def run(args):
              else shear(rows[0], linear, None, c, args) for c in caps]
     fixed_point = shear(rows[0], linear, None, caps[0], args, passes=args.passes)
     first = local[0]
+    tol = closed_form_tolerance(finest)
     report.add("elastic_slope", first["slope"], args.G / args.L, "tau / delta = G / L", 1e-6)
     report.add("peak_tau", first["tau"].max(), first["c_w"],
                "the weak row's strength c_w = c_p - epsilon (c_p - c_r)", 1e-6)
     for name, runs, band in (("local", local, "h"), ("regularised", regular, "ell")):
         for r in runs:
             key = f"{name}_rows{r['rows']}"
-            report.add_interval(f"{key}_curve_error", r["error"], 0.0, 0.02,
+            report.add_interval(f"{key}_curve_error", r["error"], 0.0, tol,
                                 f"max |delta - delta(tau)| / delta_r, delta(tau) = tau L / G + "
                                 f"{band} (c_w - tau) / abs(H)")
             report.add(f"{key}_delta_r", r["delta_r"], r["delta_r_exact"],
-                       f"c_r L / G + {band} (c_w - c_r) / abs(H)", 0.02)
+                       f"c_r L / G + {band} (c_w - c_r) / abs(H)", tol)
             report.add(f"{key}_dissipation", r["dissipation"], r["dissipation_exact"],
-                       f"{band} (c_w^2 - c_r^2) / (2 abs(H))", 0.02)
-    report.add_interval("exponential_curve_error", expo["error"], 0.0, 0.02,
+                       f"{band} (c_w^2 - c_r^2) / (2 abs(H))", tol)
+    report.add_interval("exponential_curve_error", expo["error"], 0.0, tol,
                         "max |delta - delta(tau)| / delta_95, delta(tau) = tau L / G + "
                         "h (gamma^p(tau) - gamma^p(c_w))")
     elastic_part = args.c_r * args.L / args.G

@@ -93,6 +93,8 @@ GIVEN = {
     ("granular_column_mu_i", "d0_over_d"): (["--d0-over-d", "50"],
                                             "None: --h0-over-d sets the size"),
     ("granular_column_mu_i", "rho_s"): (["--rho-s", "1.25"], "None: --rho; x 1.25"),
+    ("granular_column_mu_i", "density_factor"): (["--density-factor", "4"],
+                                                 "a power of 2 (the bit-exact invariance): x 2"),
     ("granular_column_plane", "E"): (["--E", "10000"], "None: rigid-plastic; elastoplastic"),
     ("granular_column_plane", "nu"): (["--nu", "0.375", "--E", "10000"],
                                       "None (0.3 with --E); x 1.25, with the --E it needs"),
@@ -104,6 +106,12 @@ GIVEN = {
     ("accretionary_wedge", "contact"): (["--contact", "coulomb", "--stability-steps", "6"],
                                         "the other choice, with the 6 push steps the "
                                         "stability test needs with it"),
+    ("softening_layer", "L"): (["--L", "1.25", "--t-end", "1.25"],
+                               "x 1.25, with the t_end its slower shear needs to be steady "
+                               "(1.15 s; --t-end 1 refused)"),
+    ("softening_layer", "c_p"): (["--c-p", "25", "--t-end", "1.25"],
+                                 "x 1.25, with the t_end its longer softening needs to be "
+                                 "steady (1.21 s; --t-end 1 refused)"),
     # studies off by default ([]): one run of the study
     ("accretionary_wedge", "increment_study"): (["--increment-study", "16"],
                                                 "[]: one run of 16 increments"),
