@@ -44,7 +44,7 @@ class PressureField:
     to_points : (n_points, n_p) sparse, p at the stress points;
     gradient : (2 n_elements, n_p) sparse, grad p of each element, rows (element, x/y);
     cell_volume : (n_elements,) int dV over each element (area, or 2 pi r_c area); zero on
-        a free-draining element (:func:`restricted`);
+        a free-draining element (:func:`pressure_field`'s ``wet``);
     storage : (n_p, n_p) sparse, int N_p^T N_p dV (over the saturated elements);
     geometry : plane strain or axisymmetry (the weight of every integral).
     """
@@ -55,7 +55,7 @@ class PressureField:
     cell_volume: np.ndarray
     storage: sp.csr_matrix
     geometry: Geometry = PLANE_STRAIN
-    wet: np.ndarray = None          # the saturated elements (:func:`restricted`); None: all
+    wet: np.ndarray = None          # the saturated elements (pressure_field's); None: all
 
     def drainable(self):
         """The vertices a drained condition may hold: the mesh's boundary vertices and
@@ -76,8 +76,12 @@ class PressureField:
         return sp.kron(self.to_points, IDENTITY[:, None], format="csr")
 
 
-def pressure_field(disc):
-    """The P1 pore-pressure field on the mesh of ``disc`` (a Discretisation)."""
+def pressure_field(disc, wet=None):
+    """The P1 pore-pressure field on the mesh of ``disc`` (a Discretisation); ``wet`` (a
+    boolean per element, or None: all) the saturated elements, the only ones its Darcy and
+    storage integrals cover (``cell_volume`` zero and no storage elsewhere: a free-draining
+    region's, whose p the caller holds). ``to_points`` covers every element: the total
+    stress is the effective one less p everywhere."""
     mesh, geometry = disc.mesh, disc.geometry
     basis = Basis(mesh, ElementTriP1(), intorder=geometry.intorder(2))
     lam, e = barycentric_at_points(disc)
@@ -88,24 +92,17 @@ def pressure_field(disc):
     gradient, area = _element_gradients(mesh.p, mesh.t[:3], basis.N)
     centroid = mesh.p[:, mesh.t[:3]].mean(axis=1)
     cell_volume = area * geometry.weight(centroid)
-    storage = _mass(geometry).assemble(basis).tocsr()
-    return PressureField(basis, to_points, gradient, cell_volume, storage, geometry)
-
-
-def restricted(field, disc, cells):
-    """``field`` with its Darcy and storage integrals over the elements ``cells`` (a
-    boolean per element) only: ``cell_volume`` zero and no storage elsewhere (a
-    free-draining region's, whose p the caller holds). ``to_points`` is kept: the total
-    stress is the effective one less p on every element."""
-    cells = np.asarray(cells, dtype=bool)
-    if cells.all():
-        return field
-    geometry = field.geometry
-    wet = Basis(disc.mesh, ElementTriP1(), intorder=geometry.intorder(2),
-                elements=np.flatnonzero(cells))
-    return PressureField(field.basis, field.to_points, field.gradient,
-                         np.where(cells, field.cell_volume, 0.0),
-                         _mass(geometry).assemble(wet).tocsr(), geometry, cells)
+    if wet is not None and np.all(wet):
+        wet = None
+    if wet is not None:                             # Darcy and storage on the wet only
+        wet = np.asarray(wet, dtype=bool)
+        cell_volume = np.where(wet, cell_volume, 0.0)
+        basis_wet = Basis(mesh, ElementTriP1(), intorder=geometry.intorder(2),
+                          elements=np.flatnonzero(wet))
+        storage = _mass(geometry).assemble(basis_wet).tocsr()
+    else:
+        storage = _mass(geometry).assemble(basis).tocsr()
+    return PressureField(basis, to_points, gradient, cell_volume, storage, geometry, wet)
 
 
 def _element_gradients(p, t, n_p):

@@ -16,7 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..discretisation.pressure import pressure_field, restricted
+from ..discretisation.pressure import pressure_field
 from ..problems.consolidation import Hydraulic
 from ..problems.pore_term import PorePressureTerm
 
@@ -62,7 +62,7 @@ def pore_pressure_term(scene, disc, pm, state, contacts, regions):
         raise ValueError("the scene is saturated (scene.water) and the state carries no pore "
                          "pressure: start from scene.initial_state()")
     wet = water.saturated(scene.regions)[regions]
-    pressure = restricted(pressure_field(disc), disc, wet)     # dof i is vertex i
+    pressure = pressure_field(disc, wet)            # dof i is vertex i
     h = float(np.median(state.h))
     drained = drained_vertices(water, disc, contacts, h, ~wet)
     return PorePressureTerm(water.soil(), pressure, state.pore_pressure[pm.particle],
