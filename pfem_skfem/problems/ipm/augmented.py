@@ -70,4 +70,4 @@ class Augmented(Newton):
         dx, dy = parts[0], parts[1]
         dzt = {d: part.reshape(-1, d) for d, part in zip(bzt, parts[2:])}
         Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
-        return dx, dy, dzt, Gdx
+        return dx, dy, dzt, (Gdx, None)           # E^T dy: the residual makes it

@@ -138,7 +138,8 @@ class Newton:
             self.schur_f = np.linalg.cholesky(self.Ef.T @ self.Z)
 
     def _solve_reduced(self, rx, ry):
-        """(dx, dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised."""
+        """(dx, dy, E^T dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised
+        (E^T dy, which dx is made of, is also the residual's: :meth:`_residual`)."""
         st = self.st
         rN = st.NT @ rx
         dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
@@ -147,10 +148,11 @@ class Newton:
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
         p = self.gamma * (rN - st.EN.T @ dy)
-        dx = self.Hmat @ (rx - st.ET @ dy) + st.N @ p       # zero off the blocks
+        ETdy = st.ET @ dy
+        dx = self.Hmat @ (rx - ETdy) + st.N @ p             # zero off the blocks
         if st.free.size:
             dx[st.free] = dxf
-        return dx, dy
+        return dx, dy, ETdy
 
     def _rhs_x(self, bx, bzt):
         """bx + G^T W^-1 bzt."""
@@ -160,21 +162,21 @@ class Newton:
         return r
 
     def _once(self, bx, by, bzt):
-        """(dx, dy, dzt) of (N) by the reduction, unrefined, and G dx per group."""
-        dx, dy = self._solve_reduced(self._rhs_x(bx, bzt), by)
+        """(dx, dy, dzt) of (N) by the reduction, unrefined, G dx per group and E^T dy."""
+        dx, dy, ETdy = self._solve_reduced(self._rhs_x(bx, bzt), by)
         Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
         dzt = {d: self.W[d].inverse(Gdx[d]) - bzt[d] for d in Gdx}
-        return dx, dy, dzt, Gdx
+        return dx, dy, dzt, (Gdx, ETdy)
 
-    def _residual(self, bx, by, bzt, dx, dy, dzt, third=False):
+    def _residual(self, bx, by, bzt, dx, dy, dzt, third=False, ETdy=None):
         """The residual of (N), unregularised, its largest entry, and the products it is
         made of (P dx, A^T dz with dz = (dy, W^-1 dzt), E dx). Its third row holds by
         construction (dzt = W^-1 G dx - bzt, refinement included: round-off), so it is
         computed only when asked (``third``: a check, or :mod:`.augmented`'s solve,
-        which does not hold it), else zero."""
+        which does not hold it), else zero. ``ETdy``: E^T dy where the solve made it."""
         st = self.st
         Pdx = st.P @ dx
-        ATdz = st.ET @ dy
+        ATdz = st.ET @ dy if ETdy is None else ETdy.copy()
         rz = {}
         for d, G in st.G.items():
             w = self.W[d]
@@ -196,24 +198,26 @@ class Newton:
         ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
         measures of the next iterate are updated by, :mod:`.solver`)."""
         tol = max(tol, REFINE_TOL)
-        dx, dy, dzt, Gdx = self._once(bx, by, bzt)
+        dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
         if not refine:
             return dx, dy, dzt
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
         third = not self.third_by_construction
-        ex, ey, ez, norm, made = self._residual(bx, by, bzt, dx, dy, dzt, third)
+        ex, ey, ez, norm, made = self._residual(bx, by, bzt, dx, dy, dzt, third, ETdy)
         for _ in range(REFINE_STEPS):
             if norm <= tol * scale:
                 break
-            cx, cy, cz, Gcx = self._once(ex, ey, ez)
+            cx, cy, cz, (Gcx, ETcy) = self._once(ex, ey, ez)
             new = (dx + cx, dy + cy, {d: dzt[d] + cz[d] for d in dzt})
-            fx, fy, fz, new_norm, new_made = self._residual(bx, by, bzt, *new, third)
+            fx, fy, fz, new_norm, new_made = self._residual(bx, by, bzt, *new, third,
+                                                            None if ETcy is None else ETdy + ETcy)
             if new_norm >= norm:
                 break
             slow = new_norm > 0.5 * norm             # more steps would gain little
             (dx, dy, dzt), (ex, ey, ez), norm, made = new, (fx, fy, fz), new_norm, new_made
             Gdx = {d: Gdx[d] + Gcx[d] for d in Gdx}
+            ETdy = None if ETcy is None else ETdy + ETcy
             if slow:
                 break
         self.residual = norm / scale

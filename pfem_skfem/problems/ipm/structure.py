@@ -86,7 +86,9 @@ class Structure:
         self.E = A[self.zero].tocsr()
         self.ET = self.E.T.tocsr()
         self.G = {d: A[rows.ravel()].tocsr() for d, rows in self.groups.items()}
-        self.GT = {d: G.T.tocsr() for d, G in self.G.items()}
+        # G^T and N (below) are tall with few entries: CSC (the CSR's transpose, no copy)
+        # skips their empty rows in a product (G_1^T: 0.17 to 0.04 ms at 8,192 elements)
+        self.GT = {d: G.T for d, G in self.G.items()}
         self.P = full_symmetric(P)
         links, self._incidence = abs(self.P), {}
         for d, rows in self.groups.items():               # variables in a common cone
@@ -329,7 +331,7 @@ class Structure:
                                  (np.concatenate(rows_) if rows_ else np.zeros(0, int),
                                   np.concatenate(cols_) if cols_ else np.zeros(0, int))),
                                 shape=(self.n_p, n))
-        self.N = self.NT.T.tocsr()
+        self.N = self.NT.T
         self.blocked = np.ones(n, bool)             # the variables of the blocks
         self.blocked[self.free] = False
         self.blocked[self.dead] = False
