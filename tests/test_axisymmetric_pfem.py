@@ -18,8 +18,7 @@ from pfem_skfem.materials import (ZeroDilationDruckerPrager, ZeroDilationMohrCou
                                   drucker_prager_match)
 from pfem_skfem.materials.axisymmetric import mean_stress
 from pfem_skfem.scene import Region, Scene
-
-from verification.granular_column_axisymmetric import granular_column_axisymmetric
+from pfem_skfem.scene.columns import granular_column_axisymmetric
 
 # every test of this file on one xdist worker: its module fixture is computed once
 pytestmark = pytest.mark.xdist_group("test_axisymmetric_pfem")
@@ -181,7 +180,7 @@ def test_bulge_correction_puts_back_the_volume_the_chords_drop(collapse_steps):
 
 @pytest.mark.parametrize("a, nr, courant", [(0.5, 6, 0.5), (2.0, 8, 0.3), (8.0, 10, 1.0)])
 def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
-    from verification.granular_column_axisymmetric import courant_steps
+    from pfem_skfem.scene.columns import courant_steps
     steps = courant_steps(a, nr, courant)
     for r0, g in ((1.0, 9.8), (0.039, 9.81)):                # whatever r0 and g
         h0, h = a * r0, r0 / (nr - 1)
@@ -194,7 +193,7 @@ def test_courant_steps_hold_the_free_fall_courant_number(a, nr, courant):
 def test_a_short_column_gets_nr_particles_over_its_height(a, nr):
     """The fewest particles across r0 whose spacing puts nr - 1 spacings over the smaller
     of r0 and h0 = a r0 (nr across the radius when a >= 1)."""
-    from verification.granular_column_axisymmetric import particles_across_radius
+    from pfem_skfem.scene.columns import particles_across_radius
     n = particles_across_radius(a, nr)
     spacings = lambda n: min(1.0, a) * (n - 1)             # over min(r0, h0), r0 = 1  # noqa: E731
     assert spacings(n) >= (nr - 1) * (1 - 1e-12) and spacings(n - 1) < nr - 1

@@ -295,8 +295,7 @@ def test_pfem_steps_agree_with_clarabel(geometry):
     if geometry == "plane":
         from verification.granular_column_plane import granular_column as column
     else:
-        from verification.granular_column_axisymmetric import (
-            granular_column_axisymmetric as column)
+        from pfem_skfem.scene.columns import granular_column_axisymmetric as column
     states = []
     for solver in ("clarabel", "ipm"):
         state, scene = column(1.0, 6, dt=0.05 * np.sqrt(1.0 / 9.8), solver=solver, passes=1)

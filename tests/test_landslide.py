@@ -9,6 +9,7 @@ from pytest import approx
 
 from pfem_skfem.harness.report import run_script
 from pfem_skfem.scene import polygon_area
+from pfem_skfem.scene.slope_profile import read_profile
 from verification import landslide_yangbaodi as slide
 
 # every test of this file on one xdist worker, with the landslide's case of
@@ -25,7 +26,7 @@ def quick(quick_run):
 def test_the_reconstructed_profile_has_what_the_thesis_states():
     """Failure between 130 and 199 m (Section 8.2), flat ground below, the axes' 0-350 m
     covered, a concave slip surface; the mass polygon is the area between the surfaces."""
-    p = slide.read_profile(slide.PROFILE)
+    p = read_profile(slide.PROFILE)
     poly = np.asarray(p.mass_polygon())
     assert (poly[:, 1].min(), poly[:, 1].max()) == (approx(130.0), approx(199.0, abs=0.01))
     assert p.x[0] == 0 and p.x[-1] >= 350 and p.z_slip[-1] == p.z_slip[-2]     # flat at the end
@@ -91,7 +92,7 @@ def test_a_bad_profile_is_a_usage_error_before_any_work(text, words, tmp_path, c
     path = tmp_path / "profile.csv"
     path.write_text("# a profile\n" + text)
     with pytest.raises(ValueError, match=words):
-        slide.read_profile(path)
+        read_profile(path)
     with pytest.raises(SystemExit) as exit_:
         slide.build_parser().parse_args(["--profile", str(path)])
     assert exit_.value.code == 2

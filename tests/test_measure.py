@@ -5,8 +5,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pfem_skfem.pfem.measure import (front, front_speed, height_at, main_body, mesh_energy,
-                                     particle_energy, surface_level)
+from pfem_skfem.pfem.measure import (deposit_at_wall, front, front_speed, height_at, main_body,
+                                     mesh_energy, particle_energy, surface_level,
+                                     surface_profile, wedge_geometry)
 
 
 def lattice(nx, ny, h):
@@ -24,6 +25,13 @@ def test_the_height_at_a_wall_of_a_lattice_is_its_top_row():
     assert np.isnan(height_at(cloud, 2.1, default=np.nan))        # none near: the default
     with pytest.raises(ValueError, match="within one spacing of x = 2.1"):
         height_at(cloud, 2.1)                       # 0.6 from the last column: beyond h
+
+
+def test_the_deposit_at_the_wall_leaves_out_a_splash():
+    cloud = lattice(4, 3, 0.5)                      # x in 0..1.5, y in 0..1
+    x = np.vstack([cloud.x[cloud.x[:, 0] + cloud.x[:, 1] <= 2.0], [[5.0, 3.0]]])  # a splash
+    deposit = SimpleNamespace(x=x, h=np.full(len(x), 0.5), n=len(x), mesh_p=None)
+    assert deposit_at_wall(deposit, 1.4) == (1.0, 1.0, 1.5)      # the wall, the top, the toe
 
 
 def test_the_front_of_the_particles_takes_a_drop_the_mesh_leaves_out():
@@ -72,6 +80,31 @@ def test_the_surface_level_of_a_lattice_is_its_top_row():
     water = np.append(water, False)
     assert surface_level(x, water, 0.1, 0.0, 1.0) == pytest.approx(0.5, abs=1e-15)
     assert np.isnan(surface_level(x, water, 0.1, 2.0, 3.0))        # no column holds one
+
+
+def test_the_surface_profile_of_a_lattice_is_its_top_row():
+    cloud = lattice(11, 6, 0.1)                     # x in 0..1, top row at y = 0.5
+    bins = np.arange(-0.05, 1.3, 0.1)               # one particle column a bin, two beyond
+    xc, top = surface_profile(cloud.x, cloud.h, 1.4, bins)
+    assert np.allclose(xc, np.arange(0.0, 1.25, 0.1))
+    assert np.all(top[:11] == 0.5) and np.isnan(top[11:]).all()
+
+
+def test_the_geometry_of_a_triangular_wedge():
+    """A surface falling at 10 deg from h0 + H at the wall: the slope is 10 deg, the front
+    the first bin centre within one spacing of h0, the uplift the area under the line from
+    the first bin centre to the front (the trapezoidal rule is exact on a line)."""
+    h0, H, spacing, tan_a = 0.1, 0.04, 0.01, np.tan(np.radians(10.0))
+    xc = np.arange(0.005, 1.0, 0.01)
+    top = h0 + np.clip(H - xc * tan_a, 0.0, None)
+    top[-1] = np.nan                                # an empty bin, left out
+    geo = wedge_geometry(np.append(-0.005, xc), np.append(h0 + H, top), 0.0, h0, spacing)
+    front = xc[np.argmax(H - xc * tan_a <= spacing)]        # 0.175
+    assert geo["slope_deg"] == pytest.approx(10.0, rel=1e-9)
+    assert (geo["front"], geo["length"]) == (pytest.approx(front), pytest.approx(front))
+    assert (geo["crest_x"], geo["crest"]) == (0.005, pytest.approx(h0 + H - 0.005 * tan_a))
+    area = H * (front - 0.005) - tan_a * (front ** 2 - 0.005 ** 2) / 2
+    assert geo["area_up"] == pytest.approx(area, rel=1e-12)
 
 
 def test_the_energy_of_two_particles():

@@ -21,8 +21,7 @@ from pfem_skfem.discretisation.static import discretise
 from pfem_skfem.discretisation import ThetaMethod, dynamic_operators
 from pfem_skfem.problems.dynamic import dynamic_increment
 from pfem_skfem.problems.step_terms import step_terms, viscous_stress_map
-
-from verification.granular_column_axisymmetric import granular_column_axisymmetric
+from pfem_skfem.scene.columns import granular_column_axisymmetric
 
 MU_S, MU_2, I_0 = 0.38, 0.64, 0.279
 P0, RHO_S, RHO = 1.0e3, 2450.0, 1470.0         # frozen pressure [Pa], grain and bulk density

@@ -17,7 +17,7 @@ from pfem_skfem.materials.softening import point_sizes, shear_invariant
 from pfem_skfem.materials.softening_axisymmetric import (axisymmetric_point_sizes,
                                                          axisymmetric_shear_invariant)
 from pfem_skfem.scene import Region, Scene
-from verification.granular_column_axisymmetric import granular_column_axisymmetric
+from pfem_skfem.scene.columns import granular_column_axisymmetric
 
 G = 9.8
 ELASTIC = Elastic(1e4, 0.45)

@@ -200,8 +200,7 @@ def test_pfem_steps_with_qoco_agree_with_clarabel(geometry, statement, monkeypat
     if geometry == "plane":
         from verification.granular_column_plane import granular_column as column
     else:
-        from verification.granular_column_axisymmetric import (
-            granular_column_axisymmetric as column)
+        from pfem_skfem.scene.columns import granular_column_axisymmetric as column
     from pfem_skfem.problems.backends import ENGINES
     direct_solves = []                  # QOCO's solves of the direct assembly
     engine_solve = ENGINES["qoco"].solve

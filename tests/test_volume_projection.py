@@ -176,7 +176,7 @@ def test_held_vertices_stay_and_pressed_vertices_slide_along_the_wall():
 
 
 def collapse(volume_correction, steps=12):
-    from verification.granular_column_axisymmetric import granular_column_axisymmetric
+    from pfem_skfem.scene.columns import granular_column_axisymmetric
     from pfem_skfem.drivers.pfem_loop import run
     state, scene = granular_column_axisymmetric(2.0, 5, dt=0.04 * np.sqrt(2.0 / 9.8),
                                                 volume_correction=volume_correction)
@@ -203,7 +203,7 @@ def test_the_engine_option_changes_a_step_at_second_order():
     """One step of the collapse with and without the correction: the particles differ by
     a fraction of the step's displacement that falls with dt (the shift is quadratic in
     the displacement gradient), halving dt dividing it by more than 3."""
-    from verification.granular_column_axisymmetric import granular_column_axisymmetric
+    from pfem_skfem.scene.columns import granular_column_axisymmetric
     from pfem_skfem.drivers.pfem_loop import pfem_step
     ratios = []
     for dt in (0.04, 0.02):

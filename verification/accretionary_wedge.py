@@ -71,7 +71,7 @@ from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.discretisation.fields import element_mean
 from pfem_skfem.materials import ZeroDilationMohrCoulomb
-from pfem_skfem.pfem import alpha_shape
+from pfem_skfem.pfem.measure import popup, surface_profile, wedge_geometry
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction, RigidSegment
 from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.harness.declare import own_options
@@ -162,7 +162,8 @@ def wedge_length(area_up, alpha):
 def mass_balance_length(area_up, height, alpha, cut=0.0):
     """Length from the wall of a wedge holding ``area_up`` above the layer: a plateau of
     ``height`` (the crest's, above h0) from the wall, then the slope ``alpha`` [deg] down to
-    where it is ``cut`` above the layer (the front as :func:`wedge_geometry` finds it):
+    where it is ``cut`` above the layer (the front as
+    :func:`~pfem_skfem.pfem.measure.wedge_geometry` finds it):
     A = H p + (H^2 - cut^2) / (2 tan alpha), L = p + (H - cut) / tan alpha, so
     L = A / H + (H - cut)^2 / (2 H tan alpha). With no plateau (A = H^2 / (2 tan alpha),
     cut = 0) it is the triangle's :func:`wedge_length`; no uplift (height <= 0): 0."""
@@ -265,81 +266,11 @@ def stability_test(taper, phi_b=15.0, phi=30.0, steps=6, layers=8, H=0.05, du=1.
                      element_mean(result.disc, history[-1]))}
 
 
-# -- the layer: measures -----------------------------------------------------------------------
-def surface_profile(x, h, alpha, bins):
-    """Height of the material's upper boundary at the centres of ``bins`` (the highest
-    particle of the main body in each bin; nan where empty)."""
-    shape = alpha_shape(x, h, alpha)
-    main = int(np.argmax(shape.body_area))
-    pts = x[np.unique(shape.triangles[shape.body == main])]
-    k = np.digitize(pts[:, 0], bins) - 1
-    top = np.full(len(bins) - 1, np.nan)
-    for i in range(len(bins) - 1):
-        if np.any(k == i):
-            top[i] = pts[k == i, 1].max()
-    return 0.5 * (bins[1:] + bins[:-1]), top
-
-
-def wedge_geometry(xc, top, x_wall, h0, spacing):
-    """The thickened wedge from the surface profile: its crest (highest point), its front
-    (the first x past the crest where the surface is back within a spacing of h0), the
-    area lifted above h0 between wall and front, and the mean surface slope [deg] away from
-    the wall: a straight-line fit over the middle two thirds from the crest to the front."""
-    ok = np.isfinite(top) & (xc > x_wall)
-    xc, top = xc[ok], top[ok]
-    crest = int(np.argmax(top))
-    beyond = np.flatnonzero((top <= h0 + spacing) & (np.arange(len(top)) > crest))
-    front = xc[beyond[0]] if beyond.size else xc[-1]
-    inside = xc <= front
-    area_up = float(np.trapezoid(np.clip(top[inside] - h0, 0, None), xc[inside]))
-    span = front - xc[crest]
-    mid = (xc >= xc[crest] + span / 6) & (xc <= front - span / 6)
-    slope = -np.polyfit(xc[mid], top[mid], 1)[0] if mid.sum() >= 2 else np.nan
-    return {"front": float(front), "length": float(front - x_wall), "area_up": area_up,
-            "crest_x": float(xc[crest]), "crest": float(top[crest]),
-            "slope_deg": float(np.degrees(np.arctan(slope)))}
-
-
-def popup(points, cells, deps, h0, x_wall, fraction=0.5):
-    """A V of two bands rooted near the base of the wall, from the plastic strain field.
-
-    The elements straining more than ``fraction`` of the largest increment form the bands;
-    their lowest point (within 2 h0 of the wall) is the root; the straining elements on
-    either side of it are fitted by straight lines y(x). A pop-up: a back thrust rising
-    towards the wall (dy/dx < 0) and a forward thrust rising away from it (dy/dx > 0),
-    both dipping between 15 and 75 deg.
-    Returns dict(root_x, root_y, back_dip, fore_dip, is_popup).
-    """
-    centre = points[cells].mean(axis=1)
-    hot = deps > fraction * deps.max()
-    near = hot & (centre[:, 0] < x_wall + 2.5 * h0)
-    c = centre[near]
-    out = {"root_x": np.nan, "root_y": np.nan, "back_dip": np.nan, "fore_dip": np.nan,
-           "is_popup": False}
-    if len(c) < 4:
-        return out
-    low = c[c[:, 1] <= c[:, 1].min() + 0.25 * h0]
-    root = low.mean(axis=0)
-    out["root_x"], out["root_y"] = float(root[0] - x_wall), float(root[1])
-    left, right = c[c[:, 0] < root[0]], c[c[:, 0] > root[0]]
-    dips = []
-    for side in (left, right):
-        if len(side) >= 2 and np.ptp(side[:, 0]) > 0:
-            slope = np.polyfit(side[:, 0], side[:, 1], 1)[0]
-            dips.append(float(np.degrees(np.arctan(slope))))
-        else:
-            dips.append(np.nan)
-    out["back_dip"], out["fore_dip"] = -dips[0], dips[1]
-    out["is_popup"] = bool(np.isfinite(dips).all() and 15 <= -dips[0] <= 75 and 15 <= dips[1] <= 75
-                           and root[1] < 0.5 * h0)
-    return out
-
-
 def run_layer(*, outdir=None, save_every=0, verbose=False, checkpoint_dir=None,
               checkpoint_every=20, **layer):
     """The thesis' layer (the :class:`Layer` of the keywords ``layer``) shortened by s;
     returns histories, snapshots, the final surface profile and the wedge's measures
-    (:func:`wedge_geometry`, :func:`popup`).
+    (:func:`~pfem_skfem.pfem.measure.wedge_geometry`, :func:`~pfem_skfem.pfem.measure.popup`).
 
     With ``checkpoint_dir`` the state and the snapshots so far are saved there every
     ``checkpoint_every`` steps and at the end

@@ -11,7 +11,8 @@ The material is the thesis' Drucker-Prager cone (7.10) (the compression-meridian
 with zero dilation by the scheme of [80]
 (:class:`~pfem_skfem.materials.pfem.ZeroDilationDruckerPrager`, the lagged mean
 stress I1/3), rho = 2 t/m3, c = 0, phi_g = 30 deg, base friction tan phi_s with
-phi_s = phi_g, dt / sqrt(h0/g) = 0.01 (``--steps 400``), alpha = 1.6.
+phi_s = phi_g, dt / sqrt(h0/g) = 0.01 (``--steps 400``), alpha = 1.6: the scene
+:class:`~pfem_skfem.scene.columns.ColumnOfRevolution`.
 
 References (as printed in the thesis; the primary papers were not read)
 ------------------------------------------------------------------------
@@ -56,12 +57,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pfem_skfem.scene.config import PFEMConfig
 from pfem_skfem.drivers.pfem_loop import config_summary
-from pfem_skfem.materials import ZeroDilationDruckerPrager, ZeroDilationMohrCoulombAxisymmetric
-from pfem_skfem.pfem.remesh import AlphaMesh
-from pfem_skfem.problems.contact import RigidSegment
-from pfem_skfem.discretisation import ThetaMethod
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun, sitting
 from pfem_skfem.harness.declare import checkpoint_keywords, option_values, own_options
 from pfem_skfem.harness.figures import figure_dir, save_figure, write_summary
@@ -73,8 +69,10 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, cohesio
 from pfem_skfem.harness.report import Report, sampled, script_main, thinned_groups
 from pfem_skfem.harness.sweeps import (grouped, kept_with, one_sitting, run_study,
                                        shared_cases, spans)
-from pfem_skfem.pfem.measure import deposit_extent, mass_moved, wall_height
-from pfem_skfem.scene import Body, Geostatic, Region, Scene
+from pfem_skfem.pfem.measure import deposit_at_wall, mass_moved
+from pfem_skfem.scene.columns import (AXISYMMETRIC_MATERIALS, courant_steps,
+                                      granular_column_axisymmetric,
+                                      particles_across_radius)
 from pfem_skfem.viz import groups_figure, lines_figure, mass_profiles_figure, snapshot_grid
 
 ASPECTS = (0.5, 1.0, 2.0, 4.0, 6.0, 8.0, 12.0)
@@ -96,51 +94,8 @@ HEIGHT_TOLERANCE = 0.01
 FIT_TOLERANCE = 0.25
 RUNOUT_GATED = (0.5, 1.0, 2.0, 4.0, 8.0)
 HEIGHT_GATED = (2.0, 6.0)
-MATERIALS = {"dp": ZeroDilationDruckerPrager, "mc": ZeroDilationMohrCoulombAxisymmetric}
 PARTICLES_ACROSS = in_range(2, integer=True, what="a number of particles across >= 2")
 DEPOSIT = ("runout_over_r0", "h_inf_over_r0")      # the deposit at rest, as a case holds it
-
-
-def granular_column_axisymmetric(a, nr, *, r0=1.0, rho=2.0, g=9.8, phi=30.0, phi_s=None,
-                                 c=0.0, material="dp", container=False, floor_fraction=0.005,
-                                 dt=None, alpha=1.6, t_end=None, soil=None,
-                                 adaptive_alpha=False, **config):
-    """The axisymmetric column of thesis 7.4 as a scene, and its initial state.
-
-    A cylinder r0 in radius and h0 = a r0 high (x = r, y = z), of particles on a square
-    lattice (``nr`` across the radius, the axis row included), on a rigid base z = 0 of
-    friction tan ``phi_s`` (default phi), inside a smooth container r = r0, removed at
-    t = 0 unless ``container``. ``material`` 'dp' (the (7.10) cone with zero dilation) or
-    'mc' (Mohr-Coulomb, three cones, zero dilation); the lagged mean stress I1/3 starts
-    geostatic with K0 = 1 - sin phi; ``floor_fraction`` is the least cone radius in units
-    of rho g h0; ``soil`` a material object in place of ``material``; dt defaults to
-    0.01 sqrt(h0/g); ``adaptive_alpha``: alpha_n = m0 alpha / m_n (thesis Ch 8,
-    :class:`~pfem_skfem.scene.Scene`); other keywords go to
-    :class:`~pfem_skfem.drivers.pfem_loop.PFEMConfig`.
-
-    Returns (state, scene).
-    """
-    if a <= 0:
-        raise ValueError(f"a (aspect ratio h0/r0) must be positive, got {a!r}")
-    if not nr >= 2:
-        raise ValueError(f"nr must be >= 2, got {nr!r}")
-    h0 = a * r0
-    h = r0 / (nr - 1)
-    mu = np.tan(np.radians(phi if phi_s is None else phi_s))
-    top = 20 * h0 + 10 * r0
-    if soil is None:
-        soil = MATERIALS[material](c=c, phi=phi, k_min=floor_fraction)
-    column = Region(((0.0, 0.0), (r0, 0.0), (r0, h0), (0.0, h0)), soil, rho, h,
-                    stress=Geostatic(), name="column")
-    bodies = (Body("base", RigidSegment((-h, 0.0), (top, 0.0), mu)),          # solid below
-              Body("container", RigidSegment((r0, -h), (r0, top), 0.0),       # smooth
-                   removed_at=np.inf if container else 0.0))
-    dt = 0.01 * np.sqrt(h0 / g) if dt is None else dt
-    numerics = PFEMConfig(theta=ThetaMethod(dt, 1.0, 1.0), remesher=AlphaMesh(), **config)
-    scene = Scene(regions=(column,), bodies=bodies, gravity=(0.0, -g), alpha=alpha,
-                  adaptive_alpha=adaptive_alpha, t_end=t_end, length=h0, config=numerics,
-                  geometry="axisymmetric")
-    return scene.initial_state(), scene
 
 
 def lube_2004(a):
@@ -163,36 +118,14 @@ def lajeunesse_2004(a):
     return np.where(a < 3.0, 1.0, 0.5), np.minimum(a, 0.74)
 
 
-def measure_deposit(state, alpha, alpha_advected=0.0):
-    """(height on the axis, toe radius) of the main body, not its splashes: the highest of
-    its particles within one spacing of r = 0 (Lube et al. measure the central height);
-    the body as the run detects it (``alpha_advected``, :func:`deposit_extent`)."""
-    _, toe, body = deposit_extent(state, alpha, alpha_advected)
-    return wall_height(state, body, 0.0), toe
-
-
-def particles_across_radius(a, nr):
-    """Particles across r0 that put ``nr`` across the smaller of r0 and h0 = a r0: a short
-    column (a < 1) gets as many spacings over its height as a = 1 has over its radius
-    (at 10 across, a = 0.5 would otherwise stand 5 spacings high, and its foot, a few
-    particles, moves by whole spacings)."""
-    return int(nr) if a >= 1 else int(np.ceil((nr - 1) / a - 1e-9)) + 1
-
-
-def courant_steps(a, nr, courant):
-    """Steps to t = 4 sqrt(h0/g) with sqrt(2 g h0) dt / h <= ``courant`` (h = r0/(nr - 1)):
-    4 sqrt(2) a (nr - 1) / courant, whatever r0 and g. A step moves the falling top of a tall
-    column by about this many spacings; the second-order volume error of the update grows
-    as its square (the book's "Where the volume goes")."""
-    return int(np.ceil(4 * np.sqrt(2) * a * (nr - 1) / courant))
-
-
 @dataclass(frozen=True)
 class ColumnRun:
     """A run's parameters (:func:`run_case`), which build its scene and its checkpoint keys
-    both. ``nr``: particles across the smaller of r0 and h0 (:func:`particles_across_radius`);
-    ``steps`` to t = 4 sqrt(h0/g), more with ``courant``: those that hold sqrt(2 g h0) dt / h
-    to it (:func:`courant_steps`); the rest :func:`granular_column_axisymmetric`'s."""
+    both. ``nr``: particles across the smaller of r0 and h0
+    (:func:`~pfem_skfem.scene.columns.particles_across_radius`); ``steps`` to
+    t = 4 sqrt(h0/g), more with ``courant``: those that hold sqrt(2 g h0) dt / h to it
+    (:func:`~pfem_skfem.scene.columns.courant_steps`); the rest
+    :class:`~pfem_skfem.scene.columns.ColumnOfRevolution`'s."""
 
     a: float
     nr: int
@@ -222,7 +155,7 @@ class ColumnRun:
                     max(self.steps, courant_steps(self.a, nr, self.courant)))
 
     def scene(self):
-        """(state, scene) of :func:`granular_column_axisymmetric`."""
+        """(state, scene) of :func:`~pfem_skfem.scene.columns.granular_column_axisymmetric`."""
         (nr, steps), p = self.sizes(), self
         return granular_column_axisymmetric(
             p.a, nr, r0=p.r0, rho=p.rho, g=p.g, phi=p.phi, phi_s=p.phi_s, material=p.material,
@@ -291,8 +224,8 @@ def run_case(a, *, outdir=None, save_every=0, verbose=False, history=False, labe
             return False
         if loop["at_t_stop"] is None:            # the deposit where the thesis stops
             ke = np.asarray(state.history["kinetic_energy"])
-            loop["at_t_stop"] = (*measure_deposit(state, alpha, alpha_advected),
-                                 float(ke[-1] / ke.max()))
+            height, _, toe = deposit_at_wall(state, alpha, alpha_advected)
+            loop["at_t_stop"] = (height, toe, float(ke[-1] / ke.max()))
         rest[0] = np.max(np.linalg.norm(state.v, axis=1)) < rest_speed
         return bool(rest[0] or state.step - n_stop >= n_settle)
 
@@ -300,7 +233,7 @@ def run_case(a, *, outdir=None, save_every=0, verbose=False, history=False, labe
         snaps.update({snap_steps[k]: {"points": v["points"], "speed": v["speed"]}
                       for k, v in more.items()})
         if history:
-            hz, toe = measure_deposit(run.state, alpha, alpha_advected)
+            hz, _, toe = deposit_at_wall(run.state, alpha, alpha_advected)
             track["t_bar"].append(run.state.time / t_scale)
             track["h_over_r0"].append(hz / r0)
             track["r_over_r0"].append(toe / r0)
@@ -313,7 +246,9 @@ def run_case(a, *, outdir=None, save_every=0, verbose=False, history=False, labe
     extra = state.step - n_stop
     rest = bool(at_rest)                           # the loop ends only on its test
     seconds = time.perf_counter() - t0
-    height, toe = measure_deposit(state, alpha, alpha_advected) if extra else (height4, toe4)
+    height, toe = height4, toe4                    # at rest at t_stop, or measured again
+    if extra:
+        height, _, toe = deposit_at_wall(state, alpha, alpha_advected)
     hist = state.history
     ke = np.asarray(hist["kinetic_energy"])
     mass = np.asarray(hist["mass"])
@@ -367,7 +302,7 @@ def build_parser():
     own_options(
         p, courant=opt(None, "at least the steps that hold sqrt(2 g h0) dt / h to this (tall "
                              "columns: the volume error grows with it); default: --steps only"),
-        material=(tuple(MATERIALS), "dp", "dp: the (7.10) cone, zero dilation; mc: "
+        material=(tuple(AXISYMMETRIC_MATERIALS), "dp", "dp: the (7.10) cone, zero dilation; mc: "
                                           "Mohr-Coulomb, 3 cones"),
         compare_mc=opt([], "aspect ratios also run with the other material (compared once)",
                        nargs="*"),

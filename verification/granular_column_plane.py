@@ -45,7 +45,7 @@ import numpy as np
 
 from pfem_skfem.drivers.pfem_loop import config_summary
 from pfem_skfem.drivers.resumable import Bar, Checkpoints, Frames, ResumableRun
-from pfem_skfem.pfem.measure import deposit_extent, wall_height
+from pfem_skfem.pfem.measure import deposit_at_wall
 from pfem_skfem.materials import DavisMohrCoulomb, Elastic, ZeroDilationMohrCoulomb
 from pfem_skfem.pfem.remesh import AlphaMesh, QualityRemesh
 from pfem_skfem.problems.contact import CoulombCones, LaggedFriction
@@ -147,12 +147,6 @@ def lube_lagree(a):
     return np.minimum(1.2 * a, 1.9 * a ** (2 / 3))
 
 
-def measure_deposit(state, alpha):
-    """(height at the wall, highest particle, toe) of the main body, not its splashes."""
-    top, toe, body = deposit_extent(state, alpha)
-    return wall_height(state, body), top, toe
-
-
 @dataclass(frozen=True)
 class ColumnRun:
     """A run's parameters (:func:`run_case`), which build its scene and its checkpoint keys
@@ -238,7 +232,7 @@ def run_case(a, *, outdir=None, save_every=0, verbose=False, checkpoint_every=0,
             return False
         if kept["at_t4"] is None:             # a function of this state: saved with it
             ke = np.asarray(state.history["kinetic_energy"])
-            kept["at_t4"] = (*measure_deposit(state, alpha), float(ke[-1] / ke.max()),
+            kept["at_t4"] = (*deposit_at_wall(state, alpha), float(ke[-1] / ke.max()),
                              state.step)
         return at_rest(state) or state.step - kept["at_t4"][4] >= rest_steps
 
@@ -253,7 +247,7 @@ def run_case(a, *, outdir=None, save_every=0, verbose=False, checkpoint_every=0,
         snaps[state.step] = {"points": state.x.copy(),
                              "speed": np.linalg.norm(state.v, axis=1)}
     seconds = time.perf_counter() - t0
-    height, top, toe = measure_deposit(state, alpha) if extra else (height4, top4, toe4)
+    height, top, toe = deposit_at_wall(state, alpha) if extra else (height4, top4, toe4)
     hist = state.history
     ke = np.asarray(hist["kinetic_energy"])
     t_scale = np.sqrt(h0 / g)

@@ -1,21 +1,22 @@
 """What is measured on a particle cloud: the deposit, its height at a wall or a gauge, its
-centre of mass, its front, its surface's height profile and level, its radial mass
-distribution, its energy and the energy of a step's mesh.
+centre of mass, its front, its surface's height profile and level, the wedge a shortened
+layer builds and the pop-up of its first bands, its radial mass distribution, its energy
+and the energy of a step's mesh.
 
 The verification scripts measure their runs with these (granular columns, plane and of
-revolution; the landslide; the dam break; the block into the tank); each takes a
-:class:`~pfem_skfem.pfem.state.PFEMState` or plain arrays and returns numbers, so a script
-states what it measures, not how.
+revolution; the landslide; the dam break; the block into the tank; the accretionary
+wedge); each takes a :class:`~pfem_skfem.pfem.state.PFEMState` or plain arrays and returns
+numbers, so a script states what it measures, not how.
 """
 import numpy as np
 
 from .alpha_shape import alpha_shape, components, triangle_areas
 from .assemble import element_regions
 
-__all__ = ["deposit_extent", "height_at", "wall_height", "centre_of_mass", "front",
-           "front_speed", "main_body",
-           "surface_height", "surface_level", "mass_within", "mass_moved", "particle_energy",
-           "mesh_energy"]
+__all__ = ["deposit_extent", "height_at", "wall_height", "deposit_at_wall", "centre_of_mass",
+           "front", "front_speed", "main_body",
+           "surface_height", "surface_level", "surface_profile", "wedge_geometry", "popup",
+           "mass_within", "mass_moved", "particle_energy", "mesh_energy"]
 
 
 def deposit_extent(state, alpha, alpha_advected=0.0):
@@ -61,6 +62,15 @@ def wall_height(state, particles, wall_x=0.0):
     one spacing h of it (:func:`height_at`; Lube et al. 2005 and Lagree et al. 2011 measure
     the final height there, where the deposit is thickest)."""
     return height_at(state, wall_x, particles)
+
+
+def deposit_at_wall(state, alpha, alpha_advected=0.0):
+    """(height at the wall x = 0, highest particle, toe) of the main body, not its splashes:
+    :func:`wall_height` of the body of :func:`deposit_extent` (detected as the run detects
+    it, ``alpha_advected``). A column's final height is measured there: at the wall of a
+    plane column, on the axis r = 0 of a column of revolution."""
+    top, toe, body = deposit_extent(state, alpha, alpha_advected)
+    return wall_height(state, body), top, toe
 
 
 def centre_of_mass(state):
@@ -136,6 +146,87 @@ def surface_level(x, particles, width, x_from, x_to):
     tops = [x[particles & (x[:, 0] >= a) & (x[:, 0] < b), 1] for a, b in zip(edges, edges[1:])]
     return float(np.mean([t.max() for t in tops if t.size])) if any(t.size for t in tops) \
         else np.nan
+
+
+def surface_profile(x, h, alpha, bins):
+    """Height of the material's upper boundary at the centres of ``bins`` (the highest
+    particle of the main body in each bin; nan where empty): the particles ``x`` of
+    spacings ``h``, the main body the body of largest area of their alpha-shape
+    (:func:`~pfem_skfem.pfem.alpha_shape.alpha_shape` of parameter ``alpha``).
+
+    Returns (bin centres, heights)."""
+    shape = alpha_shape(x, h, alpha)
+    main = int(np.argmax(shape.body_area))
+    pts = x[np.unique(shape.triangles[shape.body == main])]
+    k = np.digitize(pts[:, 0], bins) - 1
+    top = np.full(len(bins) - 1, np.nan)
+    for i in range(len(bins) - 1):
+        if np.any(k == i):
+            top[i] = pts[k == i, 1].max()
+    return 0.5 * (bins[1:] + bins[:-1]), top
+
+
+def wedge_geometry(xc, top, x_wall, h0, spacing):
+    """The wedge a layer of height ``h0`` thickens into against a wall at ``x_wall``, from
+    its surface profile (``xc``, ``top``: :func:`surface_profile`; the bins at or behind the
+    wall and the empty ones left out): its crest (highest point), its front (the first x
+    past the crest where the surface is back within ``spacing`` of h0; the last bin if
+    none), the area lifted above h0 between wall and front, and the mean surface slope
+    [deg] away from the wall: a straight-line fit over the middle two thirds from the crest
+    to the front (nan with fewer than two bins there).
+
+    Returns dict(front, length (front - x_wall), area_up, crest_x, crest, slope_deg)."""
+    ok = np.isfinite(top) & (xc > x_wall)
+    xc, top = xc[ok], top[ok]
+    crest = int(np.argmax(top))
+    beyond = np.flatnonzero((top <= h0 + spacing) & (np.arange(len(top)) > crest))
+    front = xc[beyond[0]] if beyond.size else xc[-1]
+    inside = xc <= front
+    area_up = float(np.trapezoid(np.clip(top[inside] - h0, 0, None), xc[inside]))
+    span = front - xc[crest]
+    mid = (xc >= xc[crest] + span / 6) & (xc <= front - span / 6)
+    slope = -np.polyfit(xc[mid], top[mid], 1)[0] if mid.sum() >= 2 else np.nan
+    return {"front": float(front), "length": float(front - x_wall), "area_up": area_up,
+            "crest_x": float(xc[crest]), "crest": float(top[crest]),
+            "slope_deg": float(np.degrees(np.arctan(slope)))}
+
+
+def popup(points, cells, deps, h0, x_wall, fraction=0.5):
+    """A V of two bands rooted near the base of the wall, from the plastic strain field of
+    a layer of height ``h0`` pushed by a wall at ``x_wall``: ``deps`` one value per cell
+    (triangles ``cells`` of the vertices ``points``).
+
+    The elements whose centres lie within 2.5 h0 of the wall, straining more than
+    ``fraction`` of the largest increment, form the bands (fewer than four: no pop-up);
+    the mean of those within h0 / 4 of the lowest is the root; the straining elements on
+    either side of it are fitted by straight lines y(x). A pop-up: a back thrust rising
+    towards the wall (dy/dx < 0) and a forward thrust rising away from it (dy/dx > 0),
+    both dipping between 15 and 75 deg, rooted below h0 / 2.
+    Returns dict(root_x (from the wall), root_y, back_dip, fore_dip, is_popup).
+    """
+    centre = points[cells].mean(axis=1)
+    hot = deps > fraction * deps.max()
+    near = hot & (centre[:, 0] < x_wall + 2.5 * h0)
+    c = centre[near]
+    out = {"root_x": np.nan, "root_y": np.nan, "back_dip": np.nan, "fore_dip": np.nan,
+           "is_popup": False}
+    if len(c) < 4:
+        return out
+    low = c[c[:, 1] <= c[:, 1].min() + 0.25 * h0]
+    root = low.mean(axis=0)
+    out["root_x"], out["root_y"] = float(root[0] - x_wall), float(root[1])
+    left, right = c[c[:, 0] < root[0]], c[c[:, 0] > root[0]]
+    dips = []
+    for side in (left, right):
+        if len(side) >= 2 and np.ptp(side[:, 0]) > 0:
+            slope = np.polyfit(side[:, 0], side[:, 1], 1)[0]
+            dips.append(float(np.degrees(np.arctan(slope))))
+        else:
+            dips.append(np.nan)
+    out["back_dip"], out["fore_dip"] = -dips[0], dips[1]
+    out["is_popup"] = bool(np.isfinite(dips).all() and 15 <= -dips[0] <= 75 and 15 <= dips[1] <= 75
+                           and root[1] < 0.5 * h0)
+    return out
 
 
 def mass_within(r, m):
