@@ -30,6 +30,13 @@ from .newton import Newton
 #: matrix (a displacement or a variable that nothing reaches); the refinement removes it
 REGULARISATION = 1e-12
 
+#: the regularisation once REGULARISATION's solve is not trusted: an LU without pivoting
+#: of a matrix whose first block is nothing but the regularisation (a linear objective:
+#: the upper bound's kinematic problem) loses its digits at 1e-12; at 1e-10, refined while
+#: a step gains, it carries the upper bound to its tolerances (water at rest, whose
+#: quadratic fills that block, stays at 1e-12: 1e-10 leaves its walls 3e-6 off)
+STRONG = 1e-10
+
 
 def block_diagonal(blocks):
     """The sparse block-diagonal matrix of a stack (m, d, d)."""
@@ -46,9 +53,11 @@ class Augmented(Newton):
     #: the third row of (N) is not satisfied by construction: the residual includes it
     third_by_construction = False
 
-    def __init__(self, structure, scalings):
+    def __init__(self, structure, scalings, regularisation=REGULARISATION):
         st = self.st = structure
         self.W = scalings
+        if regularisation > REGULARISATION:     # refined while a step still gains: the
+            self.slow = 0.99                    # stronger regularisation slows each gain
         n, nE = st.P.shape[0], st.E.shape[0]
         WiG = {d: block_diagonal(scalings[d].inverse_matrix()) @ G for d, G in st.G.items()}
         rows_z = sum(G.shape[0] for G in WiG.values())
@@ -57,7 +66,7 @@ class Augmented(Newton):
                      *([M, None, *(-sp.identity(M.shape[0]) if e == d else None
                                    for e in WiG)] for d, M in WiG.items())],
                     format="csc")
-        delta = REGULARISATION * max(abs(K).max(), 1e-300)
+        delta = regularisation * max(abs(K).max(), 1e-300)
         signs = np.r_[np.ones(n), -np.ones(nE + rows_z)]
         self._lu = sla.splu((K + sp.diags(delta * signs)).tocsc(), permc_spec="MMD_AT_PLUS_A",
                             diag_pivot_thresh=0.0, options={"SymmetricMode": True})

@@ -101,6 +101,9 @@ class Newton:
     #: the reduction satisfies (N)'s third row by construction (:meth:`_residual`)
     third_by_construction = True
 
+    #: a refinement step that leaves more than this of the residual is the last
+    slow = 0.5
+
     def __init__(self, structure, scalings, cholesky):
         st = self.st = structure
         self.W = scalings
@@ -214,7 +217,7 @@ class Newton:
                                                             None if ETcy is None else ETdy + ETcy)
             if new_norm >= norm:
                 break
-            slow = new_norm > 0.5 * norm             # more steps would gain little
+            slow = new_norm > self.slow * norm        # more steps would gain little
             (dx, dy, dzt), (ex, ey, ez), norm, made = new, (fx, fy, fz), new_norm, new_made
             Gdx = {d: Gdx[d] + Gcx[d] for d in Gdx}
             ETdy = None if ETcy is None else ETdy + ETcy

@@ -34,8 +34,10 @@ double precision resolves. The solve watches the residual of each Newton solve
 exceeds :data:`TRUST` the direction is not taken. Far from the tolerances
 (:data:`WHOLE_BEYOND`: a degenerate problem such as water at rest) the iteration is
 solved again, and the rest of the solve too, with (N) unreduced (:mod:`.augmented`, the
-square root of the condition number); nearer, or where that fails too, the
-solve ends at its best iterate: 'Solved' when that meets the full tolerances,
+square root of the condition number); where that fails, once more with it regularised
+more (:data:`.augmented.STRONG`, as from the start where S is singular: the upper
+bound's kinematic problem); nearer, or where that fails too, the solve ends at its best
+iterate: 'Solved' when that meets the full tolerances,
 'AlmostSolved' (Clarabel's reduced tolerances) or 'NumericalError' otherwise. The same
 best iterate answers an iteration limit ('MaxIterations') or a stall
 ('InsufficientProgress').
@@ -47,7 +49,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import cones as K
-from .augmented import Augmented
+from .augmented import REGULARISATION, STRONG, Augmented
 from .cholesky import Cholesky, CholeskyError
 from .newton import Newton
 from .presolve import Substitution
@@ -259,12 +261,13 @@ def _directions(pb, newton, W, lam, m, mu, tol):
     return (*_direction(pb, newton, W, lam, m, 1.0 - sigma, comp, tol=tol), a_aff, sigma)
 
 
-def _attempt(pb, W, lam, m, mu, tol, whole):
+def _attempt(pb, W, lam, m, mu, tol, whole, regularisation=REGULARISATION):
     """(the factorised system, :func:`_directions`'s answer) with (N) reduced
-    (:class:`.newton.Newton`) or whole (:class:`.augmented.Augmented`); (None, None) when
-    its factorisation fails."""
+    (:class:`.newton.Newton`) or whole (:class:`.augmented.Augmented`, its
+    ``regularisation``); (None, None) when its factorisation fails."""
     try:
-        newton = Augmented(pb.st, W) if whole else Newton(pb.st, W, pb.st.cholesky)
+        newton = Augmented(pb.st, W, regularisation) if whole \
+            else Newton(pb.st, W, pb.st.cholesky)
     except (CholeskyError, RuntimeError):        # SuperLU: "Factor is exactly singular"
         return None, None
     return newton, _directions(pb, newton, W, lam, m, mu, tol)
@@ -302,11 +305,13 @@ def _solve(P, c, A, b, cones, settings=None):
     # the start: the least-squares point of (N) with W = I (z = G x - h), shifted inside
     identity = {d: _Identity(*r.shape) for d, r in st.groups.items()}
     whole, whole_lu = False, 0        # whether (N) is solved unreduced (:mod:`.augmented`)
+    regularisation = REGULARISATION   # the unreduced system's, STRONG once not trusted
     try:
         newton = Newton(st, identity, chol)
-    except CholeskyError:             # S singular (a kinematic problem's velocities)
-        whole, whole_lu = True, 1
-        newton = Augmented(st, identity)
+    except CholeskyError:             # S singular (a kinematic problem's velocities): its
+        whole, whole_lu = True, 1     # first block is the regularisation alone
+        regularisation = STRONG
+        newton = Augmented(st, identity, regularisation)
     x, y, zt = newton.solve(-pb.c, pb.b_E, pb.h)
     z, s = np.zeros(rows), np.zeros(rows)
     z[st.zero_at] = y
@@ -337,10 +342,13 @@ def _solve(P, c, A, b, cones, settings=None):
         lam = {d: W[d].lam for d in zg}
         mu = sum(float(np.sum(sg[d] * zg[d])) for d in zg) / pb.nu
         tol = INEXACT * min(1.0, max(m["res_primal"], m["res_dual"], m["gap_rel"]))
-        newton, found = _attempt(pb, W, lam, m, mu, tol, whole)
+        newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
         if not _trusted(newton, tol) and not whole and pb.merit(m) > WHOLE_BEYOND:
             whole = True          # the reduced system ran out of digits: (N) whole from now
-            newton, found = _attempt(pb, W, lam, m, mu, tol, whole)
+            newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
+        if not _trusted(newton, tol) and whole and regularisation < STRONG:
+            regularisation = STRONG     # its LU ran out of digits: regularised more from now
+            newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
         whole_lu += whole
         if not _trusted(newton, tol):
             status = "NumericalError"
