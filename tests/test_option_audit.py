@@ -28,10 +28,7 @@ from tests.test_options import SCRIPTS, _actions
 #: moved options whose checks fail today, each diagnosed in the book's findings table (issue 56,
 #: left to fix): the failing checks must be exactly these, so that a fix or a new failure
 #: shows here
-KNOWN = {
-    "plastic_vibration": {"--d-form cone": {"energy_drift_elastic",   # the cone form's
-                                            "energy_balance_residual"}},   # accuracy
-}
+KNOWN = {}
 #: the scripts whose quick run is under this many CPU seconds run every moved option here
 CHEAP = 4
 CHEAP_SCRIPTS = sorted(n for n in SCRIPTS if QUICK_SECONDS.get(n, CHEAP) < CHEAP)

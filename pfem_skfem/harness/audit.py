@@ -50,7 +50,8 @@ from .options import SOLVER_NAMES, STEP_SOLVER_NAMES
 __all__ = ["LEFT_OUT", "GIVEN", "option_moves", "moved_argv", "run_moved", "audit_script"]
 
 #: options (dest) not moved, and why: where the run reads or writes, how it shows itself,
-#: who solves it and where; none of them changes what a check measures
+#: who solves it and where; none of them changes what a check measures; and an option whose
+#: one other value every script offering it refuses (a usage error, tested in CHECKS)
 LEFT_OUT = {
     "help": "prints the help", "quick": "the size the audit runs at",
     "json": "a path: where the results are written",
@@ -66,6 +67,9 @@ LEFT_OUT = {
     "save_every": "outputs: VTU files every so many steps (tests/test_io_viz.py)",
     "checkpoint_every": "outputs: checkpoint files (tests/test_resumable.py resumes bit "
                         "for bit)",
+    "d_form": "the inertia's form: its one other value, 'cone', is refused by the scripts "
+              "that offer it (accurate only to sqrt(the solver's gap); tests/test_options.py "
+              "CHECKS)",
 }
 
 #: (script, dest) -> (the command line that moves it, why it is given here rather than

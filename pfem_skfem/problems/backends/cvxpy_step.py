@@ -20,6 +20,18 @@ from ..step_scaling import ScaledSolution
 
 D_FORMS = ("quad_form", "cone")
 
+#: why a script whose checks hold energy to 1e-6 refuses ``--d-form cone`` (issue 56; book,
+#: studies, "Options away from their defaults"): the cone form's objective kappa sum t_e is
+#: flat to first order at its optimum, so the interior point's stopping gap g leaves r' and du
+#: wrong by about sqrt(g), not g (one step of plastic_vibration: du 2.4e-5 off at Clarabel's
+#: gap 9.1e-9, 7.7e-6 at its floor 3.6e-10); the quadratic form is solved to round-off
+D_FORM_CONE_REFUSED = ("--d-form cone is refused here: the cone form's answer is only as "
+                       "accurate as the square root of the solver's duality gap (du about "
+                       "2e-5 off per step at Clarabel's default tolerances, 8e-6 at its "
+                       "floor), and this script's energy checks ask 1e-6 to 1e-5; the "
+                       "library keeps d_form='cone' for study (book, studies, the option "
+                       "audit)")
+
 
 class CvxpyStatement:
     """What the terms write on: the scaled step ``step``, the stresses ``S`` (n, 4) and
