@@ -7,7 +7,10 @@ relation R(sigma) = k/2 + eta gamma_dot at flowing points (KKT) and the cvxpy an
 Clarabel statements agree; the periodic tie pairs the two ends' dofs; a factor of two
 on both densities leaves the flow bit-identical; the inclined plane at a small size
 meets Bagnold's profile to 6 % (looser than the script's 3 % at its --quick size) and a
-layer below atan(mu_s) stops.
+layer below atan(mu_s) stops; the layer's u / u_s does not depend on I_0 (the step's error
+depends on the slope through J = I / I_0 alone), and the script's --ny rule (resolution)
+reproduces the measured profile errors it was fitted to, keeps the default --quick size at
+25 and 28 deg and raises it toward atan(mu_2), where beyond 32 elements it refuses.
 """
 import numpy as np
 import pytest
@@ -15,6 +18,7 @@ import pytest
 from pfem_skfem.materials import MuIRheology, ZeroDilationMohrCoulomb
 from pfem_skfem.discretisation.periodic import periodic_operators, periodic_tie
 from pfem_skfem.drivers.strip import layer, strip_flow
+from verification import inclined_plane_flow as ipf
 from verification.inclined_plane_flow import bagnold_velocity, profile_error, time_unit
 
 D, RHO_S, PHI, G = 0.53e-3, 2450.0, 0.6, 9.81
@@ -199,6 +203,54 @@ def test_inclined_plane_profile_small():
     u_ref = bagnold_velocity(H, H, 25.0, **LAW)
     assert r["u"][-1] == pytest.approx(u_ref, rel=0.03)
     assert profile_error(r["z"], r["u"], H) < 0.06
+
+
+def test_profile_depends_on_J_not_on_I():
+    """I_0 ten times larger (I ten times larger at the same slope and J = I / I_0): the
+    layer run over the same number of its settling times has the same u / u_s to 1e-6."""
+    def shape(I_0):
+        unit = time_unit(H, 31.25, 0.38, 0.64, I_0, D, G)
+        r = flow(31.25, H, MuIRheology(I_0=I_0), ny=4, steps=8, t_end=unit, phi=PHI, g=G,
+                 passes=2)
+        return r["u"] / r["u"][-1], r["u"][-1]
+    (a, ua), (b, ub) = shape(0.279), shape(2.79)
+    assert ub == pytest.approx(10 * ua, rel=1e-4)
+    np.testing.assert_allclose(a, b, atol=1e-6)
+
+
+#: measured (60 quick steps) profile L2 errors, theta -> {ny: error}; the rule's fit
+MEASURED_PROFILE = {25.0: {12: 0.0234, 16: 0.0145, 24: 0.0075},
+                    28.0: {12: 0.0232, 16: 0.0141, 24: 0.0072},
+                    30.0: {12: 0.0309, 16: 0.0181, 24: 0.0088},
+                    31.25: {12: 0.0579, 16: 0.0303, 20: 0.0191, 24: 0.0133},
+                    32.0: {32: 0.0159}}
+
+
+@pytest.mark.parametrize("theta", sorted(MEASURED_PROFILE))
+def test_the_ny_rule_bounds_the_measured_profile_errors(theta):
+    """The fit under-predicts no measured error by more than 0.1 % (absolute) and
+    over-predicts by at most 0.7 % (32 deg, extrapolated from J = 6.8 to 16)."""
+    J = ipf.steepness(theta, 0.38, 0.64)
+    for ny, measured in MEASURED_PROFILE[theta].items():
+        predicted = ipf.predicted_profile_error(J, ny)
+        assert measured - 0.001 <= predicted <= measured + 0.007, (theta, ny, predicted)
+
+
+@pytest.mark.parametrize("argv, ny", [
+    (["--quick"], 12), ([], 16), (["--quick", "--theta", "28"], 12),
+    (["--quick", "--theta", "30"], 16), (["--quick", "--theta", "31.25"], 20),
+    (["--theta", "31.25"], 20), (["--quick", "--theta", "32"], 32),
+    (["--quick", "--theta-2", "31.25"], 20), (["--quick", "--theta", "31.25", "--ny", "12"], 12)])
+def test_the_script_takes_its_ny_from_the_slope(argv, ny):
+    assert ipf.build_parser().parse_args(argv).ny == ny
+
+
+def test_the_script_refuses_a_slope_beyond_its_resolution(capsys):
+    """32.04 deg takes 32 elements; 32.05 would need more, and is refused before any work."""
+    assert ipf.build_parser().parse_args(["--theta", "32.04"]).ny == 32
+    with pytest.raises(SystemExit) as exit_:
+        ipf.build_parser().parse_args(["--quick", "--theta", "32.05"])
+    assert exit_.value.code == 2 and "--theta 32.05" in capsys.readouterr().err
 
 
 def test_layer_stops_below_atan_mu_s():
