@@ -49,6 +49,10 @@ CHECKS = {
     "limit_bounds": [(["--B", "7"], "--B"), (["--cut-size", "1.5"], "--cut-size")],
     "effective_bounds": [(["--B", "13"], "--B"), (["--gamma", "9"], "--gamma"),
                          (["--phi", "26.6"], "--phi"),
+                         # the upper bound locks towards the slope's angle: phi' <= 23 deg,
+                         # and tan(phi') <= 1/2 - slope size / 4 on coarse meshes
+                         (["--quick", "--phi", "25"], "--phi"), (["--phi", "23.5"], "--phi"),
+                         (["--slope-size", "0.6"], "--slope-size"),
                          (["--y-w", "0.5", "0.3"], "--y-w"),
                          (["--Delta-h", "0.5", "0.3"], "--Delta-h")],
     "cantilever": [(["--t-end", "0.01", "--dt", "0.1"], "--steps"), (["--steps", "3"], "--steps")],
