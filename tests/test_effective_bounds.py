@@ -7,6 +7,9 @@ bounds of a dilating (Mohr-Coulomb) slope; a Tresca footing's collapse load is b
 pore pressure but for the water's surcharge; bad data refused when the problem is made.
 Small meshes (a few hundred elements): the file runs in about half a minute.
 """
+import argparse
+import contextlib
+import io
 import warnings
 from dataclasses import replace
 
@@ -215,7 +218,7 @@ def test_a_live_and_a_dead_pore_pressure_are_one_problem_at_alpha_one():
 @pytest.mark.parametrize("argv, charts", [
     ([], True), (["--H", "12.5", "--c", "12.5"], True), (["--gamma", "25", "--c", "12.5"], True),
     (["--H", "12.5"], False), (["--gamma", "25"], False), (["--c", "12.5"], False),
-    (["--phi", "25"], False)])
+    (["--phi", "22"], False)])
 def test_the_charts_factor_is_checked_on_griffiths_and_lanes_slope_only(argv, charts):
     """The charts' F = 1.38 is the slope of c' / (gamma H) = 0.05, phi' = 20 deg: the script
     checks it inside the dry bracket there (at any H, gamma, c of that ratio), not elsewhere
@@ -223,3 +226,43 @@ def test_the_charts_factor_is_checked_on_griffiths_and_lanes_slope_only(argv, ch
     from verification import effective_bounds
     args = effective_bounds.build_parser().parse_args(["--quick", *argv])
     assert effective_bounds.griffiths_lane(args) is charts
+
+
+def test_the_upper_bound_locks_short_of_the_slope_angle():
+    """Why --phi is refused above 23 deg, and above tan(phi') = 1/2 - slope size / 4 on
+    coarse meshes (the option audit's --phi 25, issue 56): on the quick mesh (0.2 H) the
+    upper bound's P2 mechanisms, the flow rule at the vertices, lock before the slope's
+    atan(1/2) = 26.57 deg (a pole, alpha_U = 38 / (25.0 deg - phi')). Near it the bound
+    exceeds Culmann's plane wedge through the toe, a mechanism of the continuum (so the mesh
+    misses mechanisms the slope has), and past it the mesh has no mechanism at all, while
+    the wedge's multiplier is finite; at 23 deg the bound is an optimal solve below the
+    wedge's."""
+    from pfem_skfem.problems.conic import SolverError
+    from verification import effective_bounds as eb
+
+    def culmann(phi):           # alpha H = 4 c sin(beta) cos(phi) / (gamma (1 - cos(beta - phi)))
+        beta, phi = np.arctan(0.5), np.radians(phi)
+        return 4 * 0.05 * np.sin(beta) * np.cos(phi) / (1 - np.cos(beta - phi))
+
+    def upper(phi):
+        args = argparse.Namespace(**{**vars(eb.build_parser().parse_args(["--quick"])),
+                                     "phi": phi})
+        return upper_bound(eb.slope_problem(args, args.gamma), **eb.EXACT)
+
+    def accepted(*argv):
+        try:
+            with contextlib.redirect_stderr(io.StringIO()):
+                eb.build_parser().parse_args(["--quick", *argv])
+        except SystemExit:
+            return False
+        return True
+
+    assert accepted("--phi", "23") and not accepted("--phi", "23.01")
+    assert accepted("--slope-size", "0.4", "--phi", "21.7")         # tan: 0.398 <= 0.4
+    assert not accepted("--slope-size", "0.4", "--phi", "21.9")     # 0.402 (locks at 23.7)
+    bound = upper(23.0)
+    assert bound.extra["status"] == "optimal" and bound.load < culmann(23.0)    # 15.8 < 42.5
+    assert upper(24.9).load > 1.5 * culmann(24.9)                           # 382 against 192
+    with pytest.raises(SolverError, match="no mechanism"):
+        upper(25.2)
+    assert culmann(25.2) < 500                                              # 285

@@ -44,10 +44,26 @@ def test_every_option_has_a_moved_value_its_parser_accepts(name):
     for dest, (argv, why) in moves.items():
         if argv is None:                     # left out: a stated reason, one of the kinds
             assert dest in audit.LEFT_OUT or "flag cannot be unset" in why \
-                or why.startswith("free text"), (name, dest, why)
+                or why.startswith("free text") \
+                or ((name, dest) in audit.REFUSED and why.startswith("refused")), \
+                (name, dest, why)
             continue
         moved = parser.parse_args(["--quick", *argv])
         assert getattr(moved, dest) != getattr(base, dest), (name, dest, argv)
+
+
+@pytest.mark.parametrize("name, dest", sorted(audit.REFUSED))
+def test_an_option_kept_to_refuse_its_other_values_has_none_accepted(name, dest):
+    """Each of ``audit.REFUSED``: every value but the default is a usage error (a value
+    that the script comes to accept is moved by the rule, and its entry must go)."""
+    parser = importlib.import_module(f"verification.{name}").build_parser()
+    action = next(a for _, a in _actions(parser) if a.dest == dest)
+    others = [c for c in action.choices if c != action.default]
+    assert others
+    for value in others:
+        assert audit._quiet_parse(parser, [action.option_strings[0], str(value)]) is None
+    assert dict((d, why) for d, _, why in audit.option_moves(name, parser))[dest] \
+        .startswith("refused")
 
 
 def test_the_rule():

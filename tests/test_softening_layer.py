@@ -54,3 +54,32 @@ def test_the_closed_form_tolerance_covers_the_lag_of_the_finest_cap(cap, tol):
     D 3.3-4.5 %, all 19 checks failing at 2 %: option audit, --max-drop 0.08 0.04)."""
     from verification.softening_layer import closed_form_tolerance
     assert closed_form_tolerance(cap) == approx(tol)
+
+
+@pytest.mark.parametrize("kinematics", ["p2", "linear"])
+def test_the_free_p2_row_carries_a_tau_that_varies_inside_the_row(kinematics):
+    """Why --row-kinematics p2 is refused (option audit, issue 56): the row's equilibrium
+    against its three P2 test functions fixes only the weighted mean of tau over the row
+    (the tau it carries) and its first moment about mid-row, so past the peak tau varies
+    inside the softening row, the plastic strain gathers to one edge and the layer is not at
+    c_r when the run ends at 1.2 delta_r of (S4); with u linear in each row (the script's)
+    the row is uniform and at c_r. 10 rows, the quick run's coarsest cap 0.04."""
+    from verification import softening_layer as sl
+    args = sl.build_parser().parse_args(["--quick"])
+    args.row_kinematics = kinematics                 # the library's P2 row, past the refusal
+    linear, _ = sl.laws(args)
+    run = sl.shear(10, linear, None, 0.04, args)
+    weak, tau, w = run["weak"], run["tau_points"], run["weights"]
+    carried = run["tau"][-1]
+    mid = 5.5 * run["h"]                             # the weak row is the sixth of ten
+    assert np.sum(w[weak] * tau[weak]) / np.sum(w[weak]) == approx(carried, rel=1e-9)
+    assert np.sum(w[weak] * tau[weak] * (run["y"][weak] - mid)) / (np.sum(w[weak]) * run["h"]) \
+        == approx(0.0, abs=1e-9 * C_W)
+    assert np.ptp(tau[~weak]) < 1e-9 * C_W          # the elastic rows: one tau, the carried
+    if kinematics == "p2":
+        assert np.ptp(tau[weak]) > 0.25 * (C_W - C_R)               # 3.5 to 10.8 kPa
+        assert np.ptp(run["gamma_p"][weak]) > 0.5 * run["gamma_p"][weak].max()
+        assert not run["reached"] and carried > 1.05 * C_R          # 5.48 kPa at the end
+    else:
+        assert np.ptp(tau[weak]) < 1e-9 * C_W
+        assert run["reached"] and carried == approx(C_R, rel=1e-6)

@@ -28,6 +28,13 @@ water's pressure p). Cases:
    it: (F - p(0) B) / (s_u B) brackets Prandtl's 2 + pi, and both bounds equal the dry
    footing's of the same mesh to 1e-6.
 
+The slope's friction angle: at or above the slope's atan(1/2) = 26.57 deg no multiple of
+gravity collapses it, and short of that the upper bound's mechanisms lock on the mesh (no
+mechanism past tan(phi') = 1/2 - (0.07 to 0.26) s for an element size s H, the bound a pole
+towards it, and nearer it its solves end 'AlmostSolved' short of case 1's 1e-6): --phi is
+refused above 23 deg (:data:`PHI_MAX`) and above tan(phi') = 1/2 - max(s, 0.1) / 4
+(:func:`locking_tan`, which binds on meshes coarser than 0.3 H).
+
 References
 ----------
 * Prandtl: Nc = 2 + pi.  Terzaghi's principle: sigma = sigma' - p I.
@@ -67,6 +74,28 @@ EPS = 1e-9                        # relative tolerance of the boundary selection
 #: Clarabel's retry settings of the bounds (problems/bounds.py) from the start: the
 #: identities of case 1 hold for the mesh's optimum, which an 'AlmostSolved' end may miss
 EXACT = dict(equilibrate_enable=False, static_regularization_constant=1e-7)
+#: the upper bound's mechanisms lock short of the slope's angle (book, "Options away from
+#: their defaults"): the P2 velocities with the flow rule at the vertices have no mechanism
+#: past tan(phi') = 1/2 - k s on a mesh of element size s H, the bound growing as a pole
+#: towards it (alpha_U = 38 / (25.0 deg - phi') at s = 0.2); the lock measured at 25.73,
+#: 25.64, 25.39, 25.25, 25.48, 24.92, 25.05, 24.93, 24.92, 24.31, 23.17, 23.73, 23.15, 22.08,
+#: 24.57 deg for s = 0.07, 0.1, 0.125, 0.15, ..., 0.3, 0.35, 0.4, 0.45, 0.5, 0.6: k = 0.07
+#: to 0.21 from s = 0.1, 0.26 at 0.07 (s = 0.05: certified at 25.41 deg, alpha_U 68.7).
+#: --phi is refused above k = LOCKING, s taken at least LOCKING_SIZE
+LOCKING, LOCKING_SIZE = 0.25, 0.1
+#: and nearer the lock the upper bound's solves lose the accuracy of case 1's identities (to
+#: 1e-6): at the default size (0.1 H) every one ends 'AlmostSolved', the identities holding
+#: to 0.4e-7-4.0e-7 at 20-23 deg and off by 1.7e-6, 2.7e-6, 1.2e-5, 1.5e-5 at 24, 24.5,
+#: 25.2, 25.4 deg (the submerged bound not certified at 25.0): --phi is refused above this
+PHI_MAX = 23.0
+
+
+def locking_tan(slope_size):
+    """The largest tan(phi') accepted on a slope mesh of element size ``slope_size`` x H:
+    1/2 - :data:`LOCKING` x max(``slope_size``, :data:`LOCKING_SIZE`), short of the mesh's
+    measured locking (25.41 deg from s = 0.1 down, 24.23 at the quick 0.2, 23.03 at 0.3,
+    20.56 at 0.5; below :data:`PHI_MAX` from 0.3 up)."""
+    return 0.5 - LOCKING * max(slope_size, LOCKING_SIZE)
 
 
 def slope_problem(args, gamma, pore=None):
@@ -130,6 +159,23 @@ def check(args):
         return (f"--phi ({args.phi:g}) must be below the slope's angle atan(1/2) = 26.57 deg: "
                 "at or above it no multiple of gravity collapses the slope (the upper bound "
                 "has no mechanism; the multiplier grows without bound towards it)")
+    if args.phi > PHI_MAX:
+        return (f"--phi ({args.phi:g}) must be at most {PHI_MAX:g} deg: towards the slope's "
+                "26.57 deg the upper bound's mechanisms lock on the mesh (a pole: on the quick "
+                "mesh alpha_U = 38 / (25.0 deg - phi'), no mechanism from 25.0 deg, where "
+                "Culmann's wedge bounds alpha by 217; at the default size from 25.64 deg), and "
+                "nearer the lock its solves end 'AlmostSolved' short of the 1e-6 of case 1's "
+                "identities (default size: 1.7e-6 at 24 deg, 1.5e-5 at 25.4, a bound not "
+                f"certified at 25.0; 4.0e-7 at most up to {PHI_MAX:g})")
+    if not np.tan(np.radians(args.phi)) <= locking_tan(args.slope_size):
+        return (f"--phi ({args.phi:g}) at --slope-size {args.slope_size:g}: tan(phi') must be "
+                f"at most 1/2 - {LOCKING:g} x max(slope size, {LOCKING_SIZE:g}) = "
+                f"{locking_tan(args.slope_size):.4g} (phi' <= "
+                f"{np.degrees(np.arctan(locking_tan(args.slope_size))):.2f} deg): the upper "
+                "bound's mechanisms lock on the mesh short of the slope's 26.57 deg, the "
+                "coarser the sooner (measured: none past tan(phi') = 1/2 - (0.07 to 0.26) x "
+                "slope size, sizes 0.07 to 0.6; 22.08 deg at 0.5): a smaller --phi or a finer "
+                "--slope-size")
     if not args.gamma > args.gamma_w:
         return (f"--gamma ({args.gamma:g}) must exceed --gamma-w ({args.gamma_w:g}): a "
                 "positive submerged unit weight")

@@ -47,7 +47,8 @@ import traceback
 
 from .options import SOLVER_NAMES, STEP_SOLVER_NAMES
 
-__all__ = ["LEFT_OUT", "GIVEN", "option_moves", "moved_argv", "run_moved", "audit_script"]
+__all__ = ["LEFT_OUT", "GIVEN", "REFUSED", "option_moves", "moved_argv", "run_moved",
+           "audit_script"]
 
 #: options (dest) not moved, and why: where the run reads or writes, how it shows itself,
 #: who solves it and where; none of them changes what a check measures; and an option whose
@@ -133,6 +134,15 @@ GIVEN = {
     ("granular_column_plane", "time_steps"): (["--time-steps", "125"],
                                               "[]: one run of 1.25 x the steps"),
     ("granular_column_plane", "mesh_study"): (["--mesh-study", "12"], "[]: one mesh"),
+}
+
+#: (script, dest) -> why: an option kept to refuse, with its reason, every value but its
+#: default (each a usage error of the script's check, named by the option): nothing to move
+#: it to. Kept rather than removed, so that the value's refusal says why (a test requires
+#: that no value moves it)
+REFUSED = {
+    ("softening_layer", "row_kinematics"): "p2 refused: the free P2 row's tau varies inside "
+                                           "the row; no closed form of the script holds",
 }
 
 
@@ -234,6 +244,8 @@ def option_moves(name, parser=None):
         if found is None and action.nargs == 0 and base != action.default:
             moves.append((action.dest, None, "--quick sets this flag and a flag cannot be "
                                              "unset: its other value is the full size's"))
+        elif found is None and (name, action.dest) in REFUSED:
+            moves.append((action.dest, None, "refused: " + REFUSED[name, action.dest]))
         elif found is None:
             moves.append((action.dest, None, f"no value moves it from {base!r} that the "
                                               "parser accepts"))
