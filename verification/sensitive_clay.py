@@ -381,6 +381,8 @@ def figures(args, cases, study=()):
                              [r[key] / (1 if key == "mobilised" else args.height)
                               for r in runs], "o-", color=color, label=f"S_t = {S_t:g}, {reg}")
             axes[k].set(xlabel="particles across H", ylabel=name, xscale="log")
+            axes[k].set_xticks(args.mesh_study, [str(n) for n in args.mesh_study])
+            axes[k].minorticks_off()
         axes[0].legend(fontsize=8)
         save_figure(fig, figure_dir(args, "sensitive_clay") / "mesh_study.png")
 
