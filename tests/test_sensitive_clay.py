@@ -85,13 +85,38 @@ def test_each_regularisation_has_its_own_checkpoint_and_the_local_one_keeps_its_
     assert len(names) == 4
 
 
+def test_the_remoulded_fraction_reads_the_materials_own_strength():
+    """gamma^p = gamma_r at every point: all the area at c_r locally, none of it with a
+    fracture energy of ell = 1.5 h (its strain scale 1.5 gamma_r); 0 of an intact bank; half
+    the triangles at gamma_r: the fraction of their area."""
+    from dataclasses import replace
+    _, local = bank()
+    _, energy = bank("--regularisation", "fracture-energy", "--ell", "0.5")
+    state, scene = local.scene()
+    state, _, _ = pfem_step(state, scene)                  # a mesh and gamma^p to replace
+    material = scene.regions[0].material
+    spent = replace(state, gamma_p=np.full_like(state.gamma_p, 0.2))
+    assert sensitive_clay.remoulded_fraction(spent, material) == pytest.approx(1.0)
+    assert sensitive_clay.remoulded_fraction(
+        spent, energy.scene()[1].regions[0].material) == 0.0
+    assert sensitive_clay.remoulded_fraction(
+        replace(state, gamma_p=np.zeros_like(state.gamma_p)), material) == 0.0
+    half = np.zeros((len(state.mesh_t), 3))
+    half[::2] = 0.2
+    v = state.mesh_p[state.mesh_t]
+    a, b = v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]
+    area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    assert sensitive_clay.remoulded_fraction(replace(state, gamma_p=half.ravel()), material) \
+        == pytest.approx(area[::2].sum() / area.sum(), rel=1e-12)
+
+
 def study(retrogressions, monkeypatch, tolerance="0.1"):
     """The mesh study's checks on banks whose retrogression at (regularisation, n) is given,
     no bank run."""
     def failure(S_t, args, n, regularisation, ell):
         return dict(n=n, regularisation=regularisation, retrogression=retrogressions[
-            regularisation, n], runout=1.0, mobilised=0.1, steps=100, largest_drop=0.5,
-            cpu_seconds=1.0)
+            regularisation, n], runout=1.0, mobilised=0.1, remoulded=0.1, steps=100,
+            largest_drop=0.5, cpu_seconds=1.0)
     monkeypatch.setattr(sensitive_clay, "failure", failure)
     args = sensitive_clay.build_parser().parse_args(
         ["--mesh-study", "6", "12", "24", "--ell", "0.25", "--convergence", tolerance])

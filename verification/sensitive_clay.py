@@ -17,7 +17,8 @@ the slid mass is remoulded, runs out, and unloads the scarp.
 Measured at t_end: the run-out (the furthest particle beyond the face), the
 retrogression distance (from the face back to the furthest particle of the original
 ground surface that has dropped by more than a tenth of H) and the mobilised mass (the
-fraction of the mass whose particles moved by more than a tenth of H).
+fraction of the mass whose particles moved by more than a tenth of H); in the mesh study also
+the remoulded fraction (of the area at the residual strength c_r).
 
 Checks: the bank fails at S_t = 1 (its run-out at least a particle spacing: N above the
 cut's bounds); the run-out grows with S_t (by 5 % or more from one S_t to the next); at
@@ -125,6 +126,23 @@ class Bank(Parameters):
                             far=50.0 * (self.width + H), passes=2)
 
 
+def remoulded_fraction(state, material):
+    """The fraction of the body's area at the residual strength c_r at ``state`` (the
+    material's strength at its gamma^p and element sizes, a fracture energy's ell / h
+    included; collapsed triangles left out)."""
+    from pfem_skfem.discretisation.fields import collapsed
+    from pfem_skfem.materials.softening import point_sizes
+
+    v = state.mesh_p[state.mesh_t]
+    area = 0.5 * np.abs((v[:, 1, 0] - v[:, 0, 0]) * (v[:, 2, 1] - v[:, 0, 1])
+                        - (v[:, 2, 0] - v[:, 0, 0]) * (v[:, 1, 1] - v[:, 0, 1]))
+    kept = ~collapsed(state.mesh_p, state.mesh_t)
+    area, gamma = area[kept], state.gamma_p.reshape(-1, 3)[kept]
+    c = material.strength(gamma.ravel(), point_sizes(np.repeat(area / 3, 3))).reshape(-1, 3)
+    at_residual = np.mean(c <= material.law.c_r * (1 + 1e-9), axis=1)   # of its 3 points
+    return float(np.sum(area * at_residual) / np.sum(area))
+
+
 def failure(S_t, args, **given):
     """The bank of sensitivity ``S_t`` (:class:`Bank` of the options, ``given`` replacing
     them: ``n``, ``regularisation``) run to t_end: its measurements (a dict)."""
@@ -165,6 +183,7 @@ def failure(S_t, args, **given):
     moved = np.linalg.norm(state.x[:len(x0)] - x0, axis=1) > 0.1 * H   # x0's stay first
     cpu = kept.get("cpu_seconds", [])
     return dict(runout=float(state.x[:, 0].max() - W), n=params.n,
+                remoulded=remoulded_fraction(state, scene.regions[0].material),
                 regularisation=params.regularisation,
                 cpu_seconds=float(np.sum(cpu)) if len(cpu) == len(dts) else float("nan"),
                 mobilised=float(np.sum(state.mass[:len(x0)][moved]) / state.total_mass),
@@ -302,11 +321,11 @@ def mesh_study(args, report):
                 f"{coarse} to {fine} than with {reg} (strictly: by more than 1e-9)")
     report.add_table(
         "mesh study", ["n", "regularisation", "S_t", "retrogression / H", "run-out / H",
-                       "mobilised", "steps", "CPU s"],
+                       "mobilised", "remoulded", "steps", "CPU s"],
         [[r["n"], r["regularisation"], r["S_t"], r["retrogression"] / H, r["runout"] / H,
-          r["mobilised"], r["steps"], r["cpu_seconds"]] for r in rows],
+          r["mobilised"], r["remoulded"], r["steps"], r["cpu_seconds"]] for r in rows],
         formats={"retrogression / H": ".3f", "run-out / H": ".3f", "mobilised": ".3f",
-                 "CPU s": ".0f"},
+                 "remoulded": ".3f", "CPU s": ".0f"},
         title=f"\nmesh study (ell = {args.ell:g} m for the regularised banks)")
     return rows
 
@@ -342,7 +361,8 @@ def run(args):
     if study:
         report.extra["mesh_study"] = [
             {k: r[k] for k in ("S_t", "n", "regularisation", "retrogression", "runout",
-                               "mobilised", "steps", "largest_drop", "cpu_seconds")}
+                               "mobilised", "remoulded", "steps", "largest_drop",
+                               "cpu_seconds")}
             for r in study]
     report.data = dict(cases=cases) | (dict(study=study) if study else {})
     return report
