@@ -88,7 +88,17 @@ CHECKS = {
     "sliding_box": [(["--contact", "zero-dilation"], "--contact")],
     "sensitive_clay": [(["--sensitivities", "1"], "--sensitivities"),
                        (["--sensitivities", "1", "10", "3"], "--sensitivities"),
-                       (["--sensitivities", "3", "10"], "--sensitivities")],
+                       (["--sensitivities", "3", "10"], "--sensitivities"),
+                       (["--ell", "0.3"], "--ell"),                     # nothing reads it
+                       (["--regularisation", "nonlocal"], "--ell"),     # no length
+                       (["--regularisation", "fracture-energy", "--ell", "0.1"], "--ell"),
+                       (["--mesh-study", "6", "12", "--ell", "0.1"], "--ell"),  # < H / 6
+                       (["--mesh-study", "12"], "--mesh-study"),
+                       (["--mesh-study", "12", "6", "--ell", "0.25"], "--mesh-study"),
+                       (["--mesh-study", "6", "12", "--ell", "0.25", "--study-regularisations",
+                         "nonlocal"], "--study-regularisations"),      # nothing to compare
+                       (["--study-sensitivities", "3"], "--study-sensitivities"),
+                       (["--convergence", "0.2"], "--convergence")],
     "biaxial_band": [(["--r0", "0.6"], "--r0"), (["--c-r", "30"], "--c-r"),
                      (["--h", "0.3"], "--h")],
     "softening_layer": [(["--c-r", "30"], "--c-r"), (["--rows", "200"], "--rows"),

@@ -117,7 +117,26 @@ GIVEN = {
     ("softening_layer", "c_p"): (["--c-p", "25", "--t-end", "1.25"],
                                  "x 1.25, with the t_end its longer softening needs to be "
                                  "steady (1.21 s; --t-end 1 refused)"),
+    ("sensitive_clay", "regularisation"): (["--regularisation", "fracture-energy", "--ell",
+                                            "0.25"], "another choice, with the length it needs "
+                                                     "(1.25 x the quick spacing H / 5)"),
+    ("sensitive_clay", "ell"): (["--ell", "0.25", "--regularisation", "nonlocal"],
+                                "None: no regularisation; 1.25 x the quick spacing, with the "
+                                "regularisation that reads it"),
     # studies off by default ([]): one run of the study
+    ("sensitive_clay", "mesh_study"): (["--mesh-study", "4", "5", "--ell", "0.25"],
+                                       "[]: a study of 4 and 5 across H, with the length its "
+                                       "regularised banks need"),
+    ("sensitive_clay", "study_sensitivities"): (["--study-sensitivities", "3", "--mesh-study",
+                                                 "4", "5", "--ell", "0.25"],
+                                                "the study's only: 3, with a study"),
+    ("sensitive_clay", "study_regularisations"): (["--study-regularisations", "none",
+                                                   "nonlocal", "--mesh-study", "4", "5",
+                                                   "--ell", "0.25"],
+                                                  "the study's only: one left out, with a study"),
+    ("sensitive_clay", "convergence"): (["--convergence", "0.125", "--mesh-study", "4", "5",
+                                         "--ell", "0.25"], "the study's only: x 1.25, with a "
+                                                           "study"),
     ("accretionary_wedge", "increment_study"): (["--increment-study", "16"],
                                                 "[]: one run of 16 increments"),
     ("cylinder_soil", "dt_study"): (["--dt-study", "0.1"], "[]: one run at dt / 2"),

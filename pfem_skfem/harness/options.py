@@ -467,6 +467,11 @@ SOFTENING = {
     "gamma_95": _Spec(positive_float, "gamma_95 of the exponential law"),
     "ell": _Spec(nonnegative_float, "regularisation length ell [m] (0: local softening)"),
     "ell_nonlocal": _Spec(positive_float, "length of the nonlocal average of gamma^p [m]"),
+    "regularisation": _Spec(help="the softening material's regularisation: none (local "
+                                 "softening), fracture-energy (FractureEnergy: the strain "
+                                 "scale of a band ell thick) or nonlocal (NonlocalAverage: "
+                                 "each step's Delta gamma^p averaged over ell)",
+                            choices=("none", "fracture-energy", "nonlocal")),
     "epsilon": _Spec(in_range(0, 1, low_open=True, high_open=True),
                      "the weak zone starts this fraction down the law"),
     "max_drop": _Spec(in_range(0, 1, low_open=True),
@@ -557,7 +562,7 @@ def saturated_options(parser, units="kPa", **options):
 def softening_options(parser, units="kPa", **options):
     """Add the options of a softening law given (:data:`SOFTENING`): ``--c-p``, ``--c-r``,
     ``--sensitivities``, ``--H``, ``--gamma-r``, ``--gamma-95``, ``--ell``,
-    ``--ell-nonlocal``, ``--epsilon``, ``--max-drop``, ``--increments``; each keyword the
+    ``--ell-nonlocal``, ``--regularisation``, ``--epsilon``, ``--max-drop``, ``--increments``; each keyword the
     option's default or an :class:`opt`."""
     return _declare(parser, "softening", options, units=units)
 
