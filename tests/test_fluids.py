@@ -320,6 +320,12 @@ def test_the_dam_break_of_a_square_column_has_no_table_and_says_so(tmp_path, cap
     assert ritter["pass"] and 0.5 < ritter["value"] <= 1.0
     assert ritter["tolerance"] == pytest.approx(1 / (2 * 7))        # h / (2 a dT), 8 across
     assert "sqrt(a / (n^2 g))" in " ".join(dam_break.build_parser().format_help().split())
+    # the domain's area changes through its steps' motions and its remeshings alone, and
+    # water leaves the mesh at 8 across (a particle of it 1.6 % of the whole)
+    base = result["extra"]["runs"]["base"]
+    assert base["area_change_final"] == pytest.approx(
+        base["area_motion"] + base["area_remeshing"], abs=1e-12)
+    assert 0.015 < base["spray_max"] < 1 and base["spray_at_largest_change"] >= 0
 
 
 def test_the_dam_break_takes_columns_from_square_to_four_high(capsys):

@@ -5,9 +5,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pfem_skfem.pfem.measure import (deposit_at_wall, front, front_speed, height_at, main_body,
-                                     mesh_energy, particle_energy, surface_level,
-                                     surface_profile, wedge_geometry)
+from pfem_skfem.pfem.measure import (area_budget, deposit_at_wall, front, front_speed,
+                                     height_at, main_body, mesh_energy, off_mesh_volume,
+                                     particle_energy, surface_level, surface_profile,
+                                     wedge_geometry)
 
 
 def lattice(nx, ny, h):
@@ -56,6 +57,41 @@ def test_the_front_of_the_main_body_leaves_out_a_drop_meshed_on_its_own():
     assert front(cloud) == 3.2 and front(cloud, mesh=False) == 5.0
     with pytest.raises(ValueError, match="mesh=True"):
         front(cloud, mesh=False, main=True)
+
+
+def test_the_water_off_the_mesh_is_its_mass_over_its_density():
+    """A meshed 3 x 3 lattice of water (rho 1000, 1 kg a particle) with a drop of it off the
+    mesh (2 kg), a particle of a denser region off it too (rho 2000, 3 kg) and a massless
+    surface particle (a midside node the move added): the volume left out is 2 / 1000 +
+    3 / 2000, the massless one adds nothing, a vertex whose particle was dropped (-1) is
+    read as no particle; with every particle on the mesh, none; with no mesh, all."""
+    cloud = lattice(3, 3, 0.5)
+    n = cloud.n + 3
+    state = SimpleNamespace(n=n, mass=np.r_[np.ones(cloud.n), 2.0, 3.0, 0.0],
+                            region=np.r_[np.zeros(cloud.n + 1, dtype=int), 1, 0],
+                            mesh_particle=np.r_[np.arange(cloud.n), -1])
+    rho = np.array([1000.0, 2000.0])
+    assert off_mesh_volume(state, rho) == pytest.approx(2 / 1000 + 3 / 2000, rel=1e-15)
+    state.mesh_particle = np.arange(n)
+    assert off_mesh_volume(state, rho) == 0.0
+    state.mesh_particle = None
+    assert off_mesh_volume(state, rho) == pytest.approx((cloud.n + 2) / 1000 + 3 / 2000,
+                                                        rel=1e-15)
+    state.region[:] = 0
+    assert off_mesh_volume(state, 1000.0) == pytest.approx((cloud.n + 5) / 1000, rel=1e-15)
+
+
+def test_the_area_budget_splits_a_run_into_its_motion_and_its_remeshings():
+    """Three steps of a domain of area 10: the first step's motion loses 0.1, the second
+    remeshing drops a triangle of 0.5 and the third takes it back with 0.2 more, while the
+    steps' motions lose 0.05 and 0.02; each step's mesh is the sum of what came before."""
+    history = {"mesh_area": [10.0, 9.4, 10.05], "moved_area": [9.9, 9.35, 10.03]}
+    motion, remeshing = area_budget(history, 10.0)
+    assert motion == pytest.approx([-0.01, -0.005, -0.002], abs=1e-15)
+    assert remeshing == pytest.approx([0.0, -0.05, 0.07], abs=1e-15)
+    mesh = np.array(history["mesh_area"]) / 10.0 - 1
+    for k in range(3):
+        assert mesh[k] == pytest.approx(motion[:k].sum() + remeshing[:k + 1].sum(), abs=1e-15)
 
 
 def test_the_front_speed_over_a_window_is_the_slope_not_a_jump_of_one_particle():
