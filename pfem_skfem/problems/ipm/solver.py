@@ -348,6 +348,7 @@ def _solve(P, c, A, b, cones, settings=None):
             newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
         if not _trusted(newton, tol) and whole and regularisation < STRONG:
             regularisation = STRONG     # its LU ran out of digits: regularised more from now
+            whole_lu += 1               # the weaker LU of this iteration, counted
             newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
         whole_lu += whole
         if not _trusted(newton, tol):
