@@ -133,17 +133,20 @@ def test_the_study_checks_the_two_finest_counts_and_can_fail(monkeypatch):
     q = study(converged, monkeypatch)
     assert q["St10_fracture-energy_retrogression_change"].value == pytest.approx(0.05)
     assert q["St10_nonlocal_retrogression_change"].value == pytest.approx(0.05 / 1.3)
-    assert q["St10_none_minus_nonlocal_change"].value == pytest.approx(0.25 - 0.05 / 1.3)
+    assert q["St10_nonlocal_over_none_change"].value == pytest.approx(0.05 / 1.3 / 0.25)
     assert all(x.passed for x in q.values())
     # the regularised bank 12 % apart: over 10 %, and more than the local one's 8.3 %
     q = study(converged | {("nonlocal", 12): 1.144, ("none", 12): 2.2, ("none", 24): 2.4},
               monkeypatch)
     assert not q["St10_nonlocal_retrogression_change"].passed
-    assert not q["St10_none_minus_nonlocal_change"].passed
+    assert not q["St10_nonlocal_over_none_change"].passed
     assert q["St10_fracture-energy_retrogression_change"].passed
     # the same change with and without: not "more"
     q = study(converged | {("none", 12): 1.9}, monkeypatch)
-    assert not q["St10_none_minus_fracture-energy_change"].passed
+    assert not q["St10_fracture-energy_over_none_change"].passed
+    # no change with the regularisation, some without: less (ratio 0)
+    q = study(converged | {("nonlocal", 12): 1.3}, monkeypatch)
+    assert q["St10_nonlocal_over_none_change"].passed
     # a bank that did not retrogress at the finest count: no measure, failed
     q = study(converged | {("nonlocal", 24): 0.0}, monkeypatch)
     assert not q["St10_nonlocal_retrogression_change"].passed

@@ -42,13 +42,15 @@ convergence"): the bank of each ``--study-sensitivities`` S_t at each particle c
 H, with each of ``--study-regularisations`` (ell: ``--ell``), tabled. Checks, stated before
 the runs: with each regularisation the retrogression changes by at most ``--convergence``
 (10 %) between the two finest counts (relative to the finest), and without one it changes by
-more than with it.
+more than with it. Measured (book/softening.md, "The retrogression's convergence"; S_t = 10,
+ell = 0.25 m, n = 6, 12, 24): the nonlocal average passes (4.2 %), the fracture energy
+fails (11.1 %), and the local bank changes by 3.6 %, less than either.
 
 Usage::
 
     python verification/sensitive_clay.py --quick --json results/sensitive_clay.json
-    python verification/sensitive_clay.py --sensitivities 1 10 --mesh-study 6 12 --ell 0.25 \\
-        --checkpoint-dir results/sensitive_clay_ckpt          # the study (hours)
+    python verification/sensitive_clay.py --sensitivities 1 10 --mesh-study 6 12 24 \\
+        --ell 0.25 --checkpoint-dir results/sensitive_clay_ckpt   # the study (1.6 h of CPU)
 """
 from dataclasses import dataclass, field
 import sys
@@ -316,9 +318,10 @@ def mesh_study(args, report):
                 f"with {reg} (ell = {args.ell:g} m) the retrogression changes by at most "
                 f"{args.convergence:.0%} from n = {coarse} to {fine} (of the finest)")
             report.add_interval(
-                f"St{S_t:g}_none_minus_{reg}_change", change["none"] - change[reg], 1e-9,
-                np.inf, f"without a regularisation the retrogression changes more from n = "
-                f"{coarse} to {fine} than with {reg} (strictly: by more than 1e-9)")
+                f"St{S_t:g}_{reg}_over_none_change", ratio(change["none"], change[reg]), 0.0,
+                np.nextafter(1.0, 0.0), f"without a regularisation the retrogression changes "
+                f"more from n = {coarse} to {fine} than with {reg}: the ratio of the changes, "
+                f"{reg}'s over none's, strictly below 1")
     report.add_table(
         "mesh study", ["n", "regularisation", "S_t", "retrogression / H", "run-out / H",
                        "mobilised", "remoulded", "steps", "CPU s"],
