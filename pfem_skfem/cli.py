@@ -360,7 +360,7 @@ QUICK_SECONDS = {
     "cantilever": 6, "circular_footing": 10, "fluid_films": 3, "plastic_vibration": 3,
     "rotating_bar": 2, "sliding_box": 2, "strip_footing": 10, "thick_cylinder": 3,
     "trussed_frame": 8, "consolidation": 11, "mandel_cryer": 5, "softening_layer": 30,
-    "biaxial_band": 16, "consolidation_pfem": 8, "effective_bounds": 19, "sensitive_clay": 28,
+    "biaxial_band": 56, "consolidation_pfem": 8, "effective_bounds": 19, "sensitive_clay": 28,
     "penetration_rate": 13, "softening_cylinder": 19,
 }
 

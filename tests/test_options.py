@@ -100,7 +100,8 @@ CHECKS = {
                        (["--study-sensitivities", "3"], "--study-sensitivities"),
                        (["--convergence", "0.2"], "--convergence")],
     "biaxial_band": [(["--r0", "0.6"], "--r0"), (["--c-r", "30"], "--c-r"),
-                     (["--h", "0.3"], "--h")],
+                     (["--h", "0.3"], "--h"), (["--h", "0.1"], "--h"),   # h <= 0.08 W
+                     (["--width", "0.9", "--h", "0.075"], "--h")],
     "softening_layer": [(["--c-r", "30"], "--c-r"), (["--rows", "200"], "--rows"),
                         (["--rows", "10"], "--rows"), (["--ell", "0.005"], "--ell"),
                         (["--gamma-95", "0.001"], "--gamma-95"),
