@@ -14,6 +14,7 @@ from skfem import Basis, ElementTriP1, MeshTri
 from ..discretisation.fields import collapsed, vertex_dofs, vertex_to_points
 from ..discretisation.geometry import PLANE_STRAIN
 from ..discretisation.static import discretise
+from .assemble import last_declared_region
 from .mapping import interpolate, locate, map_nodal, map_stress, project_nodal
 from .remesh import ParticleMesh
 
@@ -69,8 +70,7 @@ def old_regions(state):
     (:func:`~pfem_skfem.pfem.assemble.element_regions`; a particle thinned away since
     counts for none). For the bounded UEM's patch fits, region by region."""
     t = state.mesh_t[~collapsed(state.mesh_p, state.mesh_t)]
-    mp = state.mesh_particle[t]
-    return np.where(mp >= 0, state.region[np.maximum(mp, 0)], -1).max(axis=1)
+    return last_declared_region(state.region, state.mesh_particle[t])
 
 
 def stress_options(state, stress_mapping):
