@@ -2,7 +2,7 @@
 mesh (`assemble.element_regions`) and the map source's (`transfer.old_regions`)."""
 import numpy as np
 
-from pfem_skfem.pfem.assemble import last_declared_region
+from pfem_skfem.pfem.remesh import last_declared_region
 
 
 def test_last_declared_region_ignores_vertices_without_a_particle():

@@ -15,6 +15,7 @@ from ..problems.contact import boundary_nodes, potential_contacts
 from ..discretisation.dynamic import dynamic_operators
 from ..problems.step_scaling import DynamicScales
 from ..scene.loads import load_acceleration
+from .remesh import last_declared_region
 
 
 def element_regions(state, pm):
@@ -36,16 +37,6 @@ def element_regions(state, pm):
     one step, against 4e-4).
     """
     return last_declared_region(state.region, pm.particle[pm.mesh.t].T)
-
-
-def last_declared_region(region, vertex_particle):
-    """The rule of :func:`element_regions` on an element-by-vertex array of particle
-    indices (n_elements, 3): the largest of the vertices' regions, a vertex with no
-    particle (a negative index: thinned away since the mesh was made) counting for none
-    (-1). Shared by the step's mesh and the map source's
-    (:func:`~pfem_skfem.pfem.transfer.old_regions`)."""
-    return np.where(vertex_particle >= 0, region[np.maximum(vertex_particle, 0)],
-                    -1).max(axis=1)
 
 
 def contact_set(disc, bodies, search):

@@ -14,9 +14,8 @@ from skfem import Basis, ElementTriP1, MeshTri
 from ..discretisation.fields import collapsed, vertex_dofs, vertex_to_points
 from ..discretisation.geometry import PLANE_STRAIN
 from ..discretisation.static import discretise
-from .assemble import last_declared_region
 from .mapping import interpolate, locate, map_nodal, map_stress, project_nodal
-from .remesh import ParticleMesh
+from .remesh import ParticleMesh, last_declared_region
 
 
 @dataclass(frozen=True)
