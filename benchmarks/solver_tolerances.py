@@ -25,7 +25,14 @@ Issue 40's levers at Clarabel's tolerance (the rule of its item 4), e.g.:
 python benchmarks/solver_tolerances.py --tolerances 1e-8 --extra form=dual
      --extra iterative_refinement_enable=False --extra solver=qoco
      --density-factors 3 5 7 9 11 13
-(a column per --extra; the CPU seconds of each run against the reference run's).
+(a column per --extra; the CPU seconds of each run against the reference run's). The
+package's interior point (issue 53 item 5), every solve of every family (the solves of
+each run are counted per solver, so a family whose script does not pass it shows
+Clarabel's):
+python benchmarks/solver_tolerances.py --families static dynamic plastic cylinder
+     circular pipe contact bounds --tolerances 1e-8 --extra solver=ipm
+python benchmarks/solver_tolerances.py --families pfem pfem_axi dam --tolerances 1e-8
+     --extra solver=ipm --density-factors 3 5 7 9 11 13 --lever-reruns
 
 Run: python benchmarks/solver_tolerances.py [--families static dynamic pfem]
      [--tolerances 1e-8 1e-7 1e-6 1e-5]
@@ -77,7 +84,10 @@ def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
     and the settings ``extra`` (the settings object is made by clarabel.DefaultSettings,
     in cvxpy's interface as in the direct assembly, pfem_skfem.problems.backends.direct);
-    ``record`` gets (iterations, status) per solve. Pseudo-settings: ``clean`` ('A0', 'P0'
+    ``record`` gets (iterations, status, solver) per solve: Clarabel's, and the package's
+    interior point's (``solver=ipm``: every call of ``problems.ipm.solver._solve``, the
+    cvxpy statements' and the direct assembly's; it runs at its own tolerances, 1e-8 as
+    Clarabel's default, whatever ``tol``). Pseudo-settings: ``clean`` ('A0', 'P0'
     or 'A0+P0') cleans every problem's data before Clarabel sees it
     (benchmarks/iteration_cost.py: A's stored zeros, P's relative round-off); ``form``
     ('primal' or 'dual') is the direct assembly's form for the PFEM steps of the step
@@ -87,6 +97,8 @@ def clarabel_tolerances(tol, record, extra=None):
     direct assembly (the PFEM steps), through ``backends.direct.SETTINGS`` (and
     ``clean=A0+P0`` is its ``CLEAN_DATA``), not to the cvxpy statements."""
     from pfem_skfem.problems.backends import STEP_SOLVERS, direct
+    from pfem_skfem.problems.ipm import solver as ipm_solver
+    ipm_solve = ipm_solver._solve
     settings_class, solver_class = clarabel.DefaultSettings, clarabel.DefaultSolver
     plain = [STEP_SOLVERS[name] for name in ("clarabel", "qoco")]    # the primal-form names
     saved = direct.SETTINGS, direct.CLEAN_DATA, [backend.form for backend in plain]
@@ -122,17 +134,24 @@ def clarabel_tolerances(tol, record, extra=None):
 
         def solve(self):
             sol = self._solver.solve()
-            record.append((int(sol.iterations), str(sol.status)))
+            record.append((int(sol.iterations), str(sol.status), "clarabel"))
             return sol
 
         def __getattr__(self, name):
             return getattr(self._solver, name)
 
+    def ipm_recorded(*args, **kwargs):
+        sol = ipm_solve(*args, **kwargs)
+        record.append((int(sol.iterations), str(sol.status), "ipm"))
+        return sol
+
     clarabel.DefaultSettings, clarabel.DefaultSolver = settings, Solver
+    ipm_solver._solve = ipm_recorded
     try:
         yield
     finally:
         clarabel.DefaultSettings, clarabel.DefaultSolver = settings_class, solver_class
+        ipm_solver._solve = ipm_solve
         direct.SETTINGS, direct.CLEAN_DATA = saved[:2]
         for backend, form in zip(plain, saved[2]):
             backend.form = form
@@ -173,13 +192,25 @@ FAILURES = {}
 
 
 def summary(record, seconds, checks):
-    iters = np.array([r[0] for r in record]) if record else np.zeros(1)
-    almost = sum(status == "AlmostSolved" for _, status in record)
+    """The run's solves per solver (count, iterations per solve, 'AlmostSolved' ends and
+    any other status than 'Solved'), its time and its checks."""
     cpu = CPU_SECONDS.get(id(record), np.nan)
-    if id(record) in FAILURES:
-        return f"FAILED after {seconds:.1f} s wall: {FAILURES[id(record)]}"
-    return (f"{len(record)} Clarabel solves, {iters.mean():.1f} iterations per solve, "
-            f"{almost} AlmostSolved, {seconds:.1f} s wall, {cpu:.1f} s CPU; "
+    parts = []
+    for solver in ("clarabel", "ipm"):
+        mine = [r for r in record if r[2] == solver]
+        if not mine and (solver == "ipm" or record):
+            continue
+        iters = np.array([r[0] for r in mine]) if mine else np.zeros(1)
+        almost = sum(r[1] == "AlmostSolved" for r in mine)
+        other = sorted({r[1] for r in mine} - {"Solved", "AlmostSolved"})
+        other = "".join(f", {sum(r[1] == o for r in mine)} {o}" for o in other)
+        name = {"clarabel": "Clarabel", "ipm": "ipm"}[solver]
+        parts.append(f"{len(mine)} {name} solves, {iters.mean():.1f} iterations per solve, "
+                     f"{almost} AlmostSolved{other}")
+    if id(record) in FAILURES:          # the solves before the failure, then why
+        return (f"FAILED after {seconds:.1f} s wall ({', '.join(parts) or 'no solve'}): "
+                f"{FAILURES[id(record)]}")
+    return (", ".join(parts) + f", {seconds:.1f} s wall, {cpu:.1f} s CPU; "
             f"checks passed {checks[0]}/{checks[1]}")
 
 
