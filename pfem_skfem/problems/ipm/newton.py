@@ -34,6 +34,8 @@ removes delta's error (it is the iterated penalty method for the pressures).
 """
 import numpy as np
 
+from .structure import component_major, from_component_major
+
 #: the penalty 1 / delta of the pressures (the data are of order one: the step's
 #: scaling, :class:`~pfem_skfem.problems.conic.Scaling`); the refinement removes its error
 PENALTY = 1e10
@@ -117,7 +119,8 @@ class Newton:
         self.gamma = PENALTY                                # 1 / delta
         if st.penalised is None or st.penalised[0] != self.gamma:   # S's constant part
             st.penalised = (self.gamma, st.S_fixed + self.gamma * st.S_pressures)
-        self.Hinv, values = {}, st.penalised[1].copy()
+        self.Hinv, values = {}, st._buffer("S", st.penalised[1].shape)
+        np.copyto(values, st.penalised[1])     # factor() copies it: the buffer is free after
         for size, MVb in MV.items():
             # V_r: the range's columns first (the null ones last, zero columns): M V_r =
             # Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
@@ -127,7 +130,7 @@ class Newton:
             R[:, np.arange(size), np.arange(size)] += st.null_last[size]   # R_22 = I
             U = Vr @ upper_inverse(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
-            values += st.scatter(size, U)
+            st.scatter(size, U, values)
         self.Hmat = st.block_matrix(self.Hinv)
         diag = values[st.diag_slots]                        # the stiffest, pressures aside
         stiffest = max((diag - self.gamma * st.S_pressures[st.diag_slots]).max(initial=0.0),
@@ -160,14 +163,14 @@ class Newton:
     def _rhs_x(self, bx, bzt):
         """bx + G^T W^-1 bzt."""
         r = bx.copy()
-        for d, GT in self.st.GT.items():
-            r += GT @ self.W[d].inverse(bzt[d]).ravel()
+        for d, GT in self.st.GcT.items():
+            r += GT @ component_major(self.W[d].inverse(bzt[d]))
         return r
 
     def _once(self, bx, by, bzt):
         """(dx, dy, dzt) of (N) by the reduction, unrefined, G dx per group and E^T dy."""
         dx, dy, ETdy = self._solve_reduced(self._rhs_x(bx, bzt), by)
-        Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
+        Gdx = {d: from_component_major(G @ dx, d) for d, G in self.st.Gc.items()}
         dzt = {d: self.W[d].inverse(Gdx[d]) - bzt[d] for d in Gdx}
         return dx, dy, dzt, (Gdx, ETdy)
 
@@ -181,10 +184,10 @@ class Newton:
         Pdx = st.P @ dx
         ATdz = st.ET @ dy if ETdy is None else ETdy.copy()
         rz = {}
-        for d, G in st.G.items():
+        for d, G in st.Gc.items():
             w = self.W[d]
-            ATdz += st.GT[d] @ w.inverse(dzt[d]).ravel()
-            rz[d] = bzt[d] - w.inverse((G @ dx).reshape(-1, d)) + dzt[d] if third \
+            ATdz += st.GcT[d] @ component_major(w.inverse(dzt[d]))
+            rz[d] = bzt[d] - w.inverse(from_component_major(G @ dx, d)) + dzt[d] if third \
                 else np.zeros_like(bzt[d])
         Edx = st.E @ dx
         rx = bx - Pdx - ATdz
