@@ -124,10 +124,12 @@ class Newton:
         for size, MVb in MV.items():
             # V_r: the range's columns first (the null ones last, zero columns): M V_r =
             # Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
-            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1
+            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1 (the null columns that all
+            # blocks share left out: :meth:`.structure.Structure._rotated`)
             Vr = st.Vr[size]
             R = triangular_factor(MVb)
-            R[:, np.arange(size), np.arange(size)] += st.null_last[size]   # R_22 = I
+            kept = np.arange(R.shape[2])
+            R[:, kept, kept] += st.null_last[size]            # R_22 = I
             U = Vr @ upper_inverse(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
             st.scatter(size, U, values)

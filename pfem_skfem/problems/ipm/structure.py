@@ -235,13 +235,20 @@ class Structure:
         them first): ``MV_fixed`` {size: (m, rows, size)} with L V_r on top, and each cone
         part's G_b V_r (``cone_parts_V``: (d, cones, size, blocks, G_b V_r, offset, whole),
         whole when its cones are the group's and fill the same rows of every block, in
-        order: a slice, not a gather). The iteration adds W^-1 G_b V_r."""
-        self.Vr = {size: np.ascontiguousarray(self.range_[size][:, :, ::-1])
-                   for size in self.coned}
-        self.null_last = {size: self.null[size][1][:, ::-1] for size in self.coned}
+        order: a slice, not a gather). The iteration adds W^-1 G_b V_r.
+        The null columns that every block of a size has (a rigid-plastic stress point's
+        mean stress: one of its three) are left out of V_r: they are zero, and M V_r, its
+        R and U = V_r R^-1 are then narrower (U: (m, size, rank), H^+ = U U^T the same)."""
+        self.Vr, self.null_last = {}, {}
+        for size in self.coned:
+            null = self.null[size][1][:, ::-1]
+            rank = max(size - int(null.sum(axis=1).min()), 1)    # the columns kept
+            self.Vr[size] = np.ascontiguousarray(self.range_[size][:, :, ::-1][:, :, :rank])
+            self.null_last[size] = np.ascontiguousarray(null[:, :rank])
         self.MV_fixed = {}
         for size in self.coned:
-            MV = np.zeros((len(self.P_blocks[size]), self.M_rows[size], size))
+            MV = np.zeros((len(self.P_blocks[size]), self.M_rows[size],
+                           self.Vr[size].shape[2]))
             roots = self.P_roots[size]
             MV[:, :roots.shape[1]] = roots @ self.Vr[size]
             self.MV_fixed[size] = MV
@@ -395,11 +402,11 @@ class Structure:
         else:                                 # F_g = [E_1 U_1 .. E_k U_k], side by side
             order, k = self.S_groups[size]
             Eg = self.E_grouped[size]
-            m, s = U.shape[0], U.shape[2]
-            Uo = U[order].reshape(m // k, k, s, s)
-            F = self._buffer(("F", size), (m // k, Eg.shape[1], k * s))
+            m, s, r = U.shape                 # r: U's columns (the rank kept)
+            Uo = U[order].reshape(m // k, k, s, r)
+            F = self._buffer(("F", size), (m // k, Eg.shape[1], k * r))
             for j in range(k):
-                np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * s:(j + 1) * s])
+                np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * r:(j + 1) * r])
         FF = np.matmul(F, np.swapaxes(F, 1, 2),
                        out=self._buffer(("FF", size), (F.shape[0], F.shape[1], F.shape[1])))
         accumulate(self.S_sum[size], FF.ravel(), out)
