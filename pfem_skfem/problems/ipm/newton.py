@@ -145,16 +145,24 @@ class Newton:
             self.Z = cholesky.solve(self.Ef)
             self.schur_f = np.linalg.cholesky(self.Ef.T @ self.Z)
 
-    def _solve_reduced(self, rx, ry):
-        """(dx, dy, E^T dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised
-        (E^T dy, which dx is made of, is also the residual's: :meth:`_residual`)."""
+    def _dy(self, rx, ry):
+        """dy of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised; N^T rx and
+        the free variables' dx (None without)."""
         st = self.st
         rN = st.NT @ rx
         dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
+        dxf = None
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
+        return dy, rN, dxf
+
+    def _solve_reduced(self, rx, ry):
+        """(dx, dy, E^T dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised
+        (E^T dy, which dx is made of, is also the residual's: :meth:`_residual`)."""
+        st = self.st
+        dy, rN, dxf = self._dy(rx, ry)
         p = self.gamma * (rN - st.EN.T @ dy)
         ETdy = st.ET @ dy
         dx = self.Hmat @ (rx - ETdy) + st.N @ p             # zero off the blocks
@@ -168,6 +176,22 @@ class Newton:
         for d, GT in self.st.GcT.items():
             r += GT @ component_major(self.W[d].inverse(bzt[d]))
         return r
+
+    def _predict(self, bx, by, bzt):
+        """dzt of (N), unrefined, for the predictor (its direction sets only the
+        centring): dx is formed on the coned blocks alone, block by block (H_b^+ dense), since
+        G sees no other variable and none of the null directions (the pressures p are
+        not formed: G N p is round-off)."""
+        st = self.st
+        rx = self._rhs_x(bx, bzt)
+        dy = self._dy(rx, by)[0]
+        Gdx = {d: np.zeros(G.shape[0]) for d, G in st.Gc.items()}
+        for size, (flat, ET, Gs) in st.coned_parts.items():
+            t = (rx[flat] - ET @ dy).reshape(-1, size)
+            dxs = np.einsum("mij,mj->mi", self.Hinv[size], t).ravel()
+            for d, G in Gs.items():
+                Gdx[d] += G @ dxs
+        return {d: self.W[d].inverse(from_component_major(Gdx[d], d)) - bzt[d] for d in Gdx}
 
     def _once(self, bx, by, bzt):
         """(dx, dy, dzt) of (N) by the reduction, unrefined, G dx per group and E^T dy."""
@@ -202,13 +226,13 @@ class Newton:
     def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
         """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
         (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
-        predictor's direction sets only the centring). A refined solve leaves in
+        predictor's direction sets only the centring: dzt alone, dx and dy None). A refined solve leaves in
         ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
         measures of the next iterate are updated by, :mod:`.solver`)."""
         tol = max(tol, REFINE_TOL)
-        dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
         if not refine:
-            return dx, dy, dzt
+            return None, None, self._predict(bx, by, bzt)
+        dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
         third = not self.third_by_construction

@@ -350,8 +350,15 @@ class Structure:
             self.scatter(size, root, self.S_fixed)
 
     def _operators(self):
-        """N^T as a sparse matrix (pressures x variables), and the order that lays the
-        blocks' dense H^+ into one block-diagonal CSR matrix (one matvec an application)."""
+        """N^T as a sparse matrix (pressures x variables), the order that lays the
+        blocks' dense H^+ into one block-diagonal CSR matrix (one matvec an application),
+        and for each coned size its variables (block by block), E^T's rows and each G_c's
+        columns on them (``coned_parts``: the predictor's dx, :meth:`.newton.Newton._predict`)."""
+        self.coned_parts = {}
+        for size in self.coned:
+            flat = self.blocks[size].ravel()
+            self.coned_parts[size] = (flat, self.ET[flat], {d: G[:, flat].tocsr()
+                                                            for d, G in self.Gc.items()})
         rows_, cols_, vals_ = [], [], []
         for size, vars_ in self.blocks.items():
             Vn, null = self.null[size]
