@@ -72,6 +72,10 @@ class Augmented(Newton):
                             diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         self._split = np.cumsum([n, nE, *(G.shape[0] for G in WiG.values())])[:-1]
 
+    def _predict(self, bx, by, bzt):
+        """dzt of (N), unrefined (the predictor's)."""
+        return self._once(bx, by, bzt)[2]
+
     def _once(self, bx, by, bzt):
         """(dx, dy, dzt) of the regularised (N), and G dx per group."""
         parts = np.split(self._lu.solve(np.concatenate([bx, by, *(b.ravel() for b in bzt.values())])),

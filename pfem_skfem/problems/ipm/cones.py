@@ -9,18 +9,39 @@ and quadratic cone program solvers", 2010, sections 2-4): J = diag(1, -1, ..., -
 Jordan product u o v = (u^T v, u0 v1 + v0 u1), its identity e = (1, 0, ..., 0), and the
 Nesterov-Todd scaling W = beta (2 v v^T - J), the symmetric matrix with W z = W^-1 s
 (= lambda, the scaled point where the primal s and the dual z meet).
+
+The solver keeps a group's vectors in Fortran order (its cones' first components, then
+their second, ...: the rows of its data ordered by component, :mod:`.solver`), so that
+an operation on one component of every cone runs along contiguous memory; every
+operation here works on either order and answers in its arguments' (a C-ordered (m, 3)
+array costs about four times as much: each of its columns is strided).
 """
 import numpy as np
 
 
+def _sum_columns(u, v, first):
+    """sum_j u_j v_j over the columns from ``first`` on, of each row, in column order."""
+    if u.shape[1] <= first:
+        return np.zeros(u.shape[0])
+    out = u[:, first] * v[:, first]
+    for j in range(first + 1, u.shape[1]):
+        out += u[:, j] * v[:, j]
+    return out
+
+
+def rows_dot(u, v):
+    """u . v of each row."""
+    return _sum_columns(u, v, 0)
+
+
 def jdot(u, v):
     """u^T J v of each row: u0 v0 - u1 . v1."""
-    return u[:, 0] * v[:, 0] - np.einsum("ij,ij->i", u[:, 1:], v[:, 1:])
+    return u[:, 0] * v[:, 0] - _sum_columns(u, v, 1)
 
 
 def identity(m, d):
     """e of m cones of dimension d."""
-    e = np.zeros((m, d))
+    e = np.zeros((m, d), order="F")
     e[:, 0] = 1.0
     return e
 
@@ -28,7 +49,7 @@ def identity(m, d):
 def product(u, v):
     """The Jordan product u o v of each row."""
     out = np.empty_like(u)
-    out[:, 0] = np.einsum("ij,ij->i", u, v)
+    out[:, 0] = rows_dot(u, v)
     out[:, 1:] = u[:, :1] * v[:, 1:] + v[:, :1] * u[:, 1:]
     return out
 
@@ -38,7 +59,7 @@ def divide(lam, v):
     matrix of lam applied to v, in closed form."""
     det = jdot(lam, lam)[:, None]
     l0, l1 = lam[:, :1], lam[:, 1:]
-    l1v1 = np.einsum("ij,ij->i", l1, v[:, 1:])[:, None]
+    l1v1 = _sum_columns(lam, v, 1)[:, None]
     out = np.empty_like(v)
     out[:, :1] = (l0 * v[:, :1] - l1v1) / det
     out[:, 1:] = v[:, 1:] / l0 + (l1v1 / l0 - v[:, :1]) * l1 / det
@@ -48,7 +69,7 @@ def divide(lam, v):
 def shift_inside(u):
     """u moved into the cones' interior along e where it is not (CVXOPT's start): u + (1 +
     a) e with a = the largest eigenvalue of -u, per cone, where a >= 0."""
-    u = u.copy()
+    u = u.copy(order="K")
     alpha = np.linalg.norm(u[:, 1:], axis=1) - u[:, 0]      # max eigenvalue of -u
     out = alpha >= 0
     u[out, 0] += 1.0 + alpha[out]
@@ -63,16 +84,16 @@ class Scaling:
     def __init__(self, s, z):
         ns, nz = np.sqrt(jdot(s, s)), np.sqrt(jdot(z, z))
         sb, zb = s / ns[:, None], z / nz[:, None]
-        gamma = np.sqrt(0.5 * (1.0 + np.einsum("ij,ij->i", sb, zb)))
-        w = sb.copy()
+        gamma = np.sqrt(0.5 * (1.0 + rows_dot(sb, zb)))
+        w = sb
         w[:, 0] += zb[:, 0]
         w[:, 1:] -= zb[:, 1:]
         w /= 2.0 * gamma[:, None]
-        v = w.copy()
+        v = w.copy(order="K")
         v[:, 0] += 1.0
         v /= np.sqrt(2.0 * (w[:, :1] + 1.0))
         self.beta, self.v = np.sqrt(ns / nz), v
-        self._jv = v.copy()                       # J v, and 1 / beta, for W^-1
+        self._jv = v.copy(order="K")              # J v, and 1 / beta, for W^-1
         self._jv[:, 1:] *= -1.0
         self._inv_beta = 1.0 / self.beta
         self.lam = self.apply(z)                  # W z = W^-1 s
@@ -80,15 +101,16 @@ class Scaling:
     def apply(self, u):
         """W u of each row."""
         v = self.v
-        out = 2.0 * v * np.einsum("ij,ij->i", v, u)[:, None]
+        out = 2.0 * v * rows_dot(v, u)[:, None]
         out[:, 0] -= u[:, 0]
         out[:, 1:] += u[:, 1:]
-        return self.beta[:, None] * out
+        out *= self.beta[:, None]
+        return out
 
     def inverse(self, u):
         """W^-1 u of each row: W^-1 = (2 J v v^T J - J) / beta."""
         jv, ib = self._jv, self._inv_beta
-        out = jv * (2.0 * ib * np.einsum("ij,ij->i", jv, u))[:, None]
+        out = jv * (2.0 * ib * rows_dot(jv, u))[:, None]
         out[:, 0] -= ib * u[:, 0]
         out[:, 1:] += ib[:, None] * u[:, 1:]
         return out
@@ -96,9 +118,16 @@ class Scaling:
     def inverse_matrix(self):
         """W^-1 of each cone, shape (m, d, d)."""
         m, d = self.v.shape
-        jv = self._jv
-        J = np.diag(np.r_[1.0, -np.ones(d - 1)])
-        return (2.0 * jv[:, :, None] * jv[:, None, :] - J) * self._inv_beta[:, None, None]
+        jv, ib = self._jv, self._inv_beta
+        out = np.empty((m, d, d))
+        for i in range(d):
+            a = 2.0 * jv[:, i]
+            for j in range(i, d):
+                out[:, i, j] = a * jv[:, j]
+            out[:, i, i] += -1.0 if i == 0 else 1.0
+            out[:, i, i:] *= ib[:, None]
+            out[:, i + 1:, i] = out[:, i, i + 1:]
+        return out
 
 
 def max_step(u, du):

@@ -34,6 +34,8 @@ removes delta's error (it is the iterated penalty method for the pressures).
 """
 import numpy as np
 
+from .structure import component_major, from_component_major
+
 #: the penalty 1 / delta of the pressures (the data are of order one: the step's
 #: scaling, :class:`~pfem_skfem.problems.conic.Scaling`); the refinement removes its error
 PENALTY = 1e10
@@ -117,17 +119,20 @@ class Newton:
         self.gamma = PENALTY                                # 1 / delta
         if st.penalised is None or st.penalised[0] != self.gamma:   # S's constant part
             st.penalised = (self.gamma, st.S_fixed + self.gamma * st.S_pressures)
-        self.Hinv, values = {}, st.penalised[1].copy()
+        self.Hinv, values = {}, st._buffer("S", st.penalised[1].shape)
+        np.copyto(values, st.penalised[1])     # factor() copies it: the buffer is free after
         for size, MVb in MV.items():
             # V_r: the range's columns first (the null ones last, zero columns): M V_r =
             # Q R with R = [[R_11, 0], [0, 0]], the null block set to I, and
-            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1
+            # H^+ = V_r R^-1 R^-T V_r^T = U U^T, U = V_r R^-1 (the null columns that all
+            # blocks share left out: :meth:`.structure.Structure._rotated`)
             Vr = st.Vr[size]
             R = triangular_factor(MVb)
-            R[:, np.arange(size), np.arange(size)] += st.null_last[size]   # R_22 = I
+            kept = np.arange(R.shape[2])
+            R[:, kept, kept] += st.null_last[size]            # R_22 = I
             U = Vr @ upper_inverse(R)
             self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
-            values += st.scatter(size, U)
+            st.scatter(size, U, values)
         self.Hmat = st.block_matrix(self.Hinv)
         diag = values[st.diag_slots]                        # the stiffest, pressures aside
         stiffest = max((diag - self.gamma * st.S_pressures[st.diag_slots]).max(initial=0.0),
@@ -140,16 +145,24 @@ class Newton:
             self.Z = cholesky.solve(self.Ef)
             self.schur_f = np.linalg.cholesky(self.Ef.T @ self.Z)
 
-    def _solve_reduced(self, rx, ry):
-        """(dx, dy, E^T dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised
-        (E^T dy, which dx is made of, is also the residual's: :meth:`_residual`)."""
+    def _dy(self, rx, ry):
+        """dy of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised; N^T rx and
+        the free variables' dx (None without)."""
         st = self.st
         rN = st.NT @ rx
         dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
+        dxf = None
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
             dxf = np.linalg.solve(L.T, np.linalg.solve(L, rx[st.free] - self.Ef.T @ dy))
             dy = dy + self.Z @ dxf
+        return dy, rN, dxf
+
+    def _solve_reduced(self, rx, ry):
+        """(dx, dy, E^T dy) of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised
+        (E^T dy, which dx is made of, is also the residual's: :meth:`_residual`)."""
+        st = self.st
+        dy, rN, dxf = self._dy(rx, ry)
         p = self.gamma * (rN - st.EN.T @ dy)
         ETdy = st.ET @ dy
         dx = self.Hmat @ (rx - ETdy) + st.N @ p             # zero off the blocks
@@ -160,14 +173,30 @@ class Newton:
     def _rhs_x(self, bx, bzt):
         """bx + G^T W^-1 bzt."""
         r = bx.copy()
-        for d, GT in self.st.GT.items():
-            r += GT @ self.W[d].inverse(bzt[d]).ravel()
+        for d, GT in self.st.GcT.items():
+            r += GT @ component_major(self.W[d].inverse(bzt[d]))
         return r
+
+    def _predict(self, bx, by, bzt):
+        """dzt of (N), unrefined, for the predictor (its direction sets only the
+        centring): dx is formed on the coned blocks alone, block by block (H_b^+ dense), since
+        G sees no other variable and none of the null directions (the pressures p are
+        not formed: G N p is round-off)."""
+        st = self.st
+        rx = self._rhs_x(bx, bzt)
+        dy = self._dy(rx, by)[0]
+        Gdx = {d: np.zeros(G.shape[0]) for d, G in st.Gc.items()}
+        for size, (flat, ET, Gs) in st.coned_parts.items():
+            t = (rx[flat] - ET @ dy).reshape(-1, size)
+            dxs = np.einsum("mij,mj->mi", self.Hinv[size], t).ravel()
+            for d, G in Gs.items():
+                Gdx[d] += G @ dxs
+        return {d: self.W[d].inverse(from_component_major(Gdx[d], d)) - bzt[d] for d in Gdx}
 
     def _once(self, bx, by, bzt):
         """(dx, dy, dzt) of (N) by the reduction, unrefined, G dx per group and E^T dy."""
         dx, dy, ETdy = self._solve_reduced(self._rhs_x(bx, bzt), by)
-        Gdx = {d: (G @ dx).reshape(-1, d) for d, G in self.st.G.items()}
+        Gdx = {d: from_component_major(G @ dx, d) for d, G in self.st.Gc.items()}
         dzt = {d: self.W[d].inverse(Gdx[d]) - bzt[d] for d in Gdx}
         return dx, dy, dzt, (Gdx, ETdy)
 
@@ -181,10 +210,10 @@ class Newton:
         Pdx = st.P @ dx
         ATdz = st.ET @ dy if ETdy is None else ETdy.copy()
         rz = {}
-        for d, G in st.G.items():
+        for d, G in st.Gc.items():
             w = self.W[d]
-            ATdz += st.GT[d] @ w.inverse(dzt[d]).ravel()
-            rz[d] = bzt[d] - w.inverse((G @ dx).reshape(-1, d)) + dzt[d] if third \
+            ATdz += st.GcT[d] @ component_major(w.inverse(dzt[d]))
+            rz[d] = bzt[d] - w.inverse(from_component_major(G @ dx, d)) + dzt[d] if third \
                 else np.zeros_like(bzt[d])
         Edx = st.E @ dx
         rx = bx - Pdx - ATdz
@@ -197,13 +226,13 @@ class Newton:
     def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
         """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
         (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
-        predictor's direction sets only the centring). A refined solve leaves in
+        predictor's direction sets only the centring: dzt alone, dx and dy None). A refined solve leaves in
         ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
         measures of the next iterate are updated by, :mod:`.solver`)."""
         tol = max(tol, REFINE_TOL)
-        dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
         if not refine:
-            return dx, dy, dzt
+            return None, None, self._predict(bx, by, bzt)
+        dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
         scale = max(1.0, np.abs(bx).max(initial=0), np.abs(by).max(initial=0),
                     *(np.abs(b).max(initial=0) for b in bzt.values()))
         third = not self.third_by_construction

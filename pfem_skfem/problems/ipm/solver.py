@@ -53,7 +53,7 @@ from .augmented import REGULARISATION, STRONG, Augmented
 from .cholesky import Cholesky, CholeskyError
 from .newton import Newton
 from .presolve import Substitution
-from .structure import Structure
+from .structure import Structure, component_major, from_component_major
 
 #: the tolerances (Clarabel's names and defaults: full, then reduced for 'AlmostSolved')
 DEFAULTS = dict(tol_gap_abs=1e-8, tol_gap_rel=1e-8, tol_feas=1e-8, tol_infeas_rel=1e-8,
@@ -106,11 +106,14 @@ def _dot(u, v):
 
 class _Problem:
     """The data, split by cone (:class:`~.structure.Structure`), and the iterate's
-    measures."""
+    measures. The rows are in the solver's order (``st.order``: the zero cone's, then
+    each group's by component, :func:`.structure.by_component`), where a group's part of
+    a row-length vector is a Fortran-ordered (m, d) view (:mod:`.cones`)."""
 
     def __init__(self, P, c, A, b, cones, opts):
         self.st = st = _structure(P, A, cones)
         self.A, self.AT = st.A, st.AT
+        b = b[st.order]
         self.P, self.c, self.b = st.P, c, b
         self.b_E = b[st.zero_at]
         self.h = self.split(b)[1]
@@ -119,9 +122,11 @@ class _Problem:
         self.norm_b, self.norm_c = _inf(b), _inf(c)
 
     def split(self, v):
-        """A row-length vector as (its zero rows, {d: its cone groups (m, d)})."""
+        """A row-length vector (the solver's order) as (its zero rows, {d: its cone
+        groups (m, d), Fortran-ordered views})."""
         st = self.st
-        return v[st.zero_at], {d: v[at].reshape(-1, d) for d, at in st.group_at.items()}
+        return v[st.zero_at], {d: from_component_major(v[at], d)
+                               for d, at in st.group_at.items()}
 
     def measures(self, x, z, s, products=None):
         """Clarabel's measures of the iterate (x, z, s) (z, s of the row length) and the
@@ -187,19 +192,17 @@ def _structure(P, A, cones):
     if key not in _LAST:
         _LAST.clear()
         st = Structure(P, A, cones)
-        st.A, st.AT = A.tocsr(), A.T.tocsr()
-        st.zero_at = _place(st.zero)
-        st.group_at = {d: _place(rows.ravel()) for d, rows in st.groups.items()}
+        # the solver's order of the rows: the zero cone's, then each group's by component
+        st.order = np.concatenate([st.zero, *(rows.T.ravel() for rows in st.groups.values())])
+        st.A = A.tocsr()[st.order]
+        st.AT = st.A.T.tocsr()
+        st.zero_at, start = slice(0, st.zero.size), st.zero.size
+        st.group_at = {}
+        for d, rows in st.groups.items():
+            st.group_at[d], start = slice(start, start + rows.size), start + rows.size
         st.cholesky = Cholesky(st.S_rows, st.S_cols, st.E.shape[0])   # its analysis
         _LAST[key] = st
     return _LAST[key]
-
-
-def _place(rows):
-    """A slice where the rows are consecutive (a view, no gather), else the rows."""
-    if rows.size and np.array_equal(rows, np.arange(rows[0], rows[0] + rows.size)):
-        return slice(int(rows[0]), int(rows[0]) + rows.size)
-    return rows
 
 
 def _moved(pb, m, a, products):
@@ -212,7 +215,7 @@ def _moved(pb, m, a, products):
     Ax = m["Ax"].copy()
     Ax[pb.st.zero_at] += a * Edx
     for d, at in pb.st.group_at.items():
-        Ax[at] += a * Gdx[d].ravel()
+        Ax[at] += a * component_major(Gdx[d])
     return m["Px"] + a * Pdx, Ax, m["ATz"] + a * ATdz
 
 
@@ -242,8 +245,8 @@ def _direction(pb, newton, W, lam, m, scale, comp, refine=True, tol=0.0):
     dz, ds = np.zeros(pb.b.size), np.zeros(pb.b.size)
     dz[st.zero_at] = dy
     for d, at in st.group_at.items():
-        dz[at] = W[d].inverse(dz_t[d]).ravel()
-        ds[at] = W[d].apply(ds_t[d]).ravel()
+        dz[at] = component_major(W[d].inverse(dz_t[d]))
+        ds[at] = component_major(W[d].apply(ds_t[d]))
     return dx, dz, ds, ds_t, dz_t
 
 
@@ -256,8 +259,9 @@ def _directions(pb, newton, W, lam, m, mu, tol):
                                 refine=False)
     a_aff = min(1.0, _step(lam, ds_a, dz_a))
     sigma = (1.0 - a_aff) ** 3
-    comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d])
-            + sigma * mu * K.identity(*lam[d].shape) for d in lam}
+    comp = {d: -lam2[d] - K.product(ds_a[d], dz_a[d]) for d in lam}
+    for d in lam:
+        comp[d][:, 0] += sigma * mu                     # + sigma mu e
     return (*_direction(pb, newton, W, lam, m, 1.0 - sigma, comp, tol=tol), a_aff, sigma)
 
 
@@ -316,8 +320,8 @@ def _solve(P, c, A, b, cones, settings=None):
     z, s = np.zeros(rows), np.zeros(rows)
     z[st.zero_at] = y
     for d, at in st.group_at.items():
-        z[at] = K.shift_inside(zt[d]).ravel()
-        s[at] = K.shift_inside(-zt[d]).ravel()
+        z[at] = component_major(K.shift_inside(zt[d]))
+        s[at] = component_major(K.shift_inside(-zt[d]))
     status, best, stall, it, products = None, None, 0, 0, None
     for it in range(opts["max_iter"] + 1):
         m = pb.measures(x, z, s, products)
@@ -376,7 +380,15 @@ def _solve(P, c, A, b, cones, settings=None):
             status = "AlmostSolved"
         elif status is None:
             status = "MaxIterations"
-    return _answer(x, z, s, status, it, m, chol.factorisations - counted + whole_lu)
+    return _answer(x, _in_order(st, z), _in_order(st, s), status, it, m,
+                   chol.factorisations - counted + whole_lu)
+
+
+def _in_order(st, v):
+    """A row-length vector from the solver's order back to the problem's."""
+    out = np.empty_like(v)
+    out[st.order] = v
+    return out
 
 
 def _answer(x, z, s, status, iterations, m, factorisations):

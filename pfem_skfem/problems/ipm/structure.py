@@ -21,6 +21,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+try:                                     # y += A x in place (scipy's own kernel)
+    from scipy.sparse._sparsetools import csr_matvec as _csr_matvec
+except ImportError:                      # pragma: no cover - a scipy without it
+    _csr_matvec = None
+
 #: a block's direction is null (no cone, no quadratic) when its eigenvalue of
 #: P_b^2 + G_b^T G_b is below this, relative to the block's largest
 NULL_TOL = 1e-12
@@ -63,6 +68,23 @@ def cone_rows(cones):
     return zero, {d: np.concatenate(r) for d, r in sorted(groups.items())}
 
 
+def by_component(m, d):
+    """The rows of m cones of dimension d (cone k's at k d .. k d + d - 1) ordered by
+    component: the first of every cone, then the second, ..."""
+    return (np.arange(m)[None, :] * d + np.arange(d)[:, None]).ravel()
+
+
+def component_major(u):
+    """A group's (m, d) vector flattened by component (u.T.ravel(): a view of a Fortran-
+    ordered array)."""
+    return u.T.ravel()
+
+
+def from_component_major(v, d):
+    """The (m, d) group vector of a vector ordered by component (a Fortran-ordered view)."""
+    return v.reshape(d, -1).T
+
+
 def full_symmetric(P):
     """P with both triangles (CSR), given Clarabel's upper triangle or both."""
     P = sp.csr_matrix(P)
@@ -89,6 +111,11 @@ class Structure:
         # G^T and N (below) are tall with few entries: CSC (the CSR's transpose, no copy)
         # skips their empty rows in a product (G_1^T: 0.17 to 0.04 ms at 8,192 elements)
         self.GT = {d: G.T for d, G in self.G.items()}
+        # the same rows ordered by component (every cone's first row, then every second,
+        # ...): the solver's order, where a group's vectors are Fortran-ordered (m, d)
+        # arrays (:mod:`.cones`), and G_c dx reshaped to (d, m) is one without a copy
+        self.Gc = {d: G[by_component(G.shape[0] // d, d)].tocsr() for d, G in self.G.items()}
+        self.GcT = {d: G.T for d, G in self.Gc.items()}
         self.P = full_symmetric(P)
         links, self._incidence = abs(self.P), {}
         for d, rows in self.groups.items():               # variables in a common cone
@@ -208,13 +235,20 @@ class Structure:
         them first): ``MV_fixed`` {size: (m, rows, size)} with L V_r on top, and each cone
         part's G_b V_r (``cone_parts_V``: (d, cones, size, blocks, G_b V_r, offset, whole),
         whole when its cones are the group's and fill the same rows of every block, in
-        order: a slice, not a gather). The iteration adds W^-1 G_b V_r."""
-        self.Vr = {size: np.ascontiguousarray(self.range_[size][:, :, ::-1])
-                   for size in self.coned}
-        self.null_last = {size: self.null[size][1][:, ::-1] for size in self.coned}
+        order: a slice, not a gather). The iteration adds W^-1 G_b V_r.
+        The null columns that every block of a size has (a rigid-plastic stress point's
+        mean stress: one of its three) are left out of V_r: they are zero, and M V_r, its
+        R and U = V_r R^-1 are then narrower (U: (m, size, rank), H^+ = U U^T the same)."""
+        self.Vr, self.null_last = {}, {}
+        for size in self.coned:
+            null = self.null[size][1][:, ::-1]
+            rank = max(size - int(null.sum(axis=1).min()), 1)    # the columns kept
+            self.Vr[size] = np.ascontiguousarray(self.range_[size][:, :, ::-1][:, :, :rank])
+            self.null_last[size] = np.ascontiguousarray(null[:, :rank])
         self.MV_fixed = {}
         for size in self.coned:
-            MV = np.zeros((len(self.P_blocks[size]), self.M_rows[size], size))
+            MV = np.zeros((len(self.P_blocks[size]), self.M_rows[size],
+                           self.Vr[size].shape[2]))
             roots = self.P_roots[size]
             MV[:, :roots.shape[1]] = roots @ self.Vr[size]
             self.MV_fixed[size] = MV
@@ -313,11 +347,18 @@ class Structure:
             keep = lam > NULL_TOL * np.maximum(lam[:, -1:], 1e-300)
             root = U * np.where(keep, 1.0 / np.sqrt(np.where(keep, lam, 1.0)), 0.0)[:, None, :]
             self.Hinv_fixed[size] = root @ np.swapaxes(root, 1, 2)
-            self.S_fixed += self.scatter(size, root)
+            self.scatter(size, root, self.S_fixed)
 
     def _operators(self):
-        """N^T as a sparse matrix (pressures x variables), and the order that lays the
-        blocks' dense H^+ into one block-diagonal CSR matrix (one matvec an application)."""
+        """N^T as a sparse matrix (pressures x variables), the order that lays the
+        blocks' dense H^+ into one block-diagonal CSR matrix (one matvec an application),
+        and for each coned size its variables (block by block), E^T's rows and each G_c's
+        columns on them (``coned_parts``: the predictor's dx, :meth:`.newton.Newton._predict`)."""
+        self.coned_parts = {}
+        for size in self.coned:
+            flat = self.blocks[size].ravel()
+            self.coned_parts[size] = (flat, self.ET[flat], {d: G[:, flat].tocsr()
+                                                            for d, G in self.Gc.items()})
         rows_, cols_, vals_ = [], [], []
         for size, vars_ in self.blocks.items():
             Vn, null = self.null[size]
@@ -356,30 +397,56 @@ class Structure:
                 self.H_fixed[self.H_places[size]] = self.Hinv_fixed[size].ravel()
 
 
-    def scatter(self, size, U):
-        """The blocks' E_b H_b^+ E_b^T of ``size`` in S's values, H_b^+ = U_b U_b^T;
-        blocks on the same rows of E (an element's stress points) summed first, as
-        [F_1 .. F_k] [F_1 .. F_k]^T: a third of the entries to scatter."""
+    def scatter(self, size, U, out):
+        """Add the blocks' E_b H_b^+ E_b^T of ``size`` into S's values ``out``, H_b^+ =
+        U_b U_b^T; blocks on the same rows of E (an element's stress points) summed first,
+        as [F_1 .. F_k] [F_1 .. F_k]^T: a third of the entries to scatter. F and F F^T are
+        written into buffers kept for the next iteration (a fresh 10 MB array an
+        iteration costs its page faults), and the sum goes into ``out`` in place."""
         if self.S_groups[size] is None:
-            F = self.E_parts[size][0] @ U
+            F = np.matmul(self.E_parts[size][0], U, out=self._buffer(("F", size), (
+                U.shape[0], self.E_parts[size][0].shape[1], U.shape[2])))
         else:                                 # F_g = [E_1 U_1 .. E_k U_k], side by side
             order, k = self.S_groups[size]
             Eg = self.E_grouped[size]
-            m, s = U.shape[0], U.shape[2]
-            Uo = U[order].reshape(m // k, k, s, s)
-            F = np.empty((m // k, Eg.shape[1], k * s))
+            m, s, r = U.shape                 # r: U's columns (the rank kept)
+            Uo = U[order].reshape(m // k, k, s, r)
+            F = self._buffer(("F", size), (m // k, Eg.shape[1], k * r))
             for j in range(k):
-                np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * s:(j + 1) * s])
-        return self.S_sum[size] @ (F @ np.swapaxes(F, 1, 2)).ravel()
+                np.matmul(Eg[:, :, j * s:(j + 1) * s], Uo[:, j], out=F[:, :, j * r:(j + 1) * r])
+        FF = np.matmul(F, np.swapaxes(F, 1, 2),
+                       out=self._buffer(("FF", size), (F.shape[0], F.shape[1], F.shape[1])))
+        accumulate(self.S_sum[size], FF.ravel(), out)
+
+    def _buffer(self, key, shape):
+        """A work array of ``shape`` kept under ``key`` (its values are not kept)."""
+        buffers = self.__dict__.setdefault("_buffers", {})
+        if key not in buffers or buffers[key].shape != shape:
+            buffers[key] = np.empty(shape)
+        return buffers[key]
 
     def block_matrix(self, mats):
         """The block-diagonal sparse matrix of H^+: the constant blocks
-        (:attr:`Hinv_fixed`) and the coned blocks' dense ``mats`` {size: (m, s, s)}."""
-        data = self.H_fixed.copy()
+        (:attr:`Hinv_fixed`) and the coned blocks' dense ``mats`` {size: (m, s, s)}. Its
+        values are one array kept here, the constant blocks written once: the matrix of
+        the previous call is overwritten (one Newton system is in use at a time)."""
+        data = self.__dict__.get("_H_data")
+        if data is None:
+            data = self._H_data = self.H_fixed.copy()
         for size, mat in mats.items():
             data[self.H_places[size]] = mat.ravel()
         n = self.where.shape[0]
         return sp.csr_matrix((data, self.H_indices, self.H_indptr), shape=(n, n))
+
+
+def accumulate(A, x, y):
+    """y += A x for a CSR matrix A, in place (scipy's kernel, which its ``A @ x`` calls
+    on a fresh zero vector); ``A @ x`` added where that kernel is not there."""
+    if _csr_matvec is not None and A.format == "csr" and y.dtype == np.float64 \
+            and x.dtype == np.float64 and y.flags.c_contiguous:
+        _csr_matvec(A.shape[0], A.shape[1], A.indptr, A.indices, A.data, x, y)
+    else:
+        y += A @ x
 
 
 def _same_rows(rows):
