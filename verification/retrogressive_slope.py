@@ -51,6 +51,11 @@ models differ by 10 % in run-out and 43 % in retrogression, SPH's run-out and re
 fall with refinement (Jin, Yin & Yuan 2020), and the two conversions are inferred. --quick
 (the default h = 1 m, to 2 s) checks the first three only.
 
+Measured (book/softening.md, "A published slope"; h = 1 m, 20 s, 415 s of CPU): the slides
+come as theirs (0.7-2.1, 3.9-4.9, 6.4-7.9 s), but the third takes the whole top
+(retrogression 20.0 m, their u-pw run's) and the fully remoulded debris runs out 62.3 m:
+the run-out, retrogression and arrest (0.054) checks fail.
+
 Usage::
 
     python verification/retrogressive_slope.py --quick --json results/retrogressive_slope.json
