@@ -289,6 +289,12 @@ CASES = [
      {"runout_St1_over_h": Between(1.0, np.inf), "runout_growth": Between(1.05, np.inf),
       "mobilised_gain": Between(1.05, np.inf), "retrogression_gain": Between(0.5, np.inf),
       "halved_after_cap": 1.0}, None),
+    # del Castillo et al.'s 5 m slope (IJNAMG 2026, doi 10.1002/nag.70322), triggered at
+    # c / 1.65 (gamma H / c = 9.98, above the slope's limit 6.0-6.2): at h = 1 m it has failed
+    # by 2 s; the paper's 20 s run-out and retrogression are checked at full size only
+    ("retrogressive_slope", [],
+     {"conversion_error": Between(0, 1e-14), "runout_over_h": Between(1.0, np.inf),
+      "halved_after_cap": 1.0}, None),
     # simple shear of a layer (L = 1 m, G = 2000 kPa) whose mid row (h = L / rows) starts 1 %
     # down the linear law c_p = 20, c_r = 5, H = -20 kPa: c_w = 19.85; post-peak
     # delta = tau L / G + h (c_w - tau) / |H| (research file 3.4, W1); with --ell 0.2 the band's

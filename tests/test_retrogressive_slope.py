@@ -1,0 +1,99 @@
+"""del Castillo et al.'s 5 m sensitive-clay slope (verification/retrogressive_slope.py): the
+scene's geometry and initial stress, the conversions of the paper's parameters (closed
+forms), and the script's quick run."""
+import math
+
+import numpy as np
+import pytest
+
+from verification import retrogressive_slope as rs
+
+
+def slope(*argv):
+    args = rs.build_parser().parse_args(list(argv))
+    return args, rs.Slope.of(args)
+
+
+def test_the_scene_is_the_papers_slope():
+    """5 m high at 45 deg, 25 m along the base and 20 m along the top (p. 14): 112.5 m2 of
+    clay, its mass rho x that on the lattice, a smooth wall at x = 0 and a rough base."""
+    _, params = slope()
+    poly = np.asarray(params.polygon())
+    x, y = poly[:, 0], poly[:, 1]
+    assert 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) == pytest.approx(112.5)
+    assert math.degrees(math.atan2(params.height, params.toe - params.crest)) == pytest.approx(45)
+    state, scene = params.scene()
+    assert state.mass.sum() == pytest.approx(2.15 * 112.5, rel=0.03)
+    bodies = {b.name: b for b in scene.bodies}
+    assert bodies["wall"].shape.mu == 0.0 and bodies["base"].shape.mu == 2.0
+    assert state.x[:, 0].max() <= params.toe + 1e-9 and state.x[:, 1].max() <= 5 + 1e-9
+
+
+def test_the_initial_stress_is_the_total_stress_of_an_effective_k0():
+    """K0 = 0.5 on the effective stress, water at the surface: sigma_h / sigma_v in total
+    stress (0.5 x 1.15 + 1) / 2.15 = 0.7326; sigma_v = rho g (H - y) at every particle."""
+    assert rs.total_k0(0.5, 2.15, 1.0) == pytest.approx((0.5 * 1.15 + 1.0) / 2.15, rel=1e-15)
+    assert rs.total_k0(0.5, 2.15, 1.0) == pytest.approx(0.7326, abs=1e-4)
+    state, _ = slope()[1].scene()
+    s0, y = state.stress0, state.x[:, 1]
+    np.testing.assert_allclose(s0[:, 1], -2.15 * 9.81 * (5.0 - y), rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(s0[:, 0], rs.total_k0(0.5, 2.15, 1.0) * s0[:, 1], rtol=1e-12,
+                               atol=1e-9)
+
+
+def test_the_exponential_law_is_the_papers_in_closed_form():
+    """exp(-eta eps) = exp(-3 gamma^p / gamma_95) at gamma^p = k eps exactly when
+    gamma_95 = 3 k / eta: 3 sqrt(3) / 5 = 1.0392 by default; the library's c_p and c_r are the
+    paper's times tau_over_c / F = (2 / sqrt(3)) / 1.65."""
+    _, params = slope()
+    law = params.law()
+    assert law.gamma_95 == pytest.approx(3 * math.sqrt(3) / 5, rel=1e-15)
+    s = 2 / math.sqrt(3) / 1.65
+    assert (law.c_p, law.c_r) == (pytest.approx(15.1 * s, rel=1e-15),
+                                  pytest.approx(1.5 * s, rel=1e-15))
+    eps = np.array([0.0, 0.05, 0.2, math.log(20) / 5, 1.0, 3.0])
+    np.testing.assert_allclose(law.strength(math.sqrt(3) * eps),
+                               s * (1.5 + 13.6 * np.exp(-5 * eps)), rtol=1e-14)
+    assert rs.conversion_error(params) < 1e-14
+    # ln(20) k / eta (95 % exactly) in place of 3 k / eta is another law: its c - c_r is
+    # exp(5 (1 - 3 / ln 20)) - 1 = -0.72 % off at eps = 1
+    other = type(law)(law.c_p, law.c_r, math.log(20) * math.sqrt(3) / 5)
+    off = (other.strength(math.sqrt(3)) - law.c_r) / (law.strength(math.sqrt(3)) - law.c_r) - 1
+    assert off == pytest.approx(math.exp(5 * (1 - 3 / math.log(20))) - 1, rel=1e-9)
+    assert off < -0.007
+
+
+@pytest.mark.parametrize("argv, k, fit", [(["--gamma-per-eps", "1"], 1.0, 2 / math.sqrt(3)),
+                                          (["--tau-over-c", "1"], math.sqrt(3), 1.0)])
+def test_the_conversions_follow_their_options(argv, k, fit):
+    _, params = slope(*argv)
+    assert params.law().gamma_95 == pytest.approx(3 * k / 5, rel=1e-15)
+    assert params.law().c_p == pytest.approx(fit * 15.1 / 1.65, rel=1e-15)
+    assert rs.conversion_error(params) < 1e-14
+
+
+def test_the_measures_count_from_the_toe_and_the_crest():
+    """Run-out from the toe (x = 25 m) to the furthest particle; retrogression from the crest
+    (x = 20 m) back to the furthest surface particle that dropped by more than --drop."""
+    _, params = slope()
+    x0 = np.array([[2.0, 5.0], [8.0, 5.0], [19.0, 5.0], [24.0, 1.0]])
+    x = x0 + np.array([[0.0, -0.4], [0.5, -0.6], [3.0, -2.0], [20.0, -0.9]])
+    runout, retro = rs.measures(x, x0, np.array([0, 1, 2]), params, 0.5)
+    assert (runout, retro) == (pytest.approx(19.0), pytest.approx(12.0))
+    assert rs.measures(x0, x0, np.array([0, 1, 2]), params, 0.5) == (pytest.approx(-1.0), 0.0)
+
+
+def test_a_face_leaning_over_its_toe_is_a_usage_error(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        rs.build_parser().parse_args(["--top", "26"])
+    assert exit_.value.code == 2 and "--top" in capsys.readouterr().err
+
+
+def test_the_quick_run_fails_the_slope_and_states_no_paper_check(quick_run):
+    """h = 1 m to 2 s (36 s of CPU): the conversion, the failure and the step control are
+    checked; the paper's run-out and retrogression only from its 20 s on."""
+    report, _ = quick_run("retrogressive_slope")
+    names = {q.name for q in report.quantities}
+    assert names == {"conversion_error", "runout_over_h", "halved_after_cap"}
+    assert report.passed
+    assert report.extra["runout"] > 2.0 and report.extra["retrogression"] > 0.0
