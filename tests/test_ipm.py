@@ -272,6 +272,47 @@ def test_the_upper_bound_agrees_with_clarabel_and_stays_above_the_lower(criterio
     assert lower_bound(problem).load <= ub
 
 
+def slope_problem():
+    """verification/limit_bounds.py's slope (Griffiths & Lane 1999, example 1) on a coarse
+    mesh (235 elements, 1,000 variables), unreduced in strength."""
+    from verification.limit_bounds import gravity_problem
+    return gravity_problem([(0, 0), (5, 0), (5, 1), (2, 1)], 0.25, MohrCoulomb(0.05, 20.0),
+                           1.0, 5.0)
+
+
+@quiet
+def test_the_slope_upper_bound_is_solved_when_the_regularised_lu_runs_out_of_digits():
+    """The kinematic problem's (N), solved whole at the stronger regularisation (relative
+    to W^-1's largest entry, which grows as the gap closes), kept every direction at a
+    residual of ~5e-7 of order-one right-hand sides: the primal residual stalled there
+    while mu fell to 1e-15, the gap stayed near 5e-5 and this slope ended 'NumericalError'
+    (the limit_bounds --quick run's slope at 642 elements likewise; the footing's
+    bounds 'AlmostSolved'). Moved to the pivoted LU (:data:`.augmented.PIVOTED`) once a
+    direction misses the accuracy it asked for, it ends 'Solved' (25 iterations, its
+    primal residual 7e-12): measured 3.2e-5 above Clarabel's bound, which ends
+    'AlmostSolved' itself with a primal residual of 1e-6."""
+    from pfem_skfem.problems.bounds import upper_bound
+    problem = slope_problem()
+    ub = upper_bound(problem, solver="ipm")
+    assert ub.info.extra["measures"]["status"] == "Solved"
+    assert ub.info.extra["measures"]["gap_rel"] <= 1e-8
+    assert ub.load == pytest.approx(upper_bound(problem).load, rel=1e-4)
+
+
+def test_a_failed_interior_point_names_its_status_and_measures(monkeypatch):
+    """cvxpy reports a 'NumericalError' only as "Solver 'PFEM_IPM' failed": the error
+    carries the interior point's own status and measures."""
+    from pfem_skfem.problems.bounds import upper_bound
+    from pfem_skfem.problems.conic import SolverError
+    from pfem_skfem.problems.ipm import solver as ipm_solver
+    monkeypatch.setattr(ipm_solver, "_trusted", lambda newton, tol: False)
+    with pytest.raises(SolverError, match="ipm 'NumericalError': primal residual") as err:
+        upper_bound(slope_problem(), solver="ipm")
+    assert err.value.status == "solver_error"
+    assert err.value.measures["status"] == "NumericalError"
+    assert err.value.measures["gap_rel"] > 1e-4
+
+
 def test_elastoplastic_increments_agree_with_clarabel():
     """Displacement control of a Mohr-Coulomb block into collapse (cvxpy's statement)."""
     disc = discretise(MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)))

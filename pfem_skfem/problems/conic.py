@@ -463,8 +463,15 @@ def solve(problem, *, solver="clarabel", what="problem", verbose=False,
             break
         except cp.error.SolverError as err:
             if attempt == len(retries):
-                raise SolverError(f"{what}: {backend.label} failed ({err})",
-                                  "solver_error") from err
+                # cvxpy says only "Solver '...' failed": the solver's own status and
+                # measures, where it keeps them (the interior point's 'NumericalError')
+                measures = backend.measures(problem)
+                measured = "" if measures is None else (
+                    f" [{_label(measures)} '{measures['status']}': {_describe(measures)}]")
+                failed = SolverError(f"{what}: {backend.label} failed ({err}){measured}",
+                                     "solver_error")
+                failed.measures = measures
+                raise failed from err
     wall = time.perf_counter() - t0
     status = problem.status
     measures = backend.measures(problem)

@@ -37,6 +37,20 @@ REGULARISATION = 1e-12
 #: quadratic fills that block, stays at 1e-12: 1e-10 leaves its walls 3e-6 off)
 STRONG = 1e-10
 
+#: the last rung: (N) by an LU with partial pivoting (SuperLU's own column ordering,
+#: COLAMD), regularised by this only (a Tresca point's rows leave (N) singular: the
+#: velocity's divergence). The regularisations above are relative to the largest entry
+#: of the matrix, which W^-1 G's blocks pass 1e6 by as the gap closes: on a linear
+#: objective (the first block zero) STRONG then perturbs (N) by 1e-4 against entries of
+#: order one, the refinement gains 1 % a step, and every direction keeps 3e-3 of its
+#: right-hand side (the slope's upper bound of verification/limit_bounds.py --quick: its
+#: primal residual stalled at 5e-7 and its gap at 5.7e-5, 'NumericalError'). Pivoting
+#: needs no more than this: the same matrix solved to 3e-10 of its right-hand side after
+#: two refinements, at ~10x STRONG's factorisation (0.3 s against 0.03 s for 25,000
+#: rows: its ordering is not symmetric, 4.8 million entries in L and U against 0.6);
+#: unregularised, the Tresca footing's (N) is singular and its LU answers nothing
+PIVOTED = 1e-18
+
 
 def block_diagonal(blocks):
     """The sparse block-diagonal matrix of a stack (m, d, d)."""
@@ -67,9 +81,12 @@ class Augmented(Newton):
                                    for e in WiG)] for d, M in WiG.items())],
                     format="csc")
         delta = regularisation * max(abs(K).max(), 1e-300)
-        signs = np.r_[np.ones(n), -np.ones(nE + rows_z)]
-        self._lu = sla.splu((K + sp.diags(delta * signs)).tocsc(), permc_spec="MMD_AT_PLUS_A",
-                            diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        K = (K + sp.diags(delta * np.r_[np.ones(n), -np.ones(nE + rows_z)])).tocsc()
+        if regularisation == PIVOTED:                       # partial pivoting
+            self._lu = sla.splu(K, permc_spec="COLAMD")
+        else:
+            self._lu = sla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                options={"SymmetricMode": True})
         self._split = np.cumsum([n, nE, *(G.shape[0] for G in WiG.values())])[:-1]
 
     def _predict(self, bx, by, bzt):

@@ -36,7 +36,10 @@ exceeds :data:`TRUST` the direction is not taken. Far from the tolerances
 solved again, and the rest of the solve too, with (N) unreduced (:mod:`.augmented`, the
 square root of the condition number); where that fails, once more with it regularised
 more (:data:`.augmented.STRONG`, as from the start where S is singular: the upper
-bound's kinematic problem); nearer, or where that fails too, the solve ends at its best
+bound's kinematic problem); and once a direction at STRONG misses the accuracy it asked
+for (trusted or not: that regularisation grows with W^-1 and its error stalls the primal
+residual), by an LU with partial pivoting (:data:`.augmented.PIVOTED`, ~10x STRONG's
+factorisation), to the end. Nearer, or where that fails too, the solve ends at its best
 iterate: 'Solved' when that meets the full tolerances,
 'AlmostSolved' (Clarabel's reduced tolerances) or 'NumericalError' otherwise. The same
 best iterate answers an iteration limit ('MaxIterations') or a stall
@@ -49,9 +52,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import cones as K
-from .augmented import REGULARISATION, STRONG, Augmented
+from .augmented import PIVOTED, REGULARISATION, STRONG, Augmented
 from .cholesky import Cholesky, CholeskyError
-from .newton import Newton
+from .newton import REFINE_TOL, Newton
 from .presolve import Substitution
 from .structure import Structure, component_major, from_component_major
 
@@ -282,6 +285,19 @@ def _trusted(newton, tol):
     return newton is not None and newton.residual <= max(TRUST, tol)
 
 
+def _met(newton, tol):
+    """Whether a direction was solved to the asked ``tol`` (never below the refinement's
+    own :data:`.newton.REFINE_TOL`)."""
+    return newton is not None and newton.residual <= max(REFINE_TOL, tol)
+
+
+def _system(whole, regularisation):
+    """The Newton system's name in the verbose lines."""
+    if not whole:
+        return "reduced"
+    return "whole, pivoted" if regularisation == PIVOTED else f"whole, {regularisation:.0e}"
+
+
 def solve(P, c, A, b, cones, settings=None):
     """Solve min 1/2 x^T P x + c^T x, A x + s = b, s in K (Clarabel's data: P upper
     triangular or full, the cone objects of ``clarabel``); answers in Clarabel's terms:
@@ -350,12 +366,29 @@ def _solve(P, c, A, b, cones, settings=None):
         if not _trusted(newton, tol) and not whole and pb.merit(m) > WHOLE_BEYOND:
             whole = True          # the reduced system ran out of digits: (N) whole from now
             newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
-        if not _trusted(newton, tol) and whole and regularisation < STRONG:
+        if not _trusted(newton, tol) and whole and regularisation == REGULARISATION:
             regularisation = STRONG     # its LU ran out of digits: regularised more from now
             whole_lu += 1               # the weaker LU of this iteration, counted
             newton, found = _attempt(pb, W, lam, m, mu, tol, whole, regularisation)
+        if whole and regularisation == STRONG and not _met(newton, tol):
+            # STRONG is relative to W^-1's largest entry, which grows as the gap closes:
+            # once its refinement misses the accuracy asked (trusted or not: a direction
+            # kept at 3e-3 of its right-hand side stalls the primal residual, and with it
+            # the gap, while mu falls), the LU with pivoting (:data:`.augmented.PIVOTED`)
+            # from now; where that fails and STRONG's direction was trusted, that one
+            kept = newton, found
+            newton, found = _attempt(pb, W, lam, m, mu, tol, whole, PIVOTED)
+            whole_lu += 1                       # the other LU of this iteration, counted
+            if _trusted(newton, tol) or not _trusted(kept[0], tol):
+                regularisation = PIVOTED
+            else:
+                newton, found = kept
         whole_lu += whole
         if not _trusted(newton, tol):
+            if opts["verbose"]:
+                print(f"{it:3d} not trusted: Newton residual "
+                      f"{np.nan if newton is None else newton.residual:.1e}, tol {tol:.1e}, "
+                      f"{_system(whole, regularisation)}")
             status = "NumericalError"
             break
         dx, dz, ds, ds_t, dz_t, a_aff, sigma = found
@@ -363,7 +396,8 @@ def _solve(P, c, A, b, cones, settings=None):
         if opts["verbose"]:
             print(f"{it:3d} pobj {m['pobj']:+.6e} dobj {m['dobj']:+.6e} pres "
                   f"{m['res_primal']:.1e} dres {m['res_dual']:.1e} gap {m['gap_rel']:.1e} "
-                  f"mu {mu:.1e} a_aff {a_aff:.3f} a {a:.3f} kkt {newton.residual:.1e}")
+                  f"mu {mu:.1e} a_aff {a_aff:.3f} a {a:.3f} kkt {newton.residual:.1e} (tol "
+                  f"{tol:.0e}) {_system(whole, regularisation)}")
         if not a > 1e-10:
             stall += 1
             if stall >= 3:
