@@ -91,6 +91,14 @@ class LinearSoftening:
         g = np.asarray(gamma_p, dtype=float) / (self.gamma_r * np.asarray(scale, dtype=float))
         return np.maximum(self.c_r, self.c_p - (self.c_p - self.c_r) * g)
 
+    def drop(self, gamma_old, gamma_new, scale=1.0):
+        """c(gamma_old) - c(gamma_new), the strength a step from ``gamma_old`` to ``gamma_new``
+        spends (the strain scale times ``scale``): abs(H) Delta gamma^p while c stays above c_r,
+        what was left above c_r where it reaches it (0 at c_r)."""
+        rate = self.steepest_rate / np.asarray(scale, dtype=float)
+        spent = rate * (np.asarray(gamma_new, dtype=float) - np.asarray(gamma_old, dtype=float))
+        return np.minimum(spent, self.strength(gamma_old, scale) - self.c_r)
+
     def strain_at(self, c, scale=1.0):
         """The plastic shear strain at which the strength is ``c`` (c_r < c <= c_p)."""
         spent = (self.c_p - np.asarray(c, dtype=float)) / (self.c_p - self.c_r)
@@ -123,6 +131,17 @@ class ExponentialSoftening:
         """c at plastic shear strains ``gamma_p``, the strain scale times ``scale``."""
         g = np.asarray(gamma_p, dtype=float) / (self.gamma_95 * np.asarray(scale, dtype=float))
         return self.c_r + (self.c_p - self.c_r) * np.exp(-3.0 * g)
+
+    def drop(self, gamma_old, gamma_new, scale=1.0):
+        """c(gamma_old) - c(gamma_new), the strength a step from ``gamma_old`` to ``gamma_new``
+        spends (the strain scale times ``scale``):
+        (c_p - c_r) exp(-3 gamma_old / gamma_95) (1 - exp(-3 Delta gamma^p / gamma_95)),
+        the law's rate at the step's start times Delta gamma^p at most; it vanishes as c nears
+        c_r, which the law never reaches."""
+        s = self.gamma_95 * np.asarray(scale, dtype=float)
+        g0 = np.asarray(gamma_old, dtype=float)
+        dg = np.asarray(gamma_new, dtype=float) - g0
+        return (self.c_p - self.c_r) * np.exp(-3.0 * g0 / s) * -np.expm1(-3.0 * dg / s)
 
     def strain_at(self, c, scale=1.0):
         """The plastic shear strain at which the strength is ``c`` (c_r < c <= c_p)."""
@@ -230,17 +249,18 @@ def point_sizes(weights):
 
 
 def strength_drop(material, gamma_old, gamma_new, size):
-    """The largest strength drop of a step as a fraction of c_p - c_r: abs(dc/dgamma^p) at
-    its steepest times the step's Delta gamma^p, over the points still above c_r at its
-    start (a bound on the drop, equal to it for the linear law); 0 without softening."""
+    """The largest strength drop of a step as a fraction of c_p - c_r: c before minus c after
+    (the law's ``drop``, exact for both laws) at its largest over the points; 0 without
+    softening. For the linear law it is abs(H) Delta gamma^p wherever a point stays above c_r,
+    what was left above c_r where it reaches it; the exponential law's drop falls with
+    exp(-3 gamma^p / gamma_95), so a remoulded point (c near c_r) drops next to nothing
+    whatever its Delta gamma^p."""
     law = material.law
     span = law.c_p - law.c_r
     if span <= 0:
         return 0.0
-    rate = law.steepest_rate / material.scale(size)
-    softening = material.strength(gamma_old, size) > law.c_r * (1 + 1e-12)
-    return float(np.max(rate[softening] * (gamma_new - gamma_old)[softening],
-                        initial=0.0)) / span
+    drop = law.drop(gamma_old, gamma_new, material.scale(size))
+    return float(np.max(drop, initial=0.0)) / span
 
 
 @dataclass(frozen=True)
