@@ -74,7 +74,7 @@ from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_rang
                                         material_options, nonnegative_float, opt,
                                         pfem_options, positive_float, softening_options,
                                         time_options)
-from pfem_skfem.harness.params import UNKEYED, Parameters
+from pfem_skfem.harness.params import UNKEYED, Parameters, keys_of
 from pfem_skfem.harness.report import Report, script_main
 
 QUICK = dict(t_end=2.0)
@@ -127,7 +127,22 @@ class Slope(Parameters):
     mu: float
     dt: float
     max_drop: float
+    viscosity: float = 0.0
+    regularisation: str = "none"
+    ell: float = None
     t_end: float = field(default=None, metadata=UNKEYED)
+
+    def keys(self):
+        """The checkpoint's keys; a slope without viscosity or regularisation keeps those of
+        before it had them (its checkpoints are found again)."""
+        omit = (("viscosity",) if self.viscosity == 0 else ()) + \
+            (("regularisation", "ell") if self.regularisation == "none" else ())
+        return keys_of(self, omit=omit)
+
+    def material_regularisation(self):
+        """The material's ``regularisation``: None or ``NonlocalAverage(ell)``."""
+        from pfem_skfem.materials import NonlocalAverage
+        return None if self.regularisation == "none" else NonlocalAverage(self.ell)
 
     @property
     def crest(self):
@@ -158,8 +173,9 @@ class Slope(Parameters):
         from pfem_skfem.scene.config import PFEMConfig
 
         far = 50.0 * self.base
-        clay = Region(self.polygon(), SofteningTresca(self.law(), Elastic(self.E, self.nu)),
-                      self.rho, self.h, name="clay",
+        material = SofteningTresca(self.law(), Elastic(self.E, self.nu),
+                                   self.material_regularisation(), eta=self.viscosity)
+        clay = Region(self.polygon(), material, self.rho, self.h, name="clay",
                       stress=Geostatic(k0=total_k0(self.K0, self.rho, self.rho_w), top=self.height))
         bodies = (Body("base", RigidSegment((-far, 0.0), (far, 0.0), self.mu)),
                   Body("wall", RigidSegment((0.0, far), (0.0, -self.h), 0.0)))
@@ -294,6 +310,13 @@ def check(args):
     if not args.top < args.base:
         return (f"--top {args.top:g}: below --base {args.base:g} (the face runs from the "
                 "toe x = base up to the crest x = top)")
+    if args.regularisation == "fracture-energy":
+        return "--regularisation fracture-energy: not offered here (none or nonlocal)"
+    if args.regularisation == "nonlocal" and not (args.ell and args.ell > args.h):
+        return (f"--regularisation nonlocal needs --ell above the spacing --h {args.h:g} "
+                f"(got {args.ell})")
+    if args.regularisation == "none" and args.ell is not None:
+        return "--ell without --regularisation nonlocal: it would be ignored"
     return None
 
 
@@ -307,7 +330,15 @@ def build_parser():
     softening_options(p, c_p=opt(15.1, "the paper's peak cohesion c_p [kPa]"),
                       c_r=opt(1.5, "the paper's residual cohesion c_r [kPa]"),
                       max_drop=opt(0.5, "cap on a step's strength drop, a fraction of c_p - c_r "
-                                        "(the next step's dt is halved above it)"))
+                                        "(the next step's dt is halved above it)"),
+                      regularisation=opt("none", "the clay's regularisation: none (local "
+                                                 "softening) or nonlocal (NonlocalAverage: "
+                                                 "each step's Delta gamma^p averaged over "
+                                                 "--ell)"),
+                      ell=opt(None, "the nonlocal averaging length ell [m] (above --h)"))
+    p.add_argument("--viscosity", type=nonnegative_float, default=0.0,
+                   help="Bingham viscosity of the clay [kPa s] (SofteningTresca's eta: "
+                        "tau = c + eta dgamma^p/dt in simple shear; 0: rate-independent)")
     p.add_argument("--eta", type=positive_float, default=5.0,
                    help="the paper's softening coefficient eta in exp(-eta eps_acc)")
     p.add_argument("--F", type=in_range(1.0), default=1.65,
