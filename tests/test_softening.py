@@ -63,17 +63,22 @@ def test_the_exponential_laws_step_drop_is_its_closed_form_on_a_point():
         (np.exp(-0.75 * g0) * -np.expm1(-0.75 * (g1 - g0))).max(), rel=1e-13)
 
 
-def test_the_linear_laws_step_drop_is_H_times_delta_until_c_r():
-    """abs(H) Delta gamma^p / (c_p - c_r) = Delta / gamma_r on the slope (the old measure, to
-    the bit), what was left above c_r where a point reaches it, 0 at c_r."""
+def test_the_linear_laws_step_drop_is_H_times_delta_at_the_points_above_c_r():
+    """abs(H) Delta gamma^p / (c_p - c_r) = Delta / gamma_r on the slope (the measure of before,
+    to the bit), the law's exact drop there; a point that reaches c_r within the step keeps
+    the bound (the linear law's recorded runs stand), its exact drop the c_old - c_r left;
+    0 at c_r."""
     material = SofteningTresca(LINEAR, Elastic(1e4, 0.3))
     one = np.ones(1)
     on_slope = strength_drop(material, np.array([0.2]), np.array([0.5]), one)
     assert on_slope == (LINEAR.steepest_rate / 1.0 * (0.5 - 0.2)) / 15.0
     assert on_slope == approx(0.3 / 0.75, rel=1e-14)
+    assert LINEAR.drop(0.2, 0.5) / 15.0 == on_slope
     assert strength_drop(material, np.array([0.6]), np.array([2.0]), one) == \
-        approx(0.15 / 0.75, rel=1e-12)                  # crosses c_r: the 0.15 / 0.75 left
+        approx(1.4 / 0.75, rel=1e-12)                   # crosses c_r: the bound, kept
+    assert LINEAR.drop(0.6, 2.0) == approx(15.0 * 0.15 / 0.75, rel=1e-12)   # exact: 3 kPa
     assert strength_drop(material, np.array([0.75]), np.array([2.0]), one) == 0.0
+    assert LINEAR.drop(0.75, 2.0) == 0.0
 
 
 @pytest.mark.parametrize("law", [LINEAR, EXPONENTIAL], ids=["linear", "exponential"])
