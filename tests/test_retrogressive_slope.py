@@ -124,7 +124,7 @@ def test_a_face_leaning_over_its_toe_is_a_usage_error(capsys):
 
 
 def test_the_quick_run_fails_the_slope_and_states_no_paper_check(quick_run):
-    """h = 1 m to 2 s (36 s of CPU): the conversion, the failure and the step control are
+    """h = 1 m to 2 s (13 s of CPU): the conversion, the failure and the step control are
     checked; the paper's run-out and retrogression only from its 20 s on."""
     report, _ = quick_run("retrogressive_slope")
     names = {q.name for q in report.quantities}
