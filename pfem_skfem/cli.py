@@ -361,7 +361,7 @@ QUICK_SECONDS = {
     "rotating_bar": 2, "sliding_box": 2, "strip_footing": 10, "thick_cylinder": 3,
     "trussed_frame": 8, "consolidation": 11, "mandel_cryer": 5, "softening_layer": 30,
     "biaxial_band": 56, "consolidation_pfem": 8, "effective_bounds": 19, "sensitive_clay": 28,
-    "penetration_rate": 13, "softening_cylinder": 19, "retrogressive_slope": 36,
+    "penetration_rate": 13, "softening_cylinder": 19, "retrogressive_slope": 13,
 }
 
 

@@ -83,6 +83,40 @@ def test_the_measures_count_from_the_toe_and_the_crest():
     assert rs.measures(x0, x0, np.array([0, 1, 2]), params, 0.5) == (pytest.approx(-1.0), 0.0)
 
 
+def test_the_viscosity_and_the_nonlocal_average_reach_the_clay_and_key_their_runs():
+    """--viscosity is the clay's Bingham eta [kPa s], --regularisation nonlocal --ell its
+    NonlocalAverage; each keys its own checkpoint, and a run without them keeps the keys of
+    before they were options (its checkpoints are found again)."""
+    keys = {}
+    for argv, eta, reg in (((), 0.0, None), (("--viscosity", "0.3"), 0.3, None),
+                           (("--regularisation", "nonlocal", "--ell", "2"), 0.0,
+                            2.0)):
+        _, params = slope(*argv)
+        material = params.scene()[1].regions[0].material
+        assert material.eta == eta
+        if reg is None:
+            assert material.regularisation is None
+        else:
+            assert material.regularisation.length == 2.0
+        keys[argv] = params.keys()
+    assert not {"viscosity", "regularisation", "ell"} & set(keys[()])
+    assert keys[("--viscosity", "0.3")]["viscosity"] == 0.3
+    assert keys[("--regularisation", "nonlocal", "--ell", "2")]["ell"] == 2.0
+
+
+@pytest.mark.parametrize("argv, word", [(["--ell", "2"], "--ell"),
+                                        (["--regularisation", "nonlocal"], "--ell"),
+                                        (["--regularisation", "nonlocal", "--ell", "0.5"],
+                                         "--ell"),
+                                        (["--regularisation", "fracture-energy", "--ell", "2"],
+                                         "fracture-energy")])
+def test_a_regularisation_without_a_length_above_the_spacing_is_a_usage_error(argv, word,
+                                                                               capsys):
+    with pytest.raises(SystemExit) as exit_:
+        rs.build_parser().parse_args(argv)
+    assert exit_.value.code == 2 and word in capsys.readouterr().err
+
+
 def test_a_face_leaning_over_its_toe_is_a_usage_error(capsys):
     with pytest.raises(SystemExit) as exit_:
         rs.build_parser().parse_args(["--top", "26"])
@@ -90,7 +124,7 @@ def test_a_face_leaning_over_its_toe_is_a_usage_error(capsys):
 
 
 def test_the_quick_run_fails_the_slope_and_states_no_paper_check(quick_run):
-    """h = 1 m to 2 s (36 s of CPU): the conversion, the failure and the step control are
+    """h = 1 m to 2 s (13 s of CPU): the conversion, the failure and the step control are
     checked; the paper's run-out and retrogression only from its 20 s on."""
     report, _ = quick_run("retrogressive_slope")
     names = {q.name for q in report.quantities}

@@ -11,7 +11,8 @@ from pfem_skfem.materials import Elastic
 from pfem_skfem.materials.softening import (ExponentialSoftening, FractureEnergy,
                                             LinearSoftening, SofteningMohrCoulomb,
                                             SofteningTresca, nonlocal_average,
-                                            plastic_strain_increment, shear_invariant)
+                                            plastic_strain_increment, shear_invariant,
+                                            strength_drop)
 
 LINEAR = LinearSoftening(c_p=20.0, c_r=5.0, gamma_r=0.75)
 EXPONENTIAL = ExponentialSoftening(c_p=20.0, c_r=5.0, gamma_95=2.0)
@@ -34,6 +35,50 @@ def test_the_exponential_law_has_lost_95_percent_at_gamma_95():
     d = 1e-7
     assert (EXPONENTIAL.strength(0.0) - EXPONENTIAL.strength(d)) / d == \
         approx(EXPONENTIAL.steepest_rate, rel=1e-6)
+
+
+def test_the_exponential_laws_step_drop_is_its_closed_form_on_a_point():
+    """One point from gamma_0 by Delta gamma^p: the drop over c_p - c_r is
+    exp(-3 gamma_0 / gamma_95) (1 - exp(-3 Delta / gamma_95)), c before minus c after; not the
+    steepest-rate bound 3 Delta / gamma_95 the control took before (issue: it kept halving dt
+    for remoulded debris). gamma_95 = 2, element size 1, no regularisation."""
+    material = SofteningTresca(EXPONENTIAL, Elastic(1e4, 0.3))
+    size = np.ones(1)
+    for g0, dg in ((0.0, 0.1), (0.5, 0.2), (4.0, 0.3), (12.0, 1.0)):
+        exact = np.exp(-3 * g0 / 2.0) * (1 - np.exp(-3 * dg / 2.0))
+        drop = strength_drop(material, np.array([g0]), np.array([g0 + dg]), size)
+        assert drop == approx(exact, rel=1e-13)
+        c = material.strength(np.array([g0, g0 + dg]), np.ones(2))
+        assert drop == approx((c[0] - c[1]) / 15.0, rel=1e-9)
+        assert drop < 3 * dg / 2.0                      # below the old bound, far below it
+    # remoulded debris (gamma^p = 12 = 6 gamma_95: c - c_r = 1.5e-8 (c_p - c_r)) drops
+    # next to nothing, however far it shears in the step
+    assert strength_drop(material, np.array([12.0]), np.array([112.0]), size) < 2e-8
+    # the largest over the points; a fracture energy's scale ell / h stretches gamma_95
+    g0, g1 = np.array([0.0, 1.0, 6.0]), np.array([0.05, 1.5, 9.0])
+    drops = np.exp(-1.5 * g0) * -np.expm1(-1.5 * (g1 - g0))
+    assert strength_drop(material, g0, g1, np.ones(3)) == approx(drops.max(), rel=1e-13)
+    stretched = SofteningTresca(EXPONENTIAL, Elastic(1e4, 0.3), FractureEnergy(0.5))
+    assert strength_drop(stretched, g0, g1, np.full(3, 0.25)) == approx(
+        (np.exp(-0.75 * g0) * -np.expm1(-0.75 * (g1 - g0))).max(), rel=1e-13)
+
+
+def test_the_linear_laws_step_drop_is_H_times_delta_at_the_points_above_c_r():
+    """abs(H) Delta gamma^p / (c_p - c_r) = Delta / gamma_r on the slope (the measure of before,
+    to the bit), the law's exact drop there; a point that reaches c_r within the step keeps
+    the bound (the linear law's recorded runs stand), its exact drop the c_old - c_r left;
+    0 at c_r."""
+    material = SofteningTresca(LINEAR, Elastic(1e4, 0.3))
+    one = np.ones(1)
+    on_slope = strength_drop(material, np.array([0.2]), np.array([0.5]), one)
+    assert on_slope == (LINEAR.steepest_rate / 1.0 * (0.5 - 0.2)) / 15.0
+    assert on_slope == approx(0.3 / 0.75, rel=1e-14)
+    assert LINEAR.drop(0.2, 0.5) / 15.0 == on_slope
+    assert strength_drop(material, np.array([0.6]), np.array([2.0]), one) == \
+        approx(1.4 / 0.75, rel=1e-12)                   # crosses c_r: the bound, kept
+    assert LINEAR.drop(0.6, 2.0) == approx(15.0 * 0.15 / 0.75, rel=1e-12)   # exact: 3 kPa
+    assert strength_drop(material, np.array([0.75]), np.array([2.0]), one) == 0.0
+    assert LINEAR.drop(0.75, 2.0) == 0.0
 
 
 @pytest.mark.parametrize("law", [LINEAR, EXPONENTIAL], ids=["linear", "exponential"])

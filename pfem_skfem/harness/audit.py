@@ -120,6 +120,12 @@ GIVEN = {
     ("sensitive_clay", "regularisation"): (["--regularisation", "fracture-energy", "--ell",
                                             "0.25"], "another choice, with the length it needs "
                                                      "(1.25 x the quick spacing H / 5)"),
+    ("retrogressive_slope", "regularisation"): (["--regularisation", "nonlocal", "--ell",
+                                                 "1.25"], "the other choice offered, with the "
+                                                          "length it needs (1.25 x the spacing)"),
+    ("retrogressive_slope", "ell"): (["--ell", "1.25", "--regularisation", "nonlocal"],
+                                     "None: no regularisation; 1.25 x the spacing, with the "
+                                     "regularisation that reads it"),
     ("sensitive_clay", "ell"): (["--ell", "0.25", "--regularisation", "nonlocal"],
                                 "None: no regularisation; 1.25 x the quick spacing, with the "
                                 "regularisation that reads it"),
