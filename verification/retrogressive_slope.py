@@ -68,8 +68,10 @@ Usage::
 
     python verification/retrogressive_slope.py --quick --json results/retrogressive_slope.json
     python verification/retrogressive_slope.py --checkpoint-dir results/retrogressive_slope_ckpt
-    python verification/retrogressive_slope.py --h 0.5 --checkpoint-dir results/retrogressive_slope_ckpt
-    python verification/retrogressive_slope.py --viscosity 0.3 --checkpoint-dir results/retrogressive_slope_ckpt
+    python verification/retrogressive_slope.py --h 0.5 \\
+        --checkpoint-dir results/retrogressive_slope_ckpt
+    python verification/retrogressive_slope.py --viscosity 0.3 \\
+        --checkpoint-dir results/retrogressive_slope_ckpt
 """
 from dataclasses import dataclass, field
 import math

@@ -93,9 +93,10 @@ class SofteningTimeStep:
     as a fraction of c_p - c_r (:func:`~pfem_skfem.materials.softening.strength_drop`): c
     before minus c after for the exponential law, so that debris already near c_r, which
     that law never reaches, no longer halves dt; abs(H) Delta gamma^p at the points above
-    c_r for the linear law (exact but where a point reaches c_r within the step). After a step above ``max_drop`` the next dt is half the last, after one
-    below ``max_drop / 4`` twice it, within [dt0 / 2^halvings, dt0]. The step over the cap
-    is kept: gamma^p is updated after each step, and its control acts on the next one.
+    c_r for the linear law (exact but where a point reaches c_r within the step). After a
+    step above ``max_drop`` the next dt is half the last, after one below ``max_drop / 4``
+    twice it, within [dt0 / 2^halvings, dt0]. The step over the cap is kept: gamma^p is
+    updated after each step, and its control acts on the next one.
     The steps taken are the rungs dt0 / 2^n, one scene per rung, made once from the run's
     scene, so that a rung's problems are the same objects each time.
 

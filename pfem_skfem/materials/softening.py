@@ -261,7 +261,7 @@ def strength_drop(material, gamma_old, gamma_new, size):
     The linear law: abs(H) Delta gamma^p at the points above c_r at the step's start, its
     exact drop wherever a point stays above c_r; at a point that reaches c_r within the step
     it overstates the drop (c before - c_r, :meth:`~LinearSoftening.drop`). That bound is
-    kept so that the linear law's recorded runs stand (sensitive_clay's quick St_t = 10 bank
+    kept so that the linear law's recorded runs stand (sensitive_clay's quick S_t = 10 bank
     takes 104 steps instead of 122 with the exact drop, its run-out 6.42 m instead of 5.96)."""
     law = material.law
     span = law.c_p - law.c_r

@@ -245,9 +245,9 @@ class QualityRemesh:
 
 def last_declared_region(region, vertex_particle):
     """The rule of :func:`~pfem_skfem.pfem.assemble.element_regions` on an
-    element-by-vertex array of particle indices (n_elements, 3): the largest of the vertices' regions, a vertex with no
-    particle (a negative index: thinned away since the mesh was made) counting for none
-    (-1). Shared by the step's mesh and the map source's
+    element-by-vertex array of particle indices (n_elements, 3): the largest of the
+    vertices' regions, a vertex with no particle (a negative index: thinned away since the
+    mesh was made) counting for none (-1). Shared by the step's mesh and the map source's
     (:func:`~pfem_skfem.pfem.transfer.old_regions`). Here, beside :class:`ParticleMesh`,
     so that both import it without a cycle (assemble -> scene -> transfer)."""
     return np.where(vertex_particle >= 0, region[np.maximum(vertex_particle, 0)],

@@ -226,8 +226,8 @@ class Newton:
     def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
         """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
         (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
-        predictor's direction sets only the centring: dzt alone, dx and dy None). A refined solve leaves in
-        ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
+        predictor's direction sets only the centring: dzt alone, dx and dy None). A refined
+        solve leaves in ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
         measures of the next iterate are updated by, :mod:`.solver`)."""
         tol = max(tol, REFINE_TOL)
         if not refine:
