@@ -379,3 +379,19 @@ def test_a_c0_pfem_run_with_the_interior_point_is_density_invariant_bit_for_bit(
     np.testing.assert_array_equal(a.x, b.x)
     np.testing.assert_array_equal(a.v, b.v)
     assert np.abs(a.v).max() > 0
+
+
+@quiet
+def test_the_512_element_pfem_solves_end_solved():
+    """The last solves of benchmarks/interior_point.py's 512-element step (the a = 1
+    column, 17 particles across): its contacts open as the gap closes, a block's H reaches
+    a condition number of 1e17, and H^+ formed (U U^T) lost the stiff direction: both
+    solves ended 'AlmostSolved' in 25 iterations, gaps 3.5e-8 and 4.5e-8. Applied by its
+    factors (``Newton._H``), both are 'Solved' at the full tolerances."""
+    from benchmarks.solve_floor import capture_step
+    captured, elements = capture_step(17)
+    assert elements == 512
+    for p in captured[-2:]:
+        sol = solve(p["P"], p["c"], p["A"], p["b"], p["cones"])
+        assert sol.status == "Solved", (sol.status, sol.measures)
+        assert sol.iterations <= 35

@@ -119,7 +119,7 @@ class Newton:
         self.gamma = PENALTY                                # 1 / delta
         if st.penalised is None or st.penalised[0] != self.gamma:   # S's constant part
             st.penalised = (self.gamma, st.S_fixed + self.gamma * st.S_pressures)
-        self.Hinv, values = {}, st._buffer("S", st.penalised[1].shape)
+        self.U, values = {}, st._buffer("S", st.penalised[1].shape)
         np.copyto(values, st.penalised[1])     # factor() copies it: the buffer is free after
         for size, MVb in MV.items():
             # V_r: the range's columns first (the null ones last, zero columns): M V_r =
@@ -130,10 +130,12 @@ class Newton:
             R = triangular_factor(MVb)
             kept = np.arange(R.shape[2])
             R[:, kept, kept] += st.null_last[size]            # R_22 = I
-            U = Vr @ upper_inverse(R)
-            self.Hinv[size] = U @ np.swapaxes(U, 1, 2)
+            U = self.U[size] = Vr @ upper_inverse(R)
             st.scatter(size, U, values)
-        self.Hmat = st.block_matrix(self.Hinv)
+        # the constant blocks' H^+ (no cone: P's alone); the coned ones are applied by
+        # their factors, U (U^T t) (:meth:`_H`), never as U U^T
+        self.Hmat = st.block_matrix({size: np.zeros((U.shape[0], U.shape[1], U.shape[1]))
+                                     for size, U in self.U.items()})
         diag = values[st.diag_slots]                        # the stiffest, pressures aside
         stiffest = max((diag - self.gamma * st.S_pressures[st.diag_slots]).max(initial=0.0),
                        1e-300)
@@ -145,12 +147,27 @@ class Newton:
             self.Z = cholesky.solve(self.Ef)
             self.schur_f = np.linalg.cholesky(self.Ef.T @ self.Z)
 
+    def _H(self, v):
+        """H^+ v: the constant blocks by their matrix, the coned blocks by their factors,
+        U_b (U_b^T v_b). A coned block's H^+ = U_b U_b^T formed is not used: near the
+        solution a block's H can be as ill-conditioned as 1e17 (a contact opening: one
+        friction row active, W^-2 ~ 1e6 on it, ~1e-11 on the others) and the explicit
+        H^+, its entries ~1e10, loses the stiff direction's 1e-6 to rounding; the
+        reduced direction then missed (N) by 1e-3 of its right-hand side, and the
+        refinement stalled, at a gap of ~1e-7 on the 512-element PFEM step."""
+        out = self.Hmat @ v
+        for size, U in self.U.items():
+            flat = self.st.coned_parts[size][0]
+            w = np.einsum("msr,ms->mr", U, v[flat].reshape(-1, size))
+            out[flat] = np.einsum("msr,mr->ms", U, w).ravel()
+        return out
+
     def _dy(self, rx, ry):
         """dy of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised; N^T rx and
         the free variables' dx (None without)."""
         st = self.st
         rN = st.NT @ rx
-        dy = self.chol.solve(st.E @ (self.Hmat @ rx) - ry + self.gamma * (st.EN @ rN))
+        dy = self.chol.solve(st.E @ self._H(rx) - ry + self.gamma * (st.EN @ rN))
         dxf = None
         if st.free.size:                 # the free variables beside S
             L = self.schur_f
@@ -165,7 +182,7 @@ class Newton:
         dy, rN, dxf = self._dy(rx, ry)
         p = self.gamma * (rN - st.EN.T @ dy)
         ETdy = st.ET @ dy
-        dx = self.Hmat @ (rx - ETdy) + st.N @ p             # zero off the blocks
+        dx = self._H(rx - ETdy) + st.N @ p             # zero off the blocks
         if st.free.size:
             dx[st.free] = dxf
         return dx, dy, ETdy
@@ -188,7 +205,8 @@ class Newton:
         Gdx = {d: np.zeros(G.shape[0]) for d, G in st.Gc.items()}
         for size, (flat, ET, Gs) in st.coned_parts.items():
             t = (rx[flat] - ET @ dy).reshape(-1, size)
-            dxs = np.einsum("mij,mj->mi", self.Hinv[size], t).ravel()
+            U = self.U[size]
+            dxs = np.einsum("msr,mr->ms", U, np.einsum("msr,ms->mr", U, t)).ravel()
             for d, G in Gs.items():
                 Gdx[d] += G @ dxs
         return {d: self.W[d].inverse(from_component_major(Gdx[d], d)) - bzt[d] for d in Gdx}
