@@ -185,3 +185,16 @@ def test_a_scripts_checkpoint_keys_come_from_the_object_that_builds_its_scene(sc
     assert scene_digest(changed.scene()[1]) != scene_digest(params.scene()[1])
     assert (checkpoint_path(tmp_path, script, changed.keys())
             != checkpoint_path(tmp_path, script, params.keys()))
+
+
+def test_the_dam_break_s_advected_alpha_keys_its_own_checkpoint_and_reaches_the_scene():
+    """--alpha-advected 0 (the thesis' alpha-shape) keeps the keys of before the option; any
+    other value is a key of its own and the scene's PFEMConfig.alpha_advected."""
+    module = importlib.import_module("verification.dam_break")
+    plain = module.DamBreak.of(module.build_parser().parse_args(["--quick"]))
+    kept = module.DamBreak.of(module.build_parser().parse_args(["--quick",
+                                                                "--alpha-advected", "2"]))
+    assert "alpha_advected" not in plain.keys()
+    assert kept.keys() == plain.keys() | {"alpha_advected": 2.0}
+    assert kept.scene()[1].config.alpha_advected == 2.0
+    assert plain.scene()[1].config.alpha_advected == 0.0

@@ -107,7 +107,7 @@ from pfem_skfem.harness.figures import figure_dir, labelled, pyplot, save_figure
 from pfem_skfem.harness.options import (base_parser, checkpoint_options, in_range,
                                         material_options, nonnegative_float, opt, pfem_options,
                                         positive_float, positive_int, time_options)
-from pfem_skfem.harness.params import UNKEYED, Parameters
+from pfem_skfem.harness.params import UNKEYED, Parameters, keys_of
 from pfem_skfem.harness.report import Report, script_main, thinned
 from pfem_skfem.harness.sweeps import run_groups
 from pfem_skfem.pfem import measure
@@ -153,6 +153,11 @@ class DamBreak(Parameters):
     g: float
     alpha_advected: float = 0.0
     solver: str = field(default="clarabel", metadata=UNKEYED)
+
+    def keys(self):
+        """The checkpoint's keys; a run with the thesis' alpha-shape (alpha_advected 0)
+        keeps those of before the option (its checkpoints are found again)."""
+        return keys_of(self, omit=("alpha_advected",) if self.alpha_advected == 0 else ())
 
     def scene(self, gate=False):
         """(state, scene): the column against the wall x = 0 on the floor y = 0 (both smooth);
