@@ -236,3 +236,14 @@ def test_softening_is_refused_where_it_cannot_run():
         SofteningStep(softening(), np.zeros(3), np.ones(4))
     with pytest.raises(ValueError, match="SofteningTresca"):
         SofteningStep(CohesiveTresca(C_P, ELASTIC), np.zeros(3), np.ones(3))
+
+
+def test_the_step_control_s_own_check_that_it_halved_after_each_step_over_its_cap():
+    """halved_after_cap: each step over the cap is followed by half its dt (or the floor
+    dt0 / 2^halvings); a step over the cap whose successor kept its dt is a failure."""
+    from pfem_skfem.drivers.time_step import SofteningTimeStep
+
+    policy = SofteningTimeStep(1.0, max_drop=0.1, halvings=2)
+    assert policy.halved_after_cap([0.05, 0.2, 0.3, 0.3, 0.01], [1.0, 1.0, 0.5, 0.25, 0.25])
+    assert not policy.halved_after_cap([0.05, 0.2, 0.01], [1.0, 1.0, 1.0])
+    assert policy.halved_after_cap([0.01, 0.02], [1.0, 1.0])          # never over the cap

@@ -250,8 +250,6 @@ def failure(args):
     state, kept = run.state, run.kept
     drops = np.asarray(state.history["softening_drop"])
     dts = np.asarray(kept["dt"])
-    over = np.flatnonzero(drops[:-1] > args.max_drop)
-    floor = scene.config.dt / 2 ** policy.halvings
     runout, retro = measures(state.x[:len(x0)], x0, ground, params, args.drop)
     t = np.asarray(kept["t"])
     first = np.asarray(kept["retrogression"])[t <= args.t_first + 1e-9]
@@ -260,8 +258,7 @@ def failure(args):
                 retrogression_first=float(first[-1]) if first.size else 0.0,
                 kinetic_ratio=float(kinetic[-1] / kinetic.max()) if kinetic.max() > 0
                 else float("nan"),
-                halved=bool(np.all(np.isclose(dts[over + 1], np.maximum(dts[over] / 2, floor),
-                                              rtol=1e-12))),
+                halved=policy.halved_after_cap(drops, dts),
                 cpu_seconds=float(np.sum(kept["cpu_seconds"])), particles=len(x0),
                 largest_drop=float(drops.max()), history={k: np.asarray(v)
                                                           for k, v in kept.items()},

@@ -180,8 +180,6 @@ def failure(S_t, args, **given):
     dropped = ground[x0[ground, 1] - state.x[ground, 1] > 0.1 * H]
     drops = np.asarray(state.history["softening_drop"])
     dts = np.asarray(kept["dt"])
-    over = np.flatnonzero(drops[:-1] > args.max_drop)
-    floor = scene.config.dt / 2 ** policy.halvings
     moved = np.linalg.norm(state.x[:len(x0)] - x0, axis=1) > 0.1 * H   # x0's stay first
     cpu = kept.get("cpu_seconds", [])
     return dict(runout=float(state.x[:, 0].max() - W), n=params.n,
@@ -192,8 +190,7 @@ def failure(S_t, args, **given):
                 retrogression=float(W - x0[dropped, 0].min()) if dropped.size else 0.0,
                 gamma_max=np.asarray(kept["gamma_max"]), steps=state.step,
                 largest_drop=float(drops.max()),
-                halved=bool(np.all(np.isclose(dts[over + 1], np.maximum(dts[over] / 2, floor),
-                                              rtol=1e-12))),
+                halved=policy.halved_after_cap(drops, dts),
                 x=state.x, x0=x0, mesh=(state.mesh_p, state.mesh_t), gamma_p=state.gamma_p)
 
 

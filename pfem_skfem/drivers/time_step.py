@@ -141,6 +141,16 @@ class SofteningTimeStep:
         elif drops[-1] < self.max_drop / 4:
             self.rung = max(self.rung - 1, 0)
 
+    def halved_after_cap(self, drops, dts):
+        """Whether the control acted as stated over a run: after each step whose recorded
+        drop (``drops``, the run's ``softening_drop``) exceeds the cap, the next step's dt
+        (``dts``, each step's) is half the last, or the floor dt0 / 2^halvings."""
+        drops, dts = np.asarray(drops, dtype=float), np.asarray(dts, dtype=float)
+        over = np.flatnonzero(drops[:-1] > self.max_drop)
+        floor = self.dt0 / 2 ** self.halvings
+        return bool(np.all(np.isclose(dts[over + 1], np.maximum(dts[over] / 2, floor),
+                                      rtol=1e-12)))
+
     def saved(self):
         return {"rung": self.rung}
 
