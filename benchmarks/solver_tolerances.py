@@ -19,7 +19,12 @@ change at the looser tolerances, the solves, iterations per solve, the solves th
   and the deposit at t = 4 sqrt(h0/g) (the thesis' stopping time) is added.
 
 The rule of issue 19: a family's tolerance may be loosened where every quantity stays
-within 0.1 % of its 1e-8 value (PFEM: within the round-off spread).
+within 0.1 % of its 1e-8 value (PFEM: within the round-off spread). Refined (2026-12-08,
+``--tight 1e-10``, :func:`meets_rule`): a figure that the default does not itself resolve
+(its 1e-8 value more than 0.1 % from the default solver's at 1e-10: measured on the thick
+cylinder's smallest excess of a Drucker-Prager limit load, 1.19e-6, 3.7e-3 away) is met
+by a run at least as near the 1e-10 value as the default's 1e-8 value is; the figures the
+default resolves keep the 0.1 %.
 
 Issue 40's levers at Clarabel's tolerance (the rule of its item 4), e.g.:
 python benchmarks/solver_tolerances.py --tolerances 1e-8 --extra form=dual
@@ -30,7 +35,7 @@ package's interior point (issue 53 item 5), every solve of every family (the sol
 each run are counted per solver, so a family whose script does not pass it shows
 Clarabel's):
 python benchmarks/solver_tolerances.py --families static dynamic plastic cylinder
-     circular pipe contact bounds --tolerances 1e-8 --extra solver=ipm
+     circular pipe contact bounds --tolerances 1e-8 --tight 1e-10 --extra solver=ipm
 python benchmarks/solver_tolerances.py --families pfem pfem_axi dam --tolerances 1e-8
      --extra solver=ipm --density-factors 3 5 7 9 11 13 --lever-reruns
 
@@ -39,6 +44,7 @@ Run: python benchmarks/solver_tolerances.py [--families static dynamic pfem]
 """
 import argparse
 from contextlib import contextmanager
+import json
 import os
 from pathlib import Path
 import sys
@@ -79,6 +85,23 @@ RULE = 1e-3                     # 0.1 % of the 1e-8 value (issue 19)
 NEAR_ZERO = 1e-6                # a residual or drift (round-off level): judged by its check
 
 
+def meets_rule(value, default, tight=None):
+    """Whether a run's figure ``value`` meets the rule against the default's ``default``
+    (Clarabel at 1e-8; a figure not near zero, |default| >= NEAR_ZERO, which the caller
+    judges by its check instead): within RULE (0.1 %) of it; or, given ``tight`` (the
+    default solver's figure at a tight tolerance, ``--tight``, e.g. 1e-10), where the
+    default itself does not resolve the figure (its 1e-8 value more than 0.1 % from
+    ``tight``: a small difference of near quantities, below what its tolerance resolves),
+    at least as near ``tight`` as the default's value is (an accuracy criterion: no less
+    accurate than the default). A figure the default resolves is judged by 0.1 % alone; a
+    figure farther from ``tight`` than the default's fails."""
+    if relative_error(value, default) <= RULE:
+        return True
+    if tight is None or relative_error(default, tight) <= RULE:
+        return False
+    return bool(abs(value - tight) <= abs(default - tight))
+
+
 @contextmanager
 def clarabel_tolerances(tol, record, extra=None):
     """Every Clarabel solve inside uses tol_gap_abs = tol_gap_rel = tol_feas = ``tol``
@@ -87,7 +110,9 @@ def clarabel_tolerances(tol, record, extra=None):
     ``record`` gets (iterations, status, solver) per solve: Clarabel's, and the package's
     interior point's (``solver=ipm``: every call of ``problems.ipm.solver._solve``, the
     cvxpy statements' and the direct assembly's; it runs at its own tolerances, 1e-8 as
-    Clarabel's default, whatever ``tol``). Pseudo-settings: ``clean`` ('A0', 'P0'
+    Clarabel's default, whatever ``tol``). Pseudo-settings: ``ipm_tol`` sets the interior
+    point's tol_gap_abs = tol_gap_rel = tol_feas (as ``tol`` sets Clarabel's, its
+    infeasibility and reduced tolerances kept) in every solve; ``clean`` ('A0', 'P0'
     or 'A0+P0') cleans every problem's data before Clarabel sees it
     (benchmarks/iteration_cost.py: A's stored zeros, P's relative round-off); ``form``
     ('primal' or 'dual') is the direct assembly's form for the PFEM steps of the step
@@ -108,6 +133,9 @@ def clarabel_tolerances(tol, record, extra=None):
     if form is not None and form not in direct.FORMS:
         raise ValueError(f"form must be one of {direct.FORMS}, got {form!r}")
     direct_only = extra.pop("direct", False)
+    ipm_tol = extra.pop("ipm_tol", None)
+    ipm_tols = {} if ipm_tol is None else dict.fromkeys(
+        ("tol_gap_abs", "tol_gap_rel", "tol_feas"), float(ipm_tol))
     if direct_only and clean and set(clean) != {"A0", "P0"}:
         raise ValueError("direct=True cleans A0+P0 (backends.direct.CLEAN_DATA) or nothing")
     for backend in plain if form is not None else ():
@@ -140,8 +168,8 @@ def clarabel_tolerances(tol, record, extra=None):
         def __getattr__(self, name):
             return getattr(self._solver, name)
 
-    def ipm_recorded(*args, **kwargs):
-        sol = ipm_solve(*args, **kwargs)
+    def ipm_recorded(P, c, A, b, cones, settings=None):
+        sol = ipm_solve(P, c, A, b, cones, {**(settings or {}), **ipm_tols})
         record.append((int(sol.iterations), str(sol.status), "ipm"))
         return sol
 
@@ -242,14 +270,23 @@ def lever_sets(sets, reference):
         print(f"  {name:34s} " + "; ".join(cells))
     for label, group in sets.items():
         if label != "default":
+            cpu = sum(CPU_SECONDS[id(r[1])] for r in group)
+            cpu0 = sum(CPU_SECONDS[id(r[1])] for r in base)
             print(f"  {label}: " + summary(*group[0][1:]).split(";")[0] + "; CPU of its "
-                  f"{len(group)} runs x the default's: "
-                  f"{sum(CPU_SECONDS[id(r[1])] for r in group) / sum(CPU_SECONDS[id(r[1])] for r in base):.2f}")
+                  f"{len(group)} runs x the default's: {cpu / cpu0:.2f}")
 
 
 def _label(column):
     """A tolerance as '1e-06', an extra settings column as 'extra N'."""
     return format(column, ".0e") if isinstance(column, float) else f"extra {column[0]}"
+
+
+def _number(value):
+    """A quantity as JSON: a float where it is one, its text otherwise."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return str(value)
 
 
 def _setting(text):
@@ -279,16 +316,25 @@ def main(argv=None):
     p.add_argument("--density-factors", type=float, nargs="+", default=[3.0, 5.0],
                    help="the PFEM round-off reruns: density scaled by these (the spread is "
                         "the largest change among them)")
+    p.add_argument("--tight", type=float, metavar="TOL",
+                   help="the default at this tolerance too (e.g. 1e-10), the tight reference "
+                        "of meets_rule: a figure the reference run does not resolve to 0.1 "
+                        "% of it is met by a run at least as near it (not the PFEM spread)")
+    p.add_argument("--json", metavar="PATH",
+                   help="write every run's quantities, summary and CPU seconds here")
     p.add_argument("--lever-reruns", action="store_true",
                    help="PFEM: rerun every --extra column at the density factors too and "
                         "compare the two sets of runs (ranges, means; lever_sets)")
     args = p.parse_args(argv)
     tols = sorted(args.tolerances)
+    if args.tight is not None and args.tight >= tols[0]:
+        p.error(f"--tight {args.tight:g} must be tighter than the reference {tols[0]:g}")
     extras = [{k: _setting(v) for k, v in (item.split("=", 1) for item in group)}
               for group in args.extra if group]
     load = os.getloadavg()
     print(f"load average {load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} on {os.cpu_count()} "
           "cores; relative change of each quantity from its value at the tightest tolerance")
+    dump = {}
     with tempfile.TemporaryDirectory() as outdir:
         for family in args.families:
             script_name, script_argv = FAMILIES[family]
@@ -299,6 +345,8 @@ def main(argv=None):
                 runs[label] = run_family(script_name, script_argv, tols[0], outdir, extra)
                 columns = columns + [label]
             reference = runs[tols[0]][0]
+            tight = run_family(script_name, script_argv, args.tight, outdir) \
+                if args.tight is not None else None
             spread = None
             if script_name in DENSITY:
                 rho = DENSITY[script_name]
@@ -315,44 +363,84 @@ def main(argv=None):
                                        tols[0], outdir, extra)
                             for f in args.density_factors]
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
+            dump[family] = {_label(key) + ("" if key in tols else f": {key[1]}"): dict(
+                values={k: _number(v) for k, v in run[0].items()}, summary=summary(*run[1:]),
+                cpu=CPU_SECONDS[id(run[1])]) for key, run in runs.items()}
+            if args.json:
+                Path(args.json).write_text(json.dumps(dump, indent=1))
             for key in runs:
                 name = (f"tol {key:.0e}" if key in tols
                         else f"tol {tols[0]:.0e}, extra {key[0]}: {key[1]}")
                 print(f"  {name}: {summary(*runs[key][1:])}")
+            if tight is not None:
+                dump[family][f"tight {args.tight:.0e}"] = dict(
+                    values={k: _number(v) for k, v in tight[0].items()},
+                    summary=summary(*tight[1:]), cpu=CPU_SECONDS[id(tight[1])])
+                if args.json:
+                    Path(args.json).write_text(json.dumps(dump, indent=1))
+                print(f"  tight reference, tol {args.tight:.0e}: {summary(*tight[1:])}")
             if spread is not None:
                 for f, r in reruns.items():
                     print(f"  tol {tols[0]:.0e}, rho x {f:g}: {summary(*r[1:])}")
             cpu0 = CPU_SECONDS[id(runs[tols[0]][1])]
             print("  CPU time x the tightest tolerance's: " + ", ".join(
                 f"{_label(t)}: {CPU_SECONDS[id(runs[t][1])] / cpu0:.2f}" for t in columns))
+            judged = tight is not None and spread is None      # meets_rule with --tight
             head = f"  {'quantity':34s} {'at ' + format(tols[0], '.0e'):>12s} " + \
                 " ".join(f"{_label(t):>9s}" for t in columns) + \
-                (f" {'round-off':>9s}" if spread else "")
+                (f" {'round-off':>9s}" if spread else "") + \
+                (f" {'tight':>9s}" if judged else "")
             print(head)
             print("  " + "-" * (len(head) - 2))
             worst = {t: 0.0 for t in columns}
+            failed = {t: [] for t in columns}                 # the figures that fail the rule
+            unresolved = []                # the figures the reference run does not resolve
             for name, value in reference.items():
                 ch = {t: changes(runs[t][0], reference)[name] for t in columns}
                 bound = spread[name] if spread else None
                 near_zero = abs(value) < NEAR_ZERO
+                exact = tight[0].get(name, np.nan) if judged else None
                 for t in columns:
                     if not near_zero:        # an undefined change fails (inf)
                         change = ch[t] if np.isfinite(ch[t]) else np.inf
                         worst[t] = max(worst[t], change if spread is None
                                        else change - spread[name])
+                        if spread is None and not meets_rule(
+                                runs[t][0].get(name, np.nan), value, exact):
+                            failed[t].append(name)
+                far = relative_error(value, exact) if judged else np.nan
+                if judged and not near_zero and not far <= RULE:
+                    unresolved.append(name)
                 print(f"  {name + (' *' if near_zero else ''):34s} {value:12.6g} "
                       + " ".join(f"{ch[t]:9.1e}" for t in columns)
-                      + (f" {bound:9.1e}" if spread else ""))
+                      + (f" {bound:9.1e}" if spread else "")
+                      + (f" {far:9.1e}" if judged else ""))
             passing = [t for t in columns if runs[t][3][0] >= runs[tols[0]][3][0]]
             if any(abs(v) < NEAR_ZERO for v in reference.values()):
                 print(f"  * near zero (|value| < {NEAR_ZERO:g}: a residual or a drift), judged by "
                       "its check, not by its relative change")
+            if judged:
+                print(f"  tight: the reference run's distance from the default's at "
+                      f"{args.tight:.0e}; not resolved to 0.1 % by it: "
+                      f"{', '.join(unresolved) or 'none'}")
+                for name in unresolved:     # each run's distance from the tight reference
+                    exact = tight[0][name]
+                    print(f"    {name}: distance from the tight reference: "
+                          + ", ".join(f"{_label(t)}: "
+                                      f"{relative_error(runs[t][0].get(name, np.nan), exact):.1e}"
+                                      for t in [tols[0]] + columns))
             if spread is None:
-                ok = [t for t in columns if worst[t] <= RULE and t in passing]
+                ok = [t for t in columns if not failed[t] and t in passing]
                 print("  largest change: " + ", ".join(f"{_label(t)}: {worst[t]:.1e}"
                                                          for t in columns)
-                      + f"; within 0.1 % with the checks of the tightest passing: "
+                      + ("; meeting the rule (meets_rule: within 0.1 %, or as near the tight "
+                         "reference as the reference run where it does not resolve a "
+                         "figure)" if judged else "; within 0.1 %")
+                      + f" with the checks of the tightest passing: "
                       f"{', '.join(_label(t) for t in ok) or 'none'}")
+                for t in columns:
+                    if failed[t]:
+                        print(f"    {_label(t)} fails on: {', '.join(failed[t])}")
             if spread is not None and args.lever_reruns:
                 lever_sets(sets, reference)
             if spread is None:
