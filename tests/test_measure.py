@@ -5,10 +5,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pfem_skfem.pfem.measure import (area_budget, deposit_at_wall, front, front_speed,
-                                     height_at, main_body, mesh_energy, off_mesh_volume,
-                                     particle_energy, surface_level, surface_profile,
-                                     wedge_geometry)
+from pfem_skfem.pfem.measure import (area_budget, deposit_at_wall, failure_extent, front,
+                                     front_speed, ground_particles, height_at, main_body,
+                                     mesh_energy, off_mesh_volume, particle_energy,
+                                     surface_level, surface_profile, wedge_geometry)
 
 
 def lattice(nx, ny, h):
@@ -116,6 +116,33 @@ def test_the_surface_level_of_a_lattice_is_its_top_row():
     water = np.append(water, False)
     assert surface_level(x, water, 0.1, 0.0, 1.0) == pytest.approx(0.5, abs=1e-15)
     assert np.isnan(surface_level(x, water, 0.1, 2.0, 3.0))        # no column holds one
+
+
+def test_a_failed_bank_runs_out_from_its_toe_and_retrogresses_from_its_crest():
+    """A 1 m bank, 11 x 11 particles 0.1 apart, its face at x = 1 (toe and crest): the top
+    row is its ground. Three of it drop, by 0.3, 0.2 and 0.05 (below the threshold 0.1):
+    the retrogression is 1 - 0.6 = 0.4, of the furthest back that dropped. The run-out is
+    the furthest particle beyond the toe: 2.5 of the bank's own, or 3 counting a particle
+    added since (originals=False)."""
+    x0 = lattice(11, 11, 0.1).x
+    ground = ground_particles(x0, 1.0 - 0.025)
+    assert np.all(x0[ground, 1] == pytest.approx(1.0)) and len(ground) == 11
+    assert list(ground_particles(x0, 0.975, behind=0.5)) == list(ground[:6])   # x <= 0.5
+    x = x0.copy()
+    top = {round(x0[i, 0], 1): i for i in ground}
+    x[top[0.6], 1] -= 0.3
+    x[top[0.8], 1] -= 0.2
+    x[top[0.3], 1] -= 0.05
+    x[0, 0] = 3.5                                     # a particle of the toe run out
+    extent = dict(toe=1.0, crest=1.0, drop=0.1)
+    assert failure_extent(x, x0, ground, **extent) == (pytest.approx(2.5), pytest.approx(0.4))
+    added = np.vstack([x, [[4.0, 0.0]]])
+    assert failure_extent(added, x0, ground, **extent)[0] == pytest.approx(2.5)
+    assert failure_extent(added, x0, ground, originals=False, **extent)[0] == \
+        pytest.approx(3.0)
+    # nothing dropped: no retrogression; one dropped ahead of the crest: none either
+    assert failure_extent(x0, x0, ground, **extent) == (pytest.approx(0.0), 0.0)
+    assert failure_extent(x, x0, ground, toe=1.0, crest=0.5, drop=0.1)[1] == 0.0
 
 
 def test_the_surface_profile_of_a_lattice_is_its_top_row():

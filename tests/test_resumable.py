@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pfem_skfem.drivers import pfem_loop
-from pfem_skfem.drivers.resumable import Checkpoints, load_run, ResumableRun
+from pfem_skfem.drivers.resumable import Checkpoints, load_run, ResumableRun, StepClock
 from pfem_skfem.harness.store import checkpoint_path
 from verification.granular_column_plane import granular_column
 
@@ -327,3 +327,15 @@ def test_the_plane_columns_keys_are_its_scenes_parameters_and_todays_for_quick(
     floors = [p.scene()[1].bodies[0].shape.mu for p in (params, rougher)]
     assert floors == pytest.approx([np.tan(np.radians(31.0)), 0.6])
     assert replace(params, solver="scs").keys() == params.keys()      # no state's part
+
+
+def test_the_step_clock_keeps_each_steps_cpu_seconds_from_the_start(monkeypatch):
+    """StepClock: the CPU seconds since the last record (the first since the clock was made),
+    appended to kept's series, made where a checkpoint of before lacks it."""
+    import time
+    ticks = iter([10.0, 10.5, 12.0])
+    monkeypatch.setattr(time, "process_time", lambda: next(ticks))
+    clock, kept = StepClock(), {"dt": [0.1]}
+    clock.record(kept)
+    clock.record(kept)
+    assert kept == {"dt": [0.1], "cpu_seconds": [0.5, 1.5]}

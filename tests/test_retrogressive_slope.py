@@ -21,12 +21,12 @@ def test_the_scene_is_the_papers_slope():
     poly = np.asarray(params.polygon())
     x, y = poly[:, 0], poly[:, 1]
     assert 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) == pytest.approx(112.5)
-    assert math.degrees(math.atan2(params.height, params.toe - params.crest)) == pytest.approx(45)
+    assert math.degrees(math.atan2(params.height, params.base - params.top)) == pytest.approx(45)
     state, scene = params.scene()
     assert state.mass.sum() == pytest.approx(2.15 * 112.5, rel=0.03)
     bodies = {b.name: b for b in scene.bodies}
     assert bodies["wall"].shape.mu == 0.0 and bodies["base"].shape.mu == 2.0
-    assert state.x[:, 0].max() <= params.toe + 1e-9 and state.x[:, 1].max() <= 5 + 1e-9
+    assert state.x[:, 0].max() <= params.base + 1e-9 and state.x[:, 1].max() <= 5 + 1e-9
 
 
 def test_the_initial_stress_is_the_total_stress_of_an_effective_k0():
@@ -75,12 +75,17 @@ def test_the_conversions_follow_their_options(argv, k, fit):
 def test_the_measures_count_from_the_toe_and_the_crest():
     """Run-out from the toe (x = 25 m) to the furthest particle; retrogression from the crest
     (x = 20 m) back to the furthest surface particle that dropped by more than --drop."""
+    from pfem_skfem.pfem.measure import failure_extent, ground_particles
     _, params = slope()
-    x0 = np.array([[2.0, 5.0], [8.0, 5.0], [19.0, 5.0], [24.0, 1.0]])
-    x = x0 + np.array([[0.0, -0.4], [0.5, -0.6], [3.0, -2.0], [20.0, -0.9]])
-    runout, retro = rs.measures(x, x0, np.array([0, 1, 2]), params, 0.5)
-    assert (runout, retro) == (pytest.approx(19.0), pytest.approx(12.0))
-    assert rs.measures(x0, x0, np.array([0, 1, 2]), params, 0.5) == (pytest.approx(-1.0), 0.0)
+    x0 = np.array([[2.0, 5.0], [8.0, 5.0], [19.0, 5.0], [24.0, 1.0], [20.5, 5.0]])
+    x = x0 + np.array([[0.0, -0.4], [0.5, -0.6], [3.0, -2.0], [20.0, -0.9], [0.0, -1.0]])
+    ground = ground_particles(x0, params.height - 0.25 * params.h, behind=params.top)
+    assert list(ground) == [0, 1, 2]                # the top behind the crest, not the face
+
+    def measures(x):
+        return failure_extent(x, x0, ground, toe=params.base, crest=params.top, drop=0.5)
+    assert measures(x) == (pytest.approx(19.0), pytest.approx(12.0))
+    assert measures(x0) == (pytest.approx(-1.0), 0.0)
 
 
 def test_the_viscosity_and_the_nonlocal_average_reach_the_clay_and_key_their_runs():

@@ -81,6 +81,66 @@ def test_the_linear_laws_step_drop_is_H_times_delta_at_the_points_above_c_r():
     assert LINEAR.drop(0.75, 2.0) == 0.0
 
 
+def uniform_shear(material, gamma0, max_drop):
+    """One base increment of simple shear u = (Delta y, 0) imposed at every node of the unit
+    square (two elements, all dofs prescribed): each stress point its own problem.
+    Delta = 0.5 + c(gamma0) / G: taken at once, the shear stress c(gamma0) and
+    Delta gamma^p = 0.5."""
+    disc = discretise(MeshTri())
+    G = material.elastic.E / (2 * (1 + material.elastic.nu))
+    delta = 0.5 + material.law.strength(gamma0) / G
+    total = delta * disc.basis_u.doflocs[1]         # at u_x, the even dofs (interleaved)
+    total[1::2] = 0.0
+    n = disc.n_points
+    return softening_control(assemble_B(disc), assemble_C(disc, material.elastic), material,
+                             fixed=[], prescribed=(np.arange(disc.n_u), total),
+                             n_increments=1, size=point_sizes(disc.weights),
+                             weights=disc.weights, gamma0=np.full(n, gamma0),
+                             control=StepControl(max_drop=max_drop))
+
+
+def test_the_steepest_drop_is_the_laws_steepest_rate_times_delta_above_c_r_on_a_point():
+    """strength_drop(steepest=True), the static increments' measure: 3 Delta / gamma_95 for
+    the exponential law wherever c > c_r, remoulded or not (the bound the dynamic control
+    left); the linear law's own measure, to the bit."""
+    material = SofteningTresca(EXPONENTIAL, Elastic(1e4, 0.3))
+    one = np.ones(1)
+    for g0, dg in ((0.0, 0.1), (4.0, 0.3), (12.0, 1.0)):
+        bound = strength_drop(material, np.array([g0]), np.array([g0 + dg]), one,
+                              steepest=True)
+        assert bound == approx(3 * dg / 2.0, rel=1e-13)
+        assert bound >= strength_drop(material, np.array([g0]), np.array([g0 + dg]), one)
+    stretched = SofteningTresca(EXPONENTIAL, Elastic(1e4, 0.3), FractureEnergy(0.5))
+    assert strength_drop(stretched, np.array([1.0]), np.array([1.2]), np.full(1, 0.25),
+                         steepest=True) == approx(3 * 0.2 / (2.0 * 2.0), rel=1e-13)
+    linear = SofteningTresca(LINEAR, Elastic(1e4, 0.3))
+    for g0, g1 in ((0.2, 0.5), (0.6, 2.0), (0.75, 2.0)):
+        assert strength_drop(linear, np.array([g0]), np.array([g1]), one, steepest=True) == \
+            strength_drop(linear, np.array([g0]), np.array([g1]), one)
+
+
+@pytest.mark.parametrize("law, g0", [(LINEAR, 0.0), (EXPONENTIAL, 0.0), (EXPONENTIAL, 12.0)],
+                         ids=["linear", "exponential", "exponential-remoulded"])
+def test_the_static_control_halves_an_increment_over_the_steepest_drop(law, g0):
+    """One increment of Delta gamma^p = 0.5 at every point, cap 0.6: the steepest-rate
+    measure is 0.5 / 0.75 = 0.667 (linear) or 3 x 0.5 / 2 = 0.75 (exponential, from the peak
+    or remoulded at gamma_0 = 6 gamma_95, where the exact drop is 1e-8): re-solved at half
+    the motion and taken in two halves. Closed forms at each point: the first half yields at
+    c_0 = c(gamma_0) and leaves gamma_1 = gamma_0 + Delta / 2 - c_0 / G; the second ends at
+    tau = c(gamma_1), gamma^p = gamma_0 + Delta - c(gamma_1) / G."""
+    material = SofteningTresca(law, Elastic(1e4, 0.3))
+    run = uniform_shear(material, g0, 0.6)
+    assert run.solves == 3 and run.uncapped == 0 and list(run.factors) == [0.0, 0.5, 1.0]
+    G = 1e4 / 2.6
+    c0 = law.strength(g0)
+    delta = 0.5 + c0 / G
+    c1 = law.strength(g0 + delta / 2 - c0 / G)
+    gamma = g0 + delta - c1 / G
+    assert run.gamma_p == approx(np.full(6, gamma), rel=1e-9)
+    assert run.sigma[:, 3] == approx(np.full(6, c1), rel=1e-7)
+    assert run.strength == approx(law.strength(np.full(6, gamma)), rel=1e-8)
+
+
 @pytest.mark.parametrize("law", [LINEAR, EXPONENTIAL], ids=["linear", "exponential"])
 def test_strain_at_inverts_strength(law):
     c = np.array([19.9, 12.0, 5.5])

@@ -82,11 +82,6 @@ def test_the_cone_is_the_axisymmetric_tresca_at_the_softened_strength():
 
 
 @pytest.mark.parametrize("make, words", [
-    (lambda: SofteningTrescaAxisymmetric(LinearSoftening(C_P, C_R, GAMMA_R), ELASTIC, eta=1.0),
-     "axisymmetric viscous softening is not built"),
-    (lambda: SofteningMohrCoulombAxisymmetric(LinearSoftening(C_P, C_R, GAMMA_R), ELASTIC,
-                                              eta=1.0, phi=20.0),
-     "axisymmetric viscous softening is not built"),
     (lambda: SofteningTrescaAxisymmetric(LinearSoftening(C_P, 0.0, GAMMA_R), ELASTIC),
      "zero residual strength is not built")])
 def test_what_is_not_built_is_refused_by_name(make, words):

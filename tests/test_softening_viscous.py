@@ -8,7 +8,8 @@ c_p = 20, c_r = 5, gamma_r = 0.75, 4 rows) sheared at the top velocity V = 1 by 
 Where it flows tau = c(gamma^p) + eta gamma_dot^p, gamma_dot^p = Delta gamma^p / dt (the
 Bingham term's factor is eta, not the 2 eta of sigma' = 2 mu D'): steady c_r + eta V / L after
 full softening, c_p + eta V / L without softening; each step on the scheme's recurrence
-Delta gamma^p = max(0, tau_n + G V dt / L - c_n) / (G + eta / dt)."""
+Delta gamma^p = max(0, tau_n + G V dt / L - c_n) / (G + eta / dt). In axisymmetry the same
+recurrence, in simple shear and (with G and eta times 3/4) under uniaxial flow."""
 import contextlib
 from types import SimpleNamespace
 
@@ -16,12 +17,20 @@ import numpy as np
 import pytest
 from pytest import approx
 
+from skfem import MeshTri
+
+from pfem_skfem.discretisation.dynamic import dynamic_operators
+from pfem_skfem.discretisation.static import discretise
+from pfem_skfem.discretisation.theta import ThetaMethod
 from pfem_skfem.drivers.pfem_loop import pfem_step
 from pfem_skfem.drivers.softening import softening_control
 from pfem_skfem.materials import (Elastic, LinearSoftening, SofteningMohrCoulomb,
-                                  SofteningStep, SofteningTresca)
+                                  SofteningMohrCoulombAxisymmetric, SofteningStep,
+                                  SofteningTresca, SofteningTrescaAxisymmetric)
 from pfem_skfem.materials.rate import ViscousStress
-from pfem_skfem.pfem.softening import carried_strain
+from pfem_skfem.pfem.softening import carried_strain, step_material, strain_update
+from pfem_skfem.problems.dynamic import dynamic_increment
+from pfem_skfem.problems.step_terms import step_terms
 from pfem_skfem.pfem.transfer import old_discretisation
 from verification.granular_column_plane import granular_column
 from verification.softening_layer import (STEADY, build_parser, layer_model, steady_time,
@@ -122,6 +131,11 @@ def test_eta_zero_states_no_viscous_stress_and_eta_one_at_every_point():
     viscous = step.viscous(None, 1.0, None, weights)
     assert isinstance(viscous, ViscousStress)
     np.testing.assert_array_equal(viscous.eta, np.full(6, ETA))
+    assert not viscous.hoop
+    for make in (SofteningTrescaAxisymmetric, SofteningMohrCoulombAxisymmetric):
+        assert make(LAW, Elastic(1e4, 0.3)).viscous(None, 1.0, None, weights) is None
+        viscous = make(LAW, Elastic(1e4, 0.3), eta=ETA).viscous(None, 1.0, None, weights)
+        assert viscous.hoop and np.all(viscous.eta == ETA)      # the deviator's hoop part
 
 
 @pytest.mark.parametrize("make", [SofteningTresca, SofteningMohrCoulomb])
@@ -159,3 +173,110 @@ def test_the_viscous_runs_are_steady_at_the_least_t_end_the_script_accepts(extra
     refused = t_end > 1.0
     with pytest.raises(SystemExit) if refused else contextlib.nullcontext():
         build_parser().parse_args(["--quick", *extra])
+
+
+def uniform_flow(material, geometry, velocity, dt=0.009, n_steps=40):
+    """Dynamic steps (4.23) of the velocity field ``velocity`` (of the dofs' locations, (2, n))
+    imposed at every node of 2 x 2 squares r (or x) in [1, 2], z (or y) in [0, 1], that
+    velocity the initial one (no inertia force): each stress point its own problem, the cone
+    and the viscous stress at its carried gamma^p. Returns the stresses after each step."""
+    disc = discretise(MeshTri.init_tensor(np.linspace(1.0, 2.0, 3), np.linspace(0.0, 1.0, 3)),
+                      geometry)
+    ops = dynamic_operators(disc, 2.0, ThetaMethod(dt), material.elastic)
+    v = velocity(disc.basis_u.doflocs)
+    sigma, gamma, f, scales = np.zeros((disc.n_points, 4)), np.zeros(disc.n_points), \
+        np.zeros(disc.n_u), None
+    out = [sigma]
+    for _ in range(n_steps):
+        step = step_material(material, gamma, disc)
+        sigma_m = step.mean_stress(sigma)
+        inc = dynamic_increment(ops, f, f, sigma, v, step.cone(sigma_m, C_P), fixed=[],
+                                prescribed=(np.arange(disc.n_u), v * dt),
+                                terms=step_terms(viscous=step.viscous(sigma_m, C_P, None,
+                                                                      disc.weights)),
+                                scaling=scales)
+        gamma, _ = strain_update(material, ops, inc, sigma, disc, gamma)
+        sigma, v, scales = inc.sigma, inc.v, inc.scales
+        out.append(sigma)
+    return np.array(out)
+
+
+def field(x_like, y_like):
+    """A velocity at the dofs' locations p (2, n_u): the x- (r-) dofs even, the y- (z-) odd
+    (skfem's vector element interleaves them)."""
+    def velocity(p):
+        v = np.zeros(p.shape[1])
+        v[0::2], v[1::2] = x_like(p[:, 0::2]), y_like(p[:, 1::2])
+        return v
+    return velocity
+
+
+ELASTIC = Elastic(2 * G * 1.3, 0.3)
+
+
+def test_the_axisymmetric_viscous_shear_is_the_plane_layers_recurrence():
+    """Simple shear in axisymmetry (v_z = r: gamma_dot_rz = 1, no hoop rate) steps as the
+    plane layer's simple shear (v_x = y) does: each step on the recurrence of the uniform
+    layer (G = 200, eta = 2, rate 1), tau_rz = c(gamma^p) + eta gamma_dot^p where it flows;
+    the two to the solver's tolerance of each other."""
+    n = 40
+    axi = uniform_flow(SofteningTrescaAxisymmetric(LAW, ELASTIC, eta=ETA), "axisymmetric",
+                       field(lambda p: 0 * p[0], lambda p: V * p[0]))
+    plane = uniform_flow(SofteningTresca(LAW, ELASTIC, eta=ETA), "plane",
+                         field(lambda p: V * p[1], lambda p: 0 * p[0]))
+    recurrence = viscous_recurrence(LAW, ETA, G, V, 0.009, n)
+    for run in (axi, plane):
+        assert np.abs(run[:, :, 3] - recurrence[:, None]).max() / C_P < RECURRENCE
+    assert np.abs(axi[..., :3]).max() < 1e-6 * C_P           # no normal stress, no hoop
+    assert np.abs(axi[..., 3] - plane[..., 3]).max() < RECURRENCE * C_P
+    assert C_R < recurrence[-1] < C_P                       # it softened, still softening
+
+
+def test_the_axisymmetric_viscous_stress_counts_the_hoop_rate_under_uniaxial_flow():
+    """Uniaxial compression (v_z = -e z, v_r = e r / 2, e = 0.5): the viscous stress is the
+    axisymmetric Bingham fluid's, eta times the deviatoric rate with its hoop component
+    (sqrt(J2) = eta sqrt(2 D':D')), so at a flowing point of axial plastic rate e_p
+    (s_rr - s_zz) / 2 = c + (3/2) eta e_p, while Tresca's measure runs at
+    gamma_dot^p = 2 e_p and the elastic q / 2 rises at (3/2) G e: the plane recurrence with
+    G and eta times 3/4 and the rate 2 e; with eta unscaled it is 3e-2 c_p away."""
+    n, e = 40, 0.5
+    run = uniform_flow(SofteningTrescaAxisymmetric(LAW, ELASTIC, eta=ETA), "axisymmetric",
+                       field(lambda p: e * p[0] / 2, lambda p: -e * p[1]))
+    q = 0.5 * (run[:, :, 0] - run[:, :, 1])
+    assert np.abs(q - viscous_recurrence(LAW, 0.75 * ETA, 0.75 * G, 2 * e, 0.009, n)[:, None]
+                  ).max() / C_P < RECURRENCE
+    assert np.abs(q - viscous_recurrence(LAW, ETA, 0.75 * G, 2 * e, 0.009, n)[:, None]
+                  ).max() / C_P > 1e-2
+    assert np.abs(run[:, :, 2] - run[:, :, 0]).max() < 1e-6 * C_P   # hoop = radial
+    assert np.abs(run[:, :, 3]).max() < 1e-6 * C_P
+
+
+def test_an_axisymmetric_pfem_column_flows_between_the_cone_and_the_viscous_bound():
+    """The column of revolution of tests/test_softening_axisymmetric.py, softening and viscous
+    (eta = 0.2 kPa s), through the PFEM loop: at each point that flowed the largest principal
+    difference T of the step's stress lies between 2 c(gamma^p_n) (the cone) and 2 c + 2 eta
+    Delta gamma^p / dt (the viscous deviator's T is at most 2 sqrt(J2) = 2 eta sqrt(2 D':D'),
+    and sqrt(2 D':D') is at most Tresca's measure; both equal in simple shear); the
+    overstress is real (T up to 17 % over 2c here)."""
+    from pfem_skfem.scene.columns import granular_column_axisymmetric
+    eta, dt = 0.2, 0.05 * np.sqrt(1.0 / 9.8)
+    soil = SofteningTrescaAxisymmetric(LinearSoftening(4.0, 1.0, 0.05), Elastic(1e4, 0.45),
+                                       eta=eta)
+    state, scene = granular_column_axisymmetric(1.0, 6, soil=soil, dt=dt)
+    state, _, _ = pfem_step(state, scene)
+    largest = 0.0
+    for _ in range(3):
+        new, _, result = pfem_step(state, scene)
+        carried = carried_strain(state, result.disc, old_discretisation(state),
+                                 scene.config.stress_mapping)
+        sigma, c = result.increment.sigma, result.strength
+        s, R = 0.5 * (sigma[:, 0] + sigma[:, 1]), np.hypot(0.5 * (sigma[:, 0] - sigma[:, 1]),
+                                                           sigma[:, 3])
+        T = np.maximum(2 * R, np.abs(s - sigma[:, 2]) + R)
+        dgamma = new.gamma_p - carried
+        flowing = dgamma > 1e-3 * dgamma.max()
+        assert np.all(T[flowing] > 2 * c[flowing] * (1 - 1e-5))
+        assert np.all(T <= 2 * c + 2 * eta * dgamma / dt + 1e-4 * 4.0)
+        largest = max(largest, (T / (2 * c)).max())
+        state = new
+    assert largest > 1.05

@@ -76,7 +76,6 @@ Usage::
 from dataclasses import dataclass, field
 import math
 import sys
-import time
 
 import numpy as np
 
@@ -155,14 +154,6 @@ class Slope(Parameters):
         from pfem_skfem.materials import NonlocalAverage
         return None if self.regularisation == "none" else NonlocalAverage(self.ell)
 
-    @property
-    def crest(self):
-        return self.top
-
-    @property
-    def toe(self):
-        return self.base
-
     def polygon(self):
         """The clay: its back on the wall x = 0, its face from the crest down to the toe."""
         return ((0.0, 0.0), (self.base, 0.0), (self.top, self.height), (0.0, self.height))
@@ -205,25 +196,23 @@ def conversion_error(params, eps=np.linspace(0.0, 2.0, 41)):
     return float(np.max(np.abs(ours - theirs) / theirs))
 
 
-def measures(x, x0, ground, params, drop):
-    """(run-out beyond the toe, retrogression behind the crest) of particles at ``x`` that
-    started at ``x0``; ``ground``: the indices of the original top surface."""
-    dropped = ground[x0[ground, 1] - x[ground, 1] > drop]
-    retro = float(params.crest - x0[dropped, 0].min()) if dropped.size else 0.0
-    return float(x[:, 0].max() - params.toe), max(retro, 0.0)
-
-
 def failure(args):
     """The slope of the options run to t_end: its measurements (a dict)."""
-    from pfem_skfem.drivers.resumable import Bar, Checkpoints, ResumableRun
+    from pfem_skfem.drivers.resumable import Bar, Checkpoints, ResumableRun, StepClock
     from pfem_skfem.drivers.time_step import SofteningTimeStep
+    from pfem_skfem.pfem.measure import failure_extent, ground_particles
 
-    start = time.process_time()
+    clock = StepClock()
     params = Slope.of(args)
     state, scene = params.scene()
     x0 = state.x.copy()
-    ground = np.flatnonzero((x0[:, 1] > params.height - 0.25 * params.h)
-                            & (x0[:, 0] <= params.crest + 1e-9))
+    ground = ground_particles(x0, params.height - 0.25 * params.h, behind=params.top)
+
+    def measures(x):
+        """(run-out beyond the toe, retrogression behind the crest) of the particles at x."""
+        return failure_extent(x, x0, ground, toe=params.base, crest=params.top,
+                              drop=args.drop)
+
     policy = SofteningTimeStep(scene.config.dt, max_drop=args.max_drop, halvings=4)
     run = ResumableRun.open(
         scene, state, {"t": [], "runout": [], "retrogression": [], "kinetic": [], "dt": [],
@@ -232,25 +221,22 @@ def failure(args):
                                 args.checkpoint_every),
         bar=Bar(int(np.ceil(args.t_end / args.dt)), "retrogressive slope", args.progress),
         time_step=policy)
-    clock = [start]
 
     def observe(run, snapshots):
         s, kept = run.state, run.kept
-        runout, retro = measures(s.x[:len(x0)], x0, ground, params, args.drop)
+        runout, retro = measures(s.x)
         kept["t"].append(float(s.time))
         kept["runout"].append(runout)
         kept["retrogression"].append(retro)
         kept["kinetic"].append(float(0.5 * np.sum(s.mass * np.sum(s.v ** 2, axis=1))))
         kept["dt"].append(float(run.step_scene.config.dt))
-        now = time.process_time()
-        kept["cpu_seconds"].append(now - clock[0])
-        clock[0] = now
+        clock.record(kept)
 
     run.advance(lambda run: run.state.time >= args.t_end * (1 - 1e-9), observe)
     state, kept = run.state, run.kept
     drops = np.asarray(state.history["softening_drop"])
     dts = np.asarray(kept["dt"])
-    runout, retro = measures(state.x[:len(x0)], x0, ground, params, args.drop)
+    runout, retro = measures(state.x)
     t = np.asarray(kept["t"])
     first = np.asarray(kept["retrogression"])[t <= args.t_first + 1e-9]
     kinetic = np.asarray(kept["kinetic"])
@@ -389,12 +375,12 @@ def figures(args, case):
         1e-3 + case["gamma_p"].reshape(-1, 3).mean(axis=1)), cmap="viridis", vmin=-3, vmax=1)
     ax.plot(case["x0"][:, 0], case["x0"][:, 1], ",", color="0.6")
     par = case["params"]
-    for x, label in ((par.crest - PAPER["retrogression"], "paper's scarp"),
-                     (par.toe + PAPER["runout"], "paper's front")):
+    for x, label in ((par.top - PAPER["retrogression"], "paper's scarp"),
+                     (par.base + PAPER["runout"], "paper's front")):
         ax.axvline(x, color="C3", ls="--", lw=1)
         ax.text(x, par.height * 1.05, label, color="C3", fontsize=8, ha="center")
     ax.set_aspect("equal")
-    ax.set(xlim=(-0.5, max(case["x"][:, 0].max(), par.toe + PAPER["runout"]) + 1),
+    ax.set(xlim=(-0.5, max(case["x"][:, 0].max(), par.base + PAPER["runout"]) + 1),
            xlabel="x [m]", ylabel="y [m]",
            title=f"t = {args.t_end:g} s: run-out {case['runout']:.1f} m, retrogression "
                  f"{case['retrogression']:.1f} m (paper: {PAPER['runout']:g}, "

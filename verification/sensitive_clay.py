@@ -54,7 +54,6 @@ Usage::
 """
 from dataclasses import dataclass, field
 import sys
-import time
 
 import numpy as np
 
@@ -148,15 +147,16 @@ def remoulded_fraction(state, material):
 def failure(S_t, args, **given):
     """The bank of sensitivity ``S_t`` (:class:`Bank` of the options, ``given`` replacing
     them: ``n``, ``regularisation``) run to t_end: its measurements (a dict)."""
-    from pfem_skfem.drivers.resumable import Bar, Checkpoints, ResumableRun
+    from pfem_skfem.drivers.resumable import Bar, Checkpoints, ResumableRun, StepClock
     from pfem_skfem.drivers.time_step import SofteningTimeStep
+    from pfem_skfem.pfem.measure import failure_extent, ground_particles
 
-    start = time.process_time()
+    clock = StepClock()      # each step's CPU seconds, kept in the checkpoints
     params = Bank.of(args, S_t=S_t, **given)
     state, scene = params.scene()
     H, W = args.height, args.width
     x0 = state.x.copy()
-    ground = np.flatnonzero(x0[:, 1] > H * (1 - 0.25 / params.n))   # the original surface
+    ground = ground_particles(x0, H * (1 - 0.25 / params.n))   # the original surface
     t_end = args.t_end * np.sqrt(H / args.g)
     policy = SofteningTimeStep(scene.config.dt, max_drop=args.max_drop, halvings=4)
     label = f"S_t = {S_t:g}" + (f", n = {params.n}, {params.regularisation}" if given else "")
@@ -166,28 +166,26 @@ def failure(S_t, args, **given):
                                 args.checkpoint_every),
         bar=Bar(int(np.ceil(args.t_end / args.dt)), f"sensitive clay, {label}",
                 args.progress), time_step=policy)
-    clock = [start]
 
     def observe(run, snapshots):
         run.kept["gamma_max"].append(float(run.state.gamma_p.max()))
         run.kept["dt"].append(float(run.step_scene.config.dt))
-        now = time.process_time()      # each step's CPU seconds, kept in the checkpoints
-        run.kept.setdefault("cpu_seconds", []).append(now - clock[0])
-        clock[0] = now
+        clock.record(run.kept)
 
     run.advance(lambda run: run.state.time >= t_end * (1 - 1e-9), observe)
     state, kept = run.state, run.kept
-    dropped = ground[x0[ground, 1] - state.x[ground, 1] > 0.1 * H]
+    runout, retrogression = failure_extent(state.x, x0, ground, toe=W, crest=W, drop=0.1 * H,
+                                           originals=False)   # the bank's face at x = W
     drops = np.asarray(state.history["softening_drop"])
     dts = np.asarray(kept["dt"])
     moved = np.linalg.norm(state.x[:len(x0)] - x0, axis=1) > 0.1 * H   # x0's stay first
     cpu = kept.get("cpu_seconds", [])
-    return dict(runout=float(state.x[:, 0].max() - W), n=params.n,
+    return dict(runout=runout, n=params.n,
                 remoulded=remoulded_fraction(state, scene.regions[0].material),
                 regularisation=params.regularisation,
                 cpu_seconds=float(np.sum(cpu)) if len(cpu) == len(dts) else float("nan"),
                 mobilised=float(np.sum(state.mass[:len(x0)][moved]) / state.total_mass),
-                retrogression=float(W - x0[dropped, 0].min()) if dropped.size else 0.0,
+                retrogression=retrogression,
                 gamma_max=np.asarray(kept["gamma_max"]), steps=state.step,
                 largest_drop=float(drops.max()),
                 halved=policy.halved_after_cap(drops, dts),

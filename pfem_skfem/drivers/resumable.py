@@ -11,7 +11,7 @@ solver failure or a full disk the last completed step saved before the stop goes
 
 :func:`save_run` and :func:`load_run` are the two files of a script's checkpoint (the
 state, and ``kept`` beside it); :func:`sitting` names the machine a kept result was made
-in.
+in; :class:`StepClock` the CPU seconds of each step a script keeps.
 """
 from dataclasses import dataclass
 import hashlib
@@ -33,7 +33,7 @@ from . import pfem_loop          # pfem_loop.run looked up at each step (tests r
 from .stopping import (TERM_RECEIVED, RunFolderError, RunLock, raise_if_terminated,
                        raise_terminated)
 
-__all__ = ["ResumableRun", "save_run", "load_run", "sitting"]
+__all__ = ["ResumableRun", "StepClock", "save_run", "load_run", "sitting"]
 
 
 def save_run(path, state, loop, driver=None):
@@ -159,6 +159,20 @@ class Bar:
     total: int = None
     desc: str = None
     verbose: bool = False
+
+
+class StepClock:
+    """The process's CPU seconds of each step, for a run's ``kept``: started when made,
+    :meth:`record` appends to ``kept[key]`` (made if a checkpoint of before lacks it) the
+    seconds since the last record, or since the start."""
+
+    def __init__(self, key="cpu_seconds"):
+        self.key, self.last = key, time.process_time()
+
+    def record(self, kept):
+        now = time.process_time()
+        kept.setdefault(self.key, []).append(now - self.last)
+        self.last = now
 
 
 class ResumableRun:

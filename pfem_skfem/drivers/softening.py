@@ -6,10 +6,14 @@ gamma^p and the strength from the increment's plastic strain
 (:mod:`pfem_skfem.materials.softening`). The update lags by one increment, by as much
 strength as an increment spends; so the step control caps it: an increment whose plastic
 strain at a point still above c_r, times the law's steepest rate abs(dc/dgamma^p) (abs(H), or
-3 (c_p - c_r) / gamma_95: a bound on the strength drop, equal to it for the linear law),
-exceeds ``max_drop`` (c_p - c_r) is re-solved from the same start with half the displacement,
-again until it does not (at most :data:`MAX_HALVINGS` times in a row); after an increment
-below a quarter of the cap the next is doubled again, up to the base increment.
+3 (c_p - c_r) / gamma_95: a bound on the strength drop, equal to it for the linear law;
+:func:`~pfem_skfem.materials.softening.strength_drop` with ``steepest``, the function of the
+dynamic step control, which takes the exponential law's exact drop instead), exceeds
+``max_drop`` (c_p - c_r) is re-solved from the same start with half the displacement, again
+until it does not (at most :data:`MAX_HALVINGS` times in a row); after an increment below a
+quarter of the cap the next is doubled again, up to the base increment. The bound, not the
+exponential law's exact drop: the lag of a static curve is measured in strain, and the exact
+drop lets the increments of the law's flat tail grow up to the base increment.
 
 With ``passes`` > 1 an increment is solved again from the same start with the strength at
 its trial end, c(gamma^p_n + Delta gamma^p of the last pass), until Delta gamma^p stops
@@ -22,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..materials.softening import (NonlocalAverage, plastic_strain_increment,
-                                   point_sizes)  # noqa: F401 (point_sizes)
+                                   point_sizes, strength_drop)  # noqa: F401 (point_sizes)
 from ..problems.static import static_increment
 
 #: re-solves at half the displacement before an increment is taken over the cap (counted)
@@ -34,9 +38,10 @@ PASS_TOLERANCE = 1e-6
 @dataclass(frozen=True)
 class StepControl:
     """How :func:`softening_control` steps: ``max_drop``, the cap on an increment's strength
-    drop (at the law's steepest rate) as a fraction of c_p - c_r; ``passes``, the most
-    fixed-point passes of an increment (1: the explicit update); ``average``, a sparse
-    (n_points, n_points) operator applied to each increment of gamma^p (a nonlocal average,
+    drop (at the law's steepest rate, :func:`~pfem_skfem.materials.softening.strength_drop`)
+    as a fraction of c_p - c_r; ``passes``, the most fixed-point passes of an increment (1:
+    the explicit update); ``average``, a sparse (n_points, n_points) operator applied to each
+    increment of gamma^p (a nonlocal average,
     :func:`~pfem_skfem.materials.softening.nonlocal_average`), or None."""
 
     max_drop: float = 0.01
@@ -118,7 +123,6 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
     step = np.asarray(total, dtype=float) / n_increments
     sigma, u, f = np.zeros((n, 4)), np.zeros(n_u), np.zeros(n_u)
     c = material.strength(gamma, size)
-    rate = material.law.steepest_rate / material.scale(size)     # abs(dc/dgamma^p) at its largest
     factors, reactions, dissipation = [0.0], [np.zeros(n_u)], [0.0]
     done, trial, solves, uncapped, halvings = 0.0, 1.0, 0, 0, 0
     tolerance = PASS_TOLERANCE * span / material.law.steepest_rate     # of gamma_r (gamma_95 / 3)
@@ -138,9 +142,7 @@ def softening_control(B, C, material, *, fixed, prescribed, n_increments, size, 
             if np.max(np.abs(gamma_new - trial_end)) <= tolerance:
                 break                       # the strength used is the strength left
         c_new = material.strength(gamma_new, size)
-        softening = c > material.law.c_r * (1 + 1e-12)
-        drop = (float(np.max(rate[softening] * (gamma_new - gamma)[softening], initial=0.0))
-                / span if span > 0 else 0.0)
+        drop = strength_drop(material, gamma, gamma_new, size, steepest=True)
         if drop > max_drop and halvings < MAX_HALVINGS:
             trial, halvings = trial / 2, halvings + 1      # the same start, half the motion
             continue

@@ -39,14 +39,24 @@ radial and hoop e / 2) it is 2 e. (The deviator's norm sqrt(2 de' : de'), the sh
 mu(I) in axisymmetry, is also the plane one for an isochoric in-plane flow, but it is the von
 Mises dissipation, sqrt(3) e under uniaxial flow: not Tresca's.)
 
-Not built (refused by name): a Bingham viscosity (eta > 0) in axisymmetry, and a Tresca
-residual strength c_r = 0 (the three cones need positive radii).
+A Bingham viscosity (eta > 0, :meth:`SofteningTrescaAxisymmetric.viscous`) is the viscous
+stress of the axisymmetric Bingham fluid beside the cone: eta times the deviatoric rate with
+its hoop component, sqrt(J2) = eta sqrt(2 D':D'), the von Mises norm. In simple shear (and
+any isochoric flow without a hoop rate) it is the plane one, tau = c(gamma^p) + eta
+gamma_dot^p; under uniaxial flow of axial plastic rate e_p, (s_rr - s_zz) / 2 = c + (3/2)
+eta e_p = c + (3/4) eta gamma_dot^p, gamma^p being Tresca's measure (2 e_p) and the viscous
+norm von Mises' (sqrt(3) e_p) (tests/test_softening_viscous.py, each step against its
+recurrence).
+
+Not built (refused by name): a Tresca residual strength c_r = 0 (the three cones need
+positive radii).
 """
 from dataclasses import dataclass
 
 import numpy as np
 
 from .axisymmetric import TrescaField3, mean_stress
+from .rate import ViscousStress
 from .softening import SofteningMohrCoulomb, SofteningTresca, point_sizes
 
 
@@ -73,12 +83,13 @@ class _Axisymmetric:
 
     geometries = ("axisymmetric",)
 
-    def __post_init__(self):
-        super().__post_init__()
-        if self.eta:
-            raise ValueError(f"eta (Bingham viscosity) = {self.eta!r}: axisymmetric viscous "
-                             f"softening is not built (issue 55); use eta = 0, or the plane "
-                             f"material")
+    def viscous(self, sigma_m, stress_scale, shear_rate, weights):
+        """The step's viscous stress: :class:`~pfem_skfem.materials.rate.ViscousStress` of
+        viscosity eta at every point, its deviator with the hoop component (``hoop``, as the
+        axisymmetric Bingham fluid's); None for eta = 0."""
+        if self.eta == 0:
+            return None
+        return ViscousStress(np.full(len(weights), float(self.eta)), weights, hoop=True)
 
     def criterion(self, gamma_p, size, sigma_m=None, stress_scale=1.0):
         """:class:`TrescaField3` of the plane material's radii k_j for each of the three
@@ -110,8 +121,9 @@ class SofteningTrescaAxisymmetric(_Axisymmetric, SofteningTresca):
         \\max_{i,j} |s_i - s_j| \\le 2\\,c(\\gamma^p_j)
 
     (:class:`~pfem_skfem.materials.axisymmetric.TrescaField3`, k = 2c for each pair), gamma^p
-    accumulating :func:`axisymmetric_shear_invariant`. Parameters as the plane material; eta
-    must be 0 and c_r > 0 (refused otherwise: not built).
+    accumulating :func:`axisymmetric_shear_invariant`. Parameters as the plane material;
+    c_r > 0 (refused otherwise: not built); eta > 0 adds the viscous stress of
+    :meth:`viscous`, its deviator with the hoop component.
     """
 
     name = "Tresca (axisymmetric, 3 cones), strain softening"
@@ -136,7 +148,8 @@ class SofteningMohrCoulombAxisymmetric(_Axisymmetric, SofteningMohrCoulomb):
         \\quad \\text{for every principal pair } (i, j)
 
     at the lagged mean stress p = I1/3; the flow isochoric (zero dilation), gamma^p
-    accumulating :func:`axisymmetric_shear_invariant`. eta must be 0.
+    accumulating :func:`axisymmetric_shear_invariant`; eta > 0 adds the viscous stress of
+    :meth:`viscous`, as the Tresca's.
     """
 
     name = "Mohr-Coulomb (axisymmetric, 3 cones), zero dilation, cohesion softening"

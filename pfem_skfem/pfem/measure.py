@@ -1,12 +1,13 @@
 """What is measured on a particle cloud: the deposit, its height at a wall or a gauge, its
-centre of mass, its front, its surface's height profile and level, the wedge a shortened
-layer builds and the pop-up of its first bands, its radial mass distribution, its energy
-and the energy of a step's mesh, the water off its mesh and what changed a run's area.
+centre of mass, its front, its surface's height profile and level, a failed slope's run-out
+and retrogression, the wedge a shortened layer builds and the pop-up of its first bands,
+its radial mass distribution, its energy and the energy of a step's mesh, the water off its
+mesh and what changed a run's area.
 
 The verification scripts measure their runs with these (granular columns, plane and of
 revolution; the landslide; the dam break; the block into the tank; the accretionary
-wedge); each takes a :class:`~pfem_skfem.pfem.state.PFEMState` or plain arrays and returns
-numbers, so a script states what it measures, not how.
+wedge; the sensitive-clay slopes); each takes a :class:`~pfem_skfem.pfem.state.PFEMState`
+or plain arrays and returns numbers, so a script states what it measures, not how.
 """
 import numpy as np
 
@@ -16,7 +17,8 @@ from .assemble import element_regions
 __all__ = ["deposit_extent", "height_at", "wall_height", "deposit_at_wall", "centre_of_mass",
            "front", "front_speed", "main_body", "off_mesh_volume",
            "area_budget",
-           "surface_height", "surface_level", "surface_profile", "wedge_geometry", "popup",
+           "surface_height", "surface_level", "surface_profile", "ground_particles",
+           "failure_extent", "wedge_geometry", "popup",
            "mass_within", "mass_moved", "particle_energy", "mesh_energy"]
 
 
@@ -205,6 +207,33 @@ def surface_profile(x, h, alpha, bins):
         if np.any(k == i):
             top[i] = pts[k == i, 1].max()
     return 0.5 * (bins[1:] + bins[:-1]), top
+
+
+def ground_particles(x0, level, behind=None):
+    """The original ground surface of a slope: the indices of the particles that start
+    (at ``x0``) above ``level`` (a fraction of a spacing below the top) and, with ``behind``
+    (the crest's x), at x <= behind (the top, not the face)."""
+    x0 = np.asarray(x0, dtype=float)
+    above = x0[:, 1] > level
+    if behind is not None:
+        above &= x0[:, 0] <= behind + 1e-9
+    return np.flatnonzero(above)
+
+
+def failure_extent(x, x0, ground, *, toe, crest, drop, originals=True):
+    """(run-out, retrogression) of a slope failing towards +x, its particles at ``x`` (the
+    first len(x0) of them started at ``x0``).
+
+    The run-out: from ``toe`` to the furthest particle, of those that started at x0
+    (``originals``) or of all of x (those added since included). The retrogression: from
+    ``crest`` back to the furthest-back of the ``ground`` particles (indices,
+    :func:`ground_particles`) that dropped by more than ``drop``; 0 where none did, never
+    below 0."""
+    x, x0 = np.asarray(x, dtype=float), np.asarray(x0, dtype=float)
+    dropped = ground[x0[ground, 1] - x[ground, 1] > drop]
+    retro = float(crest - x0[dropped, 0].min()) if dropped.size else 0.0
+    front = x[:len(x0)] if originals else x
+    return float(front[:, 0].max() - toe), max(retro, 0.0)
 
 
 def wedge_geometry(xc, top, x_wall, h0, spacing):
