@@ -86,8 +86,7 @@ def remeshing(before, after, a):
 
 def study(params, alpha_advected):
     state, scene = params.scene()
-    if alpha_advected:
-        scene = replace(scene, config=replace(scene.config, alpha_advected=alpha_advected))
+    scene = replace(scene, config=replace(scene.config, alpha_advected=alpha_advected))
     a, rho, t_unit = params.a, params.rho, time_unit(params.a, params.n2, params.g)
     alpha = scene.alpha                              # the alpha test drops R > alpha h
     states = [state]

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from pfem_skfem.pfem.measure import (area_budget, deposit_at_wall, failure_extent, front,
-                                     front_speed, ground_particles, height_at, main_body,
+                                     front_speed, front_speed_resolution, ground_particles,
+                                     height_at, main_body,
                                      mesh_energy, off_mesh_volume, particle_energy,
                                      surface_level, surface_profile, wedge_geometry)
 
@@ -107,6 +108,29 @@ def test_the_front_speed_over_a_window_is_the_slope_not_a_jump_of_one_particle()
     bent = np.where(t < 2, t, 2 + 3 * (t - 2))
     assert front_speed(t, bent, 1.0) == pytest.approx(3.0, rel=1e-12)
     assert np.isnan(front_speed(t, bent, 5.0))                 # no window of 5 in 0..4
+
+
+def test_the_front_speed_resolution_is_the_sharp_bound_of_a_front_known_to_h():
+    """A front x = 2 t known within a band h (0 <= e_i <= h): no pattern of errors reads a
+    speed above 2 + the resolution, the step of h at a window's middle reads it exactly, and
+    for many evenly spaced samples it is 1.5 h / window (the least-squares slope of a unit
+    step at the middle of [0, L]: cov(t, step) / var(t) = (L / 8) / (L^2 / 12))."""
+    t = np.linspace(0.0, 4.0, 81)                   # dt = 0.05: 21 samples a window of 1
+    h = 0.1
+    resolution = front_speed_resolution(t, 1.0, h)
+    d = np.linspace(0.0, 1.0, 21) - 0.5
+    assert resolution == pytest.approx(h * d[d > 0].sum() / (d * d).sum(), rel=1e-12)
+    assert resolution == pytest.approx(h * 30 / 21, rel=1e-12)       # 1.43 h / window
+    rng = np.random.default_rng(0)
+    for _ in range(200):                            # bounded errors, any pattern: within
+        e = h * rng.integers(0, 2, t.size) * rng.random(t.size) ** 0.1
+        assert front_speed(t, 2 * t + e, 1.0) <= 2.0 + resolution * (1 + 1e-12)
+    worst = 2 * t + h * (t > 2.5)                   # a step at the middle of [2, 3]
+    assert front_speed(t, worst, 1.0) == pytest.approx(2.0 + resolution, rel=1e-12)
+    assert front_speed(t, worst, 1.0) > 2.0 + h / 1.0        # h / window is not a bound
+    fine = np.linspace(0.0, 1.0, 100001)
+    assert front_speed_resolution(fine, 1.0, h) == pytest.approx(1.5 * h, rel=1e-4)
+    assert np.isnan(front_speed_resolution(t, 5.0, h))       # no window of 5 in 0..4
 
 
 def test_the_surface_level_of_a_lattice_is_its_top_row():

@@ -131,7 +131,7 @@ def test_a_runs_parameters_are_its_checkpoint_keys_but_the_unkeyed(tmp_path):
 QUICK_KEYS = {
     "dam_break": (lambda m, args: m.DamBreak.of(args), "nx", 9,
                   dict(a=0.05715, n2=2.0, nx=8, steps=40, T_end=3.0, rho=1000.0, mu=0.001,
-                       g=9.81)),
+                       g=9.81, alpha_advected=3.0)),
     "consolidation_pfem": (lambda m, args: m.TerzaghiColumn.of(args), "E", 2e5,
                            dict(axisymmetric=False, loading="rise", H=1.0, W=0.2, n=10, q=100.0,
                                 k=1e-08, gamma_w=9.81, E=100000.0, nu=0.2, rho=1.0, g=9.81,
@@ -189,12 +189,16 @@ def test_a_scripts_checkpoint_keys_come_from_the_object_that_builds_its_scene(sc
 
 def test_the_dam_break_s_advected_alpha_keys_its_own_checkpoint_and_reaches_the_scene():
     """--alpha-advected 0 (the thesis' alpha-shape) keeps the keys of before the option; any
-    other value is a key of its own and the scene's PFEMConfig.alpha_advected."""
+    other value, the default 3 included, is a key of its own and the scene's
+    PFEMConfig.alpha_advected."""
     module = importlib.import_module("verification.dam_break")
-    plain = module.DamBreak.of(module.build_parser().parse_args(["--quick"]))
-    kept = module.DamBreak.of(module.build_parser().parse_args(["--quick",
-                                                                "--alpha-advected", "2"]))
+    parse = module.build_parser().parse_args
+    default = module.DamBreak.of(parse(["--quick"]))
+    plain = module.DamBreak.of(parse(["--quick", "--alpha-advected", "0"]))
+    kept = module.DamBreak.of(parse(["--quick", "--alpha-advected", "2"]))
     assert "alpha_advected" not in plain.keys()
     assert kept.keys() == plain.keys() | {"alpha_advected": 2.0}
+    assert default.keys() == plain.keys() | {"alpha_advected": 3.0}
     assert kept.scene()[1].config.alpha_advected == 2.0
+    assert default.scene()[1].config.alpha_advected == 3.0
     assert plain.scene()[1].config.alpha_advected == 0.0

@@ -149,20 +149,45 @@ def front(state, mesh=True, *, main=False):
     return float(np.max(state.mesh_p[:, 0]))
 
 
+def _windows(t, window):
+    """The index ranges [i, j] of the samples within [t_i, t_i + window], for each sample t_i
+    whose window the series covers."""
+    for i in range(len(t)):
+        j = np.searchsorted(t, t[i] + window * (1 - 1e-9), side="left")
+        if j >= len(t):
+            return
+        yield i, j
+
+
 def front_speed(t, x, window):
     """The largest speed of a front x(t) over any stretch of ``window`` in t: the largest
     slope of the least-squares lines through the samples within [t_i, t_i + window] for each
     sample t_i whose window the series covers (nan if it covers none). A front measured on
     particles is known to a particle spacing h: from one step to the next it jumps by up to
     h as a particle leaves the body or joins it, which a step-to-step difference reads as a
-    speed of h / dt; over a window the error of the slope is of order h / window."""
+    speed of h / dt; over a window the slope's error is at most
+    :func:`front_speed_resolution`, about 1.5 h / window."""
     t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
     best = np.nan
-    for i in range(len(t)):
-        j = np.searchsorted(t, t[i] + window * (1 - 1e-9), side="left")
-        if j >= len(t):
-            break
+    for i, j in _windows(t, window):
         best = np.nanmax([best, np.polyfit(t[i:j + 1], x[i:j + 1], 1)[0]])
+    return float(best)
+
+
+def front_speed_resolution(t, window, h):
+    """The most that :func:`front_speed` can read above the true speed when each sample of
+    the front is known within a band of width ``h`` (x_i = x(t_i) + e_i, 0 <= e_i <= h): the
+    least-squares slope of the errors, sum (t_i - mean t) e_i / sum (t_i - mean t)^2, is
+    largest with e_i = h after the window's mean time and 0 before it, so the bound is
+    h sum_{t_i > mean} (t_i - mean) / sum (t_i - mean)^2, the largest over the windows. It
+    is sharp (that pattern attains it); for many evenly spaced samples it tends to 1.5 h /
+    window (a step of h at the window's middle), for 21 samples 1.43 h / window. nan where
+    the series covers no window."""
+    t = np.asarray(t, dtype=float)
+    best = np.nan
+    for i, j in _windows(t, window):
+        d = t[i:j + 1] - t[i:j + 1].mean()
+        best = np.nanmax([best, h * d[d > 0].sum() / (d * d).sum()])
     return float(best)
 
 
