@@ -15,7 +15,7 @@ from .alpha_shape import alpha_shape, components, triangle_areas
 from .assemble import element_regions
 
 __all__ = ["deposit_extent", "height_at", "wall_height", "deposit_at_wall", "centre_of_mass",
-           "front", "front_speed", "main_body", "off_mesh_volume",
+           "front", "front_speed", "front_speed_resolution", "main_body", "off_mesh_volume",
            "area_budget",
            "surface_height", "surface_level", "surface_profile", "ground_particles",
            "failure_extent", "wedge_geometry", "popup",
