@@ -51,6 +51,20 @@ STRONG = 1e-10
 #: unregularised, the Tresca footing's (N) is singular and its LU answers nothing
 PIVOTED = 1e-18
 
+#: the residual of (N), relative to its right-hand side, below which the unreduced
+#: system's refinement never goes (the reduced system's floor is ``newton.REFINE_TOL``,
+#: 1e-8, where its refinement stalls; an LU's goes on to a few units of round-off): the
+#: iteration asks 1e-3 of how far it is from solved. Near the tolerances 1e-8 does not
+#: do: (N)'s third block row is scaled by W^-1, and a direction that misses it by e_z
+#: misses G dx + ds = -r_z by W e_z. On the quick dam break's last solves
+#: (verification/dam_break.py) W reached 1.6e6 on the non-negative rows at a gap of
+#: 1.6e-8: a direction refined to 5.4e-9 of its right-hand side left e_z = 1.1e-10, W e_z
+#: = 2.4e-6, and the primal residual went from 5.5e-11 to 1.7e-7, then tenfold an
+#: iteration (the solve ended 'AlmostSolved' after 60). Refined to the 2e-11 asked
+#: (2.0e-12 reached: W e_z = 1.2e-15), one iteration of the unreduced system ends it
+#: 'Solved'.
+REFINE_TOL = 1e-14
+
 
 def block_diagonal(blocks):
     """The sparse block-diagonal matrix of a stack (m, d, d)."""
@@ -66,6 +80,9 @@ class Augmented(Newton):
 
     #: the third row of (N) is not satisfied by construction: the residual includes it
     third_by_construction = False
+
+    #: refined to the accuracy the iteration asks, down to round-off (:data:`REFINE_TOL`)
+    refine_tol = REFINE_TOL
 
     def __init__(self, structure, scalings, regularisation=REGULARISATION):
         st = self.st = structure

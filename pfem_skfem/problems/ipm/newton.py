@@ -106,6 +106,10 @@ class Newton:
     #: a refinement step that leaves more than this of the residual is the last
     slow = 0.5
 
+    #: the residual below which the refinement never goes, whatever a solve asks: the
+    #: reduced system's own refinement stalls there (:data:`REFINE_TOL`)
+    refine_tol = REFINE_TOL
+
     def __init__(self, structure, scalings, cholesky):
         st = self.st = structure
         self.W = scalings
@@ -243,11 +247,11 @@ class Newton:
 
     def solve(self, bx, by, bzt, refine=True, tol=REFINE_TOL):
         """(dx, dy, dzt) of (N), refined (:data:`REFINE_STEPS`) to the residual ``tol``
-        (relative; at least :data:`REFINE_TOL`), or not (``refine=False``: the
+        (relative; at least ``refine_tol``, :data:`REFINE_TOL` here), or not (``refine=False``: the
         predictor's direction sets only the centring: dzt alone, dx and dy None). A refined
         solve leaves in ``products`` its direction's P dx, A^T dz, E dx and G dx per group (what the
         measures of the next iterate are updated by, :mod:`.solver`)."""
-        tol = max(tol, REFINE_TOL)
+        tol = max(tol, self.refine_tol)
         if not refine:
             return None, None, self._predict(bx, by, bzt)
         dx, dy, dzt, (Gdx, ETdy) = self._once(bx, by, bzt)
