@@ -424,3 +424,53 @@ def test_the_quick_dam_breaks_solves_end_solved(monkeypatch):
     assert len(measures) == QUICK["steps"] + 1
     assert [m["status"] for m in measures] == ["Solved"] * len(measures)
     assert measures[-1]["res_primal"] <= 1e-10
+
+
+def clarabel_measures(P, c, A, b, x, z, s):
+    """Clarabel's measures (Clarabel.rs, solver/implementations/default/info.rs) of (x, z, s)
+    on the data (P upper triangular): its objectives, gaps and relative residuals."""
+    P = sp.csc_matrix(P)
+    Px = P @ x + P.T @ x - P.diagonal() * x
+    inf = lambda v: float(np.abs(v).max()) if np.size(v) else 0.0        # noqa: E731
+    pobj, dobj = 0.5 * x @ Px + c @ x, -0.5 * x @ Px - b @ z
+    gap = abs(pobj - dobj)
+    return dict(pobj=pobj, dobj=dobj, gap_abs=gap,
+                gap_rel=gap / max(1.0, min(abs(pobj), abs(dobj))),
+                res_primal=inf(A @ x + s - b) / max(1.0, inf(b) + inf(x) + inf(s)),
+                res_dual=inf(Px + c + A.T @ z) / max(1.0, inf(c) + inf(x) + inf(z)))
+
+
+def test_the_measures_are_clarabels_on_the_given_problem(monkeypatch):
+    """The interior point stops on Clarabel's tests as Clarabel would on the same data: its
+    measures are Clarabel's definitions (checked against Clarabel's own on an iterate of
+    Clarabel's), and an answer 'Solved' meets the tolerances by them on the problem it was
+    given. A substituted variable with a constant (t = 5) once left the objective's
+    constant out: the gap was normalised by the substituted objective (2,000) where the
+    given one is 0, and the answer stopped at a gap of 2e-6, 200 times the tolerance."""
+    P, c, A, b, cones = standard_form(*captured_step(), monkeypatch)
+    settings = clarabel.DefaultSettings()
+    settings.verbose, settings.max_iter = False, 5          # an iterate far from solved
+    sol = clarabel.DefaultSolver(P, c, A, b, cones, settings).solve()
+    m = clarabel_measures(P, c, A, b, *(np.array(v) for v in (sol.x, sol.z, sol.s)))
+    assert m["gap_rel"] > 1e-6
+    assert abs(m["pobj"] / sol.obj_val - 1) <= 1e-9
+    assert abs(m["dobj"] / sol.obj_val_dual - 1) <= 1e-9
+    # Clarabel's residuals: its primal one at round-off from its start on
+    assert abs(m["res_primal"] - sol.r_prim) <= 1e-13
+    assert abs(m["res_dual"] - sol.r_dual) <= 1e-6 * sol.r_dual + 1e-13
+    res = solve(P, c, A, b, cones)
+    m = clarabel_measures(P, c, A, b, res.x, res.z, res.s)
+    for name in ("gap_rel", "res_primal"):
+        assert abs(m[name] / res.measures[name] - 1) <= 1e-6, name
+    # min x1 + x2 - 400 t, t = 5, x1 >= 1000, x2 >= 1000: the objective 0 at x = (1000,
+    # 1000, 5), 2,000 after t's substitution
+    c = np.array([1.0, 1.0, -400.0])
+    A = sp.csc_matrix(np.array([[0, 0, 1.0], [-1.0, 0, 0], [0, -1.0, 0]]))
+    b = np.array([5.0, -1000.0, -1000.0])
+    res = solve(sp.csc_matrix((3, 3)), c, A, b,
+                [clarabel.ZeroConeT(1), clarabel.NonnegativeConeT(2)])
+    m = clarabel_measures(sp.csc_matrix((3, 3)), c, A, b, res.x, res.z, res.s)
+    assert res.status == "Solved"
+    assert m["gap_abs"] <= 1e-8 or m["gap_rel"] <= 1e-8
+    assert max(m["res_primal"], m["res_dual"]) <= 1e-8
+    assert abs(res.obj_val - m["pobj"]) <= 1e-8               # the given objective

@@ -9,7 +9,10 @@ one entry, everywhere (x = T x' + t0: P' = T^T P T, c' = T^T (c + P t0), A' = A 
 b' = b - A t0, the row dropped) gives the same problem on fewer variables, and the
 answer is mapped back (:meth:`Substitution.recover`): t from x, the dropped row's
 multiplier from t's stationarity, (P x + c + A^T z)_t = 0 (the other rows' multipliers
-first: t is in no other dropped row).
+first: t is in no other dropped row). The interior point measures the substituted problem
+against the given one's scales (:attr:`Substitution.given`): its objective with the
+constant c^T t0 + 1/2 t0^T P t0 that the substitution drops, and the norms of the given b
+and c where they are smaller than the substituted ones.
 """
 import numpy as np
 import scipy.sparse as sp
@@ -74,6 +77,11 @@ class Substitution:
         self.n_rows = A.shape[0]
         self.P_full = full_symmetric(P)
         self.A, self.c = A, np.asarray(c, dtype=float)
+        # what the measures need of the given problem (Clarabel's, measured on the data it
+        # is given): the objective's constant, dropped from the substituted one, and the
+        # norms of b and c
+        self.given = dict(offset=float(self.c @ self.t0 + 0.5 * self.t0 @ (self.P_full @ self.t0)),
+                          norm_b=_inf(b), norm_c=_inf(self.c))
         self.problem = (sp.csc_matrix(self.T.T @ self.P_full @ self.T),
                         self.T.T @ (self.c + self.P_full @ self.t0),
                         sp.csc_matrix(A[self.rows_kept] @ self.T),
@@ -88,6 +96,10 @@ class Substitution:
         grad = self.P_full @ x_full + self.c + self.A.T @ z_full      # row r's z still 0
         z_full[self.rows] = -grad[self.t] / self.a_t
         return x_full, z_full, s_full
+
+
+def _inf(v):
+    return float(np.abs(v).max()) if np.size(v) else 0.0
 
 
 def _fewer_zero_rows(cones, dropped):
