@@ -136,3 +136,25 @@ def test_the_quick_run_fails_the_slope_and_states_no_paper_check(quick_run):
     assert names == {"conversion_error", "runout_over_h", "halved_after_cap"}
     assert report.passed
     assert report.extra["runout"] > 2.0 and report.extra["retrogression"] > 0.0
+    assert 0.0 <= report.extra["remoulded"] <= 1.0
+    assert report.extra["remoulded_heap_runout"] == pytest.approx(40.89, abs=0.01)
+
+
+def test_a_wholly_remoulded_heap_rests_no_shorter_than_nyes_profile():
+    """The slope's 112.5 m2 at c_r = 1.5 x (2 / sqrt(3)) / 1.65 = 1.0497 kPa, resting against
+    the smooth wall on the rough base, spreads at least L = (1.5 A / sqrt(2 c / (rho g)))^(2/3)
+    = 65.9 m from the wall: 40.9 m beyond the toe, twice the paper's 21.6 m. The profile
+    y = sqrt(2 c s / (rho g)) holds the area; its basal shear rho g y dy/ds is c everywhere."""
+    _, params = slope()
+    c, rg = params.law().c_r, 2.15 * 9.81
+    runout = rs.remoulded_heap_runout(112.5, c, 2.15, 9.81, 25.0)
+    assert runout == pytest.approx(40.89, abs=0.01)
+    length = runout + 25.0
+    s = np.linspace(0.0, length, 200001)
+    y = np.sqrt(2 * c * s / rg)
+    assert np.trapezoid(y, s) == pytest.approx(112.5, rel=1e-5)
+    mid = slice(1000, -1)
+    np.testing.assert_allclose((rg * y * np.gradient(y, s))[mid], c, rtol=1e-3)
+    # a stronger residual shortens it as c^(-1/3): the paper's c_r undivided by F, 30.8 m
+    assert rs.remoulded_heap_runout(112.5, 1.65 * c, 2.15, 9.81, 25.0) == pytest.approx(
+        length * 1.65 ** (-1 / 3) - 25.0, rel=1e-12)
