@@ -11,9 +11,9 @@ K (the zero cone's rows E x = b_E, the others G x + s = h), infeasible start:
    and values), on the problem it was given (a substituted one, :mod:`.presolve`, with the
    objective's constant it dropped: a relative gap normalised by the given objective, as
    Clarabel's on the same data would be; measured on the plastic vibration's and the
-   cylinder's solves, the measures of the given data agree). P x, A x and A^T z are carried along the steps by the direction's own
-   products (the Newton solve's residual computes them), and computed afresh only for an
-   iterate that is answered;
+   cylinder's solves, the measures of the given data agree). P x, A x and A^T z are
+   carried along the steps by the direction's own products (the Newton solve's residual
+   computes them), and computed afresh only for an iterate that is answered;
 2. the scaling W at (s, z), lambda = W z = W^-1 s, the Newton system factorised once;
 3. the affine (predictor) direction: the linearised conditions with the complementarity
    lambda o (W dz + W^-1 ds) = -lambda o lambda; its largest step a in the cones;
