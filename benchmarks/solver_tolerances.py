@@ -97,12 +97,9 @@ def meets_rule(value, default, tight=None):
     ``tight``: a small difference of near quantities, below what its tolerance resolves),
     at least as near ``tight`` as the default's value is (an accuracy criterion: no less
     accurate than the default). A figure the default resolves is judged by 0.1 % alone; a
-    figure farther from ``tight`` than the default's fails."""
-    if relative_error(value, default) <= RULE:
-        return True
-    if tight is None or relative_error(default, tight) <= RULE:
-        return False
-    return bool(abs(value - tight) <= abs(default - tight))
+    figure farther from ``tight`` than the default's fails: :func:`meets_spread_rule` with
+    RULE for the spread."""
+    return meets_spread_rule(value, default, RULE, tight)
 
 
 def meets_spread_rule(value, default, spread, tight=None):
@@ -385,9 +382,13 @@ def main(argv=None):
                                        tols[0], outdir, extra)
                             for f in args.density_factors]
             print(f"\n== {family}: {script_name} {' '.join(script_argv)} ==")
-            dump[family] = {_label(key) + ("" if key in tols else f": {key[1]}"): dict(
+            named = {_label(key) + ("" if key in tols else f": {key[1]}"): run
+                     for key, run in runs.items()}
+            if tight is not None:
+                named[f"tight {args.tight:.0e}"] = tight
+            dump[family] = {label: dict(
                 values={k: _number(v) for k, v in run[0].items()}, summary=summary(*run[1:]),
-                cpu=CPU_SECONDS[id(run[1])]) for key, run in runs.items()}
+                cpu=CPU_SECONDS[id(run[1])]) for label, run in named.items()}
             if args.json:
                 Path(args.json).write_text(json.dumps(dump, indent=1))
             for key in runs:
@@ -395,11 +396,6 @@ def main(argv=None):
                         else f"tol {tols[0]:.0e}, extra {key[0]}: {key[1]}")
                 print(f"  {name}: {summary(*runs[key][1:])}")
             if tight is not None:
-                dump[family][f"tight {args.tight:.0e}"] = dict(
-                    values={k: _number(v) for k, v in tight[0].items()},
-                    summary=summary(*tight[1:]), cpu=CPU_SECONDS[id(tight[1])])
-                if args.json:
-                    Path(args.json).write_text(json.dumps(dump, indent=1))
                 print(f"  tight reference, tol {args.tight:.0e}: {summary(*tight[1:])}")
             if spread is not None:
                 for f, r in reruns.items():
@@ -453,32 +449,26 @@ def main(argv=None):
                           + ", ".join(f"{_label(t)}: "
                                       f"{relative_error(runs[t][0].get(name, np.nan), exact):.1e}"
                                       for t in [tols[0]] + columns))
-            if spread is None:
-                ok = [t for t in columns if not failed[t] and t in passing]
-                print("  largest change: " + ", ".join(f"{_label(t)}: {worst[t]:.1e}"
-                                                         for t in columns)
-                      + ("; meeting the rule (meets_rule: within 0.1 %, or as near the tight "
-                         "reference as the reference run where it does not resolve a "
-                         "figure)" if judged else "; within 0.1 %")
-                      + f" with the checks of the tightest passing: "
-                      f"{', '.join(_label(t) for t in ok) or 'none'}")
-                for t in columns:
-                    if failed[t]:
-                        print(f"    {_label(t)} fails on: {', '.join(failed[t])}")
             if spread is not None and args.lever_reruns:
                 lever_sets(sets, reference)
-            if spread is not None:
-                ok = [t for t in columns if not failed[t] and t in passing]
-                print("  largest change beyond the round-off spread: "
-                      + ", ".join(f"{_label(t)}: {worst[t]:+.1e}" for t in columns)
-                      + ("; meeting the rule (meets_spread_rule: within the spread, or as "
-                         "near the tight reference as the reference run where it does not "
-                         "resolve a figure)" if judged else "; within the spread")
-                      + f" with the checks of the tightest passing: "
-                      f"{', '.join(_label(t) for t in ok) or 'none'}", flush=True)
-                for t in columns:
-                    if failed[t]:
-                        print(f"    {_label(t)} fails on: {', '.join(failed[t])}")
+            ok = [t for t in columns if not failed[t] and t in passing]
+            if spread is None:
+                changed = "largest change: " + ", ".join(f"{_label(t)}: {worst[t]:.1e}"
+                                                         for t in columns)
+                rule = ("; meeting the rule (meets_rule: within 0.1 %, or as near the tight "
+                        "reference as the reference run where it does not resolve a "
+                        "figure)" if judged else "; within 0.1 %")
+            else:
+                changed = "largest change beyond the round-off spread: " + ", ".join(
+                    f"{_label(t)}: {worst[t]:+.1e}" for t in columns)
+                rule = ("; meeting the rule (meets_spread_rule: within the spread, or as "
+                        "near the tight reference as the reference run where it does not "
+                        "resolve a figure)" if judged else "; within the spread")
+            print(f"  {changed}{rule} with the checks of the tightest passing: "
+                  f"{', '.join(_label(t) for t in ok) or 'none'}", flush=True)
+            for t in columns:
+                if failed[t]:
+                    print(f"    {_label(t)} fails on: {', '.join(failed[t])}")
 
 
 if __name__ == "__main__":
