@@ -160,11 +160,15 @@ class Newton:
         reduced direction then missed (N) by 1e-3 of its right-hand side, and the
         refinement stalled, at a gap of ~1e-7 on the 512-element PFEM step."""
         out = self.Hmat @ v
-        for size, U in self.U.items():
+        for size in self.U:
             flat = self.st.coned_parts[size][0]
-            w = np.einsum("msr,ms->mr", U, v[flat].reshape(-1, size))
-            out[flat] = np.einsum("msr,mr->ms", U, w).ravel()
+            out[flat] = self._coned(size, v[flat].reshape(-1, size)).ravel()
         return out
+
+    def _coned(self, size, t):
+        """The coned blocks' H^+ t of one size, (m, size), by their factors: U (U^T t)."""
+        U = self.U[size]
+        return np.einsum("msr,mr->ms", U, np.einsum("msr,ms->mr", U, t))
 
     def _dy(self, rx, ry):
         """dy of [H E^T; E 0] (dx, dy) = (rx, ry), the pressures regularised; N^T rx and
@@ -209,8 +213,7 @@ class Newton:
         Gdx = {d: np.zeros(G.shape[0]) for d, G in st.Gc.items()}
         for size, (flat, ET, Gs) in st.coned_parts.items():
             t = (rx[flat] - ET @ dy).reshape(-1, size)
-            U = self.U[size]
-            dxs = np.einsum("msr,mr->ms", U, np.einsum("msr,ms->mr", U, t)).ravel()
+            dxs = self._coned(size, t).ravel()
             for d, G in Gs.items():
                 Gdx[d] += G @ dxs
         return {d: self.W[d].inverse(from_component_major(Gdx[d], d)) - bzt[d] for d in Gdx}
