@@ -131,12 +131,12 @@ def remoulded_heap_runout(area, c, rho, g, base):
 def remoulded_fraction(state, x0, law, moved, tol=0.1):
     """The area fraction of the clay that moved more than ``moved`` (its elements' mean
     vertex displacement) whose strength is within ``tol`` (c_p - c_r) of c_r."""
+    from pfem_skfem.pfem.alpha_shape import triangle_areas
+
     p, t = state.mesh_p, state.mesh_t
     g = np.asarray(state.gamma_p).reshape(len(t), -1).mean(axis=1)
     c = law.strength(g)
-    a = p[t]
-    area = 0.5 * np.abs((a[:, 1, 0] - a[:, 0, 0]) * (a[:, 2, 1] - a[:, 0, 1])
-                        - (a[:, 2, 0] - a[:, 0, 0]) * (a[:, 1, 1] - a[:, 0, 1]))
+    area = np.abs(triangle_areas(p, t))
     mp = np.asarray(state.mesh_particle)
     clay = (mp >= 0) & (mp < len(x0))                  # the clay's particles, not the bodies'
     disp = np.where(clay, np.linalg.norm(p - x0[np.where(clay, mp, 0)], axis=1), 0.0)

@@ -133,10 +133,9 @@ def remoulded_fraction(state, material):
     included; collapsed triangles left out)."""
     from pfem_skfem.discretisation.fields import collapsed
     from pfem_skfem.materials.softening import point_sizes
+    from pfem_skfem.pfem.alpha_shape import triangle_areas
 
-    v = state.mesh_p[state.mesh_t]
-    area = 0.5 * np.abs((v[:, 1, 0] - v[:, 0, 0]) * (v[:, 2, 1] - v[:, 0, 1])
-                        - (v[:, 2, 0] - v[:, 0, 0]) * (v[:, 1, 1] - v[:, 0, 1]))
+    area = np.abs(triangle_areas(state.mesh_p, state.mesh_t))
     kept = ~collapsed(state.mesh_p, state.mesh_t)
     area, gamma = area[kept], state.gamma_p.reshape(-1, 3)[kept]
     c = material.strength(gamma.ravel(), point_sizes(np.repeat(area / 3, 3))).reshape(-1, 3)
